@@ -1,0 +1,49 @@
+# flexbearing — every target sets itself up on a fresh Debian 12 machine (root, or sudo).
+#   make demo      the paper's case end to end (results in out/demo/)
+#   make test      the fast test suite
+#   make test-all  every test, the slow verification included
+#   make bench     the benchmarks in benchmarks/ (work–precision, wall times)
+
+SHELL := /bin/bash
+SYSPY := /usr/bin/python3
+VENV  := .venv
+PY    := $(VENV)/bin/python
+SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+# Debian 12 packages: the FE stack and the scientific Python stack. Never pip-installed.
+APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy python3-scipy \
+    python3-numba python3-h5py python3-matplotlib python3-tqdm python3-dask python3-distributed \
+    python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin
+
+.PHONY: setup demo test test-all bench clean
+
+$(VENV)/.apt-stamp:
+	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages: $$missing"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+	@mkdir -p $(VENV) && touch $@
+
+$(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
+	@[ -x $(PY) ] || $(SYSPY) -m venv --system-site-packages $(VENV)
+	@$(PY) -m pip install -q --no-build-isolation --no-deps -e .
+	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
+	@touch $@
+
+setup: $(VENV)/.install-stamp
+
+demo: setup
+	$(VENV)/bin/flexbearing demo -o out/demo
+
+test: setup
+	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
+
+test-all: setup
+	$(PY) -m pytest -q -p no:cacheprovider
+
+bench: setup
+	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
+
+clean:
+	rm -rf $(VENV) out cache *.egg-info

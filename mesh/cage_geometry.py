@@ -1,0 +1,96 @@
+"""The cage as numbers: a ring with Z cylindrical radial pockets and optional guide lands.
+
+Frame: x along the bearing axis (cage mid-plane at x = 0), pockets are cylinders whose axes
+are radial, at azimuths theta_k = 2*pi*k/Z in the y–z plane (theta measured from +y towards +z),
+centred on the mid-plane. All lengths in metres.
+
+Paper values (Yang, Liu, Deng, Lubricants 2025, 13, 249, Tables 1, 3, 7): outside diameter
+178.45 mm, bore 161.15 mm, width 28.3 mm, 20 pockets, 40CrNiMoA (7870 kg/m^3, 209 GPa, 0.295).
+The pocket diameter (22.5 mm) and the guide geometry are not in the paper: assumed (SPEC §1).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, asdict, replace
+
+from .validation import InputError, require_positive, require_range
+
+
+@dataclass(frozen=True)
+class Material:
+    """Linear elastic isotropic material (SI)."""
+    density: float          # kg/m^3
+    youngs_modulus: float   # Pa
+    poisson_ratio: float    # -
+
+    def validate(self, name: str = "material") -> "Material":
+        require_positive(f"{name}.density", self.density, "kg/m^3")
+        require_positive(f"{name}.youngs_modulus", self.youngs_modulus, "Pa")
+        require_range(f"{name}.poisson_ratio", self.poisson_ratio, -1.0, 0.5, lo_open=True, hi_open=True)
+        return self
+
+
+M50 = Material(density=7810.0, youngs_modulus=210e9, poisson_ratio=0.3)
+STEEL_40CrNiMoA = Material(density=7870.0, youngs_modulus=209e9, poisson_ratio=0.295)
+
+
+@dataclass(frozen=True)
+class CageGeometry:
+    outside_diameter: float = 178.45e-3
+    bore_diameter: float = 161.15e-3
+    width: float = 28.3e-3
+    n_pockets: int = 20
+    pocket_diameter: float = 22.5e-3       # assumed (SPEC §1)
+    # Outer-ring guidance: the cage's outside cylinder runs on the outer ring's land.
+    # land_width: axial width of each of the two guide lands on the cage's outside surface;
+    # relief_depth: radial depth of the central relief between them (0 = plain outside cylinder).
+    land_width: float = 28.3e-3 / 2       # with relief_depth = 0 the whole outside is the guide
+    relief_depth: float = 0.0
+    chamfer: float = 0.0                   # 45° edge chamfer size on the four ring edges (0 = none)
+    material: Material = field(default=STEEL_40CrNiMoA)
+
+    @property
+    def outer_radius(self) -> float:
+        return 0.5 * self.outside_diameter
+
+    @property
+    def inner_radius(self) -> float:
+        return 0.5 * self.bore_diameter
+
+    @property
+    def mean_radius(self) -> float:
+        return 0.25 * (self.outside_diameter + self.bore_diameter)
+
+    def pocket_azimuths(self) -> list[float]:
+        return [2.0 * math.pi * k / self.n_pockets for k in range(self.n_pockets)]
+
+    def validate(self) -> "CageGeometry":
+        """Refuse geometry that cannot be meshed or is not a cage; return self."""
+        require_positive("cage.outside_diameter", self.outside_diameter, "m")
+        require_range("cage.bore_diameter", self.bore_diameter, 0.0, self.outside_diameter,
+                      lo_open=True, hi_open=True, unit="m")
+        require_positive("cage.width", self.width, "m")
+        if int(self.n_pockets) != self.n_pockets or self.n_pockets < 3:
+            raise InputError(f"cage.n_pockets = {self.n_pockets!r} must be an integer >= 3")
+        # Pockets must not overlap: the chord between neighbouring pocket axes at the bore is the
+        # tightest place (the axes converge towards the centre).
+        chord = 2.0 * self.inner_radius * math.sin(math.pi / self.n_pockets)
+        require_range("cage.pocket_diameter", self.pocket_diameter, 0.0, min(chord, self.width),
+                      lo_open=True, hi_open=True, unit="m")
+        require_range("cage.land_width", self.land_width, 0.0, 0.5 * self.width, lo_open=True,
+                      unit="m")
+        wall = self.outer_radius - self.inner_radius
+        require_range("cage.relief_depth", self.relief_depth, 0.0, wall, hi_open=True, unit="m")
+        require_range("cage.chamfer", self.chamfer, 0.0, 0.5 * min(wall, self.width), hi_open=True,
+                      unit="m")
+        self.material.validate("cage.material")
+        return self
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def with_(self, **changes) -> "CageGeometry":
+        return replace(self, **changes)
+
+
+PAPER_CAGE = CageGeometry()

@@ -1,0 +1,38 @@
+"""Edge validation: errors that name the field, the value and the allowed range."""
+from __future__ import annotations
+
+import math
+
+
+class InputError(ValueError):
+    """Invalid user input. The message names the field, the value and the allowed range."""
+
+
+def require_finite(field: str, value: float) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{field} = {value!r} is not a number") from None
+    if not math.isfinite(v):
+        raise InputError(f"{field} = {value!r} must be finite")
+    return v
+
+
+def require_range(field: str, value: float, lo: float | None = None, hi: float | None = None,
+                  lo_open: bool = False, hi_open: bool = False, unit: str = "") -> float:
+    """Check lo <= value <= hi (strict where *_open); return value as float."""
+    v = require_finite(field, value)
+    bad = ((lo is not None and (v < lo or (lo_open and v == lo)))
+           or (hi is not None and (v > hi or (hi_open and v == hi))))
+    if bad:
+        left = "-inf" if lo is None else f"{lo:g}"
+        right = "inf" if hi is None else f"{hi:g}"
+        lb = "(" if (lo is None or lo_open) else "["
+        rb = ")" if (hi is None or hi_open) else "]"
+        u = f" {unit}" if unit else ""
+        raise InputError(f"{field} = {v:g}{u} is outside the allowed range {lb}{left}, {right}{rb}{u}")
+    return v
+
+
+def require_positive(field: str, value: float, unit: str = "") -> float:
+    return require_range(field, value, lo=0.0, lo_open=True, unit=unit)
