@@ -1,0 +1,149 @@
+"""EHL traction between a ball and a race: the 4106-oil traction curve and its slice integration.
+
+Traction curve (Wang, Yang & Wang, Tribology 24(2):156, 2004, the seed paper's ref. 25; signs of
+the exponents reconstructed in reference/formulas.md):
+
+    mu(s) = (A + B·|s|)·exp(−C·|s|) + D,   mu(−s) = −mu(s),   s = du/UR,  UR = (u_ball + u_race)/2,
+
+    A = a0·Qb^a1·Ub^a2·Tb^a3   (same for B, C, D; exponents in TRACTION_FIT_4106)
+    Qb = Q/(E'·Rx²),  Ub = eta0·UR/(E'·Rx),  Tb = eta0·K0·T0/(E'·Rx)²,
+
+with Rx the rolling-direction effective radius, T0 the oil temperature (K), K0 the oil thermal
+conductivity and eta0 the viscosity "at atmospheric pressure and ambient temperature" (paper
+§2.2.2). The fit is only meaningful with eta0 at ambient (the 0.055 Pa·s of the paper preset): the
+formulas.md check (A −0.0204, ... at 373 K) uses eta0 = 0.055 Pa·s; with the 100 °C viscosity
+(4.4 mPa·s) the same fit returns mu ≈ 0.79, which is physically wrong. Near s = 0 the fitted curve
+dips slightly below zero (A + D < 0 for some conditions); those values are clipped to zero.
+
+Slice integration (seed paper §2.2.2, eqs for T_m, after Xie et al., its ref. 10): the ellipse
+(semi-major axis a along y, the groove direction) is cut into n equal-width slices along y; slice m
+carries the Hertz load share
+
+    Q_m = Q·[F(eta_hi) − F(eta_lo)],  F(eta) = (3·eta − eta³)/4,  eta = y/a,
+
+obtained by integrating p = p0·sqrt(1 − x²/b² − y²/a²) over x (line load (3Q/4a)(1 − y²/a²));
+the shares sum to 1 exactly. The sliding velocity varies across the ellipse because of the spin of
+the ball relative to the race (linear in y) and the curvature of the contact surface across the
+groove (quadratic in y); the caller passes it as du(y) = du0 + du1·y + du2·y² (use
+`slip_polynomial_from_three_points` if it evaluates du at y = −a, 0, +a). Each slice uses
+mu(du(y_m)/UR) at its centre y_m, and
+
+    T_x = sum_m Q_m·mu_m,   M_z = −sum_m y_m·T_xm   (moment about the contact normal z, x × y = z).
+
+Option `transverse` (off by default, as the paper takes T_eta = 0): with a transverse sliding
+velocity dv (uniform across the slices) the slice's slip vector (du, dv)/UR gets mu(|s|) along it,
+giving T_y = sum Q_m·mu_m·dv/|dvec| and the T_y part of the moment is zero (slices centred on x = 0).
+
+Sign convention: du, dv = race surface velocity minus ball surface velocity at the contact; the
+returned forces act on the ball (positive along +du). The race receives the opposite.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# Wang, Yang & Wang (2004) fit for 4106 oil: rows A, B, C, D; columns (factor, exponent of Qb,
+# exponent of Ub, exponent of Tb). Replace this table (same shape) to use another oil.
+TRACTION_FIT_4106 = np.array([
+    [-2.7968e-15, 0.5796, -0.5551, -0.5498],   # A
+    [1.6581e-28, 0.5687, -0.3537, -1.3936],    # B
+    [3.8718e-18, 0.2928, -0.5124, -0.8009],    # C
+    [2.2910e-20, 0.7423, -0.6713, -0.8022],    # D
+])
+
+
+@njit(cache=True)
+def traction_coefficients_table(Q, u_rolling, Rx, E_eff, eta0, temperature_k, thermal_conductivity, table):
+    """(A, B, C, D) of the traction curve from a coefficient table (rows A..D: factor, Qb, Ub, Tb
+    exponents). Qb = Q/(E'Rx²), Ub = eta0·UR/(E'Rx), Tb = eta0·K0·T0/(E'Rx)² (module docstring)."""
+    if Q <= 0.0 or u_rolling == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    er = E_eff * Rx
+    qb = Q / (er * Rx)
+    ub = eta0 * abs(u_rolling) / er
+    tb = eta0 * thermal_conductivity * temperature_k / (er * er)
+    lq = math.log(qb)
+    lu = math.log(ub)
+    lt = math.log(tb)
+    a = table[0, 0] * math.exp(table[0, 1] * lq + table[0, 2] * lu + table[0, 3] * lt)
+    b = table[1, 0] * math.exp(table[1, 1] * lq + table[1, 2] * lu + table[1, 3] * lt)
+    c = table[2, 0] * math.exp(table[2, 1] * lq + table[2, 2] * lu + table[2, 3] * lt)
+    d = table[3, 0] * math.exp(table[3, 1] * lq + table[3, 2] * lu + table[3, 3] * lt)
+    return a, b, c, d
+
+
+@njit(cache=True)
+def traction_coefficients(Q, u_rolling, Rx, E_eff, eta0, temperature_k, thermal_conductivity):
+    """(A, B, C, D) for 4106 oil (Wang, Yang & Wang 2004; TRACTION_FIT_4106).
+
+    Q normal load (N), u_rolling = UR = (u_ball + u_race)/2 (m/s), Rx rolling-direction radius (m),
+    E_eff = E' (Pa), eta0 ambient viscosity (Pa·s), temperature_k oil temperature (K),
+    thermal_conductivity K0 (W/(m·K)). Zero load or speed gives (0, 0, 0, 0), i.e. no traction.
+    """
+    return traction_coefficients_table(Q, u_rolling, Rx, E_eff, eta0, temperature_k,
+                                       thermal_conductivity, TRACTION_FIT_4106)
+
+
+@njit(cache=True)
+def traction_coefficient(s, A, B, C, D):
+    """mu(s) = (A + B·|s|)·exp(−C·|s|) + D, odd in s, negative values near s = 0 clipped to 0."""
+    x = abs(s)
+    mu = (A + B * x) * math.exp(-C * x) + D
+    if mu < 0.0:
+        mu = 0.0
+    return mu if s >= 0.0 else -mu
+
+
+@njit(cache=True)
+def slice_load_share(eta_lo, eta_hi):
+    """Fraction of the Hertz load between eta = y/a = eta_lo and eta_hi: F(hi) − F(lo),
+    F(eta) = (3·eta − eta³)/4 (integral of the elliptical pressure, module docstring)."""
+    return 0.25 * ((3.0 * eta_hi - eta_hi ** 3) - (3.0 * eta_lo - eta_lo ** 3))
+
+
+@njit(cache=True)
+def slip_polynomial_from_three_points(a, du_minus, du_centre, du_plus):
+    """(du0, du1, du2) of du(y) = du0 + du1·y + du2·y² through du(−a), du(0), du(+a)."""
+    du1 = (du_plus - du_minus) / (2.0 * a)
+    du2 = (du_plus + du_minus - 2.0 * du_centre) / (2.0 * a * a)
+    return du_centre, du1, du2
+
+
+@njit(cache=True)
+def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, transverse):
+    """Traction on the ball integrated over n_slices slices along the major axis (module docstring).
+
+    Q normal load (N); a semi-major axis (m); u_rolling = UR (m/s, its magnitude is used);
+    du(y) = du0 + du1·y + du2·y² the rolling-direction sliding velocity race − ball (m/s);
+    dv transverse sliding velocity (m/s, used only if transverse); A..D traction coefficients;
+    n_slices >= 1. Returns (T_x, T_y, M_z): rolling-direction traction (N), transverse traction
+    (N, 0 unless transverse), and moment about the contact normal (N·m), all acting on the ball.
+    A uniform slip (du1 = du2 = 0, dv = 0) gives T_x = Q·mu(du0/UR) exactly for any n.
+    """
+    if Q <= 0.0 or n_slices < 1:
+        return 0.0, 0.0, 0.0
+    ur = abs(u_rolling)
+    if ur < 1e-12:
+        ur = 1e-12
+    tx = 0.0
+    ty = 0.0
+    mz = 0.0
+    h = 2.0 / n_slices
+    for m in range(n_slices):
+        lo = -1.0 + m * h
+        hi = lo + h
+        qm = Q * slice_load_share(lo, hi)
+        y = 0.5 * (lo + hi) * a
+        du = du0 + y * (du1 + y * du2)
+        if transverse and dv != 0.0:
+            sv = math.sqrt(du * du + dv * dv)
+            mu = traction_coefficient(sv / ur, A, B, C, D)
+            tmx = qm * mu * du / sv
+            ty += qm * mu * dv / sv
+        else:
+            tmx = qm * traction_coefficient(du / ur, A, B, C, D)
+        tx += tmx
+        mz -= y * tmx
+    return tx, ty, mz
