@@ -48,6 +48,9 @@ class CageGeometry:
     relief_depth: float = 0.0
     chamfer: float = 0.0                   # 45° edge chamfer size on the four ring edges (0 = none)
     material: Material = field(default=STEEL_40CrNiMoA)
+    # The ball the pockets hold: only used to refuse pockets that cannot take it (Dp <= Dw) or
+    # are absurdly loose (Dp > 1.1·Dw, the same bound multibody.bearing applies).
+    ball_diameter: float = 22e-3
 
     @property
     def outer_radius(self) -> float:
@@ -64,25 +67,41 @@ class CageGeometry:
     def pocket_azimuths(self) -> list[float]:
         return [2.0 * math.pi * k / self.n_pockets for k in range(self.n_pockets)]
 
+    @property
+    def relief_width(self) -> float:
+        """Axial width of the central relief between the two guide lands (0 = no relief)."""
+        return max(0.0, self.width - 2.0 * self.land_width) if self.relief_depth > 0.0 else 0.0
+
     def validate(self) -> "CageGeometry":
-        """Refuse geometry that cannot be meshed or is not a cage; return self."""
+        """Refuse geometry that cannot be meshed or is not a cage; return self.
+
+        Every message names the field, its value and the allowed range (mesh.validation).
+        """
         require_positive("cage.outside_diameter", self.outside_diameter, "m")
         require_range("cage.bore_diameter", self.bore_diameter, 0.0, self.outside_diameter,
                       lo_open=True, hi_open=True, unit="m")
         require_positive("cage.width", self.width, "m")
         if int(self.n_pockets) != self.n_pockets or self.n_pockets < 3:
             raise InputError(f"cage.n_pockets = {self.n_pockets!r} must be an integer >= 3")
+        require_positive("cage.ball_diameter", self.ball_diameter, "m")
         # Pockets must not overlap: the chord between neighbouring pocket axes at the bore is the
-        # tightest place (the axes converge towards the centre).
+        # tightest place (the axes converge towards the centre). A pocket must also leave a side
+        # rail on each side (Dp < width) and hold the ball (Dw < Dp <= 1.1·Dw).
         chord = 2.0 * self.inner_radius * math.sin(math.pi / self.n_pockets)
         require_range("cage.pocket_diameter", self.pocket_diameter, 0.0, min(chord, self.width),
                       lo_open=True, hi_open=True, unit="m")
+        require_range("cage.pocket_diameter", self.pocket_diameter, self.ball_diameter,
+                      1.1 * self.ball_diameter, lo_open=True, unit="m")
         require_range("cage.land_width", self.land_width, 0.0, 0.5 * self.width, lo_open=True,
                       unit="m")
         wall = self.outer_radius - self.inner_radius
         require_range("cage.relief_depth", self.relief_depth, 0.0, wall, hi_open=True, unit="m")
         require_range("cage.chamfer", self.chamfer, 0.0, 0.5 * min(wall, self.width), hi_open=True,
                       unit="m")
+        if self.relief_depth > 0.0:
+            # The chamfer must not eat the guide land, nor reach the relief floor.
+            require_range("cage.chamfer", self.chamfer, 0.0,
+                          min(self.land_width, wall - self.relief_depth), hi_open=True, unit="m")
         self.material.validate("cage.material")
         return self
 

@@ -1,0 +1,247 @@
+"""The cage as a tagged tetrahedral mesh (gmsh OpenCASCADE).
+
+Construction: the ring's cross-section (bore, outside cylinder, optional central relief between
+two guide lands, optional 45° edge chamfers) is drawn in the x–r half plane and revolved 360°
+about the bearing axis x; Z radial cylinders of diameter Dp are cut out at azimuths
+theta_k = 2*pi*k/Z (from +y towards +z), centred on the mid-plane x = 0. The revolution seam
+is turned half a pocket pitch away from pocket 0 so no pocket wall lies on it.
+
+Mesh: global element size `size`, refined to `pocket_size` on and near the pocket walls
+(gmsh Distance + Threshold fields), because the thin side rails and bridges between pockets
+carry the bending of the cage. Order 2 means a *curved* quadratic mesh (gmsh setOrder(2)):
+mid-side nodes sit on the true pocket cylinders, which is what P2 elasticity needs to converge
+(SPEC §5: a straight-sided quadratic mesh facets the pockets and runs 0.1–2 % stiff).
+
+Physical groups (names and tags are part of the API that fem_cage and coupling rely on):
+  volume "cage" = 1; surfaces "pocket_00".."pocket_{Z-1:02d}" = 101 + k; "guide" = 200
+  (outer-ring guided surface: the outside cylinder, or the two lands when relieved);
+  "bore" = 201, "side_left" (x = -w/2) = 202, "side_right" (x = +w/2) = 203,
+  "other" = 204 (relief floor and walls, chamfers), only when present.
+"""
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from pathlib import Path
+
+from .cage_geometry import CageGeometry
+from .validation import InputError, require_range
+
+# Converged default (see fem_cage/mesh_study.py and benchmarks/results/modes_mesh_study.csv):
+# P2 on a curved quadratic mesh, global size and pocket size in metres.
+DEFAULT_MESH_SIZE = 3.0e-3
+DEFAULT_POCKET_SIZE = 1.5e-3
+DEFAULT_ORDER = 2
+
+TAG_CAGE = 1
+TAG_POCKET0 = 101
+TAG_GUIDE = 200
+TAG_BORE = 201
+TAG_SIDE_LEFT = 202
+TAG_SIDE_RIGHT = 203
+TAG_OTHER = 204
+
+
+def pocket_tag(k: int) -> int:
+    return TAG_POCKET0 + k
+
+
+def pocket_name(k: int) -> str:
+    return f"pocket_{k:02d}"
+
+
+def _check_sizes(geometry: CageGeometry, size: float, order: int, pocket_size: float | None):
+    wall = geometry.outer_radius - geometry.inner_radius
+    require_range("mesh.size", size, 0.0, geometry.width, lo_open=True, unit="m")
+    if pocket_size is not None:
+        require_range("mesh.pocket_size", pocket_size, 0.0, size, lo_open=True, unit="m")
+    if order not in (1, 2):
+        raise InputError(f"mesh.order = {order!r} is outside the allowed set {{1, 2}}")
+    # Fewer than ~1 element through the wall gives gmsh nothing sensible to do.
+    require_range("mesh.size", size, 0.0, max(wall, geometry.width), lo_open=True, unit="m")
+
+
+def _profile_points(g: CageGeometry, pockets: bool = True) -> list[tuple[float, float]]:
+    """Closed polygon (x, r) of the ring's cross-section, counter-clockwise in the x–r plane."""
+    w2, ri, ro, c = 0.5 * g.width, g.inner_radius, g.outer_radius, g.chamfer
+    pts = []
+    if c > 0:
+        pts += [(-w2 + c, ri), (w2 - c, ri), (w2, ri + c), (w2, ro - c), (w2 - c, ro)]
+    else:
+        pts += [(-w2, ri), (w2, ri), (w2, ro)]
+    if g.relief_depth > 0 and g.relief_width > 0:
+        wr2, rr = 0.5 * g.relief_width, ro - g.relief_depth
+        pts += [(wr2, ro), (wr2, rr), (-wr2, rr), (-wr2, ro)]
+    if c > 0:
+        pts += [(-w2 + c, ro), (-w2, ro - c), (-w2, ri + c)]
+    else:
+        pts += [(-w2, ro)]
+    return pts
+
+
+def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | None,
+                 with_pockets: bool = True, verbose: bool = False):
+    """Build geometry + mesh in the current gmsh model; return physical name -> tag."""
+    import gmsh
+
+    gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
+    occ = gmsh.model.occ
+    pts = [occ.addPoint(x, r, 0.0) for x, r in _profile_points(g)]
+    lines = [occ.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+    face = occ.addPlaneSurface([occ.addCurveLoop(lines)])
+    out = occ.revolve([(2, face)], 0, 0, 0, 1, 0, 0, 2 * math.pi)
+    ring = [dt for dt in out if dt[0] == 3]
+    Z = g.n_pockets
+    # Seam (profile drawn at azimuth 0 = +y) turned to half a pocket pitch.
+    occ.rotate(ring, 0, 0, 0, 1, 0, 0, math.pi / Z)
+    if with_pockets:
+        margin = 0.5 * (g.outer_radius - g.inner_radius)
+        r0, length = g.inner_radius - margin, (g.outer_radius - g.inner_radius) + 2 * margin
+        tools = []
+        for th in g.pocket_azimuths():
+            cy, cz = math.cos(th), math.sin(th)
+            tools.append((3, occ.addCylinder(0.0, r0 * cy, r0 * cz, 0.0, length * cy, length * cz,
+                                             0.5 * g.pocket_diameter)))
+        ring, _ = occ.cut(ring, tools)
+    occ.synchronize()
+    vols = [t for d, t in ring if d == 3]
+    if len(vols) != 1:
+        raise InputError(f"cage geometry produced {len(vols)} solids instead of one "
+                         "(pockets cut the ring apart): reduce cage.pocket_diameter")
+
+    # Classify the boundary surfaces geometrically (robust to OCC's face numbering).
+    groups: dict[str, list[int]] = {}
+    ri, ro, w2 = g.inner_radius, g.outer_radius, 0.5 * g.width
+    tol = 1e-5 * ro          # OCC bounding boxes are padded by ~1e-7 m
+    azim = g.pocket_azimuths()
+    for _, s in gmsh.model.getBoundary([(3, vols[0])], oriented=False):
+        x, y, z = occ.getCenterOfMass(2, s)
+        xmin, ymin, zmin, xmax, ymax, zmax = gmsh.model.getBoundingBox(2, s)
+        rho = math.hypot(y, z)
+        if with_pockets and rho > 0.5 * ri:
+            # A pocket wall (the only faces not rotationally symmetric about x).
+            th = math.atan2(z, y) % (2 * math.pi)
+            k = min(range(Z), key=lambda j: abs(math.remainder(th - azim[j], 2 * math.pi)))
+            groups.setdefault(pocket_name(k), []).append(s)
+        elif abs(xmax - xmin) < tol and abs(xmin + w2) < tol:
+            groups.setdefault("side_left", []).append(s)
+        elif abs(xmax - xmin) < tol and abs(xmin - w2) < tol:
+            groups.setdefault("side_right", []).append(s)
+        elif gmsh.model.getType(2, s) == "Cylinder" and abs(ymax - ro) < tol and abs(ymin + ro) < tol:
+            groups.setdefault("guide", []).append(s)
+        elif gmsh.model.getType(2, s) == "Cylinder" and abs(ymax - ri) < tol:
+            groups.setdefault("bore", []).append(s)
+        else:
+            groups.setdefault("other", []).append(s)
+    if with_pockets and sum(1 for n in groups if n.startswith("pocket_")) != Z:
+        raise RuntimeError("cage_mesh: could not find one wall per pocket")
+
+    names = {"cage": TAG_CAGE}
+    gmsh.model.addPhysicalGroup(3, vols, TAG_CAGE)
+    gmsh.model.setPhysicalName(3, TAG_CAGE, "cage")
+    fixed = {"guide": TAG_GUIDE, "bore": TAG_BORE, "side_left": TAG_SIDE_LEFT,
+             "side_right": TAG_SIDE_RIGHT, "other": TAG_OTHER}
+    for k in range(Z):
+        fixed[pocket_name(k)] = pocket_tag(k)
+    for name, surfs in sorted(groups.items()):
+        tag = fixed[name]
+        gmsh.model.addPhysicalGroup(2, surfs, tag)
+        gmsh.model.setPhysicalName(2, tag, name)
+        names[name] = tag
+
+    # Mesh size: `size` everywhere, `pocket_size` on the pocket walls, growing linearly to
+    # `size` over one global element size away from them.
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.1 * (pocket_size or size))
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    pocket_surfs = [s for n, ss in groups.items() if n.startswith("pocket_") for s in ss]
+    if with_pockets and pocket_size is not None and pocket_size < size:
+        f = gmsh.model.mesh.field
+        fd = f.add("Distance")
+        f.setNumbers(fd, "FacesList", pocket_surfs)
+        f.setNumber(fd, "NNodesByEdge", 60)
+        ft = f.add("Threshold")
+        f.setNumber(ft, "IField", fd)
+        f.setNumber(ft, "LcMin", pocket_size)
+        f.setNumber(ft, "LcMax", size)
+        f.setNumber(ft, "DistMin", 0.25 * pocket_size)
+        f.setNumber(ft, "DistMax", 0.25 * pocket_size + 1.5 * size)
+        f.setAsBackgroundMesh(ft)
+    # Resolve the curvature of bore, outside and pockets (elements per 2*pi of arc).
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 12)
+    gmsh.option.setNumber("Mesh.Optimize", 1)
+    gmsh.model.mesh.generate(3)
+    if order == 2:
+        gmsh.model.mesh.setOrder(2)          # curved: mid-side nodes on the CAD surfaces
+    return names
+
+
+def _write(path: Path):
+    import gmsh
+    gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+    gmsh.option.setNumber("Mesh.SaveAll", 0)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # Write atomically: a concurrent reader of the cache never sees half a file.
+    fd, tmp = tempfile.mkstemp(suffix=".msh", dir=path.parent)
+    os.close(fd)
+    gmsh.write(tmp)
+    os.replace(tmp, path)
+
+
+def build_cage_mesh(geometry: CageGeometry, size: float, order: int, path,
+                    pocket_size: float | None = None, verbose: bool = False) -> Path:
+    """Mesh the cage and write a gmsh .msh (v4.1) to `path`; return the path.
+
+    size: global element size, m; pocket_size: element size on the pocket walls, m (None = size);
+    order: 1 (linear tetrahedra) or 2 (curved quadratic tetrahedra, gmsh setOrder(2)).
+    """
+    geometry.validate()
+    _check_sizes(geometry, size, order, pocket_size)
+    return _mesh_to_file(geometry, size, order, Path(path), pocket_size, True, verbose)
+
+
+def build_ring_mesh(geometry: CageGeometry, size: float, order: int, path,
+                    verbose: bool = False) -> Path:
+    """A plain ring (the cage's cross-section revolved, no pockets): the analytic-check body."""
+    _check_sizes(geometry, size, order, None)
+    return _mesh_to_file(geometry, size, order, Path(path), None, False, verbose)
+
+
+def _mesh_to_file(geometry, size, order, path, pocket_size, with_pockets, verbose) -> Path:
+    import gmsh
+    gmsh.initialize()      # gmsh 4.8 has no isInitialized(): own the session for this call
+    try:
+        gmsh.model.add("cage")
+        _build_model(geometry, size, order, pocket_size, with_pockets, verbose)
+        _write(path)
+    finally:
+        gmsh.finalize()
+    return path
+
+
+def mesh_key(geometry: CageGeometry, size: float, order: int, pocket_size: float | None,
+             kind: str = "cage") -> dict:
+    return {"kind": kind, "geometry": geometry.to_dict(), "size": float(size), "order": int(order),
+            "pocket_size": None if pocket_size is None else float(pocket_size), "version": 1}
+
+
+def cached_cage_mesh(geometry: CageGeometry, size: float = DEFAULT_MESH_SIZE,
+                     order: int = DEFAULT_ORDER, pocket_size: float | None = DEFAULT_POCKET_SIZE) -> Path:
+    """build_cage_mesh into cache_dir()/meshes/<content_hash>.msh, reused when present."""
+    from .cache import cache_dir, content_hash
+    geometry.validate()
+    _check_sizes(geometry, size, order, pocket_size)
+    path = cache_dir() / "meshes" / f"{content_hash(mesh_key(geometry, size, order, pocket_size))}.msh"
+    if not path.exists():
+        build_cage_mesh(geometry, size, order, path, pocket_size)
+    return path
+
+
+def cached_ring_mesh(geometry: CageGeometry, size: float, order: int = DEFAULT_ORDER) -> Path:
+    from .cache import cache_dir, content_hash
+    path = cache_dir() / "meshes" / f"{content_hash(mesh_key(geometry, size, order, None, 'ring'))}.msh"
+    if not path.exists():
+        build_ring_mesh(geometry, size, order, path)
+    return path
