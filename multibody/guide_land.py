@@ -1,0 +1,99 @@
+"""Cage–guide-land interaction: short journal bearing film (Ocvirk) plus a hard rim contact.
+
+The cage's guiding cylinder (radius R1, width L) runs inside the outer ring's guide land with the
+radial clearance Cg. The cage centre sits at the offset e = (ey, ez) from the land centre in the
+plane normal to the bearing axis x; eps = |e|/Cg; e_hat = e/|e| points to the thinnest film.
+
+Film forces on the cage, short-bearing (Ocvirk & DuBois) theory with the half-Sommerfeld (pi-film)
+boundary condition (paper eqs for F_cy, F_cz, M_cx, its refs. 28–29; Hamrock, Fundamentals of
+Fluid Film Lubrication, 1994, ch. 13):
+
+    W_r = eta·U·L³·eps² / (Cg²·(1 − eps²)²)            along −e_hat (restoring),
+    W_t = pi·eta·U·L³·eps / (4·Cg²·(1 − eps²)^1.5)     along x_hat × e_hat,
+    U   = R1·(omega_cage + omega_land)                  (sum of the surface speeds, paper),
+    M_x = 2·pi·eta·(omega_land − omega_cage)·R1³·L / (Cg·sqrt(1 − eps²))   on the cage,
+
+M_x is Petroff's torque at eps = 0 (the paper's form: the pressure part e·W_t/2 is not included).
+
+Option `dynamic` (an improvement over the paper, off by default): the short-bearing forces with the
+whirl and squeeze terms of the moving cage centre (Childs, Turbomachinery Rotordynamics, 1993,
+§3.5, pi-film with limits fixed on the line of centres):
+
+    F_r = −(eta·R1·L³/(2·Cg²))·[2·eps²·(w_s − 2·phidot)/(1 − eps²)² + pi·(1 + 2·eps²)·epsdot/(1 − eps²)^2.5]
+    F_t =  (eta·R1·L³/(2·Cg²))·[pi·eps·(w_s − 2·phidot)/(2·(1 − eps²)^1.5) + 4·eps·epsdot/(1 − eps²)²]
+
+with w_s = omega_cage + omega_land, phidot the whirl rate of e_hat and epsdot = (de/dt)/Cg; with
+phidot = epsdot = 0 these are W_r and W_t above. For a negative effective speed the pi-film moves
+to the other half: the radial term keeps its restoring sign (|U|), the tangential one flips.
+
+The film terms are evaluated at min(eps, eps_max) (default 0.95) so they stay finite; from
+|e| >= Cg a rim contact takes over: a radial penalty F_rim = k_rim·(|e| − Cg) along −e_hat with
+Coulomb friction mu_rim·F_rim on the rim (torque −mu_rim·F_rim·R1·sign(omega_cage − omega_land),
+smoothed by tanh over 1 rad/s). k_rim is a penalty stiffness, not a Hertz law; `rim_stiffness`
+gives the default (pi/4)·E'·L, the order of the Hertz line-contact stiffness of two steel
+cylinders of width L. All forces and the torque act on the cage; the ring gets the opposite.
+"""
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+
+@njit(cache=True)
+def rim_stiffness(E_eff, width):
+    """Default rim-contact penalty stiffness k_rim = (pi/4)·E'·L, N/m (see module docstring)."""
+    return 0.25 * math.pi * E_eff * width
+
+
+@njit(cache=True)
+def ocvirk_forces(eps, U, eta, L, Cg):
+    """(W_r, W_t) of the static short bearing, N: W_r = eta·U·L³·eps²/(Cg²(1 − eps²)²),
+    W_t = pi·eta·U·L³·eps/(4·Cg²·(1 − eps²)^1.5) (Ocvirk; module docstring)."""
+    q = 1.0 - eps * eps
+    c = eta * U * L ** 3 / (Cg * Cg)
+    return c * eps * eps / (q * q), 0.25 * math.pi * c * eps / q ** 1.5
+
+
+@njit(cache=True)
+def guide_land_force(ey, ez, vy, vz, omega_cage, omega_land, R1, L, Cg, eta, eps_max, dynamic,
+                     k_rim, mu_rim):
+    """Film + rim force on the cage from the guide land: returns (F_y, F_z, M_x) in N, N, N·m.
+
+    ey, ez: cage centre offset from the land centre (m); vy, vz its velocity (m/s, used only if
+    dynamic); omega_cage, omega_land: spin speeds about +x (rad/s); R1 guiding radius (m); L land
+    width (m); Cg radial clearance (m); eta viscosity (Pa·s); eps_max film cap (< 1); dynamic:
+    include whirl and squeeze; k_rim (N/m), mu_rim: rim contact. Equations: module docstring.
+    """
+    e = math.sqrt(ey * ey + ez * ez)
+    eps_true = e / Cg
+    eps = min(eps_true, eps_max)
+    q = 1.0 - eps * eps
+    torque = 2.0 * math.pi * eta * (omega_land - omega_cage) * R1 ** 3 * L / (Cg * math.sqrt(q))
+    if e <= 0.0:
+        return 0.0, 0.0, torque
+    cy = ey / e
+    cz = ez / e
+    ws = omega_cage + omega_land
+    if dynamic:
+        edot = (ey * vy + ez * vz) / e                 # radial speed
+        phidot = (ey * vz - ez * vy) / (e * e)         # whirl rate of e_hat about +x
+        epsdot = edot / Cg
+        if eps_true >= eps_max and epsdot > 0.0:
+            epsdot = 0.0                               # capped film: no further squeeze growth
+        c = eta * R1 * L ** 3 / (2.0 * Cg * Cg)
+        wr = c * (2.0 * eps * eps * abs(ws - 2.0 * phidot) / (q * q)
+                  + math.pi * (1.0 + 2.0 * eps * eps) * epsdot / q ** 2.5)
+        wt = c * (math.pi * eps * (ws - 2.0 * phidot) / (2.0 * q ** 1.5) + 4.0 * eps * epsdot / (q * q))
+    else:
+        wr, wt = ocvirk_forces(eps, R1 * ws, eta, L, Cg)
+        wr = abs(wr)                                   # restoring for either sense of rotation
+    # radial (−e_hat) and tangential (x_hat × e_hat = (−cz, cy)) components
+    fy = -wr * cy - wt * cz
+    fz = -wr * cz + wt * cy
+    if e > Cg:
+        frim = k_rim * (e - Cg)
+        fy -= frim * cy
+        fz -= frim * cz
+        torque -= mu_rim * frim * R1 * math.tanh(omega_cage - omega_land)
+    return fy, fz, torque
