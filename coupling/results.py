@@ -1,0 +1,266 @@
+"""One HDF5 file per run, written while the run goes, plus the summary.json beside it.
+
+Layout (SI units in the `unit` attribute of every dataset):
+
+    /                      attrs: format, format_version, scene_name, scene_hash, status
+                           ("running" | "interrupted" | "failed: ..." | "complete"), duration,
+                           sample_interval, n_samples_expected, cage_model, summary (JSON, at the end)
+    /scene                 the scene's TOML text, as loaded
+    /outputs/time          (n,) s
+    /outputs/<name>        (n, ...) one row per sample, e.g. contact_stress_inner (n, Z) Pa
+    /checkpoint/slot0, slot1   y (state), attrs t, h, n_samples, n_steps, n_rejected, wall_time, seq
+
+Crash safety. Samples are buffered in memory and written in blocks: each block is appended to the
+chunked, resizable datasets, then a checkpoint describing the state at the block's last sample is
+written, then the file is flushed. Between blocks the file is not touched, so a kill during the
+integration (nearly all of the wall time) leaves a consistent file. The checkpoint is
+double-buffered: the slot being written is first invalidated (seq = -1) and gets its sequence number
+last, so a kill inside a checkpoint write leaves the other slot valid. On Ctrl-C or an exception the
+run writes what it has and a checkpoint at its last sample before closing.
+
+Resume. `open_for_resume` picks the valid checkpoint with the highest sequence number and truncates
+every output dataset to the checkpoint's sample count; the run continues from the checkpoint's
+(y, t, h). The integrator is deterministic, so the resumed file's datasets equal an uninterrupted
+run's bit for bit (tests/test_resume.py).
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+FORMAT = "flexbearing-results"
+FORMAT_VERSION = 1
+CHUNK_ROWS = 256          # rows per HDF5 chunk along time (a chunk of (256, 20) float64 is 40 kB)
+
+# Units of the recorded quantities, by name fragment (first match wins). The dynamics module may
+# give exact units in its OUTPUT_UNITS dict; these are the fall-back, in the bearing engineer's names.
+_UNIT_RULES = (("time", "s"), ("von_mises", "Pa"), ("stress", "Pa"), ("pressure", "Pa"),
+               ("film", "m"), ("thickness", "m"), ("force", "N"), ("load", "N"), ("torque", "N·m"),
+               ("angle", "rad"), ("slip", "1"), ("speed", "rad/s"), ("omega", "rad/s"),
+               ("velocity", "m/s"), ("orbit", "m"), ("position", "m"), ("eccentricity", "m"),
+               ("displacement", "m"))
+
+
+def unit_for(name: str, known: dict | None = None) -> str:
+    if known and name in known:
+        return known[name]
+    for frag, unit in _UNIT_RULES:
+        if frag in name:
+            return unit
+    return "unknown"
+
+
+def summary_path(results_path) -> Path:
+    """run.h5 -> run.summary.json (beside the results; one per run, so runs in one folder coexist)."""
+    p = Path(results_path)
+    return p.with_name(p.stem + ".summary.json")
+
+
+class ResultsWriter:
+    """Append-only writer of one run's results, with checkpoints. Use `create` or `open_for_resume`."""
+
+    def __init__(self, h5file, units: dict | None = None):
+        self.f = h5file
+        self.units = dict(units or {})
+        self.buffer: dict[str, list] = {}
+        self.n_written = int(self.f["outputs/time"].shape[0]) if "outputs/time" in self.f else 0
+        self.previous_status = ""
+
+    # ---- opening
+    @classmethod
+    def create(cls, path, scene, units: dict | None = None) -> "ResultsWriter":
+        import h5py
+        f = h5py.File(path, "w")
+        f.attrs["format"] = FORMAT
+        f.attrs["format_version"] = FORMAT_VERSION
+        f.attrs["scene_name"] = scene.name
+        f.attrs["scene_hash"] = scene.content_hash()
+        f.attrs["scene_path"] = scene.path
+        f.attrs["cage_model"] = scene.cage_model
+        f.attrs["duration"] = scene.duration
+        f.attrs["sample_interval"] = scene.sample_interval
+        f.attrs["n_samples_expected"] = scene.n_samples
+        f.attrs["status"] = "running"
+        f.attrs["n_resumes"] = 0
+        f.create_dataset("scene", data=scene.text or json.dumps(scene.data, default=repr))
+        f.create_group("outputs")
+        cp = f.create_group("checkpoint")
+        for s in ("slot0", "slot1"):
+            cp.create_group(s).attrs["seq"] = -1
+        f.flush()
+        return cls(f, units)
+
+    @classmethod
+    def open_for_resume(cls, path, scene, units: dict | None = None):
+        """Open an existing run of `scene`; return (writer, checkpoint dict or None).
+
+        None means no valid checkpoint (the run must start over; the file has been reset)."""
+        import h5py
+
+        from mesh.validation import InputError
+        f = h5py.File(path, "r+")
+        try:
+            if f.attrs.get("format") != FORMAT:
+                raise InputError(f"{path} is not a flexbearing results file (format attribute "
+                                 f"{f.attrs.get('format')!r}, expected {FORMAT!r})")
+            if f.attrs["scene_hash"] != scene.content_hash():
+                raise InputError(f"--resume: {path} was written by a different scene (scene hash "
+                                 f"{f.attrs['scene_hash']} in the file, {scene.content_hash()} for "
+                                 f"{scene.path or scene.name}); resume needs the same scene, or write a new file")
+            cp = read_checkpoint(f)
+        except Exception:
+            f.close()
+            raise
+        w = cls(f, units)
+        w.previous_status = str(f.attrs.get("status", ""))
+        w.n_written = 0 if cp is None else cp["n_samples"]
+        if "outputs" in f:
+            for name, ds in f["outputs"].items():
+                ds.resize(w.n_written, axis=0)      # drop samples written after the checkpoint
+        f.attrs["status"] = "running"
+        f.attrs["n_resumes"] = int(f.attrs.get("n_resumes", 0)) + 1
+        f.flush()
+        return w, cp
+
+    # ---- writing
+    def add_sample(self, t: float, values: dict) -> None:
+        """Buffer one sample (written by the next `write_block`)."""
+        self.buffer.setdefault("time", []).append(np.float64(t))
+        for k, v in values.items():
+            self.buffer.setdefault(k, []).append(np.array(v, dtype=np.float64, copy=True))
+
+    @property
+    def n_buffered(self) -> int:
+        return len(self.buffer.get("time", ()))
+
+    def write_block(self) -> None:
+        """Append the buffered samples to the datasets (created at the first block)."""
+        nb = self.n_buffered
+        if nb == 0:
+            return
+        out = self.f["outputs"]
+        n0 = self.n_written
+        for k, rows in self.buffer.items():
+            if len(rows) != nb:
+                raise RuntimeError(f"output {k!r} has {len(rows)} samples in a block of {nb}")
+            block = np.stack(rows)
+            if k not in out:
+                if n0 != 0:
+                    raise RuntimeError(f"output {k!r} appeared after {n0} samples")
+                ds = out.create_dataset(k, shape=(0,) + block.shape[1:], maxshape=(None,) + block.shape[1:],
+                                        dtype=np.float64, chunks=(CHUNK_ROWS,) + block.shape[1:])
+                ds.attrs["unit"] = unit_for(k, self.units)
+            ds = out[k]
+            if ds.shape[1:] != block.shape[1:]:
+                raise RuntimeError(f"output {k!r} changed shape from {ds.shape[1:]} to {block.shape[1:]}")
+            ds.resize(n0 + nb, axis=0)
+            ds[n0:n0 + nb] = block
+        self.n_written = n0 + nb
+        self.buffer = {}
+
+    def checkpoint(self, y, t: float, h: float, n_steps: int, n_rejected: int, wall_time: float) -> None:
+        """Write buffered samples, then the state at the last written sample, then flush."""
+        self.write_block()
+        cp = self.f["checkpoint"]
+        seqs = [int(cp[s].attrs["seq"]) for s in ("slot0", "slot1")]
+        slot = cp["slot0"] if seqs[0] <= seqs[1] else cp["slot1"]   # overwrite the older slot
+        slot.attrs["seq"] = -1
+        self.f.flush()
+        y = np.asarray(y, dtype=np.float64)
+        if "y" in slot and slot["y"].shape == y.shape:
+            slot["y"][...] = y
+        else:
+            if "y" in slot:
+                del slot["y"]
+            slot.create_dataset("y", data=y)
+        slot.attrs.update({"t": float(t), "h": float(h), "n_samples": int(self.n_written),
+                           "n_steps": int(n_steps), "n_rejected": int(n_rejected),
+                           "wall_time": float(wall_time)})
+        self.f.flush()
+        slot.attrs["seq"] = max(seqs) + 1
+        self.f.flush()
+
+    def set_status(self, status: str) -> None:
+        self.f.attrs["status"] = status
+        self.f.flush()
+
+    def close(self) -> None:
+        if self.f.id.valid:
+            self.f.close()
+
+
+def read_checkpoint(f) -> dict | None:
+    """The newest valid checkpoint of an open results file, or None."""
+    best = None
+    if "checkpoint" not in f:
+        return None
+    for s in ("slot0", "slot1"):
+        g = f["checkpoint"][s]
+        seq = int(g.attrs.get("seq", -1))
+        if seq >= 0 and "y" in g and (best is None or seq > best["seq"]):
+            best = {"seq": seq, "y": g["y"][...], **{k: g.attrs[k] for k in
+                    ("t", "h", "n_samples", "n_steps", "n_rejected", "wall_time")}}
+    if best is not None:
+        for k in ("n_samples", "n_steps", "n_rejected", "seq"):
+            best[k] = int(best[k])
+        for k in ("t", "h", "wall_time"):
+            best[k] = float(best[k])
+    return best
+
+
+def output_statistics(f, block_rows: int = 65536) -> dict:
+    """max/mean/min (and the time of the max) of every recorded output, read block by block.
+    NaN entries (a quantity that does not exist at that instant, e.g. the film of an unloaded
+    contact) are left out and counted."""
+    out = f["outputs"]
+    time = out["time"][...]
+    stats = {}
+    for name, ds in out.items():
+        if name == "time" or ds.shape[0] == 0:
+            continue
+        vmax, vmin, total, count, nan, t_max = -math.inf, math.inf, 0.0, 0, 0, math.nan
+        for i0 in range(0, ds.shape[0], block_rows):
+            a = ds[i0:i0 + block_rows].reshape(min(block_rows, ds.shape[0] - i0), -1)
+            ok = np.isfinite(a)
+            nan += int(a.size - ok.sum())
+            if not ok.any():
+                continue
+            av = np.where(ok, a, -np.inf)
+            row = int(np.argmax(av.max(axis=1)))
+            if av[row].max() > vmax:
+                vmax = float(av[row].max())
+                t_max = float(time[i0 + row])
+            vmin = min(vmin, float(np.where(ok, a, np.inf).min()))
+            total += float(a[ok].sum())
+            count += int(ok.sum())
+        stats[name] = {"unit": str(ds.attrs.get("unit", "unknown")), "shape": list(ds.shape[1:]),
+                       "max": vmax if count else None, "mean": total / count if count else None,
+                       "min": vmin if count else None, "t_max": t_max if count else None,
+                       "non_finite": nan}
+    return stats
+
+
+def write_summary(results_path, extra: dict) -> dict:
+    """Compute the per-output statistics from the file and write <stem>.summary.json beside it
+    (and the same JSON into the file's `summary` attribute)."""
+    import h5py
+    with h5py.File(results_path, "r+") as f:
+        summary = dict(extra)
+        summary["results_file"] = str(Path(results_path).name)
+        summary["status"] = str(f.attrs["status"])
+        summary["n_samples"] = int(f["outputs/time"].shape[0]) if "outputs/time" in f else 0
+        summary["outputs"] = output_statistics(f) if "outputs/time" in f else {}
+        text = json.dumps(summary, indent=2, allow_nan=False, default=float)
+        f.attrs["summary"] = text
+    summary_path(results_path).write_text(text + "\n")
+    return summary
+
+
+def read_outputs(path) -> dict[str, np.ndarray]:
+    """All recorded outputs of a results file as arrays (small runs, tests, reports)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        return {k: ds[...] for k, ds in f["outputs"].items()}

@@ -1,0 +1,204 @@
+"""Run a scene: scene → model → initial state → advance loop → sampled outputs → HDF5 → summary.json.
+
+    t_k = k·dt (k = 0..N, the scene's sample interval; computed from k, never accumulated)
+    between samples the integrator is stopped at every kink or jump of the spectra (speed-table
+    knots, load-table knots, impact start and end) so that no step straddles a discontinuity;
+    outputs are evaluated at t_k only, and only those the scene records.
+
+The physics comes from a *backend*, a namespace with
+    build_model(bearing, oil, options) -> model
+    initial_state(model, speed_rad_s, Fa, Fr) -> y0
+    advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h) -> (y, t, h, n_steps, n_rejected)
+    evaluate_outputs(model, t, y, ...) -> dict[str, array]      (keyword arguments it declares among
+                                         outputs, speed_table, load_table, impacts are passed)
+    OUTPUT_UNITS (optional dict name -> unit)
+`default_backend(scene)` assembles it from multibody.{model, initial, integrator, dynamics} (rigid
+cage) or from coupling.flexible_cage (flexible cage, when that module exists); tests pass a small
+fake backend so that streaming, checkpoints and resume are proven independently of the physics.
+Nothing here imports the FE stack.
+"""
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import inspect
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+from coupling.progress import RunProgress
+from coupling.results import ResultsWriter, write_summary
+from mesh.validation import InputError
+from multibody.profiles import load_at, speed_at
+
+
+class RunInterrupted(Exception):
+    """The run stopped early (Ctrl-C or an error); the results file holds a checkpoint to resume."""
+
+    def __init__(self, message: str, t: float, path: str, cause: BaseException | None = None):
+        super().__init__(message)
+        self.t = t
+        self.path = path
+        self.cause = cause
+
+
+def default_backend(scene) -> SimpleNamespace:
+    """The physics for this scene's cage model (imports only what that model needs)."""
+    if scene.cage_model == "flexible":
+        if importlib.util.find_spec("coupling.flexible_cage") is None:
+            raise InputError("cage.model = 'flexible': flexible cage coupling not available yet "
+                             "(coupling.flexible_cage is missing); use cage.model = 'rigid'")
+        fc = importlib.import_module("coupling.flexible_cage")
+        return fc.backend(scene)
+    missing = [m for m in ("multibody.model", "multibody.initial", "multibody.integrator",
+                           "multibody.dynamics") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise InputError(f"the multibody dynamics is not available yet (missing: {', '.join(missing)})")
+    model = importlib.import_module("multibody.model")
+    initial = importlib.import_module("multibody.initial")
+    integrator = importlib.import_module("multibody.integrator")
+    dynamics = importlib.import_module("multibody.dynamics")
+    return SimpleNamespace(build_model=model.build_model, initial_state=initial.initial_state,
+                           advance=integrator.advance, evaluate_outputs=dynamics.evaluate_outputs,
+                           OUTPUT_UNITS=getattr(dynamics, "OUTPUT_UNITS", {}))
+
+
+def _accepted_kwargs(func, available: dict) -> dict:
+    try:
+        params = inspect.signature(func).parameters
+    except (TypeError, ValueError):
+        return {}
+    if any(p.kind == p.VAR_KEYWORD for p in params.values()):
+        return dict(available)
+    return {k: v for k, v in available.items() if k in params}
+
+
+def _prepare_output(out_path: Path, resume: bool, force: bool) -> str:
+    """'new' or 'resume'; refuse to overwrite an existing file unless forced."""
+    if out_path.suffix not in (".h5", ".hdf5"):
+        raise InputError(f"-o {out_path}: the results file must end in .h5 or .hdf5")
+    if resume and out_path.exists():
+        return "resume"
+    if out_path.exists() and not force:
+        raise InputError(f"{out_path} exists: pass --resume to continue that run or --force to overwrite it")
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    return "new"
+
+
+def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet: bool = False,
+              backend=None) -> dict:
+    """Run `scene` (a validated coupling.scene.Scene), stream results to `out_path`, return the summary.
+
+    resume: continue the run in `out_path` from its last checkpoint (start afresh if the file does
+    not exist). On Ctrl-C or an error the file keeps every sample computed so far and a checkpoint
+    at the last one, and RunInterrupted is raised.
+    """
+    out_path = Path(out_path)
+    mode = _prepare_output(out_path, resume, force)
+    wall_start = time.perf_counter()
+    if backend is None:
+        backend = default_backend(scene)
+    units = dict(getattr(backend, "OUTPUT_UNITS", {}) or {})
+    units.setdefault("inner_ring_speed", "rad/s")
+    units.setdefault("applied_load", "N")
+    model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
+
+    speed_table, load_table, impacts = scene.speed_table, scene.load_table, scene.impacts
+    eval_kwargs = _accepted_kwargs(backend.evaluate_outputs, {
+        "outputs": tuple(scene.outputs), "speed_table": speed_table, "load_table": load_table,
+        "impacts": impacts})
+    adv_kwargs = _accepted_kwargs(backend.advance, {"max_step": scene.max_step}) if scene.max_step else {}
+    load3 = np.zeros(3)
+
+    def sample(t, y) -> dict:
+        values = dict(backend.evaluate_outputs(model, t, y, **eval_kwargs))
+        if "inner_ring_speed" not in values:
+            values["inner_ring_speed"] = speed_at(t, speed_table)
+        if "applied_load" not in values:
+            load_at(t, load_table, impacts, load3)
+            values["applied_load"] = load3.copy()
+        return values
+
+    cp = None
+    if mode == "resume":
+        writer, cp = ResultsWriter.open_for_resume(out_path, scene, units)
+        if cp is None:               # killed before its first checkpoint: start over in a new file
+            writer.close()
+            mode = "new"
+        elif writer.previous_status == "complete" or cp["n_samples"] >= scene.n_samples:
+            writer.set_status("complete")
+            writer.close()
+            return _finish(scene, out_path, cp["n_steps"], cp["n_rejected"], cp["wall_time"],
+                           time.perf_counter() - wall_start)
+    if mode == "new":
+        writer = ResultsWriter.create(out_path, scene, units)
+
+    try:
+        if cp is None:
+            Fa, Fr = scene.initial_loads()
+            y = np.array(backend.initial_state(model, speed_at(0.0, speed_table), Fa, Fr), dtype=np.float64)
+            t, h, n_steps, n_rejected, wall_before, k = 0.0, scene.initial_step, 0, 0, 0.0, 0
+        else:
+            y, t, h = cp["y"], cp["t"], cp["h"]
+            n_steps, n_rejected, wall_before, k = cp["n_steps"], cp["n_rejected"], cp["wall_time"], cp["n_samples"]
+    except BaseException:
+        writer.close()
+        raise
+    setup_time = time.perf_counter() - wall_start
+
+    bps = scene.breakpoints()
+    n_total = scene.n_samples
+    every = scene.checkpoint_every
+    last = (y.copy(), t, h, n_steps, n_rejected)      # state at the last recorded sample
+    progress = RunProgress(scene.duration, t0=t, quiet=quiet, desc=scene.name, n_steps0=n_steps)
+    loop_start = time.perf_counter()
+    try:
+        while k < n_total:
+            t_target = scene.sample_time(k)
+            while t < t_target:
+                i = int(np.searchsorted(bps, t, side="right"))
+                t_stop = bps[i] if i < len(bps) and bps[i] < t_target else t_target
+                y, _t, h, ns, nr = backend.advance(model, y, t, t_stop, speed_table, load_table, impacts,
+                                                   scene.tolerance, h, **adv_kwargs)
+                t = t_stop          # the integrator lands on t_next; keep the exact stop time
+                n_steps += int(ns)
+                n_rejected += int(nr)
+            writer.add_sample(t_target, sample(t_target, y))
+            k += 1
+            last = (np.array(y, dtype=np.float64), t, h, n_steps, n_rejected)
+            if k % every == 0 or k == n_total:
+                writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start)
+            progress.update(t, n_steps)
+    except BaseException as exc:
+        progress.close()
+        status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
+        try:
+            writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start)
+            writer.set_status(status)
+        finally:
+            writer.close()
+        what = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"stopped by {type(exc).__name__}: {exc}"
+        raise RunInterrupted(f"run {what} at t = {last[1]:.6g} s; {out_path} holds {writer.n_written} "
+                             f"samples and a checkpoint (continue with --resume)", last[1], str(out_path),
+                             exc) from exc
+    progress.close()
+    wall = wall_before + time.perf_counter() - loop_start
+    writer.set_status("complete")
+    writer.close()
+    return _finish(scene, out_path, n_steps, n_rejected, wall, setup_time)
+
+
+def _finish(scene, out_path, n_steps, n_rejected, wall, setup_time) -> dict:
+    import h5py
+    with h5py.File(out_path, "r") as f:
+        n_resumes = int(f.attrs.get("n_resumes", 0))
+    extra = {"scene": scene.name, "scene_file": scene.path, "scene_hash": scene.content_hash(),
+             "cage_model": scene.cage_model, "duration_s": scene.duration,
+             "sample_interval_s": scene.sample_interval, "tolerance": scene.tolerance,
+             "outputs_requested": list(scene.outputs),
+             "wall_time_s": wall, "setup_time_s": setup_time, "n_steps": n_steps,
+             "n_rejected": n_rejected, "steps_per_s": n_steps / wall if wall > 0 else None,
+             "n_resumes": n_resumes}
+    return write_summary(out_path, extra)

@@ -1,0 +1,155 @@
+"""`flexbearing run` and `flexbearing validate`.
+
+    flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--quiet]
+    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--quiet]
+
+`run` validates the scene before anything else, streams the results to RUN.h5 (default
+out/<scene name>.h5) and writes RUN.summary.json beside it. Ctrl-C keeps what was computed and a
+checkpoint; `--resume` continues from it. `validate slip-rate` runs the steady test cases of the
+paper's Tables 4/5 (coupling.validate) and prints our slip rate beside the test's and the paper's.
+"""
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+from mesh.validation import InputError
+
+# printed tables only: SI -> engineer's units (the files stay SI)
+_PRINT_UNITS = {"Pa": (1e-6, "MPa"), "m": (1e6, "um"), "rad/s": (60.0 / (2 * 3.141592653589793), "rpm"),
+                "1": (100.0, "%")}
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("run", help="run a scene (TOML) and stream the results to HDF5",
+                              description="Run a scene: results streamed to an HDF5 file, "
+                                          "summary in <file>.summary.json beside it.")
+    p.add_argument("scene", help="scene file (TOML), e.g. scenes/paper_steady_rigid.toml")
+    p.add_argument("-o", "--output", help="results file (.h5); default out/<scene name>.h5")
+    p.add_argument("--resume", action="store_true",
+                   help="continue the run in the results file from its last checkpoint")
+    p.add_argument("--force", action="store_true", help="overwrite an existing results file")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_run)
+
+    v = subparsers.add_parser("validate", help="verification against the paper's test data",
+                              description="Verification runs against published data.")
+    vs = v.add_subparsers(dest="what", metavar="WHAT")
+    s = vs.add_parser("slip-rate", help="cage slip rate vs the paper's Table 5 (15 steady test cases)")
+    s.add_argument("--json", metavar="FILE", help="also write the table as JSON")
+    s.add_argument("--cases", default="1-15", help="case numbers, e.g. 1-8 or 1,4,12 (default 1-15)")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(func=cmd_validate_slip_rate)
+    v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
+
+
+def _format_value(value, unit: str) -> tuple[str, str]:
+    if value is None:
+        return "-", unit
+    f, u = _PRINT_UNITS.get(unit, (1.0, unit))
+    return f"{value * f:.6g}", u
+
+
+def print_summary(summary: dict, file=sys.stdout) -> None:
+    print(f"scene {summary['scene']} ({summary['cage_model']} cage): {summary['n_samples']} samples, "
+          f"status {summary['status']}", file=file)
+    sps = summary.get("steps_per_s")
+    rate = f", {sps:,.0f} steps/s" if sps else ""
+    print(f"wall time {summary['wall_time_s']:.3f} s (+ setup {summary['setup_time_s']:.3f} s), "
+          f"{summary['n_steps']} steps ({summary['n_rejected']} rejected){rate}", file=file)
+    rows = []
+    for name, st in summary["outputs"].items():
+        mx, u = _format_value(st["max"], st["unit"])
+        me, _ = _format_value(st["mean"], st["unit"])
+        mn, _ = _format_value(st["min"], st["unit"])
+        rows.append((name, u, mx, me, mn))
+    if rows:
+        w = max(len(r[0]) for r in rows)
+        print(f"{'output':<{w}}  {'unit':>6}  {'max':>12}  {'mean':>12}  {'min':>12}", file=file)
+        for r in rows:
+            print(f"{r[0]:<{w}}  {r[1]:>6}  {r[2]:>12}  {r[3]:>12}  {r[4]:>12}", file=file)
+
+
+def cmd_run(args) -> int:
+    from coupling.results import summary_path
+    from coupling.run import RunInterrupted, run_scene
+    from coupling.scene import load_scene
+
+    scene = load_scene(args.scene)                      # refuses bad scenes before any work
+    out = Path(args.output) if args.output else Path("out") / f"{scene.name}.h5"
+    try:
+        summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet)
+    except RunInterrupted as exc:
+        print(f"flexbearing run: {exc}", file=sys.stderr)
+        print(f"  resume: flexbearing run {args.scene} -o {out} --resume", file=sys.stderr)
+        return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
+    print_summary(summary)
+    print(f"results: {out}\nsummary: {summary_path(out)}")
+    return 0
+
+
+def parse_cases(text: str, n_max: int = 15) -> list[int]:
+    """'1-8' -> [1..8]; '1,4,12' -> [1, 4, 12]; each in [1, n_max]."""
+    cases: list[int] = []
+    for part in str(text).split(","):
+        part = part.strip()
+        try:
+            if "-" in part:
+                a, b = (int(x) for x in part.split("-", 1))
+                if b < a:
+                    raise ValueError
+                cases.extend(range(a, b + 1))
+            else:
+                cases.append(int(part))
+        except ValueError:
+            raise InputError(f"--cases = {text!r}: use case numbers like 1-8 or 1,4,12") from None
+    for c in cases:
+        if not 1 <= c <= n_max:
+            raise InputError(f"--cases: case {c} is outside the allowed range [1, {n_max}]")
+    return sorted(set(cases))
+
+
+def cmd_validate_slip_rate(args) -> int:
+    cases = parse_cases(args.cases)
+    if importlib.util.find_spec("coupling.validate") is None:
+        print("flexbearing validate: the slip-rate validation is not available yet "
+              "(coupling.validate is missing)", file=sys.stderr)
+        return 1
+    val = importlib.import_module("coupling.validate")
+    rows = val.run_slip_rate_validation(cases=cases, quiet=args.quiet)
+    table = print_slip_rate_table(rows)
+    if args.json:
+        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.json).write_text(json.dumps(table, indent=2) + "\n")
+        print(f"written: {args.json}")
+    return 0
+
+
+def print_slip_rate_table(rows, file=sys.stdout) -> dict:
+    """rows: dicts with case, axial_load, radial_load, speed_rpm, slip_ours, slip_test, slip_paper
+    (slip rates as fractions). Prints the table in % with the relative errors
+    |ours − test|/test and |paper − test|/test, and their mean and max; returns it as a dict."""
+    out = []
+    print(f"{'case':>4} {'Fa/N':>6} {'Fr/N':>6} {'n/rpm':>7} {'test/%':>7} {'paper/%':>8} {'ours/%':>7} "
+          f"{'err ours/%':>10} {'err paper/%':>11}", file=file)
+    for r in rows:
+        e_ours = abs(r["slip_ours"] - r["slip_test"]) / r["slip_test"]
+        e_paper = abs(r["slip_paper"] - r["slip_test"]) / r["slip_test"]
+        out.append({**r, "error_ours": e_ours, "error_paper": e_paper})
+        print(f"{r['case']:>4} {r['axial_load']:>6.0f} {r['radial_load']:>6.0f} {r['speed_rpm']:>7.0f} "
+              f"{100 * r['slip_test']:>7.2f} {100 * r['slip_paper']:>8.2f} {100 * r['slip_ours']:>7.2f} "
+              f"{100 * e_ours:>10.2f} {100 * e_paper:>11.2f}", file=file)
+    result = {"cases": out}
+    if out:
+        for who in ("ours", "paper"):
+            errs = [r[f"error_{who}"] for r in out]
+            result[f"mean_error_{who}"] = sum(errs) / len(errs)
+            result[f"max_error_{who}"] = max(errs)
+        print(f"relative error vs test: ours mean {100 * result['mean_error_ours']:.2f} %, "
+              f"max {100 * result['max_error_ours']:.2f} %; paper mean "
+              f"{100 * result['mean_error_paper']:.2f} %, max {100 * result['max_error_paper']:.2f} %",
+              file=file)
+    return result

@@ -1,0 +1,261 @@
+"""The run orchestrator (coupling.run) with a small fake physics backend whose answers are known.
+
+Fake model (same signatures as multibody.{model, initial, integrator, dynamics}):
+    phi' = omega(t)                      inner-ring angle: phi(t) = integral of the speed spectrum
+    J'   = Fz(t)                         impulse of the vertical load (table + impacts)
+    x'' + 2·zeta·w0·x' + w0²·x = Fx(t)/m a damped oscillator driven by the axial load
+integrated by an adaptive step-doubling RK4 (deterministic). The run loop stops the integrator at
+the spectra's kinks, so on piecewise-linear spectra the RK4 (Simpson) quadrature of phi and J is
+exact to rounding: the recorded series are checked against the closed forms.
+"""
+import json
+import math
+import sys
+from types import SimpleNamespace
+
+import h5py
+import numpy as np
+import pytest
+
+from coupling.results import read_outputs, summary_path
+from coupling.run import RunInterrupted, run_scene
+from coupling.scene import RPM, loads_scene
+from mesh.validation import InputError
+from multibody.profiles import load_at, speed_angle_at, speed_at
+
+W0, ZETA, MASS = 2 * math.pi * 200.0, 0.05, 10.0
+
+
+def _rhs(t, y, speed_table, load_table, impacts, f3):
+    load_at(t, load_table, impacts, f3)
+    return np.array([speed_at(t, speed_table), f3[2], y[3],
+                     f3[0] / MASS - 2 * ZETA * W0 * y[3] - W0 * W0 * y[2]])
+
+
+def _rk4(t, y, h, args):
+    k1 = _rhs(t, y, *args)
+    k2 = _rhs(t + h / 2, y + h / 2 * k1, *args)
+    k3 = _rhs(t + h / 2, y + h / 2 * k2, *args)
+    k4 = _rhs(t + h, y + h * k3, *args)
+    return y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h):
+    args = (speed_table, load_table, impacts, np.zeros(3))
+    y = np.array(y, dtype=np.float64)
+    n = nr = 0
+    scale = np.array([1.0, 1.0, 1e-6, 1e-3])
+    while t < t_next:
+        last = t_next - t <= h
+        step = t_next - t if last else h
+        y1 = _rk4(t, y, step, args)
+        y2 = _rk4(t + step / 2, _rk4(t, y, step / 2, args), step / 2, args)
+        err = float(np.max(np.abs(y2 - y1) / (scale + np.abs(y2)))) / 15.0 / tol
+        if err <= 1.0:
+            y = y2 + (y2 - y1) / 15.0
+            t = t_next if last else t + step
+            n += 1
+            if not last:
+                h = step * min(2.0, 0.9 * max(err, 1e-10) ** -0.2)
+        else:
+            nr += 1
+            h = step * max(0.2, 0.9 * err ** -0.2)
+    return y, t, h, n, nr
+
+
+def fake_outputs(model, t, y, outputs=()):
+    out = {}
+    if "cage_speed" in outputs:
+        out["cage_speed"] = np.float64(0.45 * y[0] / max(t, 1e-300)) if t > 0 else np.float64(0.0)
+    if "kinematics" in outputs:
+        out["ring_angle"] = np.float64(y[0])
+        out["impulse_z"] = np.float64(y[1])
+        out["oscillator_displacement"] = np.array([y[2], y[3]])
+    return out
+
+
+def fake_backend(**overrides):
+    ns = SimpleNamespace(
+        build_model=lambda bearing, oil, options: {"n_balls": bearing.n_balls},
+        initial_state=lambda model, speed, Fa, Fr: np.array([0.0, 0.0, Fa / (MASS * W0 * W0), 0.0]),
+        advance=fake_advance, evaluate_outputs=fake_outputs,
+        OUTPUT_UNITS={"ring_angle": "rad", "impulse_z": "N·s", "oscillator_displacement": "m",
+                      "cage_speed": "rad/s"})
+    for k, v in overrides.items():
+        setattr(ns, k, v)
+    return ns
+
+
+SCENE = """
+name = "fake"
+[operation]
+duration = 0.06
+[operation.speed]
+phases = [{kind = "ramp", duration = 0.02, start_rpm = 1000, end_rpm = 4000},
+          {kind = "uniform", duration = 0.02, rpm = 4000},
+          {kind = "ramp", duration = 0.02, start_rpm = 4000, end_rpm = 2000}]
+[operation.load]
+points = [{t = 0.0, axial_load = 100.0, radial_load = 50.0}, {t = 0.013, axial_load = 300.0, radial_load = 80.0}]
+[[operation.load.impacts]]
+t_center = 0.03
+duration = 0.004
+magnitude = 1000.0
+shape = "half-sine"
+[[operation.load.impacts]]
+t_start = 0.0453
+duration = 0.002
+magnitude = 500.0
+shape = "rectangular"
+[integrator]
+tolerance = 1e-9
+initial_step = 1e-5
+[output]
+sample_interval = 1e-3
+record = ["cage_speed", "kinematics"]
+checkpoint_every = 7
+"""
+
+
+def fake_scene(text=SCENE):
+    return loads_scene(text, "fake.toml")
+
+
+def impulse_z_exact(t, scene):
+    """J(t) = integral of Fz: trapezoids of the piecewise-linear table + 2FT/pi per whole half-sine
+    (the part of a half-sine up to t: F·T/pi·(1 − cos(pi·(t − t0)/T))) + F·(overlap) for rectangles."""
+    tab = scene.load_table
+    grid = np.union1d(tab[:, 0][tab[:, 0] < t], [0.0, t])
+    fz = np.array([np.interp(g, tab[:, 0], tab[:, 3]) for g in grid])
+    j = float(np.trapz(fz, grid))
+    for t0, T, _, _, fz_amp, shape in scene.impacts:
+        s = min(max(t - t0, 0.0), T)
+        j += fz_amp * (T / math.pi * (1 - math.cos(math.pi * s / T)) if shape == 0 else s)
+    return j
+
+
+def test_fake_run_records_exact_spectra(tmp_path):
+    scene = fake_scene()
+    out = tmp_path / "run.h5"
+    summary = run_scene(scene, out, quiet=True, backend=fake_backend())
+    res = read_outputs(out)
+    n = scene.n_samples
+    assert n == 61
+    # sample times are k·dt exactly (computed from k, not accumulated)
+    np.testing.assert_array_equal(res["time"], [min(k * 1e-3, 0.06) for k in range(n)])
+    # phi(t) = integral of the speed spectrum: piecewise quadratic, exact under RK4 with the kinks
+    # honoured -> rounding only (1e-12 relative)
+    phi = np.array([speed_angle_at(t, scene.speed_table) for t in res["time"]])
+    np.testing.assert_allclose(res["ring_angle"], phi, rtol=1e-12, atol=1e-15)
+    # impulse of Fz including a half-sine (not polynomial: integration error, tol 1e-9) and a
+    # rectangular impact (jumps at 0.0453 and 0.0473 are breakpoints -> exact)
+    jz = np.array([impulse_z_exact(t, scene) for t in res["time"]])
+    np.testing.assert_allclose(res["impulse_z"], jz, rtol=1e-7, atol=1e-9)
+    # the applied load and speed are recorded as the spectra say
+    f = np.zeros(3)
+    for k in (0, 13, 29, 30, 46, 60):
+        load_at(res["time"][k], scene.load_table, scene.impacts, f)
+        np.testing.assert_array_equal(res["applied_load"][k], f)
+        assert res["inner_ring_speed"][k] == speed_at(res["time"][k], scene.speed_table)
+    assert res["inner_ring_speed"][20] == pytest.approx(4000 * RPM, rel=1e-14)
+    # summary: statistics equal numpy's over the file, counters consistent
+    s = json.loads(summary_path(out).read_text())
+    assert s == json.loads(json.dumps(summary))
+    assert s["status"] == "complete" and s["n_samples"] == n and s["scene"] == "fake"
+    for name in ("ring_angle", "impulse_z", "oscillator_displacement", "applied_load", "cage_speed"):
+        a = res[name]
+        assert s["outputs"][name]["max"] == pytest.approx(a.max(), rel=1e-15)
+        assert s["outputs"][name]["min"] == pytest.approx(a.min(), rel=1e-15)
+        assert s["outputs"][name]["mean"] == pytest.approx(a.mean(), rel=1e-12)
+    assert s["outputs"]["impulse_z"]["unit"] == "N·s"
+    assert s["outputs"]["oscillator_displacement"]["shape"] == [2]
+    assert s["n_steps"] > 0 and s["steps_per_s"] == pytest.approx(s["n_steps"] / s["wall_time_s"])
+    with h5py.File(out) as h:
+        assert h.attrs["status"] == "complete"
+        assert h["outputs/time"].attrs["unit"] == "s"
+        assert h["outputs/applied_load"].attrs["unit"] == "N"
+        assert h["scene"][()].decode() == scene.text
+        assert h["outputs/applied_load"].chunks is not None and h["outputs/applied_load"].maxshape[0] is None
+
+
+def test_only_requested_outputs_are_evaluated(tmp_path):
+    seen = []
+
+    def evaluate(model, t, y, outputs=()):
+        seen.append(tuple(outputs))
+        return fake_outputs(model, t, y, outputs)
+    scene = fake_scene(SCENE.replace('record = ["cage_speed", "kinematics"]', 'record = ["cage_speed"]'))
+    run_scene(scene, tmp_path / "r.h5", quiet=True, backend=fake_backend(evaluate_outputs=evaluate))
+    assert set(seen) == {("cage_speed",)} and len(seen) == scene.n_samples
+    assert set(read_outputs(tmp_path / "r.h5")) == {"time", "cage_speed", "inner_ring_speed", "applied_load"}
+
+
+def test_existing_file_is_not_overwritten(tmp_path):
+    out = tmp_path / "r.h5"
+    out.write_bytes(b"precious")
+    with pytest.raises(InputError, match="exists: pass --resume"):
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
+    assert out.read_bytes() == b"precious"
+    run_scene(fake_scene(), out, quiet=True, force=True, backend=fake_backend())
+    assert h5py.is_hdf5(out)
+
+
+def test_flexible_cage_refused_until_coupling_exists(tmp_path):
+    import importlib.util
+    if importlib.util.find_spec("coupling.flexible_cage") is not None:
+        pytest.skip("coupling.flexible_cage exists")
+    scene = fake_scene(SCENE + '\n[cage]\nmodel = "flexible"\n')
+    with pytest.raises(InputError, match="flexible cage coupling not available yet"):
+        run_scene(scene, tmp_path / "r.h5", quiet=True)
+    assert not (tmp_path / "r.h5").exists()
+
+
+def test_failure_keeps_a_valid_file(tmp_path):
+    calls = {"n": 0}
+
+    def unstable(*a, **k):
+        calls["n"] += 1
+        if calls["n"] == 40:
+            raise FloatingPointError("ball 3 inner contact blew up")
+        return fake_advance(*a, **k)
+    out = tmp_path / "r.h5"
+    with pytest.raises(RunInterrupted, match="FloatingPointError") as exc:
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance=unstable))
+    assert 0 < exc.value.t < 0.06
+    with h5py.File(out, "r") as h:
+        assert h.attrs["status"].startswith("failed: FloatingPointError")
+        n = h["outputs/time"].shape[0]
+        assert n > 0 and all(ds.shape[0] == n for ds in h["outputs"].values())
+        assert h["outputs/time"][-1] == pytest.approx(exc.value.t)
+
+
+def test_cli_run_refuses_bad_scene_before_computing(tmp_path, capsys):
+    from coupling.cli import main
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SCENE.replace("axial_load = 100.0", "axial_load = -100.0"))
+    assert main(["run", str(bad), "-o", str(tmp_path / "x.h5"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "operation.load.points[0].axial_load = -100 N is outside the allowed range [0, 1e+07] N" in err
+    assert not (tmp_path / "x.h5").exists()
+
+
+def test_cli_run_flexible_message(tmp_path, capsys):
+    import importlib.util
+    if importlib.util.find_spec("coupling.flexible_cage") is not None:
+        pytest.skip("coupling.flexible_cage exists")
+    from coupling.cli import main
+    assert main(["run", "scenes/paper_unsteady.toml", "-o", str(tmp_path / "x.h5"), "--quiet"]) == 2
+    assert "flexible cage coupling not available yet" in capsys.readouterr().err
+
+
+if __name__ == "__main__":      # used by tests/test_resume.py to run a fake scene in a subprocess
+    out = sys.argv[1]
+    from coupling import results
+
+    real = results.ResultsWriter.checkpoint
+
+    def announcing(self, *a, **k):
+        real(self, *a, **k)
+        print("CHECKPOINT", self.n_written, flush=True)
+    results.ResultsWriter.checkpoint = announcing
+    slow = fake_backend(advance=lambda *a, **k: (__import__("time").sleep(0.01), fake_advance(*a, **k))[1])
+    run_scene(fake_scene(), out, quiet=True, backend=slow)
