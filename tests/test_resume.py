@@ -1,0 +1,143 @@
+"""Kill a run halfway and resume it: the final results equal an uninterrupted run's, bit for bit.
+
+The fake backend of tests/test_run.py (deterministic adaptive RK4) stands in for the physics, so
+what is tested here is the streaming, the checkpoints, the truncation and the restart logic.
+"""
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from coupling.results import read_checkpoint, read_outputs
+from coupling.run import RunInterrupted, run_scene
+from mesh.validation import InputError
+from test_run import SCENE, fake_advance, fake_backend, fake_scene
+
+HERE = Path(__file__).resolve().parent
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ref") / "ref.h5"
+    summary = run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
+    return out, summary
+
+
+def assert_same_results(a, b):
+    ra, rb = read_outputs(a), read_outputs(b)
+    assert sorted(ra) == sorted(rb)
+    for k in ra:
+        assert ra[k].dtype == rb[k].dtype and ra[k].shape == rb[k].shape, k
+        assert ra[k].tobytes() == rb[k].tobytes(), f"{k} differs"   # bitwise
+    with h5py.File(a) as fa, h5py.File(b) as fb:
+        ca, cb = read_checkpoint(fa), read_checkpoint(fb)
+        assert ca["y"].tobytes() == cb["y"].tobytes()
+        assert (ca["t"], ca["h"], ca["n_samples"], ca["n_steps"], ca["n_rejected"]) == \
+               (cb["t"], cb["h"], cb["n_samples"], cb["n_steps"], cb["n_rejected"])
+        assert fb.attrs["status"] == "complete"
+
+
+def stopping_after(n_calls, exc):
+    calls = {"n": 0}
+
+    def advance(*a, **k):
+        calls["n"] += 1
+        if calls["n"] == n_calls:
+            raise exc
+        return fake_advance(*a, **k)
+    return advance
+
+
+@pytest.mark.parametrize("n_calls", [3, 25, 41, 63])     # before the first checkpoint, and later
+def test_ctrl_c_then_resume_equals_uninterrupted(tmp_path, reference, n_calls):
+    ref, ref_summary = reference
+    out = tmp_path / "run.h5"
+    with pytest.raises(RunInterrupted) as exc:
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance=stopping_after(n_calls, KeyboardInterrupt())))
+    assert isinstance(exc.value.cause, KeyboardInterrupt)
+    with h5py.File(out, "r") as f:                       # a valid, readable file
+        assert f.attrs["status"] == "interrupted"
+        n = f["outputs/time"].shape[0]
+        assert all(ds.shape[0] == n for ds in f["outputs"].values())
+        assert read_checkpoint(f)["n_samples"] == n      # Ctrl-C checkpoints the last sample
+    summary = run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
+    assert summary["n_steps"] == ref_summary["n_steps"] and summary["n_resumes"] == 1
+    for name, st in ref_summary["outputs"].items():
+        assert summary["outputs"][name] == st
+
+
+def test_crash_with_samples_after_the_checkpoint_is_truncated(tmp_path, reference):
+    """A hard crash can leave rows written after the last checkpoint (or a half block): resume
+    drops them and recomputes from the checkpoint."""
+    ref, _ = reference
+    out = tmp_path / "run.h5"
+    with pytest.raises(RunInterrupted):
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance=stopping_after(50, RuntimeError("boom"))))
+    with h5py.File(out, "r+") as f:
+        assert f.attrs["status"].startswith("failed: RuntimeError: boom")
+        n = f["outputs/time"].shape[0]
+        for ds in f["outputs"].values():                 # simulate rows beyond the checkpoint
+            ds.resize(n + 5, axis=0)
+            ds[n:] = 1e300
+        slot = f["checkpoint/slot0"] if f["checkpoint/slot0"].attrs["seq"] < f["checkpoint/slot1"].attrs["seq"] \
+            else f["checkpoint/slot1"]
+        slot.attrs["seq"] = -1                           # the newest slot was being rewritten
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
+
+
+def test_interrupted_twice(tmp_path, reference):
+    ref, _ = reference
+    out = tmp_path / "run.h5"
+    for n in (30, 20):
+        with pytest.raises(RunInterrupted):
+            run_scene(fake_scene(), out, resume=True, quiet=True,
+                      backend=fake_backend(advance=stopping_after(n, KeyboardInterrupt())))
+    s = run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert s["n_resumes"] == 2
+    assert_same_results(ref, out)
+    # resuming a complete run recomputes nothing
+    s2 = run_scene(fake_scene(), out, resume=True, quiet=True,
+                   backend=fake_backend(advance=stopping_after(1, AssertionError("must not integrate"))))
+    assert s2["n_steps"] == s["n_steps"]
+    assert_same_results(ref, out)
+
+
+def test_resume_refuses_another_scene(tmp_path):
+    out = tmp_path / "run.h5"
+    with pytest.raises(RunInterrupted):
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance=stopping_after(30, KeyboardInterrupt())))
+    other = fake_scene(SCENE.replace("magnitude = 1000.0", "magnitude = 1200.0"))
+    with pytest.raises(InputError, match="written by a different scene"):
+        run_scene(other, out, resume=True, quiet=True, backend=fake_backend())
+
+
+def test_sigkill_then_resume_equals_uninterrupted(tmp_path, reference):
+    """A real kill -9 of a running process (no cleanup at all), then resume."""
+    ref, _ = reference
+    out = tmp_path / "run.h5"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(HERE.parent)]))
+    proc = subprocess.Popen([sys.executable, str(HERE / "test_run.py"), str(out)], stdout=subprocess.PIPE,
+                            text=True, env=env)
+    try:
+        for line in proc.stdout:                         # wait for the third checkpoint
+            if line.startswith("CHECKPOINT") and int(line.split()[1]) >= 21:
+                break
+        else:
+            pytest.fail(f"the subprocess ended early (rc {proc.wait()})")
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"] == "running"            # killed: nobody wrote a final status
+        assert read_checkpoint(f)["n_samples"] >= 21
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
