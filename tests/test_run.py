@@ -154,14 +154,14 @@ def test_fake_run_records_exact_spectra(tmp_path):
     f = np.zeros(3)
     for k in (0, 13, 29, 30, 46, 60):
         load_at(res["time"][k], scene.load_table, scene.impacts, f)
-        np.testing.assert_array_equal(res["applied_load"][k], f)
+        np.testing.assert_array_equal(res["external_load"][k], f)
         assert res["inner_ring_speed"][k] == speed_at(res["time"][k], scene.speed_table)
     assert res["inner_ring_speed"][20] == pytest.approx(4000 * RPM, rel=1e-14)
     # summary: statistics equal numpy's over the file, counters consistent
     s = json.loads(summary_path(out).read_text())
     assert s == json.loads(json.dumps(summary))
     assert s["status"] == "complete" and s["n_samples"] == n and s["scene"] == "fake"
-    for name in ("ring_angle", "impulse_z", "oscillator_displacement", "applied_load", "cage_speed"):
+    for name in ("ring_angle", "impulse_z", "oscillator_displacement", "external_load", "cage_speed"):
         a = res[name]
         assert s["outputs"][name]["max"] == pytest.approx(a.max(), rel=1e-15)
         assert s["outputs"][name]["min"] == pytest.approx(a.min(), rel=1e-15)
@@ -172,9 +172,9 @@ def test_fake_run_records_exact_spectra(tmp_path):
     with h5py.File(out) as h:
         assert h.attrs["status"] == "complete"
         assert h["outputs/time"].attrs["unit"] == "s"
-        assert h["outputs/applied_load"].attrs["unit"] == "N"
+        assert h["outputs/external_load"].attrs["unit"] == "N"
         assert h["scene"][()].decode() == scene.text
-        assert h["outputs/applied_load"].chunks is not None and h["outputs/applied_load"].maxshape[0] is None
+        assert h["outputs/external_load"].chunks is not None and h["outputs/external_load"].maxshape[0] is None
 
 
 def test_only_requested_outputs_are_evaluated(tmp_path):
@@ -186,7 +186,23 @@ def test_only_requested_outputs_are_evaluated(tmp_path):
     scene = fake_scene(SCENE.replace('record = ["cage_speed", "kinematics"]', 'record = ["cage_speed"]'))
     run_scene(scene, tmp_path / "r.h5", quiet=True, backend=fake_backend(evaluate_outputs=evaluate))
     assert set(seen) == {("cage_speed",)} and len(seen) == scene.n_samples
-    assert set(read_outputs(tmp_path / "r.h5")) == {"time", "cage_speed", "inner_ring_speed", "applied_load"}
+    assert set(read_outputs(tmp_path / "r.h5")) == {"time", "cage_speed", "inner_ring_speed", "external_load"}
+
+
+def test_recorded_keys_follow_the_scene_outputs():
+    from coupling.run import recorded_keys
+    returned = ["contact_load", "contact_angle", "contact_stress", "approach", "pocket_force",
+                "cage_land_force_magnitude", "cage_speed", "nominal_cage_speed", "slip_rate",
+                "cage_centre", "inner_ring_speed", "external_load", "von_mises_max",
+                "film_thickness_min", "ball_position"]
+    assert recorded_keys(["contact_stress"], returned) == ["contact_stress", "inner_ring_speed",
+                                                           "external_load"]
+    assert set(recorded_keys(["cage_speed", "slip", "cage_orbit"], returned)) == {
+        "cage_speed", "nominal_cage_speed", "slip_rate", "cage_centre", "inner_ring_speed", "external_load"}
+    assert "film_thickness_min" in recorded_keys(["film_thickness"], returned)
+    assert "film_thickness_min" not in recorded_keys(["ball_loads"], returned)
+    assert set(recorded_keys(["ball_loads"], returned)) == {"contact_load", "approach", "inner_ring_speed",
+                                                           "external_load"}
 
 
 def test_existing_file_is_not_overwritten(tmp_path):
