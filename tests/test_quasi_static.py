@@ -1,0 +1,229 @@
+"""Quasi-static Jones–Harris solver (multibody/quasi_static.py).
+
+References used as expected values (never the solver's own output):
+* Jones/Harris pure-thrust equation (Harris & Kotzalas, Rolling Bearing Analysis, 5th ed., Vol. 1,
+  ch. 7): Fa = Z·Kn·(B·Dw)^1.5·sin(a)·(cos(a0)/cos(a) − 1)^1.5, solved here with brentq and the
+  scipy elliptic-integral Hertz reference `hertz_exact`.
+* Stribeck's radial load integral J_r(eps = 0.5) = 0.2288 (zero clearance, point contact; Harris &
+  Kotzalas Vol. 1, Table 7.1 / Sjövall 1933): Q_max = Fr/(Z·J_r).
+* Jones's static combined-load equations in Harris's form (each ball a two-force member,
+  A(psi) = |(B·Dw·sin a0 + d_a, B·Dw·cos a0 + d_r·cos psi)|), solved independently with fsolve.
+* Jones's ball-spin-axis angle for outer-race control, tan(beta) = sin(a_o)/(cos(a_o) + Dw/dm)
+  (Jones 1959; Harris & Kotzalas Vol. 2, ch. 2).
+* Euler's equation: the gyroscopic moment equals d(J·omega_b)/dt for omega_b carried by the orbit.
+
+The 218 angular-contact bearing of Harris's examples is used throughout: Dw = 22.23 mm,
+dm = 125.3 mm, Z = 16, fi = fo = 0.5232, alpha0 = 40°, steel (E = 207 GPa, nu = 0.3).
+"""
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq, fsolve
+
+from multibody import quasi_static as qs
+from multibody.bearing import PAPER_BEARING
+from multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
+
+DW, DM, Z, F, A0 = 22.23e-3, 125.3e-3, 16, 0.5232, math.radians(40.0)
+E_EFF = effective_modulus(207e9, 0.3, 207e9, 0.3)
+
+
+@pytest.fixture(scope="module")
+def b218():
+    return qs.angular_contact_grooves(DM, DW, Z, F, F, A0)
+
+
+def kn_exact(alpha, fi=F, fo=F, dw=DW, dm=DM):
+    """Series stiffness of the inner and outer contacts, Kn = (Ki^(-2/3) + Ko^(-2/3))^(-3/2)."""
+    ki = hertz_exact(*race_curvature_radii(dw, dm, fi, alpha, True), E_EFF, 1.0)["stiffness"]
+    ko = hertz_exact(*race_curvature_radii(dw, dm, fo, alpha, False), E_EFF, 1.0)["stiffness"]
+    return (ki ** (-2 / 3) + ko ** (-2 / 3)) ** -1.5
+
+
+def thrust_angle(fa, a0, bdw, z=Z, **kw):
+    """Root of Fa = Z Kn (B Dw)^1.5 sin a (cos a0/cos a - 1)^1.5 (Harris Vol. 1, ch. 7)."""
+    h = lambda a: z * kn_exact(a, **kw) * bdw ** 1.5 * math.sin(a) * (math.cos(a0) / math.cos(a) - 1) ** 1.5 - fa
+    return brentq(h, a0 + 1e-9, a0 + math.radians(30), xtol=1e-14)
+
+
+@pytest.mark.parametrize("fa", [4450.0, 22250.0])
+def test_pure_thrust_zero_speed_matches_jones_equation(b218, fa):
+    r = qs.solve_quasi_static(b218, 0.0, fx=fa, fix_tilt=True)
+    assert r.converged
+    a = thrust_angle(fa, A0, (2 * F - 1) * DW)
+    q = fa / (Z * math.sin(a))
+    # tolerance: hertz.hertz_stiffness (A&S elliptic integrals) vs scipy reference, ~1e-6; solver tol 1e-9
+    np.testing.assert_allclose(r.contact_angle[:, 0], a, rtol=1e-5)
+    np.testing.assert_allclose(r.contact_angle[:, 1], a, rtol=1e-5)
+    np.testing.assert_allclose(r.load[:, :2], q, rtol=1e-5)
+    assert np.all(r.load[:, 2] == 0)
+
+
+def test_radial_load_zero_clearance_matches_stribeck():
+    # Deep-groove layout (alpha0 = 0, zero clearance), pure radial load along +Y, ball 0 on the load line:
+    # Q_max = Fr/(Z J_r(0.5)) with J_r = 0.2288 (Sjovall integral; the 16-ball sum differs by 0.05 %),
+    # Q(psi) = Q_max cos(psi)^1.5 for |psi| < 90 deg. Tolerance 0.5 %: integral vs sum and the slight change of
+    # the contact angle from 0 as the balls roll up the groove (< 0.1 %).
+    g = qs.angular_contact_grooves(DM, DW, Z, F, F, 0.0)
+    fr = 8900.0
+    r = qs.solve_quasi_static(g, 0.0, fy=fr, fix_tilt=True)
+    assert r.converged
+    qmax = fr / (Z * 0.2288)
+    assert r.load[0, 0] == pytest.approx(qmax, rel=5e-3)
+    c = np.cos(r.psi)
+    expect = np.where(c > 0, qmax * np.clip(c, 0, None) ** 1.5, 0.0)
+    np.testing.assert_allclose(r.load[:, 1], expect, atol=5e-3 * qmax)
+
+
+@pytest.mark.parametrize("fa,fr", [(4450.0, 8900.0), (22250.0, 8900.0), (2000.0, 17800.0)])
+def test_combined_load_zero_speed_matches_jones_two_force_member_equations(b218, fa, fr):
+    # Harris Vol. 1 ch. 7 / Ricci (2009) formulation, rings held parallel (no tilt):
+    #   A_j = sqrt((B Dw sin a0 + d_a)^2 + (B Dw cos a0 + d_r cos psi_j)^2),  delta_j = A_j - B Dw,
+    #   tan a_j = (B Dw sin a0 + d_a)/(B Dw cos a0 + d_r cos psi_j),  Q_j = Kn(a_j) delta_j^1.5,
+    #   Fa = sum Q_j sin a_j,  Fr = sum Q_j cos a_j cos psi_j.
+    bdw = (2 * F - 1) * DW
+    psi = 2 * math.pi * np.arange(Z) / Z
+
+    def balls(d):
+        da, dr = d
+        ax = bdw * math.sin(A0) + da
+        rr = bdw * math.cos(A0) + dr * np.cos(psi)
+        A = np.hypot(ax, rr)
+        al = np.arctan2(ax, rr)
+        dl = np.clip(A - bdw, 0, None)
+        q = np.array([kn_exact(a) for a in al]) * dl ** 1.5
+        return q, al
+
+    def eqs(d):
+        q, al = balls(d * 1e-6)
+        return [(np.sum(q * np.sin(al)) - fa) / fa, (np.sum(q * np.cos(al) * np.cos(psi)) - fr) / fa]
+
+    d = fsolve(eqs, [30.0, 20.0], xtol=1e-13) * 1e-6
+    q, al = balls(d)
+    r = qs.solve_quasi_static(b218, 0.0, fx=fa, fy=fr, fix_tilt=True)
+    assert r.converged
+    np.testing.assert_allclose(r.ring_displacement[:2], d, rtol=1e-4, atol=1e-10)
+    loaded = q > 1e-3 * q.max()
+    np.testing.assert_allclose(r.load[:, 1], q, rtol=1e-4, atol=1e-4 * q.max())
+    np.testing.assert_allclose(r.contact_angle[loaded, 1], al[loaded], rtol=1e-5)
+    np.testing.assert_allclose(r.contact_angle[loaded, 0], al[loaded], rtol=1e-5)
+
+
+def test_high_speed_outer_race_control_kinematics_and_balance(b218):
+    wi = 10000 * math.pi / 30
+    r = qs.solve_quasi_static(b218, wi, fx=22250.0, fix_tilt=True, control="outer")
+    assert r.converged
+    ao, ai = r.contact_angle[0, 0], r.contact_angle[0, 1]
+    # centrifugal force pushes the balls out: outer angle decreases, inner increases (Harris Vol. 2 ch. 3)
+    a_static = thrust_angle(22250.0, A0, (2 * F - 1) * DW)
+    assert ao < a_static < ai
+    # Jones's spin-axis angle for outer-race control, beta of the ball speed in the cage frame;
+    # 1e-3 tolerance: Jones takes the contact radii Dw/2 and r_b = dm/2, the solver the deformed values
+    wx_rel = r.ball_omega[0, 0] - r.orbit_speed[0]
+    beta = math.atan2(r.ball_omega[0, 1], -wx_rel)
+    assert math.tan(beta) == pytest.approx(math.sin(ao) / (math.cos(ao) + DW / DM), rel=1e-3)
+    # F_c = 0.5 m dm omega_m^2 (r_b = dm/2 to within 1e-3)
+    assert r.centrifugal_force[0] == pytest.approx(0.5 * b218.ball_mass * DM * r.orbit_speed[0] ** 2, rel=1e-3)
+    # axial equilibrium of the ring from the outputs: Fa = Z (Qi sin ai - f_i cos ai), f_i = 0 for outer control
+    assert Z * r.load[0, 1] * math.sin(ai) == pytest.approx(22250.0, rel=1e-7)
+    # radial equilibrium of each ball with the gyroscopic friction at the outer contact, f_o = -2 M_g/Dw:
+    # x: -Qo sin ao + fo cos ao + Qi sin ai = 0 ; r: -Qo cos ao - fo sin ao + Qi cos ai + Fc = 0
+    fo = -2 * r.gyroscopic_moment[0] / DW
+    qo, qi, fc = r.load[0, 0], r.load[0, 1], r.centrifugal_force[0]
+    assert abs(-qo * math.sin(ao) + fo * math.cos(ao) + qi * math.sin(ai)) < 1e-6 * qo
+    assert abs(-qo * math.cos(ao) - fo * math.sin(ao) + qi * math.cos(ai) + fc) < 1e-6 * qo
+    # the gyroscopic moment is a few per cent of the contact-load couple, not negligible, not dominant
+    assert 0.001 < abs(fo) / qo < 0.2
+
+
+def test_gyroscopic_moment_equals_rate_of_angular_momentum(b218):
+    # Euler: M = dH/dt with H = J omega_b carried round the X axis at omega_m. Rotate omega_b (as a vector in
+    # the ball plane, expressed in the bearing frame) by a small orbit angle and difference it.
+    wi = 10000 * math.pi / 30
+    r = qs.solve_quasi_static(b218, wi, fx=22250.0, fix_tilt=True)
+    j = 0
+    psi, wm = r.psi[j], r.orbit_speed[j]
+    wx, wr, _ = r.ball_omega[j]
+
+    def H(p):
+        return b218.ball_inertia * np.array([wx, wr * math.cos(p), wr * math.sin(p)])
+    dt = 1e-7
+    dHdt = (H(psi + wm * dt) - H(psi - wm * dt)) / (2 * dt)
+    e_t = np.array([0.0, -math.sin(psi), math.cos(psi)])
+    np.testing.assert_allclose(dHdt, r.gyroscopic_moment[j] * e_t, rtol=1e-6, atol=1e-9)
+    assert r.gyroscopic_moment[j] > 0
+
+
+def test_inner_race_control_kinematics(b218):
+    # inner-race control: zero spin at the inner contact; Jones: tan(beta) = sin(ai)/(cos(ai) - Dw/dm)
+    wi = 10000 * math.pi / 30
+    r = qs.solve_quasi_static(b218, wi, fx=22250.0, fix_tilt=True, control="inner")
+    assert r.converged
+    ai = r.contact_angle[0, 1]
+    wx_rel = r.ball_omega[0, 0] - r.orbit_speed[0]
+    beta = math.atan2(r.ball_omega[0, 1], -wx_rel)
+    assert math.tan(beta) == pytest.approx(math.sin(ai) / (math.cos(ai) - DW / DM), rel=1e-3)
+
+
+# ---------------------------------------------------------------- the split inner ring
+PD_CRIT = 2.0 * (PAPER_BEARING.fe - 0.5) * PAPER_BEARING.ball_diameter * (1 - math.cos(PAPER_BEARING.shim_angle))
+
+
+@pytest.mark.parametrize("sign", [+1, -1])
+def test_split_ring_with_clearance_behaves_as_angular_contact_pair(sign):
+    # Pd = 150 um > PD_CRIT: under pure axial load one inner half unloads and the loaded pair obeys the Jones
+    # thrust equation with the free contact angle alpha0 = Bearing.free_contact_angle (SPEC §2). +X loads the left
+    # half (positive angles), -X the right half (negative angles, mirror image).
+    bear = PAPER_BEARING.with_(radial_clearance=150e-6)
+    g = qs.grooves_from_bearing(bear)
+    fa = 20000.0
+    r = qs.solve_quasi_static(g, 0.0, fx=sign * fa, fix_tilt=True)
+    assert r.converged
+    loaded, unloaded = (1, 2) if sign > 0 else (2, 1)
+    assert np.all(r.load[:, unloaded] == 0)
+    dw, dm = bear.ball_diameter, bear.pitch_diameter
+    # kn_exact uses E' for 207 GPa steel, the bearing M50 (210 GPa): Kn scales with E', so scale the load
+    e_bear = effective_modulus(210e9, 0.3, 210e9, 0.3)
+    a = thrust_angle(fa * E_EFF / e_bear, bear.free_contact_angle, bear.total_curvature * dw, z=bear.n_balls,
+                     fi=bear.fi, fo=bear.fe, dw=dw, dm=dm)
+    np.testing.assert_allclose(r.contact_angle[:, loaded], sign * a, rtol=1e-5)
+    np.testing.assert_allclose(r.contact_angle[:, 0], sign * a, rtol=1e-5)
+    np.testing.assert_allclose(r.load[:, loaded], fa / (bear.n_balls * math.sin(a)), rtol=1e-5)
+
+
+def test_split_ring_without_clearance_is_a_true_three_point_contact():
+    # Pd = 0 < PD_CRIT (the paper preset): the ball cannot seat on outer + left only (tests/test_geometry.py),
+    # so at zero speed the right half keeps some load. Check global equilibrium from the outputs:
+    # Fa = sum_j [Q_l sin a_l + Q_r sin a_r] (a_r < 0), Fr = sum_j (Q_l cos a_l + Q_r cos a_r) cos psi_j.
+    g = qs.grooves_from_bearing(PAPER_BEARING)
+    fa, fr = 55000.0, 4000.0
+    r = qs.solve_quasi_static(g, 0.0, fx=fa, fy=fr, fix_tilt=True)
+    assert r.converged
+    assert np.all(r.load[:, 2] > 0) and np.all(r.load[:, 1] > 5 * r.load[:, 2])
+    s = np.sin(r.contact_angle)
+    c = np.cos(r.contact_angle)
+    assert np.sum(r.load[:, 1:] * s[:, 1:]) == pytest.approx(fa, rel=1e-7)
+    assert np.sum((r.load[:, 1:] * c[:, 1:]).sum(axis=1) * np.cos(r.psi)) == pytest.approx(fr, rel=1e-5)
+
+
+def test_paper_steady_case_converges_with_free_tilt():
+    # 14,000 rpm, Fa = 55 kN, Fr = 4 kN (SPEC §6), 5-DOF ring with free tilts (moment equilibrium)
+    g = qs.grooves_from_bearing(PAPER_BEARING)
+    r = qs.solve_quasi_static(g, 14000 * math.pi / 30, fx=55000.0, fy=4000.0)
+    assert r.converged and r.residual_ring < 1e-8
+    assert np.all(r.load[:, 0] > 0) and np.all(r.load[:, 1] > 0)
+    # the tilt that balances the radial-load moment stays small (a rigid 5-DOF ring, < 1 mrad)
+    assert np.all(np.abs(r.ring_displacement[3:]) < 1e-3)
+    # the cage speed lies between the epicyclic values nm = 0.5 ni (1 - Dw cos a/dm) of the outer and inner angles
+    ni = 14000 * math.pi / 30
+    nm = [0.5 * ni * (1 - PAPER_BEARING.ball_diameter * math.cos(np.mean(r.contact_angle[:, k]))
+                      / PAPER_BEARING.pitch_diameter) for k in (0, 1)]
+    assert min(nm) < r.cage_speed < max(nm) * 1.01
+
+
+def test_bad_input_names_the_field(b218):
+    with pytest.raises(Exception, match="control"):
+        qs.solve_quasi_static(b218, 0.0, fx=1000.0, control="cage")
+    with pytest.raises(Exception, match="fx"):
+        qs.solve_quasi_static(b218, 0.0, fx=float("nan"))
