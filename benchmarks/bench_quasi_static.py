@@ -1,0 +1,49 @@
+"""Work–precision of the quasi-static solver (multibody.quasi_static) on the paper's steady case.
+
+14,000 rpm, Fa = 55 kN (+X), Fr = 4 kN (−Z), paper bearing (Pd = 0, assumed alphaD = 30°), free tilts.
+For each ring tolerance: wall time and the error of the maximum outer/inner contact loads and
+contact angles against a tol = 1e-12 solution. Also prints the paper-case table (MPa, degrees).
+
+    .venv/bin/python benchmarks/bench_quasi_static.py [--quiet]
+"""
+import math
+import sys
+import time
+
+import numpy as np
+
+from multibody import quasi_static as qs
+from multibody.bearing import PAPER_BEARING
+
+
+def run(tol, control="outer", **kw):
+    g = qs.grooves_from_bearing(PAPER_BEARING)
+    t = time.perf_counter()
+    r = qs.solve_quasi_static(g, 14000 * math.pi / 30, fx=55000.0, fz=-4000.0, tol=tol, control=control, **kw)
+    return r, time.perf_counter() - t
+
+
+def main():
+    run(1e-6)                                   # compile / warm the numba cache
+    ref, _ = run(1e-12)
+    print("tol      time_s   err_Qmax_rel   err_alpha_rad")
+    for tol in (1e-3, 1e-4, 1e-6, 1e-8, 1e-10):
+        r, dt = run(tol)
+        eq = np.max(np.abs(r.load - ref.load)) / ref.load.max()
+        ea = np.max(np.abs(r.contact_angle - ref.contact_angle))
+        print(f"{tol:7.0e}  {dt:7.3f}  {eq:12.2e}  {ea:12.2e}")
+    if "--quiet" not in sys.argv:
+        for label, kw in (("outer-race control", {}), ("inner-race control", {"control": "inner"}),
+                          ("no gyroscopic moment", {"gyroscopic": False}),
+                          ("zero speed", None)):
+            if kw is None:
+                g = qs.grooves_from_bearing(PAPER_BEARING)
+                r = qs.solve_quasi_static(g, 0.0, fx=55000.0, fz=-4000.0)
+            else:
+                r, _ = run(1e-10, **kw)
+            print(f"\n== paper steady case, {label} ==")
+            print(r.summary())
+
+
+if __name__ == "__main__":
+    main()
