@@ -1,0 +1,845 @@
+"""Equations of motion of the bearing (SPEC §4; paper §2.5) and the compiled right-hand side.
+
+State layout: `multibody.model` docstring (balls in their orbiting frames, inner ring 5 DOF +
+prescribed spin, rigid cage 6 DOF, empty modal block). Frames and contact conventions:
+`multibody.geometry` (X shaft axis, azimuth psi from +Y towards +Z, (e_x, e_r, e_t) right-handed).
+
+Ball j (mass m_b, moment of inertia I_b = m_b·Dw²/10), Newton in cylindrical coordinates, i.e.
+in the frame orbiting with the ball (centrifugal and Coriolis terms explicit):
+
+    m_b·x''                       = F_x
+    m_b·(r'' − r·psi'²)           = F_r            (r·psi'² : centrifugal)
+    m_b·(r·psi'' + 2·r'·psi')     = F_t            (2·r'·psi' : Coriolis)
+
+Euler for the (isotropic) ball with its absolute angular velocity w resolved on the rotating
+triad (e_x, e_r, e_t), whose angular velocity is psi'·e_x (de_r/dt = psi'·e_t, de_t/dt = −psi'·e_r):
+
+    I_b·w_x'                      = M_x
+    I_b·(w_r' − psi'·w_t)         = M_r            (psi'·w_t, psi'·w_r : gyroscopic terms of the
+    I_b·(w_t' + psi'·w_r)         = M_t             orbiting frame, paper's G_y, G_z)
+
+F and M collect, for each ball: the Hertz loads of the outer and the two inner half-grooves
+(Q = K·delta^1.5, K from the exact Hertz solution at the current contact angle, tabulated in
+cos(alpha)), optional viscous contact damping, the sliced EHL traction of every loaded contact
+(traction fit of multibody.traction, `_sliced_traction`), the ball–pocket force (paper §2.3.1:
+linear Kc·Z up to the pocket clearance, Hertz beyond) with optional pocket friction, the churning
+drag (Harris & Kotzalas Vol. 2 §3: F_d = ½·rho_e·C_d·(pi·Dw²/4)·v², rho_e = oil fraction × rho)
+and gravity (off by default).
+
+Inner ring (mass m_i, diametral/polar inertia I_d, I_p, spin omega_i(t) prescribed):
+
+    m_i·(x'', y'', z'') = F_ext(t) + sum of the race reactions
+    I_d·theta_y'' = M_y − I_p·omega_i·theta_z'
+    I_d·theta_z'' = M_z + I_p·omega_i·theta_y'          (gyroscopic coupling of the spinning ring)
+
+Cage (rigid; `_cage_body_rhs`): the same six equations with the cage's own spin as a degree of
+freedom, I_p·omega_c' = M_x, forces from the pockets (computed in `_pocket_interface` at the
+pocket centres) and from the guide land (`_guide_land`). A flexible cage replaces
+`_cage_body_rhs` by the floating-frame equations with modal coordinates; the pocket-interface
+forces it needs (per-pocket force and application point) are already separated.
+
+Guide land (formulas.md, Ocvirk short bearing; paper §2.4): with eps = e/Cg and U = R1·omega_c
+(outer ring fixed, no whirl term, as the paper):
+    W_r = eta0·|U|·L³·eps²/(Cg²·(1 − eps²)²)           (towards the ring centre)
+    W_t = pi·eta0·U·L³·eps/(4·Cg²·(1 − eps²)^1.5)        (90° ahead of the eccentricity in the
+                                                          sense of rotation)
+    M_x = −2·pi·eta0·omega_c·R1³·L/(Cg·sqrt(1 − eps²))   (Petroff torque, drags the cage)
+evaluated at min(eps, eps_max); at e > Cg a rim contact F = K_rim·(e − Cg)^1.5 with Coulomb
+friction takes over.
+
+Everything runs in `rhs`, compiled with numba, allocation-free: it writes dy/dt into `dydt` and
+the recordable contact quantities into `work` (float64 (Z+1, N_WORK), model.W_* / WR_* columns).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from multibody import model as M
+from multibody.model import (
+    P_DW, P_DM, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID,
+    P_IIP, P_MC, P_ICP, P_ICD, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_RCAGE_POCKET, P_R1, P_CG,
+    P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_CD, P_SLIN, P_UMIN,
+    P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L,
+    F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND,
+    H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
+    WC_RY, WC_A, WC_SLIP, WC_DELTA, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG,
+    WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
+    WR_STATUS, WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE,
+)
+from multibody.geometry import race_contact, ring_point_in_plane
+from multibody.profiles import load_at, speed_at
+from multibody.traction import slice_load_share, traction_coefficient, traction_coefficients_table
+
+# status codes written into work[Z, WR_STATUS] (first offence wins)
+STATUS_OK = 0
+STATUS_DEEP_RACE = 1        # race approach beyond DELTA_MAX_FRAC·Dw
+STATUS_DEEP_POCKET = 2      # ball beyond the pocket clearance by more than DELTA_MAX_FRAC·Dw
+STATUS_RIM = 3              # cage beyond the guide clearance by more than its clearance
+STATUS_NONFINITE = 4
+DELTA_MAX_FRAC = 0.01       # 220 um for Dw = 22 mm: ~4x the Hertz approach at the static capacity
+CONTACT_NAMES = ("outer race", "inner-left race", "inner-right race", "pocket", "guide land rim")
+
+
+@njit(cache=True)
+def _hertz_lookup(htab, kind, cos_a):
+    """Linear interpolation of the Hertz table (model._hertz_tables) at cos(alpha) in [0, 1]."""
+    x = cos_a * (N_HGRID - 1)
+    if x < 0.0:
+        x = 0.0
+    i = int(x)
+    if i >= N_HGRID - 1:
+        i = N_HGRID - 2
+    w = x - i
+    K = htab[kind, i, H_K] * (1.0 - w) + htab[kind, i + 1, H_K] * w
+    ell = htab[kind, i, H_ELL] * (1.0 - w) + htab[kind, i + 1, H_ELL] * w
+    ek = htab[kind, i, H_EK] * (1.0 - w) + htab[kind, i + 1, H_EK] * w
+    R = htab[kind, i, H_R] * (1.0 - w) + htab[kind, i + 1, H_R] * w
+    rx = htab[kind, i, H_RX] * (1.0 - w) + htab[kind, i + 1, H_RX] * w
+    ry = htab[kind, i, H_RY] * (1.0 - w) + htab[kind, i + 1, H_RY] * w
+    return K, ell, ek, R, rx, ry
+
+
+@njit(cache=True)
+def _mu_regularised(s_abs, A, B, C, D, s_lin):
+    """|mu| of the traction curve at slip |s|, straight line through 0 below s_lin (model docstring)."""
+    if s_abs >= s_lin:
+        return traction_coefficient(s_abs, A, B, C, D)
+    return traction_coefficient(s_lin, A, B, C, D) * s_abs / s_lin
+
+
+@njit(cache=True)
+def _sliced_traction(Q, a, ur, du0, du1, dv, A, B, C, D, n_slices, transverse, s_lin):
+    """Traction on the ball, sliced along the major axis (multibody.traction, paper §2.2.2).
+
+    Same integration as `multibody.traction.sliced_traction` (Hertz load share per slice,
+    du(y) = du0 + du1·y race − ball in the rolling direction, dv transverse), with the traction
+    curve regularised below s_lin so that the force is continuous in the slip. Returns
+    (T_t, T_tau, M_n): rolling and transverse traction (N) and the moment about the contact normal
+    direction e_t × tau (N·m) on the ball.
+    """
+    tx = 0.0
+    ty = 0.0
+    mz = 0.0
+    h = 2.0 / n_slices
+    for m in range(n_slices):
+        lo = -1.0 + m * h
+        hi = lo + h
+        qm = Q * slice_load_share(lo, hi)
+        y = 0.5 * (lo + hi) * a
+        du = du0 + y * du1
+        if transverse:
+            sv = math.sqrt(du * du + dv * dv)
+            if sv > 0.0:
+                mu = _mu_regularised(sv / ur, A, B, C, D, s_lin)
+                tmx = qm * mu * du / sv
+                ty += qm * mu * dv / sv
+            else:
+                tmx = 0.0
+        else:
+            mu = _mu_regularised(abs(du) / ur, A, B, C, D, s_lin)
+            tmx = qm * mu if du >= 0.0 else -qm * mu
+        tx += tmx
+        mz -= y * tmx
+    return tx, ty, mz
+
+
+@njit(cache=True)
+def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
+          rv_x, rv_r, rv_t0, ring_speed, ring_rc, p, flags, htab, ttab):
+    """One ball–race contact: load, geometry and the forces/moments on the ball.
+
+    kind 0 outer, 1 inner. (xc, rc) groove centre in the ball plane; the race surface velocity at a
+    point of radius r_pt is (rv_x, rv_r, rv_t0 + ring_speed·(r_pt − ring_rc)) (geometry.
+    ring_surface_velocity). Returns (Q, cos_a, sin_a, p0, UR, Rx, Ry, a, slip, delta,
+    Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p) with F, M the force and the moment about the ball centre
+    acting on the ball (the race receives −F at the contact point (x_p, r_p)).
+    """
+    dw = p[P_DW]
+    delta, ca, sa = race_contact(xb, rb, xc, rc, f, dw)
+    if delta <= 0.0:
+        return (0.0, ca, sa, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, delta,
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    dx = xb - xc
+    dr = rb - rc
+    dist = math.sqrt(dx * dx + dr * dr)
+    nx = dx / dist
+    nr = dr / dist
+    if flags[F_HERTZ_FIXED]:
+        K, ell, ek, R, rx, ry = _hertz_lookup(htab, kind, math.cos(p[P_ALPHA0]))
+    else:
+        K, ell, ek, R, rx, ry = _hertz_lookup(htab, kind, ca)
+    sqd = math.sqrt(delta)
+    q_el = K * delta * sqd
+    rho = 0.5 * dw - 0.5 * delta
+    x_p = xb + rho * nx
+    r_p = rb + rho * nr
+    # approach rate (ball − race)·n: the race spin moves its surface along e_t, normal to n
+    approach = (vb_x - rv_x) * nx + (vb_r - rv_r) * nr
+    Q = q_el
+    if flags[F_DAMPING]:
+        c = 2.0 * p[P_ZETA] * math.sqrt(1.5 * K * sqd * p[P_MB])
+        Q = q_el + c * approach
+        if Q < 0.0:
+            Q = 0.0
+    Fx = -Q * nx
+    Fr = -Q * nr
+    Ft = 0.0
+    Mx = 0.0
+    Mr = 0.0
+    Mt = 0.0
+    # contact ellipse (Hertz, elastic part of the load)
+    b_ax = (6.0 * ek * q_el * R / (math.pi * ell * p[P_EBR])) ** (1.0 / 3.0)
+    a_ax = ell * b_ax
+    p0 = 1.5 * q_el / (math.pi * a_ax * b_ax)
+    # surface speeds in the rolling direction at the contact centre (geometry.contact_kinematics)
+    vball_t = vb_t + rho * (w_x * nr - w_r * nx)
+    vrace_t = rv_t0 + ring_speed * (r_p - ring_rc)
+    vc = r_p * psid
+    ur = 0.5 * ((vball_t - vc) + (vrace_t - vc))
+    du0 = vrace_t - vball_t
+    slip = du0 / abs(ur) if ur != 0.0 else 0.0
+    if flags[F_TRACTION] and Q > 0.0:
+        # transverse direction tau = (cos a, −sin a) = (−n_r, n_x)·sign ; use tau = (nr, −nx)
+        # for the outer (n_r > 0) and (−nr, nx) for the inner, i.e. tau = s·(nr, −nx), s = sign(n_r)
+        sg = 1.0 if nr >= 0.0 else -1.0
+        tx_ = sg * nr
+        tr_ = -sg * nx
+        # du(y) = race − ball along e_t at p + y·tau: ball adds (w × y·tau)_t = y(w_x·tau_r − w_r·tau_x),
+        # race adds ring_speed·y·tau_r
+        du1 = ring_speed * tr_ - (w_x * tr_ - w_r * tx_)
+        # transverse sliding race − ball at the centre (ball: v_b + w × rho·n, ring: rigid translation)
+        vball_x = vb_x - rho * w_t * nr
+        vball_r = vb_r + rho * w_t * nx
+        dv = (rv_x - vball_x) * tx_ + (rv_r - vball_r) * tr_
+        urr = abs(ur)
+        if urr < p[P_UMIN]:
+            urr = p[P_UMIN]
+        A, B, C, D = traction_coefficients_table(Q, urr, rx, p[P_EBR], p[P_ETA0], p[P_T0K], p[P_K0], ttab)
+        Tt, Ttau, Mn = _sliced_traction(Q, a_ax, urr, du0, du1, dv, A, B, C, D,
+                                        flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
+        # force on the ball at p: Tt·e_t + Ttau·tau
+        Fx += Ttau * tx_
+        Fr += Ttau * tr_
+        Ft += Tt
+        # moment about the ball centre of the force at rho·n: (rho n) × F ; n = (nx, nr, 0)
+        Mx += rho * (nr * Tt)
+        Mr += -rho * (nx * Tt)
+        Mt += rho * (nx * Ttau * tr_ - nr * Ttau * tx_)
+        # spin moment about e_t × tau = (−tau_r, tau_x, 0)·(−1)... e_t × tau = (-(tau_r)*(-1)...)
+        # e_t × tau with e_t = (0,0,1): (0·0 − 1·tau_r, 1·tau_x − 0·0, 0) = (−tau_r, tau_x, 0)
+        Mx += -Mn * tr_
+        Mr += Mn * tx_
+    return (Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p)
+
+
+@njit(cache=True)
+def _cross(ax, ay, az, bx, by, bz):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@njit(cache=True)
+def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
+                      px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags):
+    """Ball–pocket force of one pocket (paper §2.3.1), inertial components.
+
+    b ball centre, (px, py, pz) pocket centre, a pocket axis (radial, unit), v_p the velocity of
+    the pocket centre, w_c the cage angular velocity, c the cage centre. Offset of the ball from
+    the pocket axis Z = |d − (d·a)a|, d = b − p; normal force on the ball −Q(Z)·u, u the unit
+    offset, Q = Kc·Z (Z <= Cp), Kc·Cp + Kn·(Z − Cp)^1.5 (+ damping) beyond; Coulomb friction
+    mu_p·Q against the sliding of the ball surface on the pocket wall (regularised below 1 cm/s).
+    Returns (F on ball (3), M on ball about its centre (3), point of action on the cage (3), Q, Z).
+    The cage receives −F at that point.
+    """
+    dx = bx - px
+    dy = by - py
+    dz = bz - pz
+    da = dx * ax + dy * ay + dz * az
+    ux = dx - da * ax
+    uy = dy - da * ay
+    uz = dz - da * az
+    zz = math.sqrt(ux * ux + uy * uy + uz * uz)
+    if zz < 1e-15:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz
+    ux /= zz
+    uy /= zz
+    uz /= zz
+    cp = p[P_CP]
+    kc = p[P_KC]
+    if zz <= cp:
+        Q = kc * zz
+    else:
+        pen = zz - cp
+        sq = math.sqrt(pen)
+        Q = kc * cp + p[P_KN] * pen * sq
+        if flags[F_DAMPING]:
+            # approach rate along u: (v_b − v_pocket point)·u
+            rate = (vbx - vpx) * ux + (vby - vpy) * uy + (vbz - vpz) * uz
+            c = 2.0 * p[P_ZETA] * math.sqrt(1.5 * p[P_KN] * sq * p[P_MB])
+            Q += c * rate
+            if Q < kc * cp:
+                Q = kc * cp
+    fx = -Q * ux
+    fy = -Q * uy
+    fz = -Q * uz
+    mx = 0.0
+    my = 0.0
+    mz = 0.0
+    # contact point on the pocket wall
+    rp = p[P_RPOCKET]
+    qx = px + da * ax + rp * ux
+    qy = py + da * ay + rp * uy
+    qz = pz + da * az + rp * uz
+    mu = p[P_MUPOCKET]
+    if flags[F_DRAG] and mu > 0.0:
+        rb = 0.5 * p[P_DW]
+        sx, sy, sz = _cross(wbx, wby, wbz, rb * ux, rb * uy, rb * uz)
+        cx_, cy_, cz_ = _cross(wcx, wcy, wcz, qx - cx, qy - cy, qz - cz)
+        # cage wall point velocity = v_pocket_centre + w_c × (q − p); v_p given at p
+        ox, oy, oz = _cross(wcx, wcy, wcz, qx - px, qy - py, qz - pz)
+        gx = vbx + sx - (vpx + ox)
+        gy = vby + sy - (vpy + oy)
+        gz = vbz + sz - (vpz + oz)
+        gn = gx * ux + gy * uy + gz * uz
+        gx -= gn * ux
+        gy -= gn * uy
+        gz -= gn * uz
+        g = math.sqrt(gx * gx + gy * gy + gz * gz)
+        reg = g if g > 0.01 else 0.01
+        tf = mu * Q / reg
+        fx -= tf * gx
+        fy -= tf * gy
+        fz -= tf * gz
+        mx, my, mz = _cross(rb * ux, rb * uy, rb * uz, -tf * gx, -tf * gy, -tf * gz)
+    return fx, fy, fz, mx, my, mz, qx, qy, qz, Q, zz
+
+
+@njit(cache=True)
+def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
+    """Guide-land force (y, z) and torque about X on the cage (module docstring), plus eps, rim force.
+
+    Short-bearing (Ocvirk, half-Sommerfeld) forces with the whirl and squeeze terms (Vance,
+    Rotordynamics of Turbomachinery, 1988, §4; the paper's form is the special case e' = 0, phi' = 0):
+        F_r = −(eta·R1·L³/(2Cg²))·[2eps²·|w|/(1 − eps²)² + pi·(1 + 2eps²)·eps'/(1 − eps²)^2.5]
+        F_t =  (eta·R1·L³/(2Cg²))·[pi·eps·w/(2(1 − eps²)^1.5) + 4eps·eps'/(1 − eps²)²]
+    with w = omega_c + omega_land − 2·phi' (omega_land = 0, outer ring fixed), phi' the whirl
+    speed of the cage centre and eps' = e'/Cg; with w = omega_c, eps' = 0 these are the W_r, W_t of
+    formulas.md. The squeeze and whirl terms give the film its damping; without them the film is
+    a pure cross-coupled stiffness and the cage whirls out to the rim.
+    """
+    e = math.sqrt(yc * yc + zc * zc)
+    cg = p[P_CG]
+    eps = e / cg
+    fy = 0.0
+    fz = 0.0
+    mx = 0.0
+    frim = 0.0
+    if e > 1e-15:
+        ey = yc / e
+        ez = zc / e
+    else:
+        ey = 1.0
+        ez = 0.0
+    # e_perp = e_x × e_e
+    qy = -ez
+    qz = ey
+    if flags[F_LAND]:
+        eta = p[P_ETA0]
+        r1 = p[P_R1]
+        ef = eps if eps < p[P_EPSMAX] else p[P_EPSMAX]
+        one = 1.0 - ef * ef
+        e_dot = vy * ey + vz * ez
+        whirl = (vy * qy + vz * qz) / e if e > 1e-12 else 0.0
+        w = omega_c - 2.0 * whirl
+        epsd = e_dot / cg
+        k = eta * r1 * p[P_L3] / (2.0 * cg * cg)
+        fr = -k * (2.0 * ef * ef * abs(w) / (one * one) + math.pi * (1.0 + 2.0 * ef * ef) * epsd / (one * one * math.sqrt(one)))
+        ft = k * (math.pi * ef * w / (2.0 * one * math.sqrt(one)) + 4.0 * ef * epsd / (one * one))
+        fy += fr * ey + ft * qy
+        fz += fr * ez + ft * qz
+        mx += -2.0 * math.pi * eta * omega_c * r1 ** 3 * p[P_LAND_L] / (cg * math.sqrt(one))
+    if e > cg:
+        pen = e - cg
+        frim = p[P_KRIM] * pen * math.sqrt(pen)
+        fy -= frim * ey
+        fz -= frim * ez
+        if flags[F_DRAG] and p[P_MURIM] > 0.0:
+            vt = omega_c * p[P_R1] + vy * qy + vz * qz
+            reg = vt / 0.01 if abs(vt) < 0.01 else (1.0 if vt > 0.0 else -1.0)
+            ff = p[P_MURIM] * frim * reg
+            fy -= ff * qy
+            fz -= ff * qz
+            mx -= ff * p[P_R1]
+    return fy, fz, mx, eps, frim
+
+
+@njit(cache=True)
+def _cage_body_rhs(y, dydt, c0, fx, fy, fz, mx, my, mz, p):
+    """Rigid cage: Newton–Euler in the non-spinning tilted frame (module docstring).
+
+    The flexible cage replaces this with the floating-frame + modal equations; it receives the same
+    resultant forces and, per pocket, the interface forces (see `rhs`).
+    """
+    m = p[P_MC]
+    ip = p[P_ICP]
+    idm = p[P_ICD]
+    om = y[c0 + 9]
+    for k in range(6):
+        dydt[c0 + k] = y[c0 + 6 + k]
+    dydt[c0 + 6] = fx / m
+    dydt[c0 + 7] = fy / m
+    dydt[c0 + 8] = fz / m - p[P_GRAV]
+    dydt[c0 + 9] = mx / ip
+    dydt[c0 + 10] = (my - ip * om * y[c0 + 11]) / idm
+    dydt[c0 + 11] = (mz + ip * om * y[c0 + 10]) / idm
+
+
+@njit(cache=True)
+def _flag(work, zb, status, ball, contact, value):
+    if work[zb, WR_STATUS] == 0.0:
+        work[zb, WR_STATUS] = status
+        work[zb, WR_BAD_BALL] = ball
+        work[zb, WR_BAD_CONTACT] = contact
+        work[zb, WR_BAD_VALUE] = value
+
+
+@njit(cache=True)
+def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work):
+    """dy/dt of the bearing at time t (module docstring); fills `work` with the contact results.
+
+    p, flags, htab, ttab: Model.p, Model.flags, Model.hertz_table, Model.traction_table;
+    speed_table, load_table, impacts: multibody.profiles arrays; work: float64 (Z+1, N_WORK).
+    Allocation-free.
+    """
+    z = int(p[P_Z])
+    zb = z
+    dw = p[P_DW]
+    mb = p[P_MB]
+    ib = p[P_IB]
+    grav = p[P_GRAV]
+    r0 = 9 * z
+    c0 = r0 + 11
+    omega_i = speed_at(t, speed_table)
+    load_at(t, load_table, impacts, work[zb, WR_FX:WR_FX + 3])
+    work[zb, WR_OMEGA_I] = omega_i
+    # inner ring
+    xi = y[r0]
+    yi = y[r0 + 1]
+    zi = y[r0 + 2]
+    ty = y[r0 + 3]
+    tz = y[r0 + 4]
+    vxi = y[r0 + 5]
+    vyi = y[r0 + 6]
+    vzi = y[r0 + 7]
+    # cage
+    xc = y[c0]
+    yc = y[c0 + 1]
+    zc = y[c0 + 2]
+    phic = y[c0 + 3]
+    by_ = y[c0 + 4]
+    bz_ = y[c0 + 5]
+    vxc = y[c0 + 6]
+    vyc = y[c0 + 7]
+    vzc = y[c0 + 8]
+    wcx = y[c0 + 9]
+    wcy = y[c0 + 10]
+    wcz = y[c0 + 11]
+    # accumulators
+    rfx = 0.0
+    rfy = 0.0
+    rfz = 0.0
+    rmx = 0.0
+    rmy = 0.0
+    rmz = 0.0
+    cfx = 0.0
+    cfy = 0.0
+    cfz = 0.0
+    cmx = 0.0
+    cmy = 0.0
+    cmz = 0.0
+    fo = p[P_FE]
+    fi = p[P_FI]
+    rmid = p[P_RCAGE_POCKET]
+    drag_k = 0.5 * p[P_OILFRAC] * p[P_RHO_OIL] * p[P_CD] * math.pi * dw * dw / 4.0
+    for j in range(z):
+        o = 9 * j
+        xb = y[o]
+        rb = y[o + 1]
+        psi = y[o + 2]
+        vbx = y[o + 3]
+        vbr = y[o + 4]
+        psid = y[o + 5]
+        w_x = y[o + 6]
+        w_r = y[o + 7]
+        w_t = y[o + 8]
+        cs = math.cos(psi)
+        sn = math.sin(psi)
+        vbt = rb * psid
+        fx = 0.0
+        fr = -mb * grav * sn
+        ft = -mb * grav * cs
+        mx = 0.0
+        mr = 0.0
+        mt = 0.0
+        # ring translation seen in the ball plane
+        ring_rc = yi * cs + zi * sn
+        rv_r = vyi * cs + vzi * sn
+        rv_t = -vyi * sn + vzi * cs
+        for c in range(3):
+            if c == 0:
+                xc_g = p[P_XO]
+                rc_g = p[P_RO]
+                res = _race(0, xb, rb, xc_g, rc_g, fo, vbx, vbr, vbt, w_x, w_r, w_t, psid,
+                            0.0, 0.0, 0.0, 0.0, 0.0, p, flags, htab, ttab)
+            else:
+                if c == 1:
+                    x0 = p[P_XIL]
+                    rr0 = p[P_RIL]
+                else:
+                    x0 = p[P_XIR]
+                    rr0 = p[P_RIR]
+                xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
+                res = _race(1, xb, rb, xc_g, rc_g, fi, vbx, vbr, vbt, w_x, w_r, w_t, psid,
+                            vxi, rv_r, rv_t, omega_i, ring_rc, p, flags, htab, ttab)
+            wc = c * N_WC
+            work[j, wc + WC_Q] = res[0]
+            work[j, wc + WC_COS] = res[1]
+            work[j, wc + WC_SIN] = res[2]
+            work[j, wc + WC_P0] = res[3]
+            work[j, wc + WC_UR] = res[4]
+            work[j, wc + WC_RX] = res[5]
+            work[j, wc + WC_RY] = res[6]
+            work[j, wc + WC_A] = res[7]
+            work[j, wc + WC_SLIP] = res[8]
+            work[j, wc + WC_DELTA] = res[9]
+            if res[9] > DELTA_MAX_FRAC * dw:
+                _flag(work, zb, STATUS_DEEP_RACE, j, c, res[9])
+            if res[0] > 0.0 or res[9] > 0.0:
+                fx += res[10]
+                fr += res[11]
+                ft += res[12]
+                mx += res[13]
+                mr += res[14]
+                mt += res[15]
+                if c > 0:
+                    # reaction on the inner ring: −F at the contact point (x_p, r_p) in the ball plane
+                    gx = -res[10]
+                    gr = -res[11]
+                    gt = -res[12]
+                    gy = gr * cs - gt * sn
+                    gz = gr * sn + gt * cs
+                    rfx += gx
+                    rfy += gy
+                    rfz += gz
+                    # lever from the ring centre
+                    lx = res[16] - xi
+                    ly = res[17] * cs - yi
+                    lz = res[17] * sn - zi
+                    m1, m2, m3 = _cross(lx, ly, lz, gx, gy, gz)
+                    rmx += m1
+                    rmy += m2
+                    rmz += m3
+        # ---- pocket j (rigid cage, small tilts): centre p = c + q + beta × q, axis likewise
+        psi_p = phic + 2.0 * math.pi * j / z
+        cp_ = math.cos(psi_p)
+        sp_ = math.sin(psi_p)
+        tilt = by_ * sp_ - bz_ * cp_
+        qx = rmid * tilt
+        qy = rmid * cp_
+        qz = rmid * sp_
+        ppx = xc + qx
+        ppy = yc + qy
+        ppz = zc + qz
+        ax = tilt
+        ay = cp_
+        az = sp_
+        an = math.sqrt(ax * ax + ay * ay + az * az)
+        ax /= an
+        ay /= an
+        az /= an
+        ox, oy, oz = _cross(wcx, wcy, wcz, qx, qy, qz)
+        vpx = vxc + ox
+        vpy = vyc + oy
+        vpz = vzc + oz
+        # ball in inertial components
+        bx = xb
+        byy = rb * cs
+        bzz = rb * sn
+        vbyy = vbr * cs - vbt * sn
+        vbzz = vbr * sn + vbt * cs
+        wby = w_r * cs - w_t * sn
+        wbz = w_r * sn + w_t * cs
+        pk = _pocket_interface(bx, byy, bzz, vbx, vbyy, vbzz, w_x, wby, wbz,
+                               ppx, ppy, ppz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz,
+                               xc, yc, zc, p, flags)
+        pfx, pfy, pfz = pk[0], pk[1], pk[2]
+        work[j, W_POCKET_Q] = pk[9]
+        work[j, W_POCKET_Z] = pk[10]
+        if pk[10] > p[P_CP] + DELTA_MAX_FRAC * dw:
+            _flag(work, zb, STATUS_DEEP_POCKET, j, 3, pk[10] - p[P_CP])
+        # on the ball, to the orbiting frame
+        pft = -pfy * sn + pfz * cs
+        work[j, W_POCKET_T] = pft
+        fx += pfx
+        fr += pfy * cs + pfz * sn
+        ft += pft
+        mx += pk[3]
+        mr += pk[4] * cs + pk[5] * sn
+        mt += -pk[4] * sn + pk[5] * cs
+        # on the cage: −F at the wall point
+        cfx -= pfx
+        cfy -= pfy
+        cfz -= pfz
+        m1, m2, m3 = _cross(pk[6] - xc, pk[7] - yc, pk[8] - zc, -pfx, -pfy, -pfz)
+        cmx += m1
+        cmy += m2
+        cmz += m3
+        # ---- churning drag on the orbiting ball (oil–air mixture at rest)
+        if flags[F_DRAG]:
+            fd = drag_k * vbt * abs(vbt)
+            ft -= fd
+            work[j, W_DRAG] = fd
+        else:
+            work[j, W_DRAG] = 0.0
+        # ---- ball equations (module docstring)
+        dydt[o] = vbx
+        dydt[o + 1] = vbr
+        dydt[o + 2] = psid
+        dydt[o + 3] = fx / mb
+        dydt[o + 4] = fr / mb + rb * psid * psid
+        dydt[o + 5] = (ft / mb - 2.0 * vbr * psid) / rb
+        dydt[o + 6] = mx / ib
+        dydt[o + 7] = mr / ib + psid * w_t
+        dydt[o + 8] = mt / ib - psid * w_r
+    # ---- inner ring
+    mi = p[P_MI]
+    idr = p[P_IID]
+    ipr = p[P_IIP]
+    for k in range(5):
+        dydt[r0 + k] = y[r0 + 5 + k]
+    dydt[r0 + 5] = (work[zb, WR_FX] + rfx) / mi
+    dydt[r0 + 6] = (work[zb, WR_FX + 1] + rfy) / mi
+    dydt[r0 + 7] = (work[zb, WR_FX + 2] + rfz) / mi - grav
+    dydt[r0 + 8] = (rmy - ipr * omega_i * y[r0 + 9]) / idr
+    dydt[r0 + 9] = (rmz + ipr * omega_i * y[r0 + 8]) / idr
+    dydt[r0 + 10] = omega_i
+    work[zb, WR_RING_TORQUE] = rmx
+    # ---- cage: guide land + pockets
+    lfy, lfz, lmx, eps, frim = _guide_land(yc, zc, vyc, vzc, wcx, p, flags)
+    work[zb, WR_LAND_FY] = lfy
+    work[zb, WR_LAND_FZ] = lfz
+    work[zb, WR_LAND_M] = lmx
+    work[zb, WR_RIM_F] = frim
+    work[zb, WR_EPS] = eps
+    if eps > 2.0:
+        _flag(work, zb, STATUS_RIM, -1, 4, eps)
+    _cage_body_rhs(y, dydt, c0, cfx, cfy + lfy, cfz + lfz, cmx + lmx, cmy, cmz, p)
+
+
+# ---------------------------------------------------------------- energy (conservative runs)
+@njit(cache=True)
+def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
+    """Kinetic energy of balls, ring and cage + elastic energy of the contacts − work potential
+    of the (constant) external load, J. Conserved when traction, drag and damping are off and the
+    Hertz constants are fixed (model option hertz_fixed_angle; otherwise K(alpha) makes the Hertz
+    force field very slightly non-conservative). The ring spin is prescribed (constant speed in a
+    free run), its kinetic energy is constant and left out.
+
+    Hertz: V = (2/5)·K·delta^2.5. Pocket: V = Kc·Z²/2 (Z <= Cp), Kc·Cp²/2 + Kc·Cp·(Z − Cp) +
+    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: (2/5)·K_rim·(e − Cg)^2.5. Load: −F·x_ring.
+    """
+    z = int(p[P_Z])
+    r0 = 9 * z
+    c0 = r0 + 11
+    mb = p[P_MB]
+    ib = p[P_IB]
+    dw = p[P_DW]
+    ek = 0.0
+    ev = 0.0
+    xi = y[r0]
+    yi = y[r0 + 1]
+    zi = y[r0 + 2]
+    ty = y[r0 + 3]
+    tz = y[r0 + 4]
+    for j in range(z):
+        o = 9 * j
+        xb = y[o]
+        rb = y[o + 1]
+        psi = y[o + 2]
+        ek += 0.5 * mb * (y[o + 3] ** 2 + y[o + 4] ** 2 + (rb * y[o + 5]) ** 2)
+        ek += 0.5 * ib * (y[o + 6] ** 2 + y[o + 7] ** 2 + y[o + 8] ** 2)
+        for c in range(3):
+            if c == 0:
+                xc_g = p[P_XO]
+                rc_g = p[P_RO]
+                f = p[P_FE]
+                kind = 0
+            else:
+                x0 = p[P_XIL] if c == 1 else p[P_XIR]
+                rr0 = p[P_RIL] if c == 1 else p[P_RIR]
+                xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
+                f = p[P_FI]
+                kind = 1
+            delta, ca, sa = race_contact(xb, rb, xc_g, rc_g, f, dw)
+            if delta > 0.0:
+                if flags[F_HERTZ_FIXED]:
+                    K = _hertz_lookup(htab, kind, math.cos(p[P_ALPHA0]))[0]
+                else:
+                    K = _hertz_lookup(htab, kind, ca)[0]
+                ev += 0.4 * K * delta ** 2.5
+        # pocket
+        psi_p = y[c0 + 3] + 2.0 * math.pi * j / z
+        cp_ = math.cos(psi_p)
+        sp_ = math.sin(psi_p)
+        tilt = y[c0 + 4] * sp_ - y[c0 + 5] * cp_
+        rmid = p[P_RCAGE_POCKET]
+        ax = tilt
+        ay = cp_
+        az = sp_
+        an = math.sqrt(ax * ax + ay * ay + az * az)
+        dx = xb - (y[c0] + rmid * tilt)
+        dy = rb * math.cos(psi) - (y[c0 + 1] + rmid * cp_)
+        dz = rb * math.sin(psi) - (y[c0 + 2] + rmid * sp_)
+        da = (dx * ax + dy * ay + dz * az) / an
+        ux = dx - da * ax / an
+        uy = dy - da * ay / an
+        uz = dz - da * az / an
+        zz = math.sqrt(ux * ux + uy * uy + uz * uz)
+        cp = p[P_CP]
+        kc = p[P_KC]
+        if zz <= cp:
+            ev += 0.5 * kc * zz * zz
+        else:
+            ev += 0.5 * kc * cp * cp + kc * cp * (zz - cp) + 0.4 * p[P_KN] * (zz - cp) ** 2.5
+    # ring (translation + tilt) and cage
+    ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
+    ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
+    ek += 0.5 * p[P_MC] * (y[c0 + 6] ** 2 + y[c0 + 7] ** 2 + y[c0 + 8] ** 2)
+    ek += 0.5 * p[P_ICP] * y[c0 + 9] ** 2 + 0.5 * p[P_ICD] * (y[c0 + 10] ** 2 + y[c0 + 11] ** 2)
+    e = math.sqrt(y[c0 + 1] ** 2 + y[c0 + 2] ** 2)
+    if e > p[P_CG]:
+        ev += 0.4 * p[P_KRIM] * (e - p[P_CG]) ** 2.5
+    f3 = np.empty(3)
+    load_at(t, load_table, impacts, f3)
+    ev -= f3[0] * xi + f3[1] * yi + f3[2] * zi
+    return ek, ev
+
+
+# ---------------------------------------------------------------- outputs (Python side)
+def new_work(model) -> np.ndarray:
+    return np.zeros((model.n_balls + 1, M.N_WORK))
+
+
+def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, load_table: np.ndarray,
+                     impacts: np.ndarray, film: bool = False) -> dict:
+    """Recordable quantities at (t, y), SI (SPEC §6). Per ball arrays have shape (Z,), per contact
+    (Z, 3) in the order outer, inner-left, inner-right.
+
+    Keys: contact_load, contact_angle (signed, rad), contact_stress (p0, Pa), approach, slide_ratio
+    (race − ball rolling slide / entrainment), entrainment_speed, pocket_force, pocket_offset,
+    pocket_force_tangential, cage_land_force (y, z), cage_land_force_magnitude, cage_land_torque,
+    cage_rim_force, cage_eccentricity_ratio, cage_speed, cage_centre (x, y, z), inner_ring_speed,
+    inner_ring_displacement (x, y, z, tilt_y, tilt_z), ring_drive_torque, ball_position (x, r, psi),
+    ball_velocity, ball_angular_velocity (w_x, w_r, w_t), ball_orbit_speed, external_load,
+    nominal_cage_speed, slip_rate, contact_angle_inner_loaded, contact_angle_outer; with film=True
+    film_thickness_min, film_thickness_central (Hamrock–Dowson, multibody.film).
+    """
+    z = model.n_balls
+    work = new_work(model)
+    dydt = np.zeros_like(y)
+    rhs(t, y, dydt, model.p, model.flags, model.hertz_table, model.traction_table,
+        speed_table, load_table, impacts, work)
+    lay = state_layout_cached(model)
+    balls = y[: 9 * z].reshape(z, 9)
+    ring = y[lay["ring"]: lay["ring"] + 11]
+    cage = y[lay["cage"]: lay["cage"] + 12]
+    wc = work[:z, : 3 * N_WC].reshape(z, 3, N_WC)
+    Q = wc[:, :, WC_Q]
+    ang = np.arctan2(wc[:, :, WC_SIN], wc[:, :, WC_COS])
+    out = {
+        "contact_load": Q.copy(),
+        "contact_angle": ang,
+        "contact_stress": wc[:, :, WC_P0].copy(),
+        "approach": wc[:, :, WC_DELTA].copy(),
+        "entrainment_speed": wc[:, :, WC_UR].copy(),
+        "slide_ratio": wc[:, :, WC_SLIP].copy(),
+        "pocket_force": work[:z, W_POCKET_Q].copy(),
+        "pocket_offset": work[:z, W_POCKET_Z].copy(),
+        "pocket_force_tangential": work[:z, W_POCKET_T].copy(),
+        "churning_drag": work[:z, W_DRAG].copy(),
+        "cage_land_force": work[z, [M.WR_LAND_FY, M.WR_LAND_FZ]].copy(),
+        "cage_land_force_magnitude": float(np.hypot(work[z, M.WR_LAND_FY], work[z, M.WR_LAND_FZ])),
+        "cage_land_torque": float(work[z, M.WR_LAND_M]),
+        "cage_rim_force": float(work[z, M.WR_RIM_F]),
+        "cage_eccentricity_ratio": float(work[z, M.WR_EPS]),
+        "cage_speed": float(cage[9]),
+        "cage_centre": cage[0:3].copy(),
+        "cage_tilt": cage[4:6].copy(),
+        "inner_ring_speed": float(work[z, M.WR_OMEGA_I]),
+        "inner_ring_displacement": ring[0:5].copy(),
+        "ring_drive_torque": float(-work[z, M.WR_RING_TORQUE]),
+        "external_load": work[z, M.WR_FX:M.WR_FX + 3].copy(),
+        "ball_position": balls[:, 0:3].copy(),
+        "ball_velocity": balls[:, 3:6].copy(),
+        "ball_angular_velocity": balls[:, 6:9].copy(),
+        "ball_orbit_speed": balls[:, 5].copy(),
+    }
+    ao, ai = loaded_contact_angles(out["contact_load"], out["contact_angle"])
+    out["contact_angle_outer"] = ao
+    out["contact_angle_inner_loaded"] = ai
+    alpha = 0.5 * (np.mean(ao) + np.mean(np.abs(ai)))
+    nm = nominal_cage_speed(out["inner_ring_speed"], model.p[M.P_DW], model.p[M.P_DM], alpha)
+    out["nominal_cage_speed"] = nm
+    out["slip_rate"] = (nm - out["cage_speed"]) / nm if nm != 0.0 else 0.0
+    if film:
+        out.update(film_thickness(model, wc))
+    return out
+
+
+def loaded_contact_angles(Q: np.ndarray, ang: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Outer contact angle and the angle of the more loaded inner half, per ball (rad)."""
+    ao = ang[:, 0]
+    pick = np.where(Q[:, 1] >= Q[:, 2], 1, 2)
+    ai = ang[np.arange(ang.shape[0]), pick]
+    return ao, ai
+
+
+def nominal_cage_speed(omega_i: float, dw: float, dm: float, alpha: float) -> float:
+    """nm = 0.5·omega_i·(1 − Dw·cos(alpha)/dm), rad/s (paper §3.2; SPEC §6)."""
+    return 0.5 * omega_i * (1.0 - dw * math.cos(alpha) / dm)
+
+
+_LAYOUT_CACHE: dict = {}
+
+
+def state_layout_cached(model):
+    key = (model.n_balls, model.n_modes)
+    if key not in _LAYOUT_CACHE:
+        _LAYOUT_CACHE[key] = M.state_layout(model)
+    return _LAYOUT_CACHE[key]
+
+
+def film_thickness(model, wc: np.ndarray) -> dict:
+    """Minimum and central film thickness per contact (Hamrock & Dowson 1977; formulas.md), m.
+
+    Uses multibody.film if present; U = eta0·|UR|/(E'·Rx), G = alpha_p·E', W = Q/(E'·Rx²),
+    k = 1.03·(Ry/Rx)^0.64. Zero where there is no load.
+    """
+    p = model.p
+    Q = wc[:, :, WC_Q]
+    ur = np.abs(wc[:, :, WC_UR])
+    rx = wc[:, :, WC_RX]
+    ry = wc[:, :, WC_RY]
+    e = p[P_EBR]
+    hmin = np.zeros_like(Q)
+    hc = np.zeros_like(Q)
+    on = (Q > 0) & (ur > 0) & (rx > 0)
+    U = p[P_ETA0] * ur[on] / (e * rx[on])
+    G = p[M.P_ALPHA_P] * e
+    W = Q[on] / (e * rx[on] ** 2)
+    k = 1.03 * (ry[on] / rx[on]) ** 0.64
+    hmin[on] = rx[on] * 3.63 * U ** 0.68 * G ** 0.49 * W ** -0.073 * (1 - np.exp(-0.68 * k))
+    hc[on] = rx[on] * 2.69 * U ** 0.67 * G ** 0.53 * W ** -0.067 * (1 - 0.61 * np.exp(-0.73 * k))
+    return {"film_thickness_min": hmin, "film_thickness_central": hc}

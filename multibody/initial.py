@@ -1,0 +1,199 @@
+"""Initial state of a dynamic run from a quasi-static equilibrium (Jones–Harris without friction).
+
+`initial_state(model, speed_rad_s, Fa, Fr)` returns y0 (layout: multibody.model): every ball at
+its quasi-static position in its azimuthal plane, orbiting at the pure-rolling cage speed
+nm = 0.5·omega_i·(1 − Dw·cos(alpha)/dm) (alpha the mean loaded contact angle), spinning so that
+the outer and the loaded inner contact roll without sliding; the inner ring at its equilibrium
+displacement and tilt; the cage centred, spinning at nm, each pocket centred on its ball.
+
+Quasi-static model (`quasi_static`; Harris & Kotzalas, Rolling Bearing Analysis Vol. 2, ch. 3,
+the Jones model with the gyroscopic moment and friction left out): for ball j at azimuth psi_j,
+
+    sum_c (−Q_c·n_c) + m_b·r_j·Omega² e_r = 0          (2 equations in the ball plane: x_j, r_j)
+    F_ext + sum_j sum_inner (Q·n, at the contact point) = 0   (5 ring equations: forces + moments)
+
+with Q_c = K(alpha_c)·delta_c^1.5 from the same geometry (multibody.geometry) and Hertz tables as
+the dynamics. Nested solution: for a trial ring position each ball is solved by Newton's method
+(2x2, finite-difference Jacobian); the 5 ring equations are solved by scipy's hybrid Powell
+method. Radial load Fr acts along −Z (the scene default) unless a full load vector is given.
+
+When the geometry engineer's `multibody.quasi_static` lands it supersedes this solver as the
+reference; this one stays as the dynamics' own consistent equilibrium (same force law).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import root
+
+from mesh.validation import InputError, require_range
+from multibody import model as M
+from multibody.dynamics import _hertz_lookup, nominal_cage_speed
+from multibody.geometry import race_contact, ring_point_in_plane
+
+
+def _ball_forces(model, psi, xb, rb, ring, omega_orbit):
+    """Net in-plane force on a ball (x, r) and the contact results [(Q, ca, sa, nx, nr, x_p, r_p) x 3]."""
+    p = model.p
+    dw = p[M.P_DW]
+    fx = 0.0
+    fr = model.p[M.P_MB] * rb * omega_orbit ** 2
+    res = []
+    for c in range(3):
+        if c == 0:
+            xc, rc, f, kind = p[M.P_XO], p[M.P_RO], p[M.P_FE], 0
+        else:
+            x0 = p[M.P_XIL] if c == 1 else p[M.P_XIR]
+            r0 = p[M.P_RIL] if c == 1 else p[M.P_RIR]
+            xc, rc = ring_point_in_plane(psi, x0, r0, *ring)
+            f, kind = p[M.P_FI], 1
+        delta, ca, sa = race_contact(xb, rb, xc, rc, f, dw)
+        dx, dr = xb - xc, rb - rc
+        d = math.hypot(dx, dr)
+        nx, nr = dx / d, dr / d
+        if delta > 0.0:
+            ca_k = math.cos(p[M.P_ALPHA0]) if model.flags[M.F_HERTZ_FIXED] else ca
+            K = _hertz_lookup(model.hertz_table, kind, ca_k)[0]
+            Q = K * delta ** 1.5
+        else:
+            Q = 0.0
+        rho = 0.5 * dw - 0.5 * max(delta, 0.0)
+        fx -= Q * nx
+        fr -= Q * nr
+        res.append((Q, ca, sa, nx, nr, xb + rho * nx, rb + rho * nr))
+    return fx, fr, res
+
+
+def _solve_ball(model, psi, ring, omega_orbit, x0, r0):
+    """Newton on the 2 ball equilibrium equations; returns (x, r, contacts)."""
+    x, r = x0, r0
+    h = 1e-9
+    for _ in range(60):
+        fx, fr, res = _ball_forces(model, psi, x, r, ring, omega_orbit)
+        if abs(fx) + abs(fr) < 1e-9 * (1.0 + sum(c[0] for c in res)):
+            break
+        fx1, fr1, _ = _ball_forces(model, psi, x + h, r, ring, omega_orbit)
+        fx2, fr2, _ = _ball_forces(model, psi, x, r + h, ring, omega_orbit)
+        J = np.array([[fx1 - fx, fx2 - fx], [fr1 - fr, fr2 - fr]]) / h
+        try:
+            dx, dr = np.linalg.solve(J, [-fx, -fr])
+        except np.linalg.LinAlgError:
+            dx, dr = 0.0, 1e-7
+        step = math.hypot(dx, dr)
+        lim = 2e-5
+        if step > lim:
+            dx, dr = dx * lim / step, dr * lim / step
+        x, r = x + dx, r + dr
+    fx, fr, res = _ball_forces(model, psi, x, r, ring, omega_orbit)
+    return x, r, res
+
+
+def quasi_static(model, speed_rad_s: float, load, ring_guess=None, omega_orbit: float | None = None) -> dict:
+    """Quasi-static equilibrium (module docstring). load = (Fx, Fy, Fz) on the inner ring, N.
+
+    Returns dict: ring (x, y, z, tilt_y, tilt_z), ball_x, ball_r, psi (Z,), contact_load (Z, 3),
+    contact_angle (Z, 3) signed, omega_orbit (rad/s), residual (N, N·m).
+    """
+    p = model.p
+    z = model.n_balls
+    dw, dm = p[M.P_DW], p[M.P_DM]
+    psi = 2.0 * math.pi * np.arange(z) / z
+    load = np.asarray(load, dtype=float)
+    if omega_orbit is None:
+        omega_orbit = nominal_cage_speed(speed_rad_s, dw, dm, p[M.P_ALPHA0])
+    balls = np.tile([0.0, 0.5 * dm], (z, 1))
+
+    def ring_residual(v, keep=False):
+        ring = tuple(v)
+        F = load.copy()
+        Mm = np.zeros(2)
+        out = []
+        for j in range(z):
+            x, r, res = _solve_ball(model, psi[j], ring, omega_orbit, balls[j, 0], balls[j, 1])
+            balls[j] = (x, r)
+            cs, sn = math.cos(psi[j]), math.sin(psi[j])
+            for c in (1, 2):
+                Q, ca, sa, nx, nr, xp, rp = res[c]
+                g = np.array([Q * nx, Q * nr * cs, Q * nr * sn])  # reaction on the ring: +Q n
+                F += g
+                lever = np.array([xp - v[0], rp * cs - v[1], rp * sn - v[2]])
+                Mm += np.cross(lever, g)[1:]
+            out.append(res)
+        if keep:
+            return out
+        # scale the moments to forces by the pitch radius
+        return np.concatenate([F, Mm / (0.5 * dm)])
+
+    v0 = np.zeros(5) if ring_guess is None else np.asarray(ring_guess, float)
+    # first guess along the load: a small displacement so that the loaded contacts engage
+    if ring_guess is None:
+        fn = np.linalg.norm(load)
+        if fn > 0:
+            v0[:3] = 1e-6 * load / fn
+    scale = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
+    sol = root(lambda u: ring_residual(u * scale), v0 / scale, method="hybr", options={"xtol": 1e-12})
+    ring = sol.x * scale
+    res = ring_residual(ring, keep=True)
+    resid = ring_residual(ring)
+    Q = np.array([[c[0] for c in r] for r in res])
+    ang = np.array([[math.atan2(c[2], c[1]) for c in r] for r in res])
+    return {"ring": ring, "ball_x": balls[:, 0].copy(), "ball_r": balls[:, 1].copy(), "psi": psi,
+            "contact_load": Q, "contact_angle": ang, "omega_orbit": omega_orbit,
+            "residual": resid, "contacts": res, "converged": bool(sol.success)}
+
+
+def _mean_alpha(qs) -> float:
+    Q, ang = qs["contact_load"], qs["contact_angle"]
+    pick = np.where(Q[:, 1] >= Q[:, 2], 1, 2)
+    ai = np.abs(ang[np.arange(len(pick)), pick])
+    return 0.5 * (float(np.mean(ang[:, 0])) + float(np.mean(ai)))
+
+
+def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, refine: bool = True) -> np.ndarray:
+    """y0 from the quasi-static equilibrium at inner-ring speed speed_rad_s, axial load Fa (+X) and
+    radial load Fr (along −Z), N; or a full `load` (Fx, Fy, Fz). Module docstring."""
+    require_range("initial.speed_rad_s", speed_rad_s, 0.0, 1e5, unit="rad/s")
+    if load is None:
+        require_range("initial.Fa", Fa, -1e6, 1e6, unit="N")
+        require_range("initial.Fr", Fr, 0.0, 1e6, unit="N")
+        load = (Fa, 0.0, -Fr)
+    p = model.p
+    z = model.n_balls
+    dw, dm = p[M.P_DW], p[M.P_DM]
+    qs = quasi_static(model, speed_rad_s, load)
+    if refine:
+        om = nominal_cage_speed(speed_rad_s, dw, dm, _mean_alpha(qs))
+        qs = quasi_static(model, speed_rad_s, load, ring_guess=qs["ring"], omega_orbit=om)
+    if not qs["converged"] and np.max(np.abs(qs["residual"])) > 1e-3 * (1.0 + np.linalg.norm(load)):
+        raise InputError(f"quasi-static initial state did not converge for load {tuple(load)} N "
+                         f"(residual {qs['residual']})")
+    om = qs["omega_orbit"]
+    lay = M.state_layout(model)
+    y = np.zeros(lay["n_state"])
+    ring = qs["ring"]
+    for j in range(z):
+        o = 9 * j
+        x, r, psi = qs["ball_x"][j], qs["ball_r"][j], qs["psi"][j]
+        y[o:o + 3] = (x, r, psi)
+        y[o + 5] = om
+        # pure rolling at the outer and the loaded inner contact: rolling-direction slide = 0
+        cont = qs["contacts"][j]
+        ci = 1 if cont[1][0] >= cont[2][0] else 2
+        rows, rhs = [], []
+        ring_rc = ring[1] * math.cos(psi) + ring[2] * math.sin(psi)
+        for c in (0, ci):
+            Q, ca, sa, nx, nr, xp, rp = cont[c]
+            rho = math.hypot(xp - x, rp - r)
+            # v_ball,t = r·om + rho(w_x n_r − w_r n_x);  v_race,t = 0 (outer) or omega_i (r_p − rc)
+            vrace = 0.0 if c == 0 else speed_rad_s * (rp - ring_rc)
+            rows.append([rho * nr, -rho * nx])
+            rhs.append(vrace - r * om)
+        w = np.linalg.solve(np.array(rows), np.array(rhs))
+        y[o + 6], y[o + 7] = w
+    r0 = lay["ring"]
+    y[r0:r0 + 5] = ring
+    c0 = lay["cage"]
+    y[c0 + 9] = om
+    y[c0] = float(np.mean(qs["ball_x"]))  # cage follows the balls axially
+    return y
