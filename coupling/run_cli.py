@@ -10,13 +10,13 @@ paper's Tables 4/5 (coupling.validate) and prints our slip rate beside the test'
 """
 from __future__ import annotations
 
-import importlib
-import importlib.util
 import json
 import sys
 from pathlib import Path
 
 from mesh.validation import InputError
+
+DEFAULT_CASE_SET = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
 
 # printed tables only: SI -> engineer's units (the files stay SI)
 _PRINT_UNITS = {"Pa": (1e-6, "MPa"), "m": (1e6, "um"), "rad/s": (60.0 / (2 * 3.141592653589793), "rpm"),
@@ -41,6 +41,11 @@ def register(subparsers) -> None:
     s = vs.add_parser("slip-rate", help="cage slip rate vs the paper's Table 5 (15 steady test cases)")
     s.add_argument("--json", metavar="FILE", help="also write the table as JSON")
     s.add_argument("--cases", default="1-15", help="case numbers, e.g. 1-8 or 1,4,12 (default 1-15)")
+    s.add_argument("--case-set", default=str(DEFAULT_CASE_SET),
+                   help="case set with the Table 4 conditions and Table 5 slip rates "
+                        "(default scenes/slip_rate_table4.toml)")
+    s.add_argument("--out", default="out/validate/slip_rate", help="folder for the per-case results")
+    s.add_argument("--resume", action="store_true", help="reuse/continue existing per-case results")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
@@ -113,13 +118,19 @@ def parse_cases(text: str, n_max: int = 15) -> list[int]:
 
 
 def cmd_validate_slip_rate(args) -> int:
-    cases = parse_cases(args.cases)
-    if importlib.util.find_spec("coupling.validate") is None:
-        print("flexbearing validate: the slip-rate validation is not available yet "
-              "(coupling.validate is missing)", file=sys.stderr)
-        return 1
-    val = importlib.import_module("coupling.validate")
-    rows = val.run_slip_rate_validation(cases=cases, quiet=args.quiet)
+    """Each selected case of the case set is run as a scene (coupling.run.run_case_set_slip_rate);
+    the slip rate comes from the recorded cage speed and nominal cage speed."""
+    from coupling.run import RunInterrupted, run_case_set_slip_rate
+    from coupling.scene import load_case_set
+
+    case_set = load_case_set(args.case_set)
+    cases = parse_cases(args.cases, max(c["id"] for c in case_set.cases))
+    try:
+        rows = run_case_set_slip_rate(case_set, cases, args.out, resume=args.resume, quiet=args.quiet)
+    except RunInterrupted as exc:
+        print(f"flexbearing validate: {exc}\n  continue with: flexbearing validate slip-rate "
+              f"--cases {args.cases} --resume", file=sys.stderr)
+        return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
     table = print_slip_rate_table(rows)
     if args.json:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)

@@ -450,6 +450,9 @@ def _model_options(d: dict) -> dict:
 
 def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     """Validate the parsed TOML `data` and build the Scene (no computation, no heavy imports)."""
+    if isinstance(data, dict) and "case_set" in data:
+        raise InputError(f"{path or 'scene'} is a case set ([case_set] with [[cases]]), not a scene: "
+                         f"it is run by `flexbearing validate`")
     d = _table(data, "scene", ("name", "description", "bearing", "oil", "cage", "model", "operation",
                                "integrator", "output"))
     name = d.get("name", Path(path).stem if path else "scene")
@@ -534,3 +537,76 @@ def merge(base: dict, override: dict) -> dict:
         else:
             out[k] = v
     return out
+
+
+# ---------------------------------------------------------------- case sets (validation runs)
+
+CASE_KEYS = ("id", "group", "axial_load", "radial_load", "speed_rpm", "test_slip_percent",
+             "paper_slip_percent")
+
+
+@dataclass(frozen=True)
+class CaseSet:
+    """Steady test cases sharing one base scene (scenes/slip_rate_table4.toml)."""
+    name: str
+    description: str
+    duration: float              # s simulated per case
+    average_from: float          # s: start of the averaging window of the slip rate
+    cases: tuple                 # dicts with CASE_KEYS (slip rates in %, as published)
+    scenes: dict                 # case id -> Scene
+    path: str = ""
+
+
+def load_case_set(path) -> CaseSet:
+    """Read a case set: [case_set] (name, description, duration, average_from), [base] (a scene
+    without operation) and [[cases]] (id, group, axial_load, radial_load, speed_rpm and the published
+    slip rates). Each case becomes the base scene with a uniform speed and constant loads."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+        data = tomllib.loads(text)
+    except OSError as exc:
+        raise InputError(f"case set {str(path)!r} cannot be read: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"case set {path} is not valid TOML: {exc}") from None
+    _table(data, "case set", ("case_set", "base", "cases"))
+    head = _table(data.get("case_set", {}), "case_set", ("name", "description", "duration", "average_from"))
+    duration = _number("case_set.duration", head.get("duration"), 0.0, MAX_DURATION, lo_open=True, unit="s")
+    average_from = _number("case_set.average_from", head.get("average_from", 0.5 * duration), 0.0, duration,
+                           hi_open=True, unit="s")
+    base = _table(data.get("base", {}), "base", ("description", "bearing", "oil", "cage", "model",
+                                                 "integrator", "output"))
+    rows = data.get("cases")
+    if not isinstance(rows, list) or not rows:
+        raise InputError(f"{path}: [[cases]] is missing")
+    cases, scenes = [], {}
+    for i, c in enumerate(rows):
+        where = f"cases[{i}]"
+        c = _table(c, where, CASE_KEYS)
+        missing = [k for k in CASE_KEYS if k not in c]
+        if missing:
+            raise InputError(f"{where}: missing {', '.join(missing)}")
+        cid = _integer(f"{where}.id", c["id"], 1, 10**6)
+        if cid in scenes:
+            raise InputError(f"{where}.id = {cid} appears twice")
+        case = {"id": cid, "group": _integer(f"{where}.group", c["group"], 1, 10**6),
+                "axial_load": _number(f"{where}.axial_load", c["axial_load"], 0.0, MAX_LOAD, unit="N"),
+                "radial_load": _number(f"{where}.radial_load", c["radial_load"], 0.0, MAX_LOAD, unit="N"),
+                "speed_rpm": _number(f"{where}.speed_rpm", c["speed_rpm"], 0.0, MAX_SPEED_RPM,
+                                     lo_open=True, unit="rpm"),
+                "test_slip_percent": _number(f"{where}.test_slip_percent", c["test_slip_percent"], 0.0, 100.0,
+                                             lo_open=True, unit="%"),
+                "paper_slip_percent": _number(f"{where}.paper_slip_percent", c["paper_slip_percent"], 0.0,
+                                              100.0, unit="%")}
+        name = head.get("name", path.stem)
+        scene_data = merge(base, {
+            "name": f"{name}_case{cid:02d}",
+            "operation": {"duration": duration,
+                          "speed": {"phases": [{"kind": "uniform", "duration": duration,
+                                                "rpm": case["speed_rpm"]}]},
+                          "load": {"axial_load": case["axial_load"], "radial_load": case["radial_load"]}}})
+        scenes[cid] = parse_scene(scene_data, text="", path=f"{path}#case{cid}")
+        cases.append(case)
+    return CaseSet(name=str(head.get("name", path.stem)), description=str(head.get("description", "")),
+                   duration=duration, average_from=average_from, cases=tuple(cases), scenes=scenes,
+                   path=str(path))

@@ -63,10 +63,13 @@ def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h):
     return y, t, h, n, nr
 
 
-def fake_outputs(model, t, y, outputs=()):
+def fake_outputs(model, t, y, outputs=(), speed_table=None):
+    """cage speed = 0.4 × the mean inner-ring speed since t = 0; nominal cage speed with alpha = 0:
+    nm = 0.5·omega·(1 − Dw/dm), Dw = 22 mm, dm = 167 mm (paper bearing)."""
     out = {}
     if "cage_speed" in outputs:
-        out["cage_speed"] = np.float64(0.45 * y[0] / max(t, 1e-300)) if t > 0 else np.float64(0.0)
+        out["cage_speed"] = np.float64(0.4 * y[0] / t) if t > 0 else np.float64(0.0)
+        out["nominal_cage_speed"] = np.float64(0.5 * speed_at(t, speed_table) * (1 - 22.0 / 167.0))
     if "kinematics" in outputs:
         out["ring_angle"] = np.float64(y[0])
         out["impulse_z"] = np.float64(y[1])
@@ -180,13 +183,14 @@ def test_fake_run_records_exact_spectra(tmp_path):
 def test_only_requested_outputs_are_evaluated(tmp_path):
     seen = []
 
-    def evaluate(model, t, y, outputs=()):
+    def evaluate(model, t, y, outputs=(), speed_table=None):
         seen.append(tuple(outputs))
-        return fake_outputs(model, t, y, outputs)
+        return fake_outputs(model, t, y, outputs, speed_table)
     scene = fake_scene(SCENE.replace('record = ["cage_speed", "kinematics"]', 'record = ["cage_speed"]'))
     run_scene(scene, tmp_path / "r.h5", quiet=True, backend=fake_backend(evaluate_outputs=evaluate))
     assert set(seen) == {("cage_speed",)} and len(seen) == scene.n_samples
-    assert set(read_outputs(tmp_path / "r.h5")) == {"time", "cage_speed", "inner_ring_speed", "external_load"}
+    assert set(read_outputs(tmp_path / "r.h5")) == {"time", "cage_speed", "nominal_cage_speed",
+                                                         "inner_ring_speed", "external_load"}
 
 
 def test_recorded_keys_follow_the_scene_outputs():
@@ -203,6 +207,47 @@ def test_recorded_keys_follow_the_scene_outputs():
     assert "film_thickness_min" not in recorded_keys(["ball_loads"], returned)
     assert set(recorded_keys(["ball_loads"], returned)) == {"contact_load", "approach", "inner_ring_speed",
                                                            "external_load"}
+
+
+def test_case_set_and_slip_rate_validation(tmp_path, capsys):
+    from pathlib import Path
+
+    from coupling.run import run_case_set_slip_rate
+    from coupling.run_cli import parse_cases, print_slip_rate_table
+    from coupling.scene import load_case_set
+    path = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
+    full = load_case_set(path)
+    assert [c["id"] for c in full.cases] == list(range(1, 16))
+    assert full.scenes[7].load_table.tolist() == [[0.0, 1500.0, 0.0, -500.0]]
+    assert full.scenes[15].speed_table[0, 1] == pytest.approx(8000 * RPM, rel=1e-15)
+    # Table 5's "slip rate error" column is |paper - test| / test: recomputing it from the test and
+    # simulated slip rates stored in the case set reproduces the published column (to its 0.01 %)
+    table5_error_percent = [6.79, 6.70, 7.45, 4.38, 5.35, 12.28, 5.37, 11.91, 7.75, 7.95, 5.04, 3.18,
+                            4.77, 4.82, 11.46]
+    rows = [{"case": c["id"], "axial_load": c["axial_load"], "radial_load": c["radial_load"],
+             "speed_rpm": c["speed_rpm"], "slip_ours": c["paper_slip_percent"] / 100,
+             "slip_test": c["test_slip_percent"] / 100, "slip_paper": c["paper_slip_percent"] / 100}
+            for c in full.cases]
+    table = print_slip_rate_table(rows)
+    np.testing.assert_allclose([100 * r["error_paper"] for r in table["cases"]], table5_error_percent,
+                               atol=0.006)
+    assert 100 * table["max_error_paper"] == pytest.approx(12.28, abs=0.006)
+    assert parse_cases("1-3,12") == [1, 2, 3, 12]
+    with pytest.raises(InputError, match=r"case 16 is outside the allowed range \[1, 15\]"):
+        parse_cases("14-16")
+
+    # the runner, with the fake physics on a shortened copy of the case set: the fake cage turns
+    # at 0.4 omega and nm = 0.5 omega (1 - Dw/dm), so S = 1 - 0.8·167/145 for every case
+    short = tmp_path / "cases.toml"
+    short.write_text(path.read_text().replace("duration = 0.3 ", "duration = 0.004 ")
+                     .replace("average_from = 0.15 ", "average_from = 0.002 "))
+    cs = load_case_set(short)
+    rows = run_case_set_slip_rate(cs, [2, 13], tmp_path / "out", quiet=True, backend=fake_backend())
+    assert [r["case"] for r in rows] == [2, 13]
+    for r in rows:
+        assert r["slip_ours"] == pytest.approx(1 - 0.8 * 167 / 145, rel=1e-12)
+    assert rows[1]["slip_test"] == 0.0545 and rows[1]["slip_paper"] == 0.0519
+    assert (tmp_path / "out" / "case13.h5").exists()
 
 
 def test_existing_file_is_not_overwritten(tmp_path):

@@ -62,8 +62,14 @@ def test_paper_unsteady_spectra():
 
 
 def test_every_scene_in_scenes_dir_loads():
+    from coupling.scene import load_case_set
     for path in sorted(SCENES.glob("*.toml")):
-        load_scene(path)
+        if "[case_set]" in path.read_text():
+            with pytest.raises(InputError, match="is a case set"):
+                load_scene(path)
+            load_case_set(path)
+        else:
+            load_scene(path)
 
 
 def test_unknown_keys_are_named_with_the_allowed_ones():
