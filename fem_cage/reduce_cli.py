@@ -1,0 +1,379 @@
+"""`flexbearing reduce`: build (or find in the cache) the reduced cage file and verify it.
+
+Pipeline (fem_cage modules in brackets):
+  mesh (mesh.cage_mesh, cached) -> K, M (elasticity) -> pocket interface nodes and RBE2/RBE3
+  coupling (interface) -> constraint + fixed-interface modes, modified CB orthonormalisation
+  (craig_bampton) -> invariants (invariants) -> vertex stress modes (stress_modes) -> HDF5 file
+  (reduced_cage), cached under a hash of every input.
+Checks (--json, --check): static exactness at several pockets (full basis and n_keep
+truncation), stress recovery of a pocket load case vs the full FE solution, free–free
+frequencies vs the full model, mass properties vs direct integration, the max-von-Mises
+evaluator vs brute force and its cost per call.
+
+The command imports dolfinx only when it must build; `--xdmf` and `--json` on a cached file
+without `--check` read the HDF5 file only.
+"""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+# ------------------------------------------------------------------ the reduction
+
+def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: str = "rbe3",
+                 n_fixed: int = 30, quiet: bool = True) -> dict:
+    """Run the reduction on an assembled model; return a dict of arrays and operators
+    (the in-memory reduced cage plus what the checks need: Kz, C, T, Phi_full, stress op)."""
+    from tqdm import tqdm
+    from . import interface as itf
+    from .craig_bampton import petsc_to_scipy, craig_bampton, orthonormalise
+    from .invariants import scalar_mass_matrix, mass_moments, rigid_properties, ffrf_invariants
+    from .stress_modes import stress_modes
+    from mesh.validation import InputError
+
+    if coupling not in ("rbe2", "rbe3"):
+        raise InputError(f"reduce.coupling = {coupling!r} is outside the allowed set {{rbe2, rbe3}}")
+    timings = {}
+    t0 = time.perf_counter()
+    K, M = petsc_to_scipy(K_petsc), petsc_to_scipy(M_petsc)
+    X = V.tabulate_dof_coordinates()[:, :3].copy()
+    Z = geometry.n_pockets
+    walls = itf.pocket_wall_nodes(V, facet_tags, Z)
+    xm = itf.pocket_centres(geometry)
+    n = K.shape[0]
+    if coupling == "rbe2":
+        T, keep = itf.rbe2_transformation(n, walls, X, xm)
+        Tt = T.T.tocsr()
+        Kz, Mz = (Tt @ K @ T).tocsr(), (Tt @ M @ T).tocsr()
+        C = itf.selection_matrix(Kz.shape[0], np.arange(len(keep), len(keep) + 6 * Z))
+    else:
+        T = None
+        weights = itf.pocket_wall_weights(V, facet_tags, walls)
+        C = itf.rbe3_constraint(n, walls, weights, X, xm)
+        Kz, Mz = K, M
+    timings["interface_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    cb = craig_bampton(Kz, Mz, C, n_fixed)
+    timings["craig_bampton_s"] = time.perf_counter() - t0
+    G = itf.rigid_interface_matrix(xm)
+    N, omega, tw = orthonormalise(cb["K_cb"], cb["M_cb"], G)
+    B = np.hstack([cb["Psi"], cb["Phi"]]) @ N
+    Phi_full = T @ B if T is not None else B
+    phi_b = N[:6 * Z]
+    t0 = time.perf_counter()
+    mom = mass_moments(scalar_mass_matrix(M), X, Phi_full)
+    rigid = rigid_properties(mom)
+    inv = ffrf_invariants(mom)
+    timings["invariants_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    bar = tqdm(total=N.shape[1], desc="stress modes", disable=quiet)
+    S, op = stress_modes(V, geometry.material, Phi_full, zero_columns=range(6), progress=bar)
+    bar.close()
+    timings["stress_modes_s"] = time.perf_counter() - t0
+    # vertex displacements: P2 node of V at each mesh vertex (same point, matched by coordinates)
+    from scipy.spatial import cKDTree
+    dist, vnode = cKDTree(X).query(op.coords)
+    if dist.max() > 1e-9 * np.abs(X).max():
+        raise RuntimeError("mesh vertices do not coincide with P2 nodes")
+    vdisp = np.stack([Phi_full[3 * vnode + c] for c in range(3)], axis=1)   # (Nv, 3, M)
+    Mi = N.T @ cb["M_cb"] @ N
+    Ki = N.T @ cb["K_cb"] @ N
+    ortho = {"modal_mass_identity_error": float(np.abs(Mi - np.eye(len(Mi))).max()),
+             "modal_stiffness_offdiag_rel": float(np.abs(Ki - np.diag(np.diag(Ki))).max()
+                                                  / max(np.abs(np.diag(Ki)).max(), 1e-300)),
+             "rigid_modal_stiffness_rel": float(np.abs(np.diag(Ki)[:6]).max()
+                                                / np.diag(Ki)[6:].max())}
+    return {"omega": omega, "frequency_hz": omega / (2 * np.pi), "phi_b": phi_b,
+            "interface_positions": xm, "Phi_full": Phi_full, "stress": S, "stress_op": op,
+            "vertex_displacement": vdisp, "invariants": inv, "moments": mom, "rigid": rigid,
+            "rigid_twist": tw, "Kz": Kz, "Mz": Mz, "K": K, "M": M, "C": C, "T": T,
+            "omega_fixed": cb["omega_fixed"], "info": cb["info"], "orthogonality": ortho,
+            "timings": timings, "n_dofs": n, "coupling": coupling, "n_fixed": n_fixed}
+
+
+def file_arrays(red: dict) -> dict:
+    """The datasets of the reduced cage file (schema in fem_cage.reduced_cage)."""
+    Z = len(red["interface_positions"])
+    m = len(red["omega"])
+    inv = red["invariants"]
+    data = {"mesh/vertices": red["stress_op"].coords, "mesh/tets": red["stress_op"].tets,
+            "interface/positions": red["interface_positions"],
+            "interface/pocket": np.arange(Z),
+            "modes/frequency_hz": red["frequency_hz"], "modes/omega": red["omega"],
+            "modes/modal_mass": np.eye(m), "modes/modal_stiffness": red["omega"] ** 2,
+            "modes/interface": red["phi_b"].reshape(Z, 6, m),
+            "modes/vertex_displacement": red["vertex_displacement"],
+            "modes/rigid_twist": red["rigid_twist"],
+            "stress/modes": red["stress"],
+            "invariants/mass": red["rigid"]["mass"],
+            "invariants/center_of_mass": red["rigid"]["center_of_mass"],
+            "invariants/inertia_origin": red["rigid"]["inertia_origin"],
+            "invariants/inertia_com": red["rigid"]["inertia_com"],
+            "invariants/Sx": red["moments"]["Sx"], "invariants/SS": red["moments"]["SS"]}
+    for k in ("I1", "I2", "I3", "I4", "I5", "I6", "I7", "I8", "I9"):
+        data[f"invariants/{k}"] = inv[k]
+    return data
+
+
+# ------------------------------------------------------------------ verification
+
+def _rel(a, b):
+    return float(np.linalg.norm(a - b) / max(np.linalg.norm(b), 1e-300))
+
+
+def check_static(red: dict, load_nodes, fixed_node: int = 0, n_keep: int = 26) -> dict:
+    """Unit forces and moments (6 per load node) with interface node fixed_node clamped: full
+    saddle-point solve vs the reduced model (full basis and first n_keep modes). Error per case:
+    max of the relative errors of the interface translations and rotations (6Z vector)."""
+    from .craig_bampton import full_static, reduced_static_interface
+    C = red["C"]
+    loads = [(j, e) for j in load_nodes for e in np.eye(6)]
+    u_full = full_static(red["Kz"], C, fixed_node, loads)
+    out = {"fixed_node": fixed_node, "load_nodes": list(map(int, load_nodes)), "cases": len(loads)}
+    for label, m in (("full", len(red["omega"])), ("truncated", n_keep)):
+        errs = []
+        for (j, F), u in zip(loads, u_full):
+            ub = C @ u
+            ur, _ = reduced_static_interface(red["phi_b"][:, :m], red["omega"][:m], fixed_node, j, F)
+            t = np.r_[[i for k in range(len(ub) // 6) for i in range(6 * k, 6 * k + 3)]]
+            r = np.setdiff1d(np.arange(len(ub)), t)
+            errs.append(max(_rel(ur[t], ub[t]), _rel(ur[r], ub[r])))
+        out[f"max_rel_error_{label}"] = float(max(errs))
+        out[f"n_modes_{label}"] = int(m)
+    return out
+
+
+def check_stress(red: dict, load_node: int, fixed_node: int = 0, force_n: float = 1000.0,
+                 n_keep: int = 26) -> dict:
+    """A circumferential ball force on one pocket (node fixed_node clamped): max von Mises and its
+    vertex from the full FE displacement (same vertex-averaging operator) vs modal recovery."""
+    from .craig_bampton import full_static, reduced_static_interface
+    from .stress_modes import von_mises
+    from .von_mises import MaxVonMises
+    xm = red["interface_positions"][load_node]
+    th = np.arctan2(xm[2], xm[1])
+    F = np.zeros(6)
+    F[0:3] = force_n * np.array([0.0, -np.sin(th), np.cos(th)])     # circumferential
+    u = full_static(red["Kz"], red["C"], fixed_node, [(load_node, F)])[0]
+    u_phys = red["T"] @ u if red["T"] is not None else u
+    vm_full = von_mises(red["stress_op"](u_phys))
+    n_full = int(np.argmax(vm_full))
+    out = {"load_node": int(load_node), "force_N": force_n, "vm_max_full_Pa": float(vm_full.max()),
+           "vertex_full": n_full, "position_full_m": red["stress_op"].coords[n_full].tolist()}
+    for label, m in (("full", len(red["omega"])), ("truncated", n_keep)):
+        _, q = reduced_static_interface(red["phi_b"][:, :m], red["omega"][:m], fixed_node,
+                                        load_node, F)
+        ev = MaxVonMises(red["stress"][:, :, :m])
+        v, node = ev(q)
+        out[f"vm_max_{label}_Pa"] = v
+        out[f"rel_error_{label}"] = abs(v - vm_full.max()) / vm_full.max()
+        out[f"vertex_{label}"] = node
+        out[f"location_distance_{label}_m"] = float(np.linalg.norm(
+            red["stress_op"].coords[node] - red["stress_op"].coords[n_full]))
+    return out
+
+
+def check_frequencies(red: dict, n_elastic: int = 10) -> dict:
+    """Reduced free–free elastic frequencies vs the full model's (fem_cage.modes), and for RBE2
+    vs the full model with the same rigid pocket walls (T^T K T)."""
+    from .modes import free_free_modes
+    from .craig_bampton import scipy_to_petsc
+    n = 6 + n_elastic
+    f_full, _ = free_free_modes(scipy_to_petsc(red["K"]), scipy_to_petsc(red["M"]), n)
+    f_red = red["frequency_hz"][6:n]
+    out = {"full_hz": f_full[6:n].tolist(), "reduced_hz": f_red.tolist(),
+           "max_rel_error_vs_full": float(np.max(np.abs(f_red / f_full[6:n] - 1)))}
+    if red["T"] is not None:
+        f_c, _ = free_free_modes(scipy_to_petsc(red["Kz"]), scipy_to_petsc(red["Mz"]), n)
+        out["coupled_full_hz"] = f_c[6:n].tolist()
+        out["max_rel_error_vs_coupled_full"] = float(np.max(np.abs(f_red / f_c[6:n] - 1)))
+    return out
+
+
+def check_invariants(red: dict, domain, density: float, quadrature_degree: int) -> dict:
+    from .invariants import direct_mass_properties, rigid_properties
+    d = rigid_properties(direct_mass_properties(domain, density, quadrature_degree))
+    r = red["rigid"]
+    inv = red["invariants"]
+    scale_c = np.abs(red["interface_positions"]).max()
+    return {"mass_rel": abs(r["mass"] - d["mass"]) / d["mass"],
+            "com_rel": float(np.linalg.norm(r["center_of_mass"] - d["center_of_mass"]) / scale_c),
+            "inertia_rel": float(np.abs(r["inertia_origin"] - d["inertia_origin"]).max()
+                                 / np.abs(d["inertia_origin"]).max()),
+            "mass_kg": r["mass"], "center_of_mass_m": r["center_of_mass"].tolist(),
+            "inertia_com_kgm2": r["inertia_com"].tolist(),
+            "elastic_I3_max": float(np.abs(inv["I3"][:, 6:]).max()),
+            "elastic_I4_max": float(np.abs(inv["I4"][:, 6:]).max()),
+            "I6_identity_error": float(np.abs(inv["I6"] - np.eye(len(inv["I6"]))).max()),
+            "quadrature_degree": quadrature_degree}
+
+
+def check_von_mises(S: np.ndarray, omega: np.ndarray, n_random: int = 1000, seed: int = 1) -> dict:
+    """Exactness vs brute force on random modal vectors (equal modal energy q_k ~ N(0, 1/omega_k^2)
+    and plain N(0, 1)), and the cost per call (best of 5 timing loops)."""
+    from .von_mises import MaxVonMises
+    ev = MaxVonMises(S)
+    rng = np.random.default_rng(seed)
+    m = S.shape[2]
+    w = np.where(omega > 0, 1.0 / np.maximum(omega, 1e-300), 0.0)
+    out = {"n_nodes": int(S.shape[0]), "n_modes": int(m), "n_random": n_random}
+    for label, scale in (("energy", w), ("unit", (omega > 0).astype(float))):
+        Q = rng.standard_normal((n_random, m)) * scale
+        mismatches = sum(ev(q) != ev.brute_force(q) for q in Q)
+        visits = np.array([ev.visits(q) for q in Q])
+        ev(Q[0]); ev.brute_force(Q[0])
+        t_fast = min(_time(lambda: [ev(q) for q in Q]) for _ in range(5)) / n_random
+        t_brute = min(_time(lambda: [ev.brute_force(q) for q in Q[:100]]) for _ in range(3)) / 100
+        out[label] = {"mismatches": int(mismatches), "cost_per_call_us": t_fast * 1e6,
+                      "brute_force_us": t_brute * 1e6,
+                      "mean_exact_evaluations": float(visits[:, 1].mean()),
+                      "mean_bound_tests": float(visits[:, 0].mean())}
+    return out
+
+
+def _time(f) -> float:
+    t = time.perf_counter()
+    f()
+    return time.perf_counter() - t
+
+
+# ------------------------------------------------------------------ ParaView
+
+def write_xdmf(rc, path, n_keep: int | None = None) -> Path:
+    """Mode shapes (vertex displacement, m per unit q) and von Mises of each kept mode on the
+    vertex mesh, one XDMF (+ .h5) readable by ParaView. Reads only the reduced cage object."""
+    import meshio
+    from .stress_modes import von_mises
+    m = rc.n_modes if n_keep is None else min(n_keep, rc.n_modes)
+    pd = {}
+    for k in range(m):
+        tag = f"mode_{k + 1:03d}_{rc.frequency_hz[k]:.1f}Hz"
+        pd[f"{tag}_displacement"] = rc.vertex_displacement[:, :, k]
+        pd[f"{tag}_von_mises"] = von_mises(rc.stress_modes[:, :, k])
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    meshio.write(path, meshio.Mesh(rc.vertices, [("tetra", rc.tets)], point_data=pd))
+    return path
+
+
+# ------------------------------------------------------------------ command
+
+def register(subparsers):
+    p = subparsers.add_parser("reduce", help="build the reduced (Craig–Bampton) cage file, or find it in the cache",
+                              description=__doc__.split("\n\n")[0])
+    p.add_argument("--size", type=float, default=None, help="global element size, m (default: mesh default)")
+    p.add_argument("--pocket-size", type=float, default=None, help="element size on the pocket walls, m")
+    p.add_argument("--order", type=int, default=None, help="element order 1|2 (default 2, curved P2)")
+    p.add_argument("--coupling", choices=("rbe2", "rbe3"), default=None,
+                   help="pocket coupling: rbe3 distributing (default, adds no stiffness) or rbe2 rigid")
+    p.add_argument("--n-fixed", type=int, default=None, help="fixed-interface normal modes (default 30)")
+    p.add_argument("--n-keep", type=int, default=26, help="modes the runtime keeps, rigid included (default 26)")
+    p.add_argument("--force", action="store_true", help="rebuild even if cached")
+    p.add_argument("--check", action="store_true", help="run the verification (needs dolfinx)")
+    p.add_argument("--json", type=Path, default=None, help="write the summary (checks, frequencies, costs) here")
+    p.add_argument("--xdmf", type=Path, default=None, help="write kept modes' shapes and von Mises for ParaView")
+    p.add_argument("-o", "--output", type=Path, default=None, help="also copy the reduced cage file here")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=run)
+
+
+def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, checks=False,
+          n_keep=26):
+    """Mesh, assemble, reduce, optionally verify; write the cache file. Returns (path, red, checks)."""
+    from mpi4py import MPI
+    from mesh.cage_mesh import cached_cage_mesh
+    from .elasticity import load_cage_mesh, assemble_stiffness_mass
+    from . import reduced_cage as rcf
+    if MPI.COMM_WORLD.size > 1:
+        raise RuntimeError("flexbearing reduce runs in serial")
+    key = rcf.cache_key(geometry, size, order, pocket_size, coupling, n_fixed)
+    msh = cached_cage_mesh(geometry, size, order, pocket_size)
+    domain, _, facet_tags, _ = load_cage_mesh(msh, MPI.COMM_SELF)
+    V, K, M = assemble_stiffness_mass(domain, geometry.material, order)
+    t0 = time.perf_counter()
+    red = reduce_model(domain, facet_tags, V, K, M, geometry, coupling, n_fixed, quiet)
+    red["timings"]["reduce_total_s"] = time.perf_counter() - t0
+    summary = summarize(red)
+    if checks:
+        summary.update(run_checks(red, domain, geometry, order, n_keep))
+    attrs = {"content_hash": rcf.cache_path(key).stem, "parameters": key, "coupling": coupling,
+             "n_modes": int(len(red["omega"])), "created_by": "flexbearing reduce"}
+    data = file_arrays(red)
+    path = rcf.cache_path(key)
+    data_attrs = dict(attrs)
+    rcf.write(path, data, data_attrs, summary)
+    import h5py
+    with h5py.File(path, "a") as f:
+        f["mesh"].attrs["source_msh"] = str(msh)
+        f["mesh"].attrs["msh_sha256"] = rcf.file_sha256(msh)
+        f["mesh"].attrs["n_dofs"] = int(red["n_dofs"])
+        f["mesh"].attrs["element"] = f"P{order} on curved order-{order} tetrahedra"
+        f["interface"].attrs["dof_names"] = "ux uy uz rx ry rz"
+    return path, red, summary
+
+
+def summarize(red: dict) -> dict:
+    return {"frequencies_hz": red["frequency_hz"].tolist(), "n_modes": int(len(red["omega"])),
+            "coupling": red["coupling"], "n_fixed": int(red["n_fixed"]), "n_dofs": int(red["n_dofs"]),
+            "n_stress_vertices": int(red["stress"].shape[0]), "orthogonality": red["orthogonality"],
+            "timings": red["timings"], "solver": red["info"]}
+
+
+def run_checks(red: dict, domain, geometry, order: int, n_keep: int = 26) -> dict:
+    Z = len(red["interface_positions"])
+    load_nodes = sorted({Z // 4, Z // 2, (3 * Z) // 4, Z - 1} - {0})
+    out = {"static": check_static(red, load_nodes, 0, n_keep),
+           "stress": check_stress(red, Z // 2, 0, 1000.0, n_keep),
+           "frequencies": check_frequencies(red, 10),
+           "invariants": check_invariants(red, domain, geometry.material.density, 2 * order)}
+    m = min(n_keep, len(red["omega"]))
+    out["von_mises_evaluator"] = check_von_mises(red["stress"][:, :, :m], red["omega"][:m])
+    out["von_mises_evaluator_all_modes"] = check_von_mises(red["stress"], red["omega"], 200)
+    return out
+
+
+def run(args) -> int:
+    from mesh.cage_geometry import PAPER_CAGE
+    from mesh.validation import require_range, InputError
+    from . import reduced_cage as rcf
+    import mesh.cage_mesh as cm      # light: gmsh is imported inside its functions
+    size = cm.DEFAULT_MESH_SIZE if args.size is None else args.size
+    pocket = cm.DEFAULT_POCKET_SIZE if args.pocket_size is None else args.pocket_size
+    order = cm.DEFAULT_ORDER if args.order is None else args.order
+    coupling = args.coupling or rcf.DEFAULT_COUPLING
+    n_fixed = rcf.DEFAULT_N_FIXED if args.n_fixed is None else args.n_fixed
+    require_range("reduce.n_fixed", n_fixed, 0, 2000)
+    geometry = PAPER_CAGE.validate()
+    key = rcf.cache_key(geometry, size, order, pocket, coupling, n_fixed)
+    path = None if args.force else rcf.find_cached(key)
+    summary = None
+    if path is None or args.check:
+        path, red, summary = build(geometry, size, order, pocket, coupling, n_fixed,
+                                   quiet=args.quiet, checks=args.check or args.json is not None,
+                                   n_keep=args.n_keep)
+    rc = rcf.read(path)
+    if rc.n_modes < args.n_keep:
+        raise InputError(f"reduce.n_keep = {args.n_keep} is outside the allowed range [1, {rc.n_modes}]")
+    if not args.quiet:
+        print(f"reduced cage: {path}")
+        print(f"  {rc.n_modes} modes stored ({coupling}, {n_fixed} fixed-interface); "
+              f"kept {args.n_keep}: elastic {np.round(rc.frequency_hz[6:args.n_keep], 1).tolist()} Hz")
+    if args.output:
+        import shutil
+        shutil.copyfile(path, args.output)
+    if args.json:
+        out = summary if summary is not None else dict(rc.checks)
+        out = dict(out)
+        out["file"] = str(path)
+        out["content_hash"] = str(rc.attrs.get("content_hash"))
+        out["n_keep"] = args.n_keep
+        out["kept_frequencies_hz"] = rc.frequency_hz[:args.n_keep].tolist()
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(out, indent=1, default=rcf._jsonable))
+    if args.xdmf:
+        write_xdmf(rc, args.xdmf, args.n_keep)
+    return 0

@@ -1,0 +1,210 @@
+"""The reduced cage file (flexbearing's "modal neutral file"): schema, writer, reader, cache.
+
+numpy + h5py only: a run that finds its reduced cage in the cache never imports dolfinx.
+
+Schema "flexbearing.reduced_cage", version 1 (HDF5; SI units: m, kg, s, Pa, rad)
+-------------------------------------------------------------------------------
+Root attributes
+  schema = "flexbearing.reduced_cage", schema_version = 1, content_hash (16 hex: cache key of
+  every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
+  pocket_size, coupling, n_fixed_interface_modes), coupling ("rbe2" | "rbe3"),
+  n_modes (M = 6Z + n_fixed), n_rigid = 6, default_n_keep = 26, created_by, units = "SI",
+  notes (the truncation caveat below).
+/mesh           vertices (Nv, 3) m; tets (Nc, 4) int64 vertex indices (the P1 skeleton of the
+                curved P2 mesh, for ParaView); attrs: source_msh (path at build time),
+                msh_sha256, n_dofs (3 x P2 nodes of the full model), element ("P2 curved tets").
+/interface      positions (Z, 3) m: interface node i at pocket i's centre; pocket (Z) int;
+                dof_names = ux uy uz rx ry rz (node DOF order, body frame).
+/modes          frequency_hz (M), omega (M) rad/s, ascending; modes 0–5 rigid (omega = 0):
+                translations of the CoM along x, y, z, then rotations about the principal axes
+                through the CoM (ascending principal moment); modes 6.. elastic.
+                modal_mass (M, M) = identity, modal_stiffness (M) = omega^2 (diagonal);
+                interface (Z, 6, M): mode k at interface node i, DOF d (translations m, rotations
+                rad per unit q); vertex_displacement (Nv, 3, M) m per unit q;
+                rigid_twist (6, 6): (t, omega) about the body origin of each rigid mode.
+/invariants     mass, center_of_mass (3), inertia_origin (3,3), inertia_com (3,3),
+                I1..I9 (fem_cage.invariants docstring; I5 (3,M,M), I8 (3,3,M), I9 (3,3,M,M)),
+                raw moments Sx (3,3,M), SS (3,3,M,M) = Shabana's S_ab.
+/stress         modes (Nv, 6, M) Pa per unit q at the mesh vertices (Voigt xx yy zz yz xz xy;
+                averaged nodal stress, fem_cage.stress_modes); rigid columns are exactly 0.
+/checks         attrs: JSON of the verification summary (static exactness, stress recovery,
+                frequencies, invariants), when computed.
+
+Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
+constraint modes + n_fixed fixed-interface modes, M-orthonormalised, sorted by frequency). The
+runtime keeps the first n_keep (default 26 = 6 rigid + 20 elastic, the paper's count of 26
+"modal frequencies" with the rigid ones included, as ADAMS numbers them). Only the full basis is
+statically exact for loads at the interface nodes (to solver precision); a truncated basis is
+not — the file's /checks give the static error of both. Frame convention for the floating frame
+of reference: the elastic modes (6..) are M-orthogonal to all rigid motions, i.e. they satisfy
+the linearised mean-axis (Tisserand) conditions ∫rho Phi dV = 0 and ∫rho x × Phi dV = 0 about
+the CoM; a runtime whose body frame carries the rigid motion drops modes 0–5 (`elastic()`).
+Damping (paper: D = beta K): in modal coordinates D = beta diag(omega^2), see modal_damping().
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+SCHEMA = "flexbearing.reduced_cage"
+SCHEMA_VERSION = 1
+N_RIGID = 6
+DEFAULT_N_KEEP = 26
+DEFAULT_N_FIXED = 30
+DEFAULT_COUPLING = "rbe3"
+COUPLINGS = ("rbe2", "rbe3")
+TRUNCATION_NOTE = ("Full orthonormalised CB basis stored; statically exact for interface loads "
+                   "only with all modes. Truncation to n_keep (default 26) is not statically "
+                   "exact: see /checks static_error_truncated.")
+
+
+def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str,
+              n_fixed: int) -> dict:
+    """Every input that changes the reduced cage (the dict hashed into the file name)."""
+    return {"schema_version": SCHEMA_VERSION, "geometry": geometry.to_dict(),
+            "mesh_size": float(mesh_size), "order": int(order),
+            "pocket_size": None if pocket_size is None else float(pocket_size),
+            "coupling": str(coupling), "n_fixed": int(n_fixed), "mesh_version": 1}
+
+
+def cache_path(key: dict) -> Path:
+    from mesh.cache import cache_dir, content_hash
+    return cache_dir() / "reduced_cage" / f"{content_hash(key)}.h5"
+
+
+def find_cached(key: dict) -> Path | None:
+    """Path of the cached reduced cage for these inputs, or None (never builds anything)."""
+    p = cache_path(key)
+    return p if p.exists() else None
+
+
+def file_sha256(path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+@dataclass
+class ReducedCage:
+    """The file's content as arrays (see the schema). Slicing helpers return new objects."""
+    frequency_hz: np.ndarray
+    omega: np.ndarray
+    interface_positions: np.ndarray
+    interface_modes: np.ndarray          # (Z, 6, M)
+    modal_stiffness: np.ndarray          # (M,)
+    invariants: dict
+    stress_modes: np.ndarray             # (Nv, 6, M)
+    vertices: np.ndarray
+    tets: np.ndarray
+    vertex_displacement: np.ndarray      # (Nv, 3, M)
+    attrs: dict = field(default_factory=dict)
+    checks: dict = field(default_factory=dict)
+    modes: np.ndarray = None             # indices of the kept modes in the file's full basis
+
+    def __post_init__(self):
+        if self.modes is None:
+            self.modes = np.arange(len(self.omega))
+
+    @property
+    def n_modes(self) -> int:
+        return len(self.omega)
+
+    def select(self, idx) -> "ReducedCage":
+        """The same body with only the modes idx (indices into this object's modes)."""
+        idx = np.asarray(idx)
+        inv = dict(self.invariants)
+        for k in ("I3", "I4", "Sx"):
+            inv[k] = inv[k][..., idx]
+        inv["I5"] = inv["I5"][:, idx][:, :, idx]
+        inv["I6"] = inv["I6"][idx][:, idx]
+        inv["I8"] = inv["I8"][:, :, idx]
+        inv["I9"] = inv["I9"][:, :, idx][:, :, :, idx]
+        inv["SS"] = inv["SS"][:, :, idx][:, :, :, idx]
+        return ReducedCage(self.frequency_hz[idx], self.omega[idx], self.interface_positions,
+                           self.interface_modes[:, :, idx], self.modal_stiffness[idx], inv,
+                           self.stress_modes[:, :, idx], self.vertices, self.tets,
+                           self.vertex_displacement[:, :, idx], self.attrs, self.checks,
+                           self.modes[idx])
+
+    def truncate(self, n_keep: int = DEFAULT_N_KEEP) -> "ReducedCage":
+        """The first n_keep modes by frequency (rigid ones included)."""
+        from mesh.validation import require_range
+        require_range("reduced_cage.n_keep", n_keep, 1, self.n_modes)
+        return self.select(np.arange(int(n_keep)))
+
+    def elastic(self) -> "ReducedCage":
+        """Drop the rigid modes (mean-axis frame: the body frame carries the rigid motion)."""
+        return self.select(np.flatnonzero(self.modes >= N_RIGID))
+
+
+def modal_damping(omega: np.ndarray, beta: float) -> np.ndarray:
+    """Stiffness-proportional damping in modal coordinates, D = beta K = beta diag(omega^2)
+    (paper Eq. of the flexible cage, D = beta K); returns the diagonal, N s/m per unit q."""
+    return beta * np.asarray(omega) ** 2
+
+
+def write(path, data: dict, attrs: dict, checks: dict | None = None) -> Path:
+    """Write atomically (temporary file + rename): a concurrent reader never sees half a file."""
+    import h5py
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=".h5", dir=path.parent)
+    os.close(fd)
+    try:
+        with h5py.File(tmp, "w") as f:
+            f.attrs["schema"] = SCHEMA
+            f.attrs["schema_version"] = SCHEMA_VERSION
+            f.attrs["units"] = "SI"
+            f.attrs["n_rigid"] = N_RIGID
+            f.attrs["default_n_keep"] = DEFAULT_N_KEEP
+            f.attrs["notes"] = TRUNCATION_NOTE
+            for k, v in attrs.items():
+                f.attrs[k] = json.dumps(v) if isinstance(v, (dict, list)) else v
+            for name, arr in data.items():
+                f.create_dataset(name, data=np.asarray(arr))
+            g = f.require_group("checks")
+            g.attrs["summary"] = json.dumps(checks or {}, default=_jsonable)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    return path
+
+
+def _jsonable(x):
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    return repr(x)
+
+
+def read(path) -> ReducedCage:
+    """Load a reduced cage file (checks schema and version)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        if f.attrs.get("schema") != SCHEMA:
+            raise ValueError(f"{path}: not a {SCHEMA} file")
+        ver = int(f.attrs["schema_version"])
+        if ver != SCHEMA_VERSION:
+            raise ValueError(f"{path}: schema_version {ver}, this flexbearing reads {SCHEMA_VERSION}")
+        attrs = {k: (json.loads(v) if k == "parameters" else v) for k, v in f.attrs.items()}
+        inv = {k: (f["invariants"][k][()]) for k in f["invariants"]}
+        checks = json.loads(f["checks"].attrs.get("summary", "{}"))
+        return ReducedCage(
+            frequency_hz=f["modes/frequency_hz"][()], omega=f["modes/omega"][()],
+            interface_positions=f["interface/positions"][()],
+            interface_modes=f["modes/interface"][()],
+            modal_stiffness=f["modes/modal_stiffness"][()], invariants=inv,
+            stress_modes=f["stress/modes"][()], vertices=f["mesh/vertices"][()],
+            tets=f["mesh/tets"][()], vertex_displacement=f["modes/vertex_displacement"][()],
+            attrs=attrs, checks=checks)
