@@ -35,18 +35,47 @@ FORMAT = "flexbearing-results"
 FORMAT_VERSION = 1
 CHUNK_ROWS = 256          # rows per HDF5 chunk along time (a chunk of (256, 20) float64 is 40 kB)
 
-# Units of the recorded quantities, by name fragment (first match wins). The dynamics module may
-# give exact units in its OUTPUT_UNITS dict; these are the fall-back, in the bearing engineer's names.
-_UNIT_RULES = (("time", "s"), ("von_mises", "Pa"), ("stress", "Pa"), ("pressure", "Pa"),
-               ("film", "m"), ("thickness", "m"), ("force", "N"), ("load", "N"), ("torque", "N·m"),
-               ("angle", "rad"), ("slip", "1"), ("speed", "rad/s"), ("omega", "rad/s"),
-               ("velocity", "m/s"), ("orbit", "m"), ("position", "m"), ("eccentricity", "m"),
-               ("displacement", "m"))
+# Units of the recorded quantities (keys of multibody.dynamics.evaluate_outputs, after the run's
+# split of mixed-unit vectors, coupling.run.SPLIT_OUTPUTS). A backend's OUTPUT_UNITS dict wins;
+# name fragments are the last resort (ordered: the more specific fragment first).
+KNOWN_UNITS = {
+    "time": "s", "contact_load": "N", "contact_angle": "rad", "contact_angle_outer": "rad",
+    "contact_angle_inner_loaded": "rad", "contact_stress": "Pa", "approach": "m",
+    "entrainment_speed": "m/s", "slide_ratio": "1", "pocket_force": "N", "pocket_offset": "m",
+    "pocket_force_tangential": "N", "churning_drag": "N", "cage_land_force": "N",
+    "cage_land_force_magnitude": "N", "cage_land_torque": "N·m", "cage_rim_force": "N",
+    "cage_eccentricity_ratio": "1", "cage_speed": "rad/s", "nominal_cage_speed": "rad/s",
+    "slip_rate": "1", "cage_centre": "m", "cage_tilt": "rad", "inner_ring_speed": "rad/s",
+    "inner_ring_position": "m", "inner_ring_tilt": "rad", "ring_drive_torque": "N·m",
+    "external_load": "N", "ball_axial_position": "m", "ball_radial_position": "m",
+    "ball_azimuth": "rad", "ball_axial_velocity": "m/s", "ball_radial_velocity": "m/s",
+    "ball_orbit_speed": "rad/s", "ball_angular_velocity": "rad/s", "film_thickness_min": "m",
+    "film_thickness_central": "m", "von_mises_max": "Pa",
+}
+CONTACTS = ("outer", "inner_left", "inner_right")
+# Names of the last axis of vector outputs: the summary gives statistics per column too (e.g. the
+# outer and the inner contact stress separately).
+KNOWN_COLUMNS = {
+    **{k: CONTACTS for k in ("contact_load", "contact_angle", "contact_stress", "approach",
+                             "entrainment_speed", "slide_ratio", "film_thickness_min",
+                             "film_thickness_central")},
+    "cage_land_force": ("y", "z"), "cage_centre": ("x", "y", "z"), "inner_ring_position": ("x", "y", "z"),
+    "external_load": ("x", "y", "z"), "cage_tilt": ("tilt_y", "tilt_z"), "inner_ring_tilt": ("tilt_y", "tilt_z"),
+    "ball_angular_velocity": ("x", "r", "t"),
+}
+_UNIT_RULES = (("ratio", "1"), ("angular_velocity", "rad/s"), ("angle", "rad"), ("tilt", "rad"),
+               ("von_mises", "Pa"), ("stress", "Pa"), ("pressure", "Pa"), ("film", "m"),
+               ("thickness", "m"), ("torque", "N·m"), ("force", "N"), ("load", "N"), ("drag", "N"),
+               ("slip", "1"), ("speed", "rad/s"), ("omega", "rad/s"), ("velocity", "m/s"),
+               ("orbit", "m"), ("position", "m"), ("centre", "m"), ("offset", "m"),
+               ("displacement", "m"), ("approach", "m"))
 
 
 def unit_for(name: str, known: dict | None = None) -> str:
     if known and name in known:
         return known[name]
+    if name in KNOWN_UNITS:
+        return KNOWN_UNITS[name]
     for frag, unit in _UNIT_RULES:
         if frag in name:
             return unit
@@ -153,6 +182,9 @@ class ResultsWriter:
                 ds = out.create_dataset(k, shape=(0,) + block.shape[1:], maxshape=(None,) + block.shape[1:],
                                         dtype=np.float64, chunks=(CHUNK_ROWS,) + block.shape[1:])
                 ds.attrs["unit"] = unit_for(k, self.units)
+                cols = KNOWN_COLUMNS.get(k)
+                if cols and block.ndim >= 2 and block.shape[-1] == len(cols):
+                    ds.attrs["columns"] = ", ".join(cols)
             ds = out[k]
             if ds.shape[1:] != block.shape[1:]:
                 raise RuntimeError(f"output {k!r} changed shape from {ds.shape[1:]} to {block.shape[1:]}")
@@ -211,35 +243,56 @@ def read_checkpoint(f) -> dict | None:
     return best
 
 
+class _Stats:
+    """Running max/mean/min (and the time of the max) over blocks; non-finite entries skipped."""
+
+    def __init__(self):
+        self.vmax, self.vmin, self.total, self.count, self.nan, self.t_max = -math.inf, math.inf, 0.0, 0, 0, math.nan
+
+    def add(self, a: np.ndarray, t: np.ndarray) -> None:
+        a = a.reshape(a.shape[0], -1)
+        ok = np.isfinite(a)
+        self.nan += int(a.size - ok.sum())
+        if not ok.any():
+            return
+        row_max = np.where(ok, a, -np.inf).max(axis=1)
+        r = int(np.argmax(row_max))
+        if row_max[r] > self.vmax:
+            self.vmax, self.t_max = float(row_max[r]), float(t[r])
+        self.vmin = min(self.vmin, float(np.where(ok, a, np.inf).min()))
+        self.total += float(a[ok].sum())
+        self.count += int(ok.sum())
+
+    def result(self) -> dict:
+        c = self.count
+        return {"max": self.vmax if c else None, "mean": self.total / c if c else None,
+                "min": self.vmin if c else None, "t_max": self.t_max if c else None, "non_finite": self.nan}
+
+
 def output_statistics(f, block_rows: int = 65536) -> dict:
-    """max/mean/min (and the time of the max) of every recorded output, read block by block.
-    NaN entries (a quantity that does not exist at that instant, e.g. the film of an unloaded
-    contact) are left out and counted."""
+    """max/mean/min (and the time of the max) of every recorded output over all samples and all its
+    components, read block by block; for outputs with named columns (attribute `columns`, e.g.
+    outer/inner_left/inner_right contacts) the same per column under "columns". NaN entries (a
+    quantity that does not exist at that instant) are left out and counted."""
     out = f["outputs"]
     time = out["time"][...]
     stats = {}
     for name, ds in out.items():
         if name == "time" or ds.shape[0] == 0:
             continue
-        vmax, vmin, total, count, nan, t_max = -math.inf, math.inf, 0.0, 0, 0, math.nan
+        cols = [c.strip() for c in str(ds.attrs.get("columns", "")).split(",") if c.strip()]
+        whole = _Stats()
+        per = {c: _Stats() for c in cols}
         for i0 in range(0, ds.shape[0], block_rows):
-            a = ds[i0:i0 + block_rows].reshape(min(block_rows, ds.shape[0] - i0), -1)
-            ok = np.isfinite(a)
-            nan += int(a.size - ok.sum())
-            if not ok.any():
-                continue
-            av = np.where(ok, a, -np.inf)
-            row = int(np.argmax(av.max(axis=1)))
-            if av[row].max() > vmax:
-                vmax = float(av[row].max())
-                t_max = float(time[i0 + row])
-            vmin = min(vmin, float(np.where(ok, a, np.inf).min()))
-            total += float(a[ok].sum())
-            count += int(ok.sum())
+            a = ds[i0:i0 + block_rows]
+            t = time[i0:i0 + a.shape[0]]
+            whole.add(a, t)
+            for j, c in enumerate(cols):
+                per[c].add(a[..., j], t)
         stats[name] = {"unit": str(ds.attrs.get("unit", "unknown")), "shape": list(ds.shape[1:]),
-                       "max": vmax if count else None, "mean": total / count if count else None,
-                       "min": vmin if count else None, "t_max": t_max if count else None,
-                       "non_finite": nan}
+                       **whole.result()}
+        if cols:
+            stats[name]["columns"] = {c: per[c].result() for c in cols}
     return stats
 
 

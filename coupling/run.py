@@ -54,6 +54,26 @@ OUTPUT_GROUPS = {
     "cage_orbit": ("cage_centre", "cage_tilt", "cage_eccentricity_ratio"),
 }
 ALWAYS_RECORDED = ("inner_ring_speed", "external_load")
+# Vectors whose components have different units are recorded as separate SI datasets:
+# key -> ((new key, index along the last axis), ...); a component not listed is dropped
+# (ball_velocity's third component is psi', recorded as ball_orbit_speed already).
+SPLIT_OUTPUTS = {
+    "ball_position": (("ball_axial_position", 0), ("ball_radial_position", 1), ("ball_azimuth", 2)),
+    "ball_velocity": (("ball_axial_velocity", 0), ("ball_radial_velocity", 1)),
+    "inner_ring_displacement": (("inner_ring_position", slice(0, 3)), ("inner_ring_tilt", slice(3, 5))),
+}
+
+
+def split_mixed_units(values: dict) -> dict:
+    out = {}
+    for k, v in values.items():
+        if k in SPLIT_OUTPUTS:
+            a = np.asarray(v)
+            for name, idx in SPLIT_OUTPUTS[k]:
+                out[name] = a[..., idx]
+        else:
+            out[k] = v
+    return out
 
 
 def recorded_keys(requested, returned) -> list[str]:
@@ -153,7 +173,7 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
         values = dict(backend.evaluate_outputs(model, t, y, **eval_kwargs))
         if keys is None:
             keys = list(values) if selects_itself else recorded_keys(scene.outputs, values)
-        values = {k: values[k] for k in keys}
+        values = split_mixed_units({k: values[k] for k in keys})
         if "inner_ring_speed" not in values:
             values["inner_ring_speed"] = speed_at(t, speed_table)
         if "external_load" not in values:
@@ -178,7 +198,11 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     try:
         if cp is None:
             Fa, Fr = scene.initial_loads()
-            y = np.array(backend.initial_state(model, speed_at(0.0, speed_table), Fa, Fr), dtype=np.float64)
+            f0 = np.zeros(3)
+            load_at(0.0, load_table, impacts, f0)      # the full load vector when the backend takes it
+            y = np.array(backend.initial_state(model, speed_at(0.0, speed_table), Fa, Fr,
+                                               **_accepted_kwargs(backend.initial_state, {"load": f0})),
+                         dtype=np.float64)
             t, h, n_steps, n_rejected, wall_before, k = 0.0, scene.initial_step, 0, 0, 0.0, 0
         else:
             y, t, h = cp["y"], cp["t"], cp["h"]

@@ -67,10 +67,11 @@ def print_summary(summary: dict, file=sys.stdout) -> None:
           f"{summary['n_steps']} steps ({summary['n_rejected']} rejected){rate}", file=file)
     rows = []
     for name, st in summary["outputs"].items():
-        mx, u = _format_value(st["max"], st["unit"])
-        me, _ = _format_value(st["mean"], st["unit"])
-        mn, _ = _format_value(st["min"], st["unit"])
-        rows.append((name, u, mx, me, mn))
+        for label, s in [(name, st)] + [(f"{name}[{c}]", cs) for c, cs in st.get("columns", {}).items()]:
+            mx, u = _format_value(s["max"], st["unit"])
+            me, _ = _format_value(s["mean"], st["unit"])
+            mn, _ = _format_value(s["min"], st["unit"])
+            rows.append((label, u, mx, me, mn))
     if rows:
         w = max(len(r[0]) for r in rows)
         print(f"{'output':<{w}}  {'unit':>6}  {'max':>12}  {'mean':>12}  {'min':>12}", file=file)

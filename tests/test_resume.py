@@ -42,14 +42,14 @@ def assert_same_results(a, b):
         assert fb.attrs["status"] == "complete"
 
 
-def stopping_after(n_calls, exc):
+def stopping_after(n_calls, exc, inner=fake_advance):
     calls = {"n": 0}
 
     def advance(*a, **k):
         calls["n"] += 1
         if calls["n"] == n_calls:
             raise exc
-        return fake_advance(*a, **k)
+        return inner(*a, **k)
     return advance
 
 
@@ -141,3 +141,40 @@ def test_sigkill_then_resume_equals_uninterrupted(tmp_path, reference):
         assert read_checkpoint(f)["n_samples"] >= 21
     run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
     assert_same_results(ref, out)
+
+
+@pytest.mark.slow
+def test_real_model_interrupt_and_resume_bitwise(tmp_path):
+    """The same with the real rigid-cage dynamics (multibody): paper steady loads, 2 ms."""
+    import importlib.util
+    if importlib.util.find_spec("multibody.initial") is None:
+        pytest.skip("multibody dynamics not available")
+    from coupling.run import default_backend
+    from coupling.scene import loads_scene
+    text = """
+name = "short_steady_rigid"
+[operation]
+duration = 0.002
+[operation.speed]
+phases = [{ kind = "uniform", duration = 0.002, rpm = 14000 }]
+[operation.load]
+axial_load = 55e3
+radial_load = 4e3
+[[operation.load.impacts]]
+t_center = 0.001
+duration = 0.0004
+magnitude = 20e3
+[output]
+sample_interval = 1e-4
+record = ["contact_stress", "ball_loads", "pocket_force", "guiding_force", "cage_speed", "slip",
+          "film_thickness", "cage_orbit", "kinematics"]
+checkpoint_every = 5
+"""
+    scene = loads_scene(text, "short.toml")
+    run_scene(scene, tmp_path / "a.h5", quiet=True)
+    backend = default_backend(scene)
+    backend.advance = stopping_after(13, KeyboardInterrupt(), inner=backend.advance)
+    with pytest.raises(RunInterrupted):
+        run_scene(scene, tmp_path / "b.h5", quiet=True, backend=backend)
+    run_scene(scene, tmp_path / "b.h5", quiet=True, resume=True)
+    assert_same_results(tmp_path / "a.h5", tmp_path / "b.h5")
