@@ -308,6 +308,21 @@ def test_cli_run_flexible_message(tmp_path, capsys):
     assert "flexible cage coupling not available yet" in capsys.readouterr().err
 
 
+def test_rigid_scene_does_not_import_the_fe_stack():
+    """DESIGN: the FE stack is never imported by a run whose cage is rigid."""
+    import subprocess
+    code = ("import sys; from coupling.scene import load_scene; from coupling.run import default_backend; "
+            "s = load_scene('scenes/paper_steady_rigid.toml'); default_backend(s); "
+            "print(sorted(m for m in ('dolfinx', 'gmsh', 'petsc4py', 'slepc4py', 'fem_cage') if m in sys.modules))")
+    from pathlib import Path
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[1])
+    if out.returncode != 0 and "dynamics is not available" in out.stderr:
+        pytest.skip("multibody dynamics not available")
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "[]"
+
+
 if __name__ == "__main__":      # used by tests/test_resume.py to run a fake scene in a subprocess
     out = sys.argv[1]
     from coupling import results
