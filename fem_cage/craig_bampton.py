@@ -145,7 +145,7 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
     eps.setProblemType(SLEPc.EPS.ProblemType.NHEP)
     eps.setType(SLEPc.EPS.Type.KRYLOVSCHUR)
     eps.setWhichEigenpairs(SLEPc.EPS.Which.LARGEST_MAGNITUDE)
-    eps.setDimensions(n_fixed, max(2 * n_fixed, n_fixed + 20))
+    eps.setDimensions(n_fixed, min(n, max(2 * n_fixed, n_fixed + 20)))
     eps.setTolerances(tol, 500)
     eps.getST().setType(SLEPc.ST.Type.SHIFT)
     eps.solve()
@@ -153,8 +153,8 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
     if nconv < n_fixed:
         raise RuntimeError(f"SLEPc converged {nconv} of {n_fixed} fixed-interface modes")
     vr, vi = A.createVecRight(), A.createVecRight()
-    Vs = np.empty((n, nconv))
-    for i in range(nconv):
+    Vs = np.empty((n, n_fixed))              # SLEPc orders by |1/omega^2|: the lowest omega first
+    for i in range(n_fixed):
         eps.getEigenpair(i, vr, vi)
         Vs[:, i] = vr.getArray(readonly=True)
     # Rayleigh–Ritz on the converged subspace: exact M-orthonormality, clean double roots.

@@ -113,6 +113,9 @@ def file_arrays(red: dict) -> dict:
             "invariants/center_of_mass": red["rigid"]["center_of_mass"],
             "invariants/inertia_origin": red["rigid"]["inertia_origin"],
             "invariants/inertia_com": red["rigid"]["inertia_com"],
+            "invariants/first": red["moments"]["first"],
+            "invariants/second": red["moments"]["second"],
+            "invariants/S1": red["moments"]["S1"],
             "invariants/Sx": red["moments"]["Sx"], "invariants/SS": red["moments"]["SS"]}
     for k in ("I1", "I2", "I3", "I4", "I5", "I6", "I7", "I8", "I9"):
         data[f"invariants/{k}"] = inv[k]

@@ -24,7 +24,10 @@ Root attributes
                 rigid_twist (6, 6): (t, omega) about the body origin of each rigid mode.
 /invariants     mass, center_of_mass (3), inertia_origin (3,3), inertia_com (3,3),
                 I1..I9 (fem_cage.invariants docstring; I5 (3,M,M), I8 (3,3,M), I9 (3,3,M,M)),
-                raw moments Sx (3,3,M), SS (3,3,M,M) = Shabana's S_ab.
+                raw consistent-mass moments (what coupling.floating_frame contracts):
+                first (3) = ∫rho x, second (3,3) = ∫rho x_a x_b, S1 (3,M) = ∫rho Phi,
+                Sx (3,3,M) = ∫rho x_a Phi_k,b, SS (3,3,M,M) = ∫rho Phi_j,a Phi_k,b (Shabana's
+                S_ab); Mff = I6 = identity.
 /stress         modes (Nv, 6, M) Pa per unit q at the mesh vertices (Voigt xx yy zz yz xz xy;
                 averaged nodal stress, fem_cage.stress_modes); rigid columns are exactly 0.
 /checks         attrs: JSON of the verification summary (static exactness, stress recovery,
@@ -121,7 +124,7 @@ class ReducedCage:
         """The same body with only the modes idx (indices into this object's modes)."""
         idx = np.asarray(idx)
         inv = dict(self.invariants)
-        for k in ("I3", "I4", "Sx"):
+        for k in ("I3", "I4", "Sx", "S1"):
             inv[k] = inv[k][..., idx]
         inv["I5"] = inv["I5"][:, idx][:, :, idx]
         inv["I6"] = inv["I6"][idx][:, idx]

@@ -1,0 +1,167 @@
+"""Craig–Bampton reduction (fem_cage.interface, fem_cage.craig_bampton, the reduce pipeline).
+
+Algebra on generic matrices (exact statements), then a small curved-P2 cage (6 pockets) built
+here: static exactness of the full basis, stress recovery, frequencies vs the full model, and
+the RBE2 stiffening that makes RBE3 the default."""
+import numpy as np
+import pytest
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from fem_cage import interface as itf
+from fem_cage.craig_bampton import craig_bampton, orthonormalise, rigid_mass_properties
+
+
+def test_rbe2_transformation_moves_wall_rigidly():
+    rng = np.random.default_rng(0)
+    X = rng.standard_normal((12, 3))
+    walls = [np.array([1, 4, 5]), np.array([7, 8, 11])]
+    xm = rng.standard_normal((2, 3))
+    T, keep = itf.rbe2_transformation(36, walls, X, xm)
+    z = np.zeros(T.shape[1])
+    z[len(keep):] = rng.standard_normal(12)
+    u = (T @ z).reshape(12, 3)
+    for k, w in enumerate(walls):
+        t, th = z[len(keep) + 6 * k: len(keep) + 6 * k + 3], z[len(keep) + 6 * k + 3: len(keep) + 6 * k + 6]
+        assert np.allclose(u[w], t + np.cross(th, X[w] - xm[k]), atol=1e-14)
+    assert np.allclose(np.delete(u, np.r_[walls[0], walls[1]], axis=0), 0.0)
+
+
+def test_rbe3_reproduces_rigid_motion_and_averages():
+    """Eq. (2): C maps any rigid motion to the master's rigid DOFs; a pure wall translation
+    gives that translation and no rotation."""
+    rng = np.random.default_rng(1)
+    X = rng.standard_normal((20, 3))
+    walls = [np.arange(0, 8), np.arange(10, 20)]
+    weights = [rng.random(8) + 0.1, rng.random(10) + 0.1]
+    xm = rng.standard_normal((2, 3))
+    C = itf.rbe3_constraint(60, walls, weights, X, xm)
+    R = itf.rigid_field(X)
+    assert np.allclose(C @ R, itf.rigid_interface_matrix(xm), atol=1e-12)
+    u = np.zeros((20, 3))
+    u[walls[0]] = [1.0, 2.0, 3.0]
+    assert np.allclose((C @ u.ravel())[:6], [1, 2, 3, 0, 0, 0], atol=1e-12)
+
+
+def _generic(n=60, seed=2):
+    """Sparse SPD-ish K with a null space (a free chain of springs, 3 dof per node) and SPD M."""
+    rng = np.random.default_rng(seed)
+    nn = n // 3
+    rows, cols, vals = [], [], []
+    for i in range(nn - 1):
+        k = rng.random() + 0.5
+        for c in range(3):
+            a, b = 3 * i + c, 3 * (i + 1) + c
+            rows += [a, b, a, b]; cols += [a, b, b, a]; vals += [k, k, -k, -k]
+    K = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    M = sp.diags(rng.random(n) + 1.0).tocsr()
+    return K, M
+
+
+def test_cb_with_all_fixed_modes_is_exact():
+    """With every fixed-interface mode kept, CB is a change of basis: the reduced eigenvalues
+    equal the full (K, M) eigenvalues (1e-9 relative: SLEPc tolerance 1e-10)."""
+    K, M = _generic()
+    n = K.shape[0]
+    C = itf.selection_matrix(n, np.arange(6))       # nb = 6 "interface" coordinates
+    cb = craig_bampton(K, M, C, n - 6)
+    lam_full = sla.eigh(K.toarray(), M.toarray(), eigvals_only=True)
+    lam_cb = sla.eigh(cb["K_cb"], cb["M_cb"], eigvals_only=True)
+    big = lam_full.max()
+    assert np.allclose(lam_cb, lam_full, rtol=1e-9, atol=1e-10 * big)
+    assert cb["info"]["coupling_block_max"] < 1e-8 * big
+
+
+def test_rigid_mass_properties_from_rigid_mass_matrix():
+    rng = np.random.default_rng(3)
+    X = rng.standard_normal((25, 3)) + [0.3, 0.1, -0.2]
+    mp = rng.random(25)
+    R = itf.rigid_field(X)
+    MR = R.T @ (np.repeat(mp, 3)[:, None] * R)
+    m, c, Jc = rigid_mass_properties(MR)
+    cc = mp @ X / mp.sum()
+    assert m == pytest.approx(mp.sum()) and np.allclose(c, cc, rtol=1e-12)
+    Jref = sum(mp[p] * itf.skew(X[p] - cc).T @ itf.skew(X[p] - cc) for p in range(25))
+    assert np.allclose(Jc, Jref, rtol=1e-12, atol=1e-14)
+
+
+# ------------------------------------------------------------------ a small curved-P2 cage
+
+SMALL = dict(outside_diameter=60e-3, bore_diameter=50e-3, width=12e-3, n_pockets=6,
+             pocket_diameter=8e-3, ball_diameter=7.5e-3, land_width=6e-3)
+
+
+@pytest.fixture(scope="module")
+def small_model():
+    from mpi4py import MPI
+    from mesh.cage_geometry import CageGeometry
+    from mesh.cage_mesh import cached_cage_mesh
+    from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
+    g = CageGeometry(**SMALL).validate()
+    path = cached_cage_mesh(g, 3e-3, 2, 2e-3)
+    domain, _, ft, _ = load_cage_mesh(path, MPI.COMM_SELF)
+    V, K, M = assemble_stiffness_mass(domain, g.material, 2)
+    return g, domain, ft, V, K, M
+
+
+@pytest.fixture(scope="module")
+def rbe3(small_model):
+    from fem_cage.reduce_cli import reduce_model
+    g, domain, ft, V, K, M = small_model
+    return reduce_model(domain, ft, V, K, M, g, "rbe3", 20)
+
+
+def test_orthonormal_basis(rbe3):
+    """Modal mass = I, modal stiffness diagonal, rigid modes at omega = 0 (rounding level)."""
+    o = rbe3["orthogonality"]
+    assert o["modal_mass_identity_error"] < 1e-12
+    assert o["modal_stiffness_offdiag_rel"] < 1e-12
+    assert o["rigid_modal_stiffness_rel"] < 1e-12
+    assert np.all(np.diff(rbe3["omega"]) >= 0)
+    inv = rbe3["invariants"]                          # mean-axis conditions of the elastic set
+    assert np.abs(inv["I3"][:, 6:]).max() < 1e-10 and np.abs(inv["I4"][:, 6:]).max() < 1e-10
+    assert np.abs(inv["I6"] - np.eye(len(inv["I6"]))).max() < 1e-12
+
+
+def test_static_exactness_full_basis(rbe3):
+    """Unit forces and moments at 4 pockets, pocket 0 clamped: full basis to <= 1e-6 (SPEC);
+    measured ~1e-10. The 26-mode truncation is NOT exact (documented; asserted > 1e-3 so a
+    silent change of that fact is noticed)."""
+    from fem_cage.reduce_cli import check_static
+    r = check_static(rbe3, [1, 2, 3, 5], 0, 26)
+    assert r["max_rel_error_full"] <= 1e-6
+    assert r["max_rel_error_truncated"] > 1e-3
+
+
+def test_stress_recovery_full_basis(rbe3):
+    """Circumferential 1 kN pocket load: modal recovery of max von Mises and its vertex equal the
+    full FE recovery (same averaging operator) within 1 %, measured ~1e-9."""
+    from fem_cage.reduce_cli import check_stress
+    r = check_stress(rbe3, 3, 0, 1000.0, 26)
+    assert r["rel_error_full"] <= 0.01
+    assert r["location_distance_full_m"] == 0.0
+    assert r["vm_max_full_Pa"] > 0
+
+
+def test_frequencies_vs_full_model(rbe3):
+    """RBE3 adds no stiffness: the reduced free–free elastic frequencies converge to the full
+    model's from above (Rayleigh–Ritz). 6-pocket toy cage, 36 constraint + 20 fixed modes: the
+    first 6 elastic modes within 0.5 % (the paper cage, 120 constraint modes, is checked for 10 by
+    `flexbearing reduce --json`)."""
+    from fem_cage.reduce_cli import check_frequencies
+    r = check_frequencies(rbe3, 6)
+    f_red, f_full = np.array(r["reduced_hz"]), np.array(r["full_hz"])
+    assert np.all(f_red >= f_full * (1 - 1e-8))
+    assert r["max_rel_error_vs_full"] <= 0.005
+
+
+def test_rbe2_stiffens_and_matches_its_coupled_model(small_model):
+    """RBE2 makes each pocket wall rigid: the reduced model matches the full model with the same
+    rigid walls (lowest elastic pair within 0.5 %) but is far stiffer than the free cage (> 10 %
+    on this toy cage) — why RBE3 is the default coupling."""
+    from fem_cage.reduce_cli import reduce_model, check_frequencies
+    g, domain, ft, V, K, M = small_model
+    red = reduce_model(domain, ft, V, K, M, g, "rbe2", 10)
+    r = check_frequencies(red, 2)
+    assert np.max(np.abs(np.array(r["reduced_hz"]) / np.array(r["coupled_full_hz"]) - 1)) <= 0.005
+    assert r["reduced_hz"][0] > 1.1 * r["full_hz"][0]

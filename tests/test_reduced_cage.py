@@ -1,0 +1,85 @@
+"""The reduced cage file: schema round trip, truncation / elastic split, cache key, and that
+reading it never imports dolfinx (DESIGN.md: a cached run never loads the FE stack)."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from fem_cage import reduced_cage as rcf
+from mesh.cage_geometry import PAPER_CAGE
+
+
+def _synthetic(m=10, Z=4, nv=30, seed=0):
+    rng = np.random.default_rng(seed)
+    omega = np.concatenate([np.zeros(6), np.sort(rng.random(m - 6)) * 1e4 + 3e3])
+    data = {"mesh/vertices": rng.random((nv, 3)), "mesh/tets": rng.integers(0, nv, (20, 4)),
+            "interface/positions": rng.random((Z, 3)), "interface/pocket": np.arange(Z),
+            "modes/frequency_hz": omega / (2 * np.pi), "modes/omega": omega,
+            "modes/modal_mass": np.eye(m), "modes/modal_stiffness": omega ** 2,
+            "modes/interface": rng.random((Z, 6, m)),
+            "modes/vertex_displacement": rng.random((nv, 3, m)),
+            "modes/rigid_twist": np.eye(6), "stress/modes": rng.random((nv, 6, m))}
+    inv = {"mass": 1.0, "center_of_mass": np.zeros(3), "inertia_origin": np.eye(3),
+           "inertia_com": np.eye(3), "I1": 1.0, "I2": np.zeros(3), "I3": rng.random((3, m)),
+           "I4": rng.random((3, m)), "I5": rng.random((3, m, m)), "I6": np.eye(m),
+           "I7": np.eye(3), "I8": rng.random((3, 3, m)), "I9": rng.random((3, 3, m, m)),
+           "first": np.zeros(3), "second": np.eye(3), "S1": rng.random((3, m)),
+           "Sx": rng.random((3, 3, m)), "SS": rng.random((3, 3, m, m))}
+    data.update({f"invariants/{k}": v for k, v in inv.items()})
+    return data
+
+
+def test_round_trip_truncate_elastic(tmp_path):
+    data = _synthetic()
+    p = rcf.write(tmp_path / "c.h5", data, {"content_hash": "abc", "parameters": {"a": 1}},
+                  {"static": {"max_rel_error_full": 1e-9}})
+    rc = rcf.read(p)
+    assert rc.n_modes == 10
+    assert np.array_equal(rc.stress_modes, data["stress/modes"])
+    assert rc.attrs["parameters"] == {"a": 1}
+    assert rc.checks["static"]["max_rel_error_full"] == 1e-9
+    t = rc.truncate(8)
+    assert t.n_modes == 8 and t.invariants["I9"].shape == (3, 3, 8, 8)
+    assert np.array_equal(t.invariants["SS"], data["invariants/SS"][:, :, :8, :8])
+    e = t.elastic()
+    assert list(e.modes) == [6, 7]
+    assert np.array_equal(e.interface_modes, data["modes/interface"][:, :, 6:8])
+    assert np.array_equal(e.invariants["I5"], data["invariants/I5"][:, 6:8, 6:8])
+    assert np.allclose(rcf.modal_damping(e.omega, 1e-5), 1e-5 * e.omega ** 2)
+    with pytest.raises(ValueError):          # InputError is a ValueError
+        rc.truncate(11)
+
+
+def test_schema_version_checked(tmp_path):
+    import h5py
+    p = rcf.write(tmp_path / "c.h5", _synthetic(), {})
+    with h5py.File(p, "a") as f:
+        f.attrs["schema_version"] = 99
+    with pytest.raises(ValueError, match="schema_version"):
+        rcf.read(p)
+
+
+def test_cache_key_depends_on_every_input():
+    base = rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30)
+    variants = [rcf.cache_key(PAPER_CAGE.with_(width=0.029), 3e-3, 2, 1.5e-3, "rbe3", 30),
+                rcf.cache_key(PAPER_CAGE, 2e-3, 2, 1.5e-3, "rbe3", 30),
+                rcf.cache_key(PAPER_CAGE, 3e-3, 1, 1.5e-3, "rbe3", 30),
+                rcf.cache_key(PAPER_CAGE, 3e-3, 2, None, "rbe3", 30),
+                rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe2", 30),
+                rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 40)]
+    mat = PAPER_CAGE.material.__class__(7800.0, 209e9, 0.295)
+    variants.append(rcf.cache_key(PAPER_CAGE.with_(material=mat), 3e-3, 2, 1.5e-3, "rbe3", 30))
+    paths = {rcf.cache_path(k) for k in variants}
+    assert rcf.cache_path(base) not in paths and len(paths) == len(variants)
+    assert rcf.find_cached(base) is None or rcf.find_cached(base).exists()
+
+
+def test_reading_does_not_import_dolfinx(tmp_path):
+    p = rcf.write(tmp_path / "c.h5", _synthetic(), {})
+    code = ("import sys; from fem_cage import reduced_cage as r; from fem_cage.von_mises import "
+            f"MaxVonMises; rc = r.read({str(p)!r}).truncate(8); ev = MaxVonMises(rc.stress_modes);"
+            "ev(rc.omega * 0 + 1.0); "
+            "assert 'dolfinx' not in sys.modules and 'ufl' not in sys.modules, 'FE stack imported'")
+    subprocess.run([sys.executable, "-c", code], check=True)
