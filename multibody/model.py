@@ -74,6 +74,10 @@ from multibody.traction import TRACTION_FIT_4106
 from multibody.geometry import inner_groove_centres, outer_groove_centre
 
 # ---------------------------------------------------------------- parameter indices
+# Viscosities: the guide-land film, the churning drag and the film thickness use eta(T) at the oil
+# temperature; the 4106 traction fit is evaluated with eta0 at the reference (ambient, 20 °C)
+# temperature and the oil temperature T0 in its Tb group, as the fit prescribes (multibody.traction:
+# with eta(100 °C) the fit returns mu ≈ 0.8).
 P_DW, P_DM, P_Z, P_FE, P_FI = 0, 1, 2, 3, 4
 P_XO, P_RO = 5, 6                      # outer groove centre (x, r)
 P_XIL, P_RIL, P_XIR, P_RIR = 7, 8, 9, 10  # inner half-groove centres (ring frame)
@@ -88,7 +92,8 @@ P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_CD, P_ALPHA_P = 31, 32, 33, 34, 35,
 P_SLIN, P_UMIN, P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX = 38, 39, 40, 41, 42, 43
 P_ALPHA0 = 44                          # free contact angle (rad)
 P_LAND_L = 45                          # effective land width used for the Petroff torque, m
-N_PARAMS = 46
+P_ETA_TRACTION = 46                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
+N_PARAMS = 47
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 1, 2, 3, 4, 5, 6
@@ -283,7 +288,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None) -> Mode
     p[P_KRIM] = require_range("model.rim_stiffness", _option(options, "rim_stiffness"), 1e6, 1e13, unit="N/m^1.5")
     p[P_MURIM] = require_range("model.rim_friction", _option(options, "rim_friction"), 0.0, 1.0)
     # oil: the traction fit and the film models take eta0 "at ambient" (multibody.traction)
-    p[P_ETA0] = oil.viscosity()
+    p[P_ETA0] = oil.viscosity()                      # land film, film thickness: at the oil temperature
+    p[P_ETA_TRACTION] = oil.viscosity(oil.temperature_ref_c)  # traction fit: "ambient" eta0 (traction.py)
     p[P_T0K] = oil.temperature_k
     p[P_K0] = oil.thermal_conductivity
     p[P_RHO_OIL] = oil.density

@@ -1,0 +1,176 @@
+"""Validation against the paper's steady cage slip-rate test (paper Tables 4 and 5, §3.2).
+
+`slip_rate_cases()` lists the 15 steady cases (axial/radial load, inner-ring speed, the measured
+slip and the paper's simulated slip, in %). `run_slip_rate_validation(...)` runs the dynamic model
+(rigid cage) on each case until the cage speed settles and returns one row per case with our slip,
+the test's, the paper's and the relative errors, plus a summary (mean/max error of ours and of
+the paper's simulation against the test).
+
+Slip rate (paper §3.2, SPEC §6): S = (nm − nc)/nm, nm = 0.5·ni·(1 − Dw·cos(alpha)/dm), nc the
+cage speed (mean over the last averaging window). alpha: the mean of the loaded contact angles
+of the outer race and of the more loaded inner half, averaged over the balls and the window
+(the ball's kinematic mean; the paper does not say which alpha it takes).
+
+Settling: the run goes in windows of `window` s (outputs every 1 ms); it stops when two
+consecutive window means of the cage speed differ by less than `settle_rel` (relative) after
+`t_min`, or at `t_max` (then `settled` is False in the row).
+
+Oil temperature: the test's oil supply temperature is not given (rig range 23–200 °C). It is the
+one parameter of this validation, passed as `oil_temperature_c`, and the same for every case;
+if it is calibrated, it is calibrated on cases 1–8 only (`calibrate_oil_temperature`) and cases
+9–15 are the check. The traction fit takes eta0 at that temperature (multibody.traction).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from multibody.bearing import PAPER_BEARING, PAPER_OIL
+from multibody.model import build_model
+from multibody.initial import initial_state
+from multibody import dynamics as D
+from multibody import integrator as I
+
+# (case, group, Fa N, Fr N, speed rpm, test slip %, paper simulated slip %) — paper Tables 4 and 5
+_TABLE5 = [
+    (1, 1, 1100.0, 200.0, 4000, 5.45, 5.08),
+    (2, 1, 1100.0, 200.0, 5000, 6.42, 5.99),
+    (3, 1, 1100.0, 200.0, 6000, 7.38, 6.83),
+    (4, 1, 1100.0, 200.0, 8000, 8.67, 8.29),
+    (5, 1, 1100.0, 200.0, 10000, 10.29, 9.74),
+    (6, 1, 1100.0, 200.0, 12000, 13.84, 12.14),
+    (7, 2, 1500.0, 500.0, 4000, 5.03, 4.76),
+    (8, 2, 1500.0, 500.0, 5000, 5.96, 5.25),
+    (9, 2, 1500.0, 500.0, 6000, 6.71, 6.19),
+    (10, 2, 1500.0, 500.0, 8000, 8.18, 7.53),
+    (11, 2, 1500.0, 500.0, 10000, 9.52, 9.04),
+    (12, 3, 2000.0, 1000.0, 4000, 4.72, 4.57),
+    (13, 3, 2000.0, 1000.0, 5000, 5.45, 5.19),
+    (14, 3, 2000.0, 1000.0, 6000, 6.23, 5.93),
+    (15, 3, 2000.0, 1000.0, 8000, 6.98, 6.18),
+]
+CALIBRATION_CASES = tuple(range(1, 9))
+CHECK_CASES = tuple(range(9, 16))
+
+
+def slip_rate_cases() -> list[dict]:
+    """The 15 steady slip-rate cases of paper Tables 4/5 (loads N, speed rpm, slips in %)."""
+    return [dict(case=c, group=g, axial_load=fa, radial_load=fr, speed_rpm=n, test_slip_pct=ts,
+                 paper_slip_pct=ps) for c, g, fa, fr, n, ts, ps in _TABLE5]
+
+
+def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dict | None = None,
+                  tol: float = 1e-5, window: float = 0.05, t_min: float = 0.3, t_max: float = 2.0,
+                  settle_rel: float = 2e-4, sample_dt: float = 1e-3, progress=None) -> dict:
+    """Run one steady case to a settled cage speed (module docstring); returns its result row."""
+    model = build_model(bearing, oil, options)
+    omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
+    fa, fr = case["axial_load"], case["radial_load"]
+    y = initial_state(model, omega, fa, fr)
+    sp = np.array([[0.0, omega]])
+    ld = np.array([[0.0, fa, 0.0, -fr]])
+    imp = np.zeros((0, 6))
+    ws = I.Workspace(model)
+    t, h = 0.0, 1e-6
+    n_steps = n_rej = 0
+    wall0 = time.perf_counter()
+    means, alphas = [], []
+    settled = False
+    while t < t_max - 1e-12:
+        speeds, angs = [], []
+        t_w_end = t + window
+        while t < t_w_end - 1e-12:
+            y, t, h, a, b = I.advance(model, y, t, min(t + sample_dt, t_w_end), sp, ld, imp, tol, h, ws)
+            n_steps += a
+            n_rej += b
+            out = D.evaluate_outputs(model, t, y, sp, ld, imp)
+            speeds.append(out["cage_speed"])
+            angs.append(0.5 * (np.mean(out["contact_angle_outer"]) + np.mean(np.abs(out["contact_angle_inner_loaded"]))))
+        means.append(float(np.mean(speeds)))
+        alphas.append(float(np.mean(angs)))
+        if progress is not None:
+            progress(t, means[-1])
+        if t >= t_min and len(means) >= 3:
+            d1 = abs(means[-1] - means[-2]) / abs(means[-1])
+            d2 = abs(means[-2] - means[-3]) / abs(means[-1])
+            if d1 < settle_rel and d2 < settle_rel:
+                settled = True
+                break
+    nc = means[-1]
+    alpha = alphas[-1]
+    nm = D.nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, alpha)
+    slip = (nm - nc) / nm
+    row = dict(case)
+    row.update(slip_pct=100.0 * slip, cage_speed=nc, nominal_cage_speed=nm, contact_angle_deg=math.degrees(alpha),
+               error_vs_test_pct=100.0 * abs(100.0 * slip - case["test_slip_pct"]) / case["test_slip_pct"],
+               paper_error_vs_test_pct=100.0 * abs(case["paper_slip_pct"] - case["test_slip_pct"]) / case["test_slip_pct"],
+               t_end=t, settled=settled, steps=n_steps, rejected=n_rej,
+               wall_s=time.perf_counter() - wall0, oil_temperature_c=oil.temperature_c,
+               window_means=means)
+    return row
+
+
+def summarise(rows: list[dict]) -> dict:
+    """Mean and max relative error (%) of ours and of the paper's simulation against the test."""
+    def stats(sel):
+        r = [x for x in rows if x["case"] in sel]
+        if not r:
+            return {}
+        e = [x["error_vs_test_pct"] for x in r]
+        pe = [x["paper_error_vs_test_pct"] for x in r]
+        return {"n": len(r), "mean_error_pct": float(np.mean(e)), "max_error_pct": float(np.max(e)),
+                "paper_mean_error_pct": float(np.mean(pe)), "paper_max_error_pct": float(np.max(pe))}
+    return {"all": stats(range(1, 16)), "calibration_1_8": stats(CALIBRATION_CASES),
+            "check_9_15": stats(CHECK_CASES)}
+
+
+def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: float | None = None,
+                             bearing=PAPER_BEARING, oil=PAPER_OIL, options: dict | None = None,
+                             tol: float = 1e-5, t_max: float = 2.0, quiet: bool = False, **kw) -> list[dict]:
+    """Run the steady slip-rate cases (all 15 by default); returns the rows (see `run_slip_case`).
+
+    `summarise(rows)` gives the mean/max errors. oil_temperature_c: the oil temperature of every
+    case (default: VALIDATION_OIL_TEMPERATURE_C, see module docstring).
+    """
+    if oil_temperature_c is None:
+        oil_temperature_c = VALIDATION_OIL_TEMPERATURE_C
+    oil = replace(oil, temperature_c=float(oil_temperature_c)).validate()
+    sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
+    rows = []
+    bar = None
+    if not quiet:
+        from tqdm import tqdm
+        bar = tqdm(total=len(sel), desc="slip-rate cases", unit="case")
+    for c in sel:
+        row = run_slip_case(c, bearing, oil, options, tol=tol, t_max=t_max, **kw)
+        rows.append(row)
+        if bar is not None:
+            bar.set_postfix_str(f"case {c['case']}: S={row['slip_pct']:.2f}% (test {c['test_slip_pct']}%)")
+            bar.update(1)
+    if bar is not None:
+        bar.close()
+    return rows
+
+
+def format_table(rows: list[dict]) -> str:
+    """Markdown table of the rows and the summary."""
+    lines = ["| case | Fa/Fr N | speed rpm | test % | paper % | ours % | our err % | paper err % | alpha deg | t_end s | settled |",
+             "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    for r in rows:
+        lines.append(f"| {r['case']} | {r['axial_load']:.0f}/{r['radial_load']:.0f} | {r['speed_rpm']} | "
+                     f"{r['test_slip_pct']:.2f} | {r['paper_slip_pct']:.2f} | {r['slip_pct']:.2f} | "
+                     f"{r['error_vs_test_pct']:.1f} | {r['paper_error_vs_test_pct']:.1f} | "
+                     f"{r['contact_angle_deg']:.2f} | {r['t_end']:.2f} | {r['settled']} |")
+    s = summarise(rows)
+    for k, v in s.items():
+        if v:
+            lines.append(f"\n{k}: n={v['n']}, ours mean {v['mean_error_pct']:.2f} % max {v['max_error_pct']:.2f} %; "
+                         f"paper mean {v['paper_mean_error_pct']:.2f} % max {v['paper_max_error_pct']:.2f} %")
+    return "\n".join(lines)
+
+
+# The oil temperature used for the validation (module docstring); set after calibration on 1–8.
+VALIDATION_OIL_TEMPERATURE_C = 20.0
