@@ -97,11 +97,10 @@ class RunInterrupted(Exception):
 def default_backend(scene) -> SimpleNamespace:
     """The physics for this scene's cage model (imports only what that model needs)."""
     if scene.cage_model == "flexible":
-        if importlib.util.find_spec("coupling.flexible_cage") is None:
+        if not flexible_backend_available():
             raise InputError("cage.model = 'flexible': flexible cage coupling not available yet "
-                             "(coupling.flexible_cage is missing); use cage.model = 'rigid'")
-        fc = importlib.import_module("coupling.flexible_cage")
-        return fc.backend(scene)
+                             "(coupling.flexible_cage.backend(scene) is missing); use cage.model = 'rigid'")
+        return importlib.import_module("coupling.flexible_cage").backend(scene)
     missing = [m for m in ("multibody.model", "multibody.initial", "multibody.integrator",
                            "multibody.dynamics") if importlib.util.find_spec(m) is None]
     if missing:
@@ -115,6 +114,14 @@ def default_backend(scene) -> SimpleNamespace:
                            advance=integrator.advance, evaluate_outputs=dynamics.evaluate_outputs,
                            new_workspace=(lambda m: workspace(m)) if workspace else None,
                            OUTPUT_UNITS=getattr(dynamics, "OUTPUT_UNITS", {}))
+
+
+def flexible_backend_available() -> bool:
+    """True once coupling.flexible_cage provides backend(scene) (the flexible-cage physics with the
+    same five entries as default_backend's namespace)."""
+    if importlib.util.find_spec("coupling.flexible_cage") is None:
+        return False
+    return hasattr(importlib.import_module("coupling.flexible_cage"), "backend")
 
 
 def _accepted_kwargs(func, available: dict) -> dict:
@@ -270,11 +277,14 @@ def _finish(scene, out_path, n_steps, n_rejected, wall, setup_time) -> dict:
 
 # ---------------------------------------------------------------- case sets (validate slip-rate)
 
-def slip_rate_from_results(path, average_from: float) -> float:
+def slip_rate_from_results(path, average_from: float) -> dict:
     """Cage slip rate of a steady run (paper §3.2): S = (nm − nc)/nm = 1 − <nc>/<nm>, with the cage
     speed nc and the nominal cage speed nm = 0.5·ni·(1 − Dw·cos(alpha)/dm) averaged over
     t >= average_from (the test measures a time-averaged cage speed). Falls back to the mean of the
-    recorded slip_rate if the speeds were not recorded."""
+    recorded slip_rate if the speeds were not recorded.
+
+    Returns {"slip": S, "drift": S(second half of the window) − S(first half)}: a drift that is
+    not small against S means the cage speed had not settled (run longer)."""
     import h5py
     with h5py.File(path, "r") as f:
         out = f["outputs"]
@@ -283,18 +293,30 @@ def slip_rate_from_results(path, average_from: float) -> float:
         if not win.any():
             raise InputError(f"average_from = {average_from:g} s is after the last sample ({t[-1]:g} s)")
         if "cage_speed" in out and "nominal_cage_speed" in out:
-            return float(1.0 - np.mean(out["cage_speed"][...][win]) / np.mean(out["nominal_cage_speed"][...][win]))
-        if "slip_rate" in out:
-            return float(np.mean(out["slip_rate"][...][win]))
-    raise InputError(f"{path} has neither cage_speed and nominal_cage_speed nor slip_rate: "
-                     f"record 'cage_speed' and 'slip' in the case set's [base.output]")
+            nc, nm = out["cage_speed"][...], out["nominal_cage_speed"][...]
+            slip = lambda w: float(1.0 - np.mean(nc[w]) / np.mean(nm[w]))  # noqa: E731
+        elif "slip_rate" in out:
+            sr = out["slip_rate"][...]
+            slip = lambda w: float(np.mean(sr[w]))  # noqa: E731
+        else:
+            raise InputError(f"{path} has neither cage_speed and nominal_cage_speed nor slip_rate: "
+                             f"record 'cage_speed' and 'slip' in the case set's [base.output]")
+        idx = np.flatnonzero(win)
+        half = len(idx) // 2
+        drift = slip(idx[half:]) - slip(idx[:half]) if half > 0 else 0.0
+        return {"slip": slip(win), "drift": drift}
+
+
+def _slip_and_drift(d: dict) -> dict:
+    return {"slip_ours": d["slip"], "slip_drift": d["drift"]}
 
 
 def run_case_set_slip_rate(case_set, case_ids, out_dir, resume: bool = False, quiet: bool = False,
                            backend=None) -> list[dict]:
     """Run the selected cases of a slip-rate case set (one results file per case in out_dir,
     caseNN.h5) and return rows: case, group, axial_load, radial_load, speed_rpm, slip_ours,
-    slip_test, slip_paper (slip rates as fractions), wall_time_s, n_steps."""
+    slip_test, slip_paper (slip rates as fractions), slip_drift (see slip_rate_from_results),
+    wall_time_s, n_steps."""
     by_id = {c["id"]: c for c in case_set.cases}
     unknown = [i for i in case_ids if i not in by_id]
     if unknown:
@@ -312,7 +334,7 @@ def run_case_set_slip_rate(case_set, case_ids, out_dir, resume: bool = False, qu
         summary = run_scene(scene, path, resume=resume, force=not resume, quiet=quiet, backend=backend)
         rows.append({"case": cid, "group": c["group"], "axial_load": c["axial_load"],
                      "radial_load": c["radial_load"], "speed_rpm": c["speed_rpm"],
-                     "slip_ours": slip_rate_from_results(path, case_set.average_from),
+                     **_slip_and_drift(slip_rate_from_results(path, case_set.average_from)),
                      "slip_test": c["test_slip_percent"] / 100.0,
                      "slip_paper": c["paper_slip_percent"] / 100.0,
                      "wall_time_s": summary["wall_time_s"], "n_steps": summary["n_steps"]})
