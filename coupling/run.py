@@ -170,8 +170,14 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
         "impacts": impacts, "film": "film_thickness" in scene.outputs})
     selects_itself = "outputs" in eval_kwargs
     adv_kwargs = _accepted_kwargs(backend.advance, {"max_step": scene.max_step}) if scene.max_step else {}
-    if getattr(backend, "new_workspace", None) is not None:
-        adv_kwargs.update(_accepted_kwargs(backend.advance, {"ws": backend.new_workspace(model)}))
+    # The integrator's workspace carries FSAL state (the derivative at the end of the last step).
+    # A resumed run starts with a fresh workspace, so the uninterrupted run takes a fresh one at
+    # every sample too (any sample can become a resume point): otherwise the first step after a
+    # resume would use a re-evaluated derivative that differs in the last bits from the FSAL one
+    # and the runs would drift apart. Cost: one extra right-hand side per sample interval.
+    fresh_ws = None
+    if getattr(backend, "new_workspace", None) is not None and _accepted_kwargs(backend.advance, {"ws": 0}):
+        fresh_ws = backend.new_workspace
     load3 = np.zeros(3)
     keys = None
 
@@ -228,6 +234,8 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     try:
         while k < n_total:
             t_target = scene.sample_time(k)
+            if fresh_ws is not None:
+                adv_kwargs["ws"] = fresh_ws(model)
             while t < t_target:
                 i = int(np.searchsorted(bps, t, side="right"))
                 t_stop = bps[i] if i < len(bps) and bps[i] < t_target else t_target
