@@ -112,4 +112,7 @@ class CageGeometry:
         return replace(self, **changes)
 
 
-PAPER_CAGE = CageGeometry()
+NOMINAL_CAGE = CageGeometry()
+"""SPEC §1 defaults: pocket 22.5 mm, plain outside cylinder as guide (no relief, no chamfer)."""
+
+PAPER_CAGE = NOMINAL_CAGE

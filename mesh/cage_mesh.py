@@ -25,6 +25,8 @@ import os
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 from .cage_geometry import CageGeometry
 from .validation import InputError, require_range
 
@@ -110,30 +112,34 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
         raise InputError(f"cage geometry produced {len(vols)} solids instead of one "
                          "(pockets cut the ring apart): reduce cage.pocket_diameter")
 
-    # Classify the boundary surfaces geometrically (robust to OCC's face numbering).
+    # Classify the boundary surfaces geometrically (robust to OCC's face numbering and to
+    # faces that the pockets split into pieces): sample points of each face and test which
+    # analytic surface they all lie on.
     groups: dict[str, list[int]] = {}
     ri, ro, w2 = g.inner_radius, g.outer_radius, 0.5 * g.width
-    tol = 1e-5 * ro          # OCC bounding boxes are padded by ~1e-7 m
+    tol = 1e-6 * ro
     azim = g.pocket_azimuths()
     for _, s in gmsh.model.getBoundary([(3, vols[0])], oriented=False):
-        x, y, z = occ.getCenterOfMass(2, s)
-        xmin, ymin, zmin, xmax, ymax, zmax = gmsh.model.getBoundingBox(2, s)
-        rho = math.hypot(y, z)
-        if with_pockets and rho > 0.5 * ri:
-            # A pocket wall (the only faces not rotationally symmetric about x).
-            th = math.atan2(z, y) % (2 * math.pi)
+        P = _sample_face(s)
+        x, rho = P[:, 0], np.hypot(P[:, 1], P[:, 2])
+        name = "other"
+        if with_pockets:
+            th = float(np.arctan2(P[:, 2].mean(), P[:, 1].mean()) % (2 * math.pi))
             k = min(range(Z), key=lambda j: abs(math.remainder(th - azim[j], 2 * math.pi)))
-            groups.setdefault(pocket_name(k), []).append(s)
-        elif abs(xmax - xmin) < tol and abs(xmin + w2) < tol:
-            groups.setdefault("side_left", []).append(s)
-        elif abs(xmax - xmin) < tol and abs(xmin - w2) < tol:
-            groups.setdefault("side_right", []).append(s)
-        elif gmsh.model.getType(2, s) == "Cylinder" and abs(ymax - ro) < tol and abs(ymin + ro) < tol:
-            groups.setdefault("guide", []).append(s)
-        elif gmsh.model.getType(2, s) == "Cylinder" and abs(ymax - ri) < tol:
-            groups.setdefault("bore", []).append(s)
-        else:
-            groups.setdefault("other", []).append(s)
+            axis = np.array([0.0, math.cos(azim[k]), math.sin(azim[k])])
+            d_axis = np.linalg.norm(P - np.outer(P @ axis, axis), axis=1)
+            if np.all(np.abs(d_axis - 0.5 * g.pocket_diameter) < tol):
+                name = pocket_name(k)
+        if name == "other":
+            if np.all(np.abs(x + w2) < tol):
+                name = "side_left"
+            elif np.all(np.abs(x - w2) < tol):
+                name = "side_right"
+            elif np.all(np.abs(rho - ro) < tol):
+                name = "guide"
+            elif np.all(np.abs(rho - ri) < tol):
+                name = "bore"
+        groups.setdefault(name, []).append(s)
     if with_pockets and sum(1 for n in groups if n.startswith("pocket_")) != Z:
         raise RuntimeError("cage_mesh: could not find one wall per pocket")
 
@@ -176,6 +182,17 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
     if order == 2:
         gmsh.model.mesh.setOrder(2)          # curved: mid-side nodes on the CAD surfaces
     return names
+
+
+def _sample_face(tag: int, m: int = 5) -> np.ndarray:
+    """m x m points of a face's parametric domain mapped to 3-D and then projected onto the
+    face (parametric points outside a trimmed face would otherwise be off the solid)."""
+    import gmsh
+    lo, hi = gmsh.model.getParametrizationBounds(2, tag)
+    u = np.linspace(lo[0], hi[0], m + 2)[1:-1]
+    v = np.linspace(lo[1], hi[1], m + 2)[1:-1]
+    uv = np.array([(a, b) for a in u for b in v]).ravel()
+    return np.asarray(gmsh.model.getValue(2, tag, uv)).reshape(-1, 3)
 
 
 def _write(path: Path):
@@ -227,13 +244,17 @@ def mesh_key(geometry: CageGeometry, size: float, order: int, pocket_size: float
             "pocket_size": None if pocket_size is None else float(pocket_size), "version": 1}
 
 
+def cache_path(geometry: CageGeometry, size: float, order: int, pocket_size: float | None) -> Path:
+    from .cache import cache_dir, content_hash
+    return cache_dir() / "meshes" / f"{content_hash(mesh_key(geometry, size, order, pocket_size))}.msh"
+
+
 def cached_cage_mesh(geometry: CageGeometry, size: float = DEFAULT_MESH_SIZE,
                      order: int = DEFAULT_ORDER, pocket_size: float | None = DEFAULT_POCKET_SIZE) -> Path:
     """build_cage_mesh into cache_dir()/meshes/<content_hash>.msh, reused when present."""
-    from .cache import cache_dir, content_hash
     geometry.validate()
     _check_sizes(geometry, size, order, pocket_size)
-    path = cache_dir() / "meshes" / f"{content_hash(mesh_key(geometry, size, order, pocket_size))}.msh"
+    path = cache_path(geometry, size, order, pocket_size)
     if not path.exists():
         build_cage_mesh(geometry, size, order, path, pocket_size)
     return path

@@ -1,0 +1,162 @@
+"""`flexbearing modes | mesh-study | calibrate-cage`: the cage's free–free modal analysis."""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def _comm():
+    from mpi4py import MPI
+    return MPI.COMM_WORLD
+
+
+def mesh_for(args, g) -> Path:
+    """The .msh to use: --mesh FILE, else the cached mesh for (geometry, size, order)."""
+    from mesh.cage_mesh import cached_cage_mesh, cache_path
+    comm = _comm()
+    if getattr(args, "mesh", None):
+        return Path(args.mesh)
+    size, ps = args.size * 1e-3, args.pocket_size * 1e-3
+    if comm.rank == 0:
+        cached_cage_mesh(g, size, args.order, ps)
+    comm.barrier()
+    return cache_path(g, size, args.order, ps)
+
+
+def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True):
+    """Assemble, solve, classify; return a result dict (frequencies, ndofs, timings) and the
+    solution objects (V, vecs) for writing."""
+    from .elasticity import load_cage_mesh, assemble_stiffness_mass, global_ndofs, total_mass
+    from .modes import free_free_modes
+    comm = _comm()
+    t0 = time.perf_counter()
+    domain, _, _, names = load_cage_mesh(mesh_path, comm)
+    t1 = time.perf_counter()
+    V, K, M = assemble_stiffness_mass(domain, g.material, degree)
+    t2 = time.perf_counter()
+    freqs, vecs, info = free_free_modes(K, M, n_modes, return_info=True)
+    t3 = time.perf_counter()
+    res = {"frequencies_hz": [float(f) for f in freqs], "ndofs": global_ndofs(V),
+           "mass_kg": total_mass(domain, g.material),
+           "timing_s": {"read_mesh": t1 - t0, "assemble": t2 - t1, "eigensolve": t3 - t2},
+           "eigensolver": {k: v for k, v in info.items() if k != "facet_tags"},
+           "mpi_ranks": comm.size}
+    if classify:
+        from .classify import classify_modes, short_label
+        rigid_tol = 1e-3 * max(abs(freqs[min(6, len(freqs) - 1)]), 1.0)
+        cl = classify_modes(V, vecs, freqs, rigid_tol_hz=rigid_tol)
+        res["modes"] = [{"mode": i + 1, "frequency_hz": float(f), "family": c["family"], "n": c["n"],
+                         "shares": {k: round(x, 4) for k, x in c["shares"].items()},
+                         "label": short_label(c)} for i, (f, c) in enumerate(zip(freqs, cl))]
+        res["timing_s"]["classify"] = time.perf_counter() - t3
+    return res, V, vecs
+
+
+def format_table(freqs, labels=None) -> str:
+    from .modes import PAPER_TABLE8_HZ
+    lines = [f"{'mode':>4} {'f (Hz)':>10} {'Table 8 (Hz)':>12} {'rel.err':>8}  family"]
+    errs = []
+    for i, f in enumerate(freqs):
+        m = i + 1
+        ref = PAPER_TABLE8_HZ.get(m)
+        e = (f - ref) / ref if ref else None
+        if e is not None:
+            errs.append(e)
+        lab = labels[i] if labels else ""
+        lines.append(f"{m:>4} {f:>10.2f} {ref if ref else '':>12} "
+                     f"{'' if e is None else f'{100 * e:+7.2f}%':>8}  {lab}")
+    if errs:
+        errs = np.array(errs)
+        lines.append(f"modes 7-27: RMS relative error {100 * np.sqrt(np.mean(errs ** 2)):.2f} %, "
+                     f"max |error| {100 * np.max(np.abs(errs)):.2f} %")
+    return "\n".join(lines)
+
+
+def cmd_modes(args) -> int:
+    from mesh.cli import geometry_from_args
+    comm = _comm()
+    t0 = time.perf_counter()
+    g = geometry_from_args(args)
+    path = mesh_for(args, g)
+    tm = time.perf_counter() - t0
+    res, V, vecs = run_modes(g, path, args.degree, args.n_modes, classify=not args.no_classify)
+    res["timing_s"]["mesh"] = tm
+    res["wall_s"] = time.perf_counter() - t0
+    res["mesh"] = {"file": str(path), "size_m": args.size * 1e-3, "pocket_size_m": args.pocket_size * 1e-3,
+                   "order": args.order, "degree": args.degree, "geometry": g.to_dict()}
+    labels = [m["label"] for m in res["modes"]] if "modes" in res else None
+    if args.xdmf:
+        from .mode_xdmf import write_modes_xdmf
+        x = write_modes_xdmf(args.xdmf, V, vecs, res["frequencies_hz"], g.material, labels)
+        res["xdmf"] = str(x)
+    if comm.rank == 0:
+        if not args.quiet:
+            print(format_table(res["frequencies_hz"], labels))
+            print(f"{res['ndofs']} dofs, P{args.degree} on order-{args.order} mesh, {comm.size} MPI rank(s), "
+                  f"wall {res['wall_s']:.1f} s (mesh {tm:.1f}, assemble {res['timing_s']['assemble']:.1f}, "
+                  f"eigensolve {res['timing_s']['eigensolve']:.1f})")
+            if args.xdmf:
+                print(f"mode shapes: {res['xdmf']}")
+        if args.json:
+            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+            Path(args.json).write_text(json.dumps(res, indent=1, default=float))
+    return 0
+
+
+def cmd_mesh_study(args) -> int:
+    from mesh.cli import geometry_from_args
+    from .mesh_study import run_mesh_study, DEFAULT_STUDY
+    g = geometry_from_args(args)
+    levels = DEFAULT_STUDY if not args.levels else [tuple(float(x) for x in s.split(","))
+                                                    for s in args.levels]
+    run_mesh_study(g, levels, Path(args.output), n_modes=args.n_modes, quiet=args.quiet)
+    return 0
+
+
+def cmd_calibrate(args) -> int:
+    from .calibrate import run_calibration
+    run_calibration(Path(args.output), size=args.size * 1e-3, pocket_size=args.pocket_size * 1e-3,
+                    order=args.order, degree=args.degree, params=args.params, quiet=args.quiet,
+                    max_evals=args.max_evals)
+    return 0
+
+
+def register(subparsers):
+    from mesh.cli import add_geometry_arguments, add_mesh_arguments
+    p = subparsers.add_parser("modes", help="free-free modes of the cage vs the paper's Table 8",
+                              description="Free-free modal analysis of the cage (dolfinx + SLEPc).")
+    add_geometry_arguments(p)
+    add_mesh_arguments(p)
+    p.add_argument("--mesh", help="use this .msh instead of the cached mesh")
+    p.add_argument("--degree", type=int, default=2, choices=(1, 2, 3), help="Lagrange degree (default 2)")
+    p.add_argument("--n-modes", type=int, default=27)
+    p.add_argument("--json", help="write frequencies, ndofs, wall time, mesh info to this JSON file")
+    p.add_argument("--xdmf", help="write mode shapes (displacement, von Mises) to this XDMF file")
+    p.add_argument("--no-classify", action="store_true", help="skip the mode-family classification")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_modes)
+
+    p = subparsers.add_parser("mesh-study", help="mesh convergence: frequency vs dofs, CSV + PNG",
+                              description="Mesh convergence study of the cage modes.")
+    add_geometry_arguments(p)
+    p.add_argument("--levels", nargs="+", metavar="SIZE,POCKET,ORDER,DEGREE",
+                   help="mesh levels, sizes in mm (default: the built-in sequence)")
+    p.add_argument("--n-modes", type=int, default=27)
+    p.add_argument("-o", "--output", default="out/mesh-study", help="output folder")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_mesh_study)
+
+    p = subparsers.add_parser("calibrate-cage",
+                              help="fit unknown cage geometry to the paper's Table 8 (least squares)",
+                              description="Model updating of the cage geometry against Table 8.")
+    add_mesh_arguments(p)
+    p.add_argument("--degree", type=int, default=2, choices=(1, 2, 3))
+    p.add_argument("--params", nargs="+", default=None,
+                   help="parameters to fit (default: pocket_diameter land_width relief_depth)")
+    p.add_argument("--max-evals", type=int, default=40)
+    p.add_argument("-o", "--output", default="out/calibrate-cage", help="output folder")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_calibrate)

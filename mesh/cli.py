@@ -1,0 +1,86 @@
+"""`flexbearing mesh`: mesh the cage, write FILE.msh and FILE.xdmf (+ .h5) beside it."""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+
+def add_geometry_arguments(p):
+    """Cage geometry options shared by mesh/modes/mesh-study (lengths in mm on the command line)."""
+    g = p.add_argument_group("cage geometry (mm; default: the paper preset)")
+    g.add_argument("--preset", choices=("paper", "nominal"), default="paper",
+                   help="paper = calibrated preset (PAPER_CAGE), nominal = SPEC §1 defaults")
+    g.add_argument("--pocket-diameter-mm", type=float)
+    g.add_argument("--land-width-mm", type=float)
+    g.add_argument("--relief-depth-mm", type=float)
+    g.add_argument("--chamfer-mm", type=float)
+    g.add_argument("--n-pockets", type=int)
+
+
+def geometry_from_args(args):
+    from .cage_geometry import PAPER_CAGE, NOMINAL_CAGE
+    g = PAPER_CAGE if args.preset == "paper" else NOMINAL_CAGE
+    ch = {}
+    for opt, field in (("pocket_diameter_mm", "pocket_diameter"), ("land_width_mm", "land_width"),
+                       ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer")):
+        v = getattr(args, opt, None)
+        if v is not None:
+            ch[field] = v * 1e-3
+    if getattr(args, "n_pockets", None) is not None:
+        ch["n_pockets"] = args.n_pockets
+    return g.with_(**ch).validate()
+
+
+def add_mesh_arguments(p):
+    from .cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER
+    p.add_argument("--size", type=float, default=DEFAULT_MESH_SIZE * 1e3,
+                   help=f"global element size, mm (default {DEFAULT_MESH_SIZE * 1e3:g})")
+    p.add_argument("--pocket-size", type=float, default=DEFAULT_POCKET_SIZE * 1e3,
+                   help=f"element size on the pocket walls, mm (default {DEFAULT_POCKET_SIZE * 1e3:g})")
+    p.add_argument("--order", type=int, default=DEFAULT_ORDER, choices=(1, 2),
+                   help="1 = linear tets, 2 = curved quadratic tets (default)")
+
+
+def write_mesh_xdmf(msh_path) -> Path:
+    """Read the .msh with dolfinx and write mesh + cell/facet tags to the same stem .xdmf."""
+    from mpi4py import MPI
+    from dolfinx.io import XDMFFile
+    from fem_cage.elasticity import load_cage_mesh
+    domain, cell_tags, facet_tags, names = load_cage_mesh(msh_path, MPI.COMM_WORLD)
+    out = Path(msh_path).with_suffix(".xdmf")
+    domain.topology.create_connectivity(domain.topology.dim - 1, domain.topology.dim)
+    with XDMFFile(domain.comm, str(out), "w") as xf:
+        xf.write_mesh(domain)
+        cell_tags.name = "cell_tags"
+        facet_tags.name = "facet_tags"
+        xf.write_meshtags(cell_tags)
+        xf.write_meshtags(facet_tags)
+    return out
+
+
+def cmd_mesh(args) -> int:
+    from mpi4py import MPI
+    from .cage_mesh import build_cage_mesh
+    g = geometry_from_args(args)
+    out = Path(args.output)
+    if out.suffix != ".msh":
+        out = out.with_suffix(".msh")
+    t0 = time.perf_counter()
+    if MPI.COMM_WORLD.rank == 0:
+        build_cage_mesh(g, args.size * 1e-3, args.order, out, pocket_size=args.pocket_size * 1e-3)
+    MPI.COMM_WORLD.barrier()
+    x = write_mesh_xdmf(out)
+    if not args.quiet and MPI.COMM_WORLD.rank == 0:
+        print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} mm, "
+              f"pocket size {args.pocket_size:g} mm, order {args.order})")
+    return 0
+
+
+def register(subparsers):
+    p = subparsers.add_parser("mesh", help="mesh the cage (gmsh): FILE.msh + FILE.xdmf",
+                              description="Mesh the cage with gmsh (tagged pockets, guide, volume).")
+    add_geometry_arguments(p)
+    add_mesh_arguments(p)
+    p.add_argument("-o", "--output", required=True, help="output .msh file (XDMF written beside it)")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_mesh)

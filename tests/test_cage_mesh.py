@@ -1,0 +1,101 @@
+"""Cage geometry validation and the gmsh cage mesh (physical groups, pocket placement)."""
+import math
+
+import numpy as np
+import pytest
+
+from mesh.cage_geometry import PAPER_CAGE, NOMINAL_CAGE
+from mesh.validation import InputError
+
+
+@pytest.mark.parametrize("change, field", [
+    (dict(pocket_diameter=30e-3), "cage.pocket_diameter"),      # wider than the cage / overlapping
+    (dict(pocket_diameter=21.9e-3), "cage.pocket_diameter"),    # Dp <= Dw: the ball does not fit
+    (dict(pocket_diameter=25e-3), "cage.pocket_diameter"),      # > 1.1 Dw
+    (dict(n_pockets=40), "cage.pocket_diameter"),               # 40 pockets of 22.5 mm overlap
+    (dict(bore_diameter=0.18), "cage.bore_diameter"),           # bore >= outside diameter
+    (dict(land_width=20e-3), "cage.land_width"),                # land wider than half the cage
+    (dict(width=-1e-3), "cage.width"),
+    (dict(relief_depth=9e-3), "cage.relief_depth"),             # deeper than the wall
+    (dict(chamfer=-1e-4), "cage.chamfer"),
+    (dict(relief_depth=1e-3, land_width=2e-3, chamfer=2.5e-3), "cage.chamfer"),  # eats the land
+])
+def test_invalid_geometry_names_field_and_range(change, field):
+    with pytest.raises(InputError) as err:
+        NOMINAL_CAGE.with_(**change).validate()
+    msg = str(err.value)
+    assert field in msg
+    assert "allowed range" in msg or "must" in msg
+
+
+def test_presets_valid_and_pocket_clearance_reasonable():
+    for g in (PAPER_CAGE, NOMINAL_CAGE):
+        g.validate()
+        # pocket clearance Cp = (Dp - Dw)/2 between 0.05 and 0.5 mm for the 22 mm ball
+        assert 0.05e-3 <= 0.5 * (g.pocket_diameter - 22e-3) <= 0.5e-3
+
+
+def test_mesh_sizes_are_checked():
+    from mesh.cage_mesh import build_cage_mesh
+    with pytest.raises(InputError, match="mesh.size"):
+        build_cage_mesh(NOMINAL_CAGE, -1.0, 2, "/tmp/never.msh")
+    with pytest.raises(InputError, match="mesh.order"):
+        build_cage_mesh(NOMINAL_CAGE, 5e-3, 3, "/tmp/never.msh")
+    with pytest.raises(InputError, match="mesh.pocket_size"):
+        build_cage_mesh(NOMINAL_CAGE, 5e-3, 2, "/tmp/never.msh", pocket_size=6e-3)
+
+
+@pytest.fixture(scope="module")
+def relieved_mesh(tmp_path_factory):
+    """A coarse relieved, chamfered cage: every group kind present."""
+    from mesh.cage_mesh import build_cage_mesh
+    g = NOMINAL_CAGE.with_(land_width=8e-3, relief_depth=1e-3, chamfer=0.5e-3)
+    path = build_cage_mesh(g, 8e-3, 2, tmp_path_factory.mktemp("m") / "cage.msh", pocket_size=4e-3)
+    return g, path
+
+
+def _groups(path):
+    import gmsh
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.merge(str(path))
+    out = {}
+    for d, t in gmsh.model.getPhysicalGroups():
+        nodes, coords = gmsh.model.mesh.getNodesForPhysicalGroup(d, t)
+        out[gmsh.model.getPhysicalName(d, t)] = (d, t, coords.reshape(-1, 3))
+    types = gmsh.model.mesh.getElementTypes(3)
+    gmsh.finalize()
+    return out, types
+
+
+def test_physical_groups_and_pocket_positions(relieved_mesh):
+    g, path = relieved_mesh
+    groups, types = _groups(path)
+    assert list(types) == [11]                       # 10-node (curved quadratic) tetrahedra only
+    assert groups["cage"][:2] == (3, 1)
+    assert groups["guide"][:2] == (2, 200)
+    for name in ("bore", "side_left", "side_right"):
+        assert name in groups
+    for k in range(g.n_pockets):
+        d, t, X = groups[f"pocket_{k:02d}"]
+        assert (d, t) == (2, 101 + k)
+        # Every node of pocket k lies on the cylinder of radius Dp/2 about the radial axis at
+        # theta_k = 2 pi k / Z (from +y towards +z), centred on x = 0. Tolerance: the curved
+        # quadratic mesh puts all nodes on the CAD surface (1e-9 m: gmsh/OCC round-off).
+        th = 2 * math.pi * k / g.n_pockets
+        axis = np.array([0.0, math.cos(th), math.sin(th)])
+        dist = np.linalg.norm(X - np.outer(X @ axis, axis), axis=1)
+        assert np.allclose(dist, 0.5 * g.pocket_diameter, atol=1e-9)
+    # Guide nodes: on the outside cylinder r = D/2, within the two lands |x| >= relief/2.
+    X = groups["guide"][2]
+    assert np.allclose(np.hypot(X[:, 1], X[:, 2]), g.outer_radius, atol=1e-9)
+    assert np.all(np.abs(X[:, 0]) >= 0.5 * g.relief_width - 1e-9)
+
+
+def test_cached_mesh_is_reused(tmp_path, monkeypatch):
+    from mesh import cage_mesh
+    monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path))
+    p1 = cage_mesh.cached_cage_mesh(NOMINAL_CAGE, 10e-3, 1, 10e-3)
+    mtime = p1.stat().st_mtime_ns
+    p2 = cage_mesh.cached_cage_mesh(NOMINAL_CAGE, 10e-3, 1, 10e-3)
+    assert p1 == p2 and p2.stat().st_mtime_ns == mtime and p1.parent == tmp_path / "meshes"
