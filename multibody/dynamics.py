@@ -73,6 +73,49 @@ from multibody.geometry import race_contact, ring_point_in_plane
 from multibody.profiles import load_at, speed_at
 from multibody.traction import slice_load_share, traction_coefficient, traction_coefficients_table
 
+
+
+def _invalidate_stale_numba_cache() -> None:
+    """Drop this module's and the integrator's numba cache when any compiled dependency changed.
+
+    numba's on-disk cache of a function is keyed on its own source file only, but `rhs` links in
+    the compiled code of geometry, traction, profiles and hertz (and the integrator links `rhs`):
+    an edit there would otherwise leave a stale `rhs` in the cache. A hash of all those sources is
+    kept next to the cache; on mismatch the cached entries of dynamics and integrator are removed.
+    """
+    import hashlib
+    import os
+    import glob
+    here = os.path.dirname(os.path.abspath(__file__))
+    names = ("dynamics.py", "integrator.py", "geometry.py", "traction.py", "profiles.py", "hertz.py", "model.py")
+    h = hashlib.sha1()
+    for n in names:
+        try:
+            with open(os.path.join(here, n), "rb") as f:
+                h.update(f.read())
+        except OSError:
+            pass
+    cache = os.environ.get("NUMBA_CACHE_DIR") or os.path.join(here, "__pycache__")
+    stamp = os.path.join(cache, "flexbearing_rhs_sources.sha1")
+    try:
+        with open(stamp) as f:
+            if f.read().strip() == h.hexdigest():
+                return
+    except OSError:
+        pass
+    try:
+        os.makedirs(cache, exist_ok=True)
+        for pat in ("dynamics.*.nb[ic]", "integrator.*.nb[ic]"):
+            for fn in glob.glob(os.path.join(cache, "**", pat), recursive=True):
+                os.remove(fn)
+        with open(stamp, "w") as f:
+            f.write(h.hexdigest())
+    except OSError:
+        pass
+
+
+_invalidate_stale_numba_cache()
+
 # status codes written into work[Z, WR_STATUS] (first offence wins)
 STATUS_OK = 0
 STATUS_DEEP_RACE = 1        # race approach beyond DELTA_MAX_FRAC·Dw
@@ -488,6 +531,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         rv_r = vyi * cs + vzi * sn
         rv_t = -vyi * sn + vzi * cs
         for c in range(3):
+            ft_lean = 0.0
             if c == 0:
                 xc_g = p[P_XO]
                 rc_g = p[P_RO]
@@ -503,6 +547,19 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                 xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
                 res = _race(1, xb, rb, xc_g, rc_g, fi, vbx, vbr, vbt, w_x, w_r, w_t, psid,
                             vxi, rv_r, rv_t, omega_i, ring_rc, p, flags, htab, ttab)
+                # The groove-centre circle of a displaced (offset, tilted) ring is not centred on
+                # the bearing axis: seen from the ball the contact normal leans out of the ball
+                # plane, F_t = −(Q/r_b)·d(delta)/d(psi) = (Q/r_b)·(n_x·dx_c/dpsi + n_r·dr_c/dpsi),
+                # with (geometry.ring_point_in_plane) dx_c/dpsi = r0·th', dr_c/dpsi = t_c − x0·th',
+                # t_c = −y_i·sin psi + z_i·cos psi, th' = tilt_y·cos psi + tilt_z·sin psi, and
+                # n = (−sin a, −cos a) for an inner race. This keeps the Hertz force the exact
+                # gradient of its potential (tests/test_energy.py).
+                if res[0] > 0.0:
+                    thp = ty * cs + tz * sn
+                    dxc = rr0 * thp
+                    drc = (-yi * sn + zi * cs) - x0 * thp
+                    ft_lean = res[0] * (-res[2] * dxc - res[1] * drc) / rb
+                    res = res[:12] + (res[12] + ft_lean,) + res[13:]
             wc = c * N_WC
             work[j, wc + WC_Q] = res[0]
             work[j, wc + WC_COS] = res[1]
@@ -524,16 +581,34 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                 mr += res[14]
                 mt += res[15]
                 if c > 0:
-                    # reaction on the inner ring: −F at the contact point (x_p, r_p) in the ball plane
-                    gx = -res[10]
-                    gr = -res[11]
-                    gt = -res[12]
+                    # Reaction on the inner ring. Normal part (+Q·n through the groove centre):
+                    # generalised forces of the linearised ring kinematics (geometry.
+                    # ring_point_in_plane), i.e. −dV/du of the Hertz potential, so that the force
+                    # field stays conservative: with g = Q·n in the ball plane,
+                    #   F = (g_x, g_r cos psi, g_r sin psi),
+                    #   M_y = sin psi·(g_x r0 − g_r x0),  M_z = −cos psi·(g_x r0 − g_r x0).
+                    # Traction part (all the rest of −F): force at the contact point with its
+                    # lever from the ring centre (this also gives the drive torque about X).
+                    qn = res[0]
+                    gxn = -qn * res[2]          # Q·n_x, n = (−sin a, −cos a) for an inner race
+                    grn = -qn * res[1]
+                    rfx += gxn
+                    rfy += grn * cs
+                    rfz += grn * sn
+                    arm = gxn * rr0 - grn * x0
+                    rmy += sn * arm
+                    rmz -= cs * arm
+                    gx = -res[10] - gxn
+                    gr = -res[11] - grn
+                    # the lean force is the psi-gradient of the ball's Hertz potential; the ring's
+                    # generalised forces above already are the exact ring gradient, so it has no
+                    # reaction here (momentum is then off by Q·t_c/r_b ~ 1e-5·Q: second order)
+                    gt = -(res[12] - ft_lean)
                     gy = gr * cs - gt * sn
                     gz = gr * sn + gt * cs
                     rfx += gx
                     rfy += gy
                     rfz += gz
-                    # lever from the ring centre
                     lx = res[16] - xi
                     ly = res[17] * cs - yi
                     lz = res[17] * sn - zi
@@ -588,12 +663,27 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         mx += pk[3]
         mr += pk[4] * cs + pk[5] * sn
         mt += -pk[4] * sn + pk[5] * cs
-        # on the cage: −F at the wall point
+        # On the cage: −F. Generalised forces of the linearised cage kinematics (the pocket
+        # geometry moves as w = c + w_rot + beta × w_rot, w_rot the untilted position), so
+        # that the pocket force is the exact gradient of its potential for the cage as well:
+        # the force acts at the point of the pocket axis level with the ball, untilted lever
+        # w_rot = (R_pocket + d·a)·(0, cos psi_p, sin psi_p);
+        #   Q_phi = (w_rot × F)_x + F·(beta × (e_x × w_rot)),  Q_beta = (w_rot × F)_(y, z).
+        da_ = (bx - ppx) * ax + (byy - ppy) * ay + (bzz - ppz) * az
+        lev = rmid + da_
+        wy_ = lev * cp_
+        wz_ = lev * sp_
         cfx -= pfx
         cfy -= pfy
         cfz -= pfz
-        m1, m2, m3 = _cross(pk[6] - xc, pk[7] - yc, pk[8] - zc, -pfx, -pfy, -pfz)
-        cmx += m1
+        m1, m2, m3 = _cross(0.0, wy_, wz_, -pfx, -pfy, -pfz)
+        # e_x × w_rot = (0, −wz, wy); beta × that = (by·wy + bz·wz, bz·0 − 0, 0 − by·0)...
+        ex_w_y = -wz_
+        ex_w_z = wy_
+        bxw_x = by_ * ex_w_z - bz_ * ex_w_y
+        bxw_y = -0.0 * ex_w_z + bz_ * 0.0
+        bxw_z = 0.0 * ex_w_y - by_ * 0.0
+        cmx += m1 + (-pfx) * bxw_x + (-pfy) * bxw_y + (-pfz) * bxw_z
         cmy += m2
         cmz += m3
         # ---- churning drag on the orbiting ball (oil–air mixture at rest)
