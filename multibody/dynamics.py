@@ -818,6 +818,20 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
 
 
 # ---------------------------------------------------------------- outputs (Python side)
+OUTPUT_UNITS = {
+    "contact_load": "N", "contact_angle": "rad", "contact_stress": "Pa", "approach": "m",
+    "entrainment_speed": "m/s", "slide_ratio": "1", "pocket_force": "N", "pocket_offset": "m",
+    "pocket_force_tangential": "N", "churning_drag": "N", "cage_land_force": "N",
+    "cage_land_force_magnitude": "N", "cage_land_torque": "N·m", "cage_rim_force": "N",
+    "cage_eccentricity_ratio": "1", "cage_speed": "rad/s", "cage_centre": "m", "cage_tilt": "rad",
+    "inner_ring_speed": "rad/s", "ring_drive_torque": "N·m", "external_load": "N",
+    "ball_position": "m, m, rad", "ball_velocity": "m/s, m/s, rad/s", "ball_angular_velocity": "rad/s",
+    "ball_orbit_speed": "rad/s", "contact_angle_outer": "rad", "contact_angle_inner_loaded": "rad",
+    "nominal_cage_speed": "rad/s", "slip_rate": "1", "film_thickness_min": "m",
+    "film_thickness_central": "m", "inner_ring_displacement": "m, m, m, rad, rad",
+}
+
+
 def new_work(model) -> np.ndarray:
     return np.zeros((model.n_balls + 1, M.N_WORK))
 
