@@ -65,7 +65,7 @@ from multibody.model import (
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
-    WC_RY, WC_A, WC_SLIP, WC_DELTA, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG,
+    WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG,
     WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
     WR_STATUS, WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE,
 )
@@ -571,6 +571,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
             work[j, wc + WC_A] = res[7]
             work[j, wc + WC_SLIP] = res[8]
             work[j, wc + WC_DELTA] = res[9]
+            work[j, wc + WC_FT] = res[12]
             if res[9] > DELTA_MAX_FRAC * dw:
                 _flag(work, zb, STATUS_DEEP_RACE, j, c, res[9])
             if res[0] > 0.0 or res[9] > 0.0:
@@ -820,7 +821,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
 # ---------------------------------------------------------------- outputs (Python side)
 OUTPUT_UNITS = {
     "contact_load": "N", "contact_angle": "rad", "contact_stress": "Pa", "approach": "m",
-    "entrainment_speed": "m/s", "slide_ratio": "1", "pocket_force": "N", "pocket_offset": "m",
+    "entrainment_speed": "m/s", "slide_ratio": "1", "traction_force": "N", "pocket_force": "N", "pocket_offset": "m",
     "pocket_force_tangential": "N", "churning_drag": "N", "cage_land_force": "N",
     "cage_land_force_magnitude": "N", "cage_land_torque": "N·m", "cage_rim_force": "N",
     "cage_eccentricity_ratio": "1", "cage_speed": "rad/s", "cage_centre": "m", "cage_tilt": "rad",
@@ -869,6 +870,7 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
         "approach": wc[:, :, WC_DELTA].copy(),
         "entrainment_speed": wc[:, :, WC_UR].copy(),
         "slide_ratio": wc[:, :, WC_SLIP].copy(),
+        "traction_force": wc[:, :, WC_FT].copy(),
         "pocket_force": work[:z, W_POCKET_Q].copy(),
         "pocket_offset": work[:z, W_POCKET_Z].copy(),
         "pocket_force_tangential": work[:z, W_POCKET_T].copy(),

@@ -108,8 +108,8 @@ N_HGRID = 201
 
 # ---------------------------------------------------------------- work array (per ball row)
 # work[j, W_*] for ball j; contacts c = 0 outer, 1 inner-left, 2 inner-right at W_C0 + c*N_WC.
-N_WC = 10
-WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA = range(N_WC)
+N_WC = 11
+WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT = range(N_WC)
 W_C0 = 0
 W_POCKET_Q = 3 * N_WC          # pocket normal force magnitude, N
 W_POCKET_Z = W_POCKET_Q + 1    # ball offset from the pocket axis, m
