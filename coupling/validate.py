@@ -11,9 +11,12 @@ cage speed (mean over the last averaging window). alpha: the mean of the loaded 
 of the outer race and of the more loaded inner half, averaged over the balls and the window
 (the ball's kinematic mean; the paper does not say which alpha it takes).
 
-Settling: the run goes in windows of `window` s (outputs every 1 ms); it stops when two
-consecutive window means of the cage speed differ by less than `settle_rel` (relative) after
-`t_min`, or at `t_max` (then `settled` is False in the row).
+Settling: the run goes in windows of `window` s (outputs every 1 ms); it stops after `t_min`
+when two consecutive window means of the cage speed differ by less than `settle_rel` (relative),
+or when they approach their limit geometrically (ratio q of successive differences in (0, 0.9))
+and the remaining change predicted by Aitken's extrapolation, d·q/(1 − q), is below `settle_rel`;
+the reported cage speed is then the extrapolated limit (a correction of at most settle_rel). At
+`t_max` the run stops regardless and `settled` is False in the row.
 
 Oil temperature: the test's oil supply temperature is not given (rig range 23–200 °C). It is the
 one parameter of this validation, passed as `oil_temperature_c`, and the same for every case;
@@ -94,12 +97,22 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
         if progress is not None:
             progress(t, means[-1])
         if t >= t_min and len(means) >= 3:
-            d1 = abs(means[-1] - means[-2]) / abs(means[-1])
-            d2 = abs(means[-2] - means[-3]) / abs(means[-1])
-            if d1 < settle_rel and d2 < settle_rel:
+            d1 = means[-1] - means[-2]
+            d0 = means[-2] - means[-3]
+            if abs(d1) < settle_rel * abs(means[-1]) and abs(d0) < settle_rel * abs(means[-1]):
                 settled = True
                 break
+            # exponential approach (Aitken): remaining change d1·q/(1 − q), q = d1/d0
+            if d0 != 0.0:
+                q = d1 / d0
+                if 0.0 < q < 0.9 and abs(d1 * q / (1.0 - q)) < settle_rel * abs(means[-1]):
+                    settled = True
+                    break
     nc = means[-1]
+    if settled and len(means) >= 3 and means[-2] != means[-3]:
+        q = (means[-1] - means[-2]) / (means[-2] - means[-3])
+        if 0.0 < q < 0.9:
+            nc = means[-1] + (means[-1] - means[-2]) * q / (1.0 - q)
     alpha = alphas[-1]
     nm = D.nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, alpha)
     slip = (nm - nc) / nm

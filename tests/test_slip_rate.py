@@ -1,0 +1,59 @@
+"""Slip-rate validation data and definitions (paper §3.2, Tables 4/5) and, marked slow, the runs.
+
+The fast tests check the transcription of Table 5 against the paper's own error column and the
+slip definition; the slow ones run the dynamic model on the cases (coupling.validate).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from coupling import validate as V
+from multibody import dynamics as D
+
+# Table 5, last column: the paper's "slip rate error" (%) = |sim − test|/test
+PAPER_ERROR_COLUMN = [6.79, 6.70, 7.45, 4.38, 5.35, 12.28, 5.37, 11.91, 7.75, 7.95, 5.04, 3.18, 4.77, 4.82, 11.46]
+
+
+def test_table5_transcription_reproduces_the_paper_error_column():
+    """Our copy of (test, simulated) slips gives the paper's error column to its rounding
+    (0.02 % points: two-decimal inputs)."""
+    cases = V.slip_rate_cases()
+    assert [c["case"] for c in cases] == list(range(1, 16))
+    for c, e in zip(cases, PAPER_ERROR_COLUMN):
+        err = 100 * abs(c["paper_slip_pct"] - c["test_slip_pct"]) / c["test_slip_pct"]
+        assert err == pytest.approx(e, abs=0.02)
+    # Table 4 loads: groups 1–3
+    assert {(c["group"], c["axial_load"], c["radial_load"]) for c in cases} == {
+        (1, 1100.0, 200.0), (2, 1500.0, 500.0), (3, 2000.0, 1000.0)}
+    # the paper's own mean error over the 15 cases (the goal to beat): 7.0 %
+    assert np.mean(PAPER_ERROR_COLUMN) == pytest.approx(7.0, abs=0.05)
+
+
+def test_nominal_cage_speed_formula():
+    """nm = 0.5·ni·(1 − Dw·cos(alpha)/dm) (paper §3.2): 10,000 rpm, alpha 30°."""
+    wi = 10000 * math.pi / 30
+    nm = D.nominal_cage_speed(wi, 0.022, 0.167, math.radians(30.0))
+    assert nm == pytest.approx(0.5 * wi * (1 - 0.022 * math.cos(math.radians(30)) / 0.167), rel=1e-15)
+    assert nm / wi == pytest.approx(0.44296, abs=1e-5)
+
+
+def test_summary_statistics():
+    rows = [dict(c, slip_pct=c["test_slip_pct"] * 1.1, error_vs_test_pct=10.0,
+                 paper_error_vs_test_pct=100 * abs(c["paper_slip_pct"] - c["test_slip_pct"]) / c["test_slip_pct"])
+            for c in V.slip_rate_cases()]
+    s = V.summarise(rows)
+    assert s["all"]["n"] == 15 and s["calibration_1_8"]["n"] == 8 and s["check_9_15"]["n"] == 7
+    assert s["all"]["mean_error_pct"] == pytest.approx(10.0)
+    assert s["all"]["paper_mean_error_pct"] == pytest.approx(np.mean(PAPER_ERROR_COLUMN), abs=0.01)
+
+
+@pytest.mark.slow
+def test_slip_rate_case_1_runs_and_settles():
+    """Case 1 (4000 rpm, 1100/200 N) at the validation oil temperature settles within 2 s and
+    gives a positive slip of the test's order (within a factor 2; the full table with its
+    errors is reported by `flexbearing validate slip-rate` / benchmarks/results/slip_rate.md)."""
+    rows = V.run_slip_rate_validation(cases=[1], quiet=True)
+    r = rows[0]
+    assert r["settled"]
+    assert 0.5 * r["test_slip_pct"] < r["slip_pct"] < 2.0 * r["test_slip_pct"]
