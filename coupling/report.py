@@ -1,0 +1,725 @@
+"""`flexbearing report`: time-history plots, per-phase tables and the cage's von Mises field of a run.
+
+    flexbearing report RUN.h5 [--compare OTHER.h5] [-o DIR] [--frames auto|t1,t2,...] [--quiet]
+
+Everything is read from the run's results file (coupling.results): the SI datasets under
+/outputs, their `unit` attributes, and the scene's TOML text under /scene, which gives the phases
+of the speed profile and the impacts. Files stay SI; only the printed tables and the plot axes use
+the engineer's units (MPa, N, µm, rpm, %) and say so.
+
+Quantities (each only when the run recorded what it needs)
+
+    outer_contact_stress   p0 at the outer-race contact of each ball          contact_stress[:, :, 0]
+    inner_contact_stress   p0 at the loaded inner-race contact of each ball   max(contact_stress[:, :, 1:])
+    pocket_force           ball–pocket normal force of each ball, |F|         pocket_force
+    guiding_force          cage–guide-land film force |(F_y, F_z)|            cage_land_force_magnitude
+    cage_rim_force         cage–rim contact force (only if ever non-zero)     cage_rim_force
+    von_mises_max          maximum von Mises stress over the cage             von_mises_max
+    film_thickness_min     minimum film thickness of each ball over its       film_thickness_min where
+                           loaded contacts (unloaded contacts carry no film)  contact_load > 0
+    slip_rate              cage slip S = (n_m - n_c)/n_m                      slip_rate
+
+Statistics over a time window W (a phase of the speed profile, an impact, or the whole run):
+
+    peak  = max over t in W and over the balls of the per-ball value (min for the film thickness;
+            for the slip rate, which changes sign, the signed value of largest magnitude)
+    mean  = mean over t in W and over the balls of the per-ball value
+
+For a per-ball quantity the mean over the balls and time equals the time average of one ball's
+signal over whole cage revolutions (every ball passes every azimuth), i.e. the "average value" of
+the paper's single-ball curves (Yang et al. 2025, §4.2, Figs. 19–21); the peak is the bearing's
+worst ball. Bearing-level quantities (guiding force, von Mises, slip) have one column. Phase
+windows are [t_start, t_end) (the last one closed); impact windows are [t_start, t_start + T] of
+the load pulse.
+
+The ParaView series (write_von_mises_xdmf) rebuilds the cage's stress field at chosen instants
+from the recorded modal coordinates in the full basis of the reduced cage file
+(fem_cage.reduced_cage):
+
+    sigma(x_v, t) = S_v q(t)      (S_v: (6, M) Voigt xx yy zz yz xz xy, Pa per unit q)
+    u(x_v, t)     = Phi_v q(t)    (Phi_v: (3, M), m per unit q)
+    sigma_vM      = sqrt(1/2[(sxx-syy)^2 + (syy-szz)^2 + (szz-sxx)^2] + 3(syz^2 + sxz^2 + sxy^2))
+
+(von Mises 1913), on the P1 tetrahedra of the file's mesh, one XDMF grid per frame.
+"""
+from __future__ import annotations
+
+import json
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from mesh.validation import InputError
+
+RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
+
+
+@dataclass(frozen=True)
+class Quantity:
+    key: str             # name in tables and file names
+    label: str           # axis / table label
+    unit: str            # SI unit of the arrays
+    display_unit: str    # printed unit
+    scale: float         # SI -> display
+    extreme: str         # "max" (peak = largest value) | "min" (film: smallest) | "absmax"
+                         # (slip: the signed value of largest magnitude)
+    per_ball: bool       # one column per ball (envelope + ball 1 in plots)
+
+
+QUANTITIES = (
+    Quantity("outer_contact_stress", "Outer-race contact stress", "Pa", "MPa", 1e-6, "max", True),
+    Quantity("inner_contact_stress", "Inner-race contact stress", "Pa", "MPa", 1e-6, "max", True),
+    Quantity("pocket_force", "Pocket force", "N", "N", 1.0, "max", True),
+    Quantity("guiding_force", "Guiding force", "N", "N", 1.0, "max", False),
+    Quantity("cage_rim_force", "Cage rim contact force", "N", "N", 1.0, "max", False),
+    Quantity("von_mises_max", "Max. von Mises stress of the cage", "Pa", "MPa", 1e-6, "max", False),
+    Quantity("film_thickness_min", "Minimum film thickness", "m", "µm", 1e6, "min", True),
+    Quantity("slip_rate", "Cage slip rate", "1", "%", 100.0, "absmax", False),
+)
+QUANTITY = {q.key: q for q in QUANTITIES}
+
+
+# ---------------------------------------------------------------- reading a run
+
+def _check_run(path) -> Path:
+    import h5py
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"run file {str(path)!r} does not exist (a results file written by "
+                         f"`flexbearing run`, .h5)")
+    try:
+        with h5py.File(path, "r") as f:
+            fmt = f.attrs.get("format")
+            ok = "outputs/time" in f
+    except OSError as exc:
+        raise InputError(f"run file {str(path)!r} is not an HDF5 file ({exc})") from None
+    if fmt != "flexbearing-results" or not ok:
+        raise InputError(f"{path} is not a flexbearing results file (format attribute {fmt!r}, "
+                         f"expected 'flexbearing-results' with /outputs/time)")
+    return path
+
+
+def run_scene(f):
+    """The Scene a run was made from (its stored TOML text), or None if it cannot be parsed."""
+    from coupling.scene import loads_scene, parse_scene
+    if "scene" not in f:
+        return None
+    raw = f["scene"][()]
+    text = raw.decode() if isinstance(raw, bytes) else str(raw)
+    try:
+        return loads_scene(text, str(f.attrs.get("scene_path", "")))
+    except Exception:
+        pass
+    try:   # results.py stores the parsed scene as JSON when it has no TOML text (case sets)
+        return parse_scene(json.loads(text), path=str(f.attrs.get("scene_path", "")))
+    except Exception:
+        return None
+
+
+def _kind(w0: float, w1: float) -> str:
+    if abs(w1 - w0) <= 1e-9 * max(abs(w0), abs(w1), 1.0):
+        return "uniform speed"
+    return "acceleration" if w1 > w0 else "deceleration"
+
+
+def speed_phases(scene, duration: float | None = None) -> list[dict]:
+    """Phases of the speed profile: [{label, kind, t_start, t_end, speed_start_rpm, speed_end_rpm}].
+
+    From the scene's `phases` list when it has one (one phase each); from a `table_rpm` the
+    segments between knots, consecutive segments of the same kind (acceleration, uniform speed,
+    deceleration) merged, plus the constant speed after the last knot up to the duration."""
+    duration = scene.duration if duration is None else duration
+    tab = np.asarray(scene.speed_table)
+    segs = []
+    for i in range(len(tab) - 1):
+        segs.append([tab[i, 0], tab[i + 1, 0], tab[i, 1], tab[i + 1, 1]])
+    if tab[-1, 0] < duration - 1e-12:
+        segs.append([tab[-1, 0], duration, tab[-1, 1], tab[-1, 1]])
+    from_phases = "phases" in scene.data.get("operation", {}).get("speed", {})
+    merged = []
+    for s in segs:
+        k = _kind(s[2], s[3])
+        if merged and not from_phases and merged[-1][4] == k:
+            merged[-1][1], merged[-1][3] = s[1], s[3]
+        else:
+            merged.append(s + [k])
+    out = []
+    for t0, t1, w0, w1, k in merged:
+        r0, r1 = w0 * RPM_PER_RAD_S, w1 * RPM_PER_RAD_S
+        speed = f"{r0:,.0f} rpm" if k == "uniform speed" else f"{r0:,.0f}→{r1:,.0f} rpm"
+        out.append({"label": f"{k} {speed}", "kind": k, "t_start": float(t0), "t_end": float(t1),
+                    "speed_start_rpm": float(r0), "speed_end_rpm": float(r1)})
+    return out
+
+
+def impact_windows(scene) -> list[dict]:
+    """Impacts of the load spectrum: [{label, kind, t_start, t_end, t_peak, magnitude}] (s, N);
+    t_peak is the centre of the pulse (the maximum of a half-sine)."""
+    out = []
+    for i, (t0, T, fx, fy, fz, _shape) in enumerate(np.asarray(scene.impacts).reshape(-1, 6)):
+        mag = float(math.sqrt(fx * fx + fy * fy + fz * fz))
+        out.append({"label": f"impact {i + 1} ({mag / 1e3:g} kN at {t0 + 0.5 * T:g} s)", "kind": "impact",
+                    "t_start": float(t0), "t_end": float(t0 + T), "t_peak": float(t0 + 0.5 * T),
+                    "magnitude": mag})
+    return out
+
+
+def _nanreduce(func, a, axis):
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return func(a, axis=axis)
+
+
+def quantity_arrays(outputs) -> dict[str, np.ndarray]:
+    """The report's quantities (module doc) as (n, k) float arrays in SI, k = balls or 1, from a
+    mapping of recorded outputs (an h5py group or a dict of arrays); absent ones are left out.
+    NaN marks a value that does not exist at that instant (e.g. a ball with no loaded contact)."""
+    def get(name):
+        return np.asarray(outputs[name][...], dtype=np.float64) if name in outputs else None
+
+    q = {}
+    cs = get("contact_stress")
+    if cs is not None and cs.ndim == 3:
+        q["outer_contact_stress"] = cs[:, :, 0]
+        if cs.shape[2] > 1:
+            q["inner_contact_stress"] = cs[:, :, 1:].max(axis=2)
+    pf = get("pocket_force")
+    if pf is not None:
+        q["pocket_force"] = np.abs(pf.reshape(pf.shape[0], -1))
+    land = get("cage_land_force_magnitude")
+    if land is None and "cage_land_force" in outputs:
+        lf = get("cage_land_force")
+        land = np.hypot(lf[:, 0], lf[:, 1])
+    if land is not None:
+        q["guiding_force"] = land.reshape(-1, 1)
+    rim = get("cage_rim_force")
+    if rim is not None and np.any(rim != 0.0):
+        q["cage_rim_force"] = np.abs(rim.reshape(-1, 1))
+    vm = get("von_mises_max")
+    if vm is not None:
+        q["von_mises_max"] = vm.reshape(-1, 1)
+    film = get("film_thickness_min")
+    if film is not None and film.ndim == 3:
+        load = get("contact_load")
+        loaded = (load > 0.0) if load is not None and load.shape == film.shape else (film > 0.0)
+        h = np.where(loaded & np.isfinite(film), film, np.nan)
+        q["film_thickness_min"] = _nanreduce(np.nanmin, h, 2)
+    slip = get("slip_rate")
+    if slip is not None:
+        q["slip_rate"] = slip.reshape(-1, 1)
+    return q
+
+
+def envelope(key: str, a: np.ndarray) -> np.ndarray:
+    """Per-sample worst ball: max over the balls (min for the film thickness)."""
+    f = np.nanmin if QUANTITY[key].extreme == "min" else np.nanmax
+    return _nanreduce(f, a, 1)
+
+
+def window_mask(t: np.ndarray, t0: float, t1: float, closed: bool, dt: float) -> np.ndarray:
+    """Samples with t0 <= t < t1 (t <= t1 when closed); tolerance dt·1e-6 on sample times."""
+    eps = 1e-6 * dt
+    return (t >= t0 - eps) & ((t <= t1 + eps) if closed else (t < t1 - eps))
+
+
+def window_stats(t: np.ndarray, arrays: dict, mask: np.ndarray) -> dict:
+    """peak / mean (module doc) and the time of the peak of every quantity over the masked samples."""
+    row = {"n_samples": int(mask.sum())}
+    idx = np.flatnonzero(mask)
+    for key, a in arrays.items():
+        qd = QUANTITY[key]
+        sub = a[idx]
+        ext = "min" if qd.extreme == "min" else "peak"
+        ok = np.isfinite(sub)
+        if not ok.any():
+            row[f"{key}_{ext}"] = row[f"{key}_mean"] = row[f"{key}_t_{ext}"] = None
+            continue
+        env = envelope(key, sub)
+        j = int(np.nanargmin(env) if qd.extreme == "min" else
+                np.nanargmax(np.abs(env)) if qd.extreme == "absmax" else np.nanargmax(env))
+        row[f"{key}_{ext}"] = float(env[j])
+        row[f"{key}_t_{ext}"] = float(t[idx[j]])
+        row[f"{key}_mean"] = float(sub[ok].mean())
+    return row
+
+
+def phase_table(run_h5, include_impacts: bool = True) -> list[dict]:
+    """Per-window statistics of the report's quantities (SI; speeds in rpm as the keys say).
+
+    Rows: the whole run, each phase of the speed profile, then each impact window. A row has
+    label, kind ("run" | "acceleration" | "uniform speed" | "deceleration" | "impact"), t_start,
+    t_end [s], n_samples and for every recorded quantity <key>_peak (<key>_min for the film),
+    <key>_mean and the time of the peak <key>_t_peak (module doc for the definitions)."""
+    import h5py
+    path = _check_run(run_h5)
+    with h5py.File(path, "r") as f:
+        t = f["outputs/time"][...]
+        arrays = quantity_arrays(f["outputs"])
+        scene = run_scene(f)
+        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+    if len(t) == 0:
+        return []
+    t_end = float(t[-1])
+    rows = [{"label": "whole run", "kind": "run", "t_start": float(t[0]), "t_end": t_end}]
+    rows[0].update(window_stats(t, arrays, np.ones(len(t), bool)))
+    if scene is not None:
+        phases = speed_phases(scene)
+        for i, ph in enumerate(phases):
+            if ph["t_start"] > t_end + 1e-6 * dt:
+                break            # an interrupted run: phases it never reached are left out
+            mask = window_mask(t, ph["t_start"], ph["t_end"], i == len(phases) - 1, dt)
+            rows.append({**ph, **window_stats(t, arrays, mask)})
+        if include_impacts:
+            for imp in impact_windows(scene):
+                if imp["t_start"] > t_end + 1e-6 * dt:
+                    continue
+                mask = window_mask(t, imp["t_start"], imp["t_end"], True, dt)
+                rows.append({**imp, **window_stats(t, arrays, mask)})
+    return rows
+
+
+# ---------------------------------------------------------------- plots
+
+def _run_data(path):
+    import h5py
+    with h5py.File(path, "r") as f:
+        t = f["outputs/time"][...]
+        arrays = quantity_arrays(f["outputs"])
+        speed = {k: f["outputs"][k][...] for k in ("inner_ring_speed", "cage_speed", "nominal_cage_speed")
+                 if k in f["outputs"]}
+        scene = run_scene(f)
+        name = str(f.attrs.get("scene_name", Path(path).stem))
+        status = str(f.attrs.get("status", ""))
+        cage = str(f.attrs.get("cage_model", ""))
+    phases = speed_phases(scene) if scene is not None else []
+    impacts = impact_windows(scene) if scene is not None else []
+    return {"t": t, "arrays": arrays, "speed": speed, "phases": phases, "impacts": impacts,
+            "name": name, "status": status, "cage_model": cage, "path": Path(path)}
+
+
+def _style():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    plt.rcParams.update({"font.size": 9, "axes.titlesize": 10, "axes.labelsize": 9,
+                         "legend.fontsize": 7.5, "xtick.direction": "in", "ytick.direction": "in",
+                         "xtick.top": True, "ytick.right": True, "axes.grid": True,
+                         "grid.alpha": 0.25, "grid.linewidth": 0.5, "savefig.dpi": 150,
+                         "lines.linewidth": 0.9})
+    return plt
+
+
+def _decorate(ax, data, small=False):
+    """Shade and label the phases of the speed profile, mark the impact instants."""
+    import matplotlib.transforms as mtransforms
+    trans = mtransforms.blended_transform_factory(ax.transData, ax.transAxes)
+    fs = 6 if small else 7
+    for i, ph in enumerate(data["phases"]):
+        if len(data["phases"]) > 1 and i % 2 == 0:
+            ax.axvspan(ph["t_start"], ph["t_end"], color="0.5", alpha=0.08, lw=0, zorder=0)
+        if len(data["phases"]) > 1 or not small:
+            kind = ph["kind"].replace("uniform speed", "uniform")
+            rpm = (f"{ph['speed_start_rpm']:,.0f} rpm" if ph["kind"] == "uniform speed" else
+                   f"{ph['speed_start_rpm']:,.0f}→{ph['speed_end_rpm']:,.0f} rpm")
+            ax.text(0.5 * (ph["t_start"] + ph["t_end"]), 0.985, f"{kind}\n{rpm}", transform=trans,
+                    ha="center", va="top", fontsize=fs, color="0.25", zorder=5,
+                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.7))
+        if i > 0:
+            ax.axvline(ph["t_start"], color="0.55", lw=0.6, ls="-", zorder=1)
+    for j, imp in enumerate(data["impacts"]):
+        ax.axvline(imp["t_peak"], color="tab:red", lw=0.8, ls=(0, (3, 2)), zorder=1,
+                   label="impact (load peak)" if j == 0 else None)
+        ax.text(imp["t_peak"], 0.02, f" I{j + 1}", transform=trans, color="tab:red", fontsize=fs,
+                ha="left", va="bottom")
+    if data["t"].size:
+        ax.set_xlim(float(data["t"][0]), float(data["t"][-1]))
+
+
+def _plot_quantity(ax, key, data, compare, small=False):
+    qd = QUANTITY[key]
+    a = data["arrays"][key]
+    t = data["t"]
+    if compare is not None and key in compare["arrays"]:
+        ax.plot(compare["t"], envelope(key, compare["arrays"][key]) * qd.scale, color="0.6", lw=0.7,
+                label=f"{compare['name']}: worst ball" if qd.per_ball else compare["name"], zorder=2)
+    if qd.per_ball:
+        ax.plot(t, a[:, 0] * qd.scale, color="tab:orange", lw=0.5, alpha=0.8, label="ball 1", zorder=3)
+        ax.plot(t, envelope(key, a) * qd.scale, color="tab:blue", lw=0.9, zorder=4,
+                label=f"{data['name']}: worst ball ({'min' if qd.extreme == 'min' else 'max'} over balls)")
+    else:
+        ax.plot(t, a[:, 0] * qd.scale, color="tab:blue", lw=0.9, label=data["name"], zorder=4)
+    _decorate(ax, data, small)
+    ax.set_ylabel(f"{qd.label} ({qd.display_unit})" if not small else f"{qd.label}\n({qd.display_unit})")
+    # headroom for the phase labels
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + 0.22 * (hi - lo))
+
+
+def _plot_speed(ax, data, compare, small=False):
+    sp = data["speed"]
+    if compare is not None and "inner_ring_speed" in compare["speed"]:
+        ax.plot(compare["t"], compare["speed"]["inner_ring_speed"] * RPM_PER_RAD_S, color="0.6", lw=0.7,
+                label=f"{compare['name']}: inner ring")
+    if "inner_ring_speed" in sp:
+        ax.plot(data["t"], sp["inner_ring_speed"] * RPM_PER_RAD_S, color="k", lw=1.0, label="inner ring")
+    if "cage_speed" in sp:
+        ax.plot(data["t"], sp["cage_speed"] * RPM_PER_RAD_S, color="tab:blue", lw=0.8, label="cage")
+    if "nominal_cage_speed" in sp:
+        ax.plot(data["t"], sp["nominal_cage_speed"] * RPM_PER_RAD_S, color="tab:blue", lw=0.8,
+                ls="--", label="cage, no slip (n_m)")
+    _decorate(ax, data, small)
+    ax.set_ylabel("Speed (rpm)")
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + 0.22 * (hi - lo))
+
+
+def write_plots(run_h5, out_dir, compare=None) -> list[Path]:
+    """One PNG per recorded quantity (time history, phases shaded and labelled, impacts marked;
+    the `compare` run overlaid in grey), speed.png, and overview.png with all of them."""
+    path = _check_run(run_h5)
+    data = _run_data(path)
+    cmp_data = _run_data(_check_run(compare)) if compare is not None else None
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    plt = _style()
+    keys = [q.key for q in QUANTITIES if q.key in data["arrays"]]
+    written = []
+    title = f"{data['name']} ({data['cage_model']} cage)" + (f" vs {cmp_data['name']}" if cmp_data else "")
+    if data["status"] and data["status"] != "complete":
+        title += f" — run status: {data['status']}"
+    if data["speed"]:
+        fig, ax = plt.subplots(figsize=(7.0, 3.6), layout="constrained")
+        _plot_speed(ax, data, cmp_data)
+        ax.set_xlabel("Time (s)")
+        ax.set_title(title)
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+        written.append(out_dir / "speed.png")
+        fig.savefig(written[-1])
+        plt.close(fig)
+    for key in keys:
+        fig, ax = plt.subplots(figsize=(7.0, 3.6), layout="constrained")
+        _plot_quantity(ax, key, data, cmp_data)
+        ax.set_xlabel("Time (s)")
+        ax.set_title(title)
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+        written.append(out_dir / f"{key}.png")
+        fig.savefig(written[-1])
+        plt.close(fig)
+    panels = (["speed"] if data["speed"] else []) + keys
+    if panels:
+        ncol = 2 if len(panels) > 3 else 1
+        nrow = math.ceil(len(panels) / ncol)
+        height = 2.3 * nrow + 0.9
+        fig, axes = plt.subplots(nrow, ncol, figsize=(11.0, height), sharex=True, squeeze=False)
+        for ax, key in zip(axes.flat, panels):
+            if key == "speed":
+                _plot_speed(ax, data, cmp_data, small=True)
+            else:
+                _plot_quantity(ax, key, data, cmp_data, small=True)
+        for ax in axes.flat[len(panels):]:
+            ax.set_visible(False)
+        for ax in axes[-1]:
+            ax.set_xlabel("Time (s)")
+        if len(panels) % ncol:
+            axes[-2, -1].xaxis.set_tick_params(labelbottom=True)
+            axes[-2, -1].set_xlabel("Time (s)")
+        handles, labels = [], []
+        for ax in axes.flat[:len(panels)]:
+            for h, lab in zip(*ax.get_legend_handles_labels()):
+                if lab not in labels:
+                    handles.append(h)
+                    labels.append(lab)
+        fig.suptitle(title)
+        # matplotlib 3.6: constrained layout ignores figure legends, so reserve the strip by hand
+        fig.tight_layout(rect=(0.0, 0.45 / height, 1.0, 1.0 - 0.1 / height))
+        fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 5), fontsize=7.5,
+                   frameon=False)
+        written.append(out_dir / "overview.png")
+        fig.savefig(written[-1])
+        plt.close(fig)
+    return written
+
+
+# ---------------------------------------------------------------- von Mises field for ParaView
+
+def von_mises(sigma: np.ndarray) -> np.ndarray:
+    """sigma_vM of Voigt stresses (..., 6) = (xx, yy, zz, yz, xz, xy) (von Mises 1913):
+    sqrt(1/2[(sxx-syy)^2 + (syy-szz)^2 + (szz-sxx)^2] + 3(syz^2 + sxz^2 + sxy^2))."""
+    s = np.asarray(sigma)
+    xx, yy, zz, yz, xz, xy = (s[..., i] for i in range(6))
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2) + 3.0 * (yz ** 2 + xz ** 2 + xy ** 2))
+
+
+def auto_frames(t: np.ndarray, vm: np.ndarray, phases: list[dict], impacts: list[dict],
+                dt: float) -> list[tuple[int, str]]:
+    """Sample indices of the default frames with the reason: the instant of maximum von Mises in
+    each phase of the speed profile and in each impact window (the impact's stress peak); the
+    whole run's maximum when the scene has neither. Sorted by time, duplicates merged."""
+    picks: dict[int, list[str]] = {}
+    windows = [(ph["label"], ph["t_start"], ph["t_end"], i == len(phases) - 1) for i, ph in enumerate(phases)]
+    windows += [(imp["label"], imp["t_start"], imp["t_end"], True) for imp in impacts]
+    if not windows:
+        windows = [("whole run", float(t[0]), float(t[-1]), True)]
+    for label, t0, t1, closed in windows:
+        idx = np.flatnonzero(window_mask(t, t0, t1, closed, dt) & np.isfinite(vm))
+        if idx.size:
+            k = int(idx[np.argmax(vm[idx])])
+            picks.setdefault(k, []).append(f"max von Mises in {label}")
+    return [(k, "; ".join(picks[k])) for k in sorted(picks)]
+
+
+def _parse_frames(frames, t: np.ndarray, dt: float):
+    """'auto' | 't1,t2,...' | sequence of floats -> None (auto) or sorted unique sample indices."""
+    if frames is None or (isinstance(frames, str) and frames.strip() == "auto"):
+        return None
+    if isinstance(frames, str):
+        try:
+            times = [float(s) for s in frames.split(",") if s.strip()]
+        except ValueError:
+            raise InputError(f"--frames = {frames!r} must be 'auto' or times in s separated by "
+                             f"commas, e.g. 0.1,0.3") from None
+    else:
+        times = [float(x) for x in frames]
+    if not times:
+        raise InputError(f"--frames = {frames!r} lists no time (give 'auto' or t1,t2,... in s)")
+    out = []
+    for x in times:
+        if not (t[0] - 0.5 * dt <= x <= t[-1] + 0.5 * dt):
+            raise InputError(f"--frames: t = {x:g} s is outside the run (allowed range "
+                             f"[{t[0]:g}, {t[-1]:g}] s)")
+        out.append(int(np.argmin(np.abs(t - x))))
+    return sorted(set(out))
+
+
+def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> Path:
+    """ParaView series of the cage's von Mises field: <out_dir>/von_mises.xdmf (+ .h5, + .json).
+
+    P1 tetrahedra of the reduced cage file's mesh; point data "von_mises" (Pa) and
+    "displacement" (m, elastic deformation in the cage's body frame) rebuilt from the recorded
+    modal coordinates (module doc); one grid per frame, time value = the sample time (s).
+    frames: "auto" (auto_frames), "t1,t2,..." or a list of times in s (nearest samples).
+    reduced_cage: path of the reduced cage file (default: the run's attribute reduced_cage_file).
+    The JSON sidecar lists each frame's time, reason, the recorded max von Mises and the field's
+    maximum over the vertices (they agree when the run's evaluator used the same nodal modes)."""
+    import h5py
+    import meshio
+
+    from fem_cage.reduced_cage import file_sha256, read
+    path = _check_run(run_h5)
+    with h5py.File(path, "r") as f:
+        out = f["outputs"]
+        if "cage_modal_coordinates_full" not in out:
+            raise InputError(f"{path}: no /outputs/cage_modal_coordinates_full (a flexible-cage run "
+                             f"recording von_mises has it; cage model of this run: "
+                             f"{f.attrs.get('cage_model', '?')!r})")
+        t = out["time"][...]
+        vm_rec = out["von_mises_max"][...] if "von_mises_max" in out else None
+        rc_path = reduced_cage or f.attrs.get("reduced_cage_file")
+        rc_hash = str(f.attrs.get("reduced_cage_hash", ""))
+        scene = run_scene(f)
+        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+        idx = _parse_frames(frames, t, dt)
+        reasons = {}
+        if idx is None:
+            if vm_rec is None:
+                raise InputError(f"--frames auto needs /outputs/von_mises_max in {path}; give times "
+                                 f"instead (--frames t1,t2,...)")
+            picks = auto_frames(t, vm_rec, speed_phases(scene) if scene else [],
+                                impact_windows(scene) if scene else [], dt)
+            idx = [k for k, _ in picks]
+            reasons = dict(picks)
+        q_full = out["cage_modal_coordinates_full"][idx, :] if idx else np.zeros((0, 0))
+    if rc_path is None or not Path(str(rc_path)).is_file():
+        raise InputError(f"reduced cage file {rc_path!r} of {path} not found (pass its path: "
+                         f"flexbearing report ... --reduced-cage FILE)")
+    rc = read(rc_path)
+    hash_note = "not recorded"
+    if rc_hash:
+        known = {str(rc.attrs.get("content_hash", "")), file_sha256(rc_path)}
+        hash_note = "matches" if any(h and (h == rc_hash or h.startswith(rc_hash) or rc_hash.startswith(h))
+                                     for h in known) else f"MISMATCH (run: {rc_hash})"
+    M = rc.stress_modes.shape[2]
+    if q_full.shape[1] != M:
+        raise InputError(f"{path}: cage_modal_coordinates_full has {q_full.shape[1]} modes, the reduced "
+                         f"cage file {rc_path} has {M} (allowed: equal); wrong reduced cage file?")
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    xdmf = out_dir / "von_mises.xdmf"
+    meta = {"run": str(path), "reduced_cage_file": str(rc_path), "reduced_cage_hash": hash_note,
+            "fields": {"von_mises": "Pa", "displacement": "m (elastic, cage body frame)"}, "frames": []}
+    with meshio.xdmf.TimeSeriesWriter(str(xdmf)) as w:
+        w.write_points_cells(np.asarray(rc.vertices, dtype=np.float64),
+                             [("tetra", np.asarray(rc.tets, dtype=np.int64))])
+        for k, q in zip(idx, q_full):
+            sigma = rc.stress_modes @ q                 # (Nv, 6) Pa
+            u = rc.vertex_displacement @ q              # (Nv, 3) m
+            vm = von_mises(sigma)
+            w.write_data(float(t[k]), point_data={"von_mises": vm, "displacement": u})
+            meta["frames"].append({"time": float(t[k]), "sample": int(k), "reason": reasons.get(k, "requested"),
+                                   "field_max_von_mises": float(vm.max()),
+                                   "field_max_vertex": int(vm.argmax()),
+                                   "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[k])})
+    xdmf.with_suffix(".json").write_text(json.dumps(meta, indent=1) + "\n")
+    return xdmf
+
+
+# ---------------------------------------------------------------- report.md
+
+def _fmt(v, scale: float) -> str:
+    if v is None or not np.isfinite(v):
+        return "–"
+    x = v * scale
+    ax = abs(x)
+    if ax >= 100:
+        return f"{x:,.0f}"
+    if ax >= 10:
+        return f"{x:.1f}"
+    return f"{x:.2f}" if ax >= 0.1 or x == 0 else f"{x:.3g}"
+
+
+def _stat_rows(keys) -> list[tuple[str, str, Quantity]]:
+    rows = []
+    for k in keys:
+        qd = QUANTITY[k]
+        ext = "min" if qd.extreme == "min" else "peak"
+        rows.append((f"{qd.label}, {ext} ({qd.display_unit})", f"{k}_{ext}", qd))
+        rows.append((f"{qd.label}, mean ({qd.display_unit})", f"{k}_mean", qd))
+    return rows
+
+
+def _markdown_table(columns: list[tuple[str, dict]], keys, increase_from: int | None = None) -> str:
+    head = ["quantity"] + [c for c, _ in columns]
+    if increase_from is not None:
+        head.append(f"change vs {columns[increase_from][0]}")
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" + "---:|" * (len(head) - 1)]
+    for label, field, qd in _stat_rows(keys):
+        cells = [label] + [_fmt(row.get(field), qd.scale) for _, row in columns]
+        if increase_from is not None:
+            a, b = columns[increase_from][1].get(field), columns[-1][1].get(field)
+            cells.append(f"{100 * (b - a) / abs(a):+.1f} %" if a and b is not None and a != 0 else "–")
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _col_name(row: dict) -> str:
+    if row["kind"] == "run":
+        return f"whole run {row['t_start']:g}–{row['t_end']:g} s"
+    if row["kind"] == "impact":
+        return f"{row['label'].split(' (')[0]}, {row['t_start']:g}–{row['t_end']:g} s"
+    return f"{row['label']}, {row['t_start']:g}–{row['t_end']:g} s"
+
+
+def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
+                 quiet: bool = True) -> dict:
+    """Plots, the per-phase table (report.md, report.json) and, for a flexible-cage run, the von
+    Mises XDMF series. Returns {"report", "json", "plots", "xdmf"} paths (xdmf None if not written)."""
+    import h5py
+    path = _check_run(run_h5)
+    cmp_path = _check_run(compare) if compare is not None else None
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    rows = phase_table(path)
+    cmp_rows = phase_table(cmp_path) if cmp_path else None
+    say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    say(f"report: plots of {path.name} -> {out_dir}")
+    plots = write_plots(path, out_dir, compare=cmp_path)
+    with h5py.File(path, "r") as f:
+        name = str(f.attrs.get("scene_name", path.stem))
+        status = str(f.attrs.get("status", ""))
+        cage = str(f.attrs.get("cage_model", ""))
+        flexible = "cage_modal_coordinates_full" in f["outputs"]
+    cmp_name = None
+    if cmp_path:
+        with h5py.File(cmp_path, "r") as f:
+            cmp_name = str(f.attrs.get("scene_name", cmp_path.stem))
+    xdmf, xdmf_note = None, "not written: the run has no flexible-cage modal coordinates (rigid cage)."
+    if flexible:
+        try:
+            say("report: von Mises XDMF series")
+            xdmf = write_von_mises_xdmf(path, out_dir, frames, reduced_cage=reduced_cage)
+            xdmf_note = f"`{xdmf.name}` (+ `{xdmf.with_suffix('.h5').name}`; frames in `{xdmf.with_suffix('.json').name}`)"
+        except InputError as exc:
+            xdmf_note = f"not written: {exc}"
+            say(f"report: {xdmf_note}")
+    keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
+    md = [f"# Run report: {name}", "",
+          f"- results file: `{path}` (status: {status}, cage: {cage}, "
+          f"{rows[0]['n_samples'] if rows else 0} samples, {rows[0]['t_start'] if rows else 0:g}–"
+          f"{rows[0]['t_end'] if rows else 0:g} s)"]
+    if cmp_path:
+        md.append(f"- compared with: `{cmp_path}` ({cmp_name})")
+    md += ["- source: the SI datasets of the results file (Pa, N, m, rad/s, 1); shown here in MPa, N, "
+           "µm, rpm and %. Machine-readable SI values: `report.json`.",
+           "- peak = maximum over the window and over the balls (the worst ball); min for the film "
+           "thickness; for the slip rate the signed value of largest magnitude. mean = mean over the window and over the balls (= one ball's time average over "
+           "whole cage revolutions, the paper's \"average value\"). Inner-race contact stress: the "
+           "loaded one of the two inner halves; film: the smallest over a ball's loaded contacts; "
+           "guiding force: cage–land film force magnitude.",
+           "- phase windows [t_start, t_end), the last one closed; impact windows = the load pulse.", ""]
+    if cmp_rows:
+        md += [f"## {cmp_name} vs {name} (whole runs)", "",
+               _markdown_table([(cmp_name, cmp_rows[0]), (name, rows[0])], keys, increase_from=0), ""]
+    if rows:
+        md += [f"## {name}: per phase of the speed profile and per impact", "",
+               _markdown_table([(_col_name(r), r) for r in rows], keys), ""]
+        peaks = [(r["label"], r.get(f"{k}_t_peak")) for r in rows[1:] for k in ("von_mises_max",)
+                 if r.get(f"{k}_t_peak") is not None]
+        if peaks:
+            md += ["Instants of maximum von Mises stress: " + "; ".join(f"{lab}: {tp:g} s" for lab, tp in peaks), ""]
+    if cmp_rows and len(cmp_rows) > 2:
+        md += [f"## {cmp_name}: per phase", "", _markdown_table([(_col_name(r), r) for r in cmp_rows], keys), ""]
+    md += ["## Plots", ""] + [f"![{p.stem}]({p.name})" for p in plots] + [""]
+    md += ["## Cage von Mises field (ParaView)", "", xdmf_note, ""]
+    report = out_dir / "report.md"
+    report.write_text("\n".join(md))
+    js = out_dir / "report.json"
+    js.write_text(json.dumps({"run": str(path), "scene": name, "status": status, "units": {
+        q.key: q.unit for q in QUANTITIES}, "phases": rows, "compare": str(cmp_path) if cmp_path else None,
+        "compare_phases": cmp_rows}, indent=1, allow_nan=False, default=float) + "\n")
+    return {"report": report, "json": js, "plots": plots, "xdmf": xdmf}
+
+
+def print_table(rows: list[dict], file=sys.stdout) -> None:
+    keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
+    w = max(len(lab) for lab, _, _ in _stat_rows(keys)) if keys else 10
+    for r in rows:
+        print(f"{_col_name(r)}  ({r['n_samples']} samples)", file=file)
+        for lab, field, qd in _stat_rows(keys):
+            print(f"  {lab:<{w}}  {_fmt(r.get(field), qd.scale):>10}", file=file)
+
+
+# ---------------------------------------------------------------- CLI
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("report", help="plots, per-phase tables and the cage's von Mises field of a run",
+                              description="Report of a run: one PNG per quantity and an overview, "
+                                          "report.md/report.json with peak and mean per phase of the "
+                                          "speed profile and per impact, and (flexible cage) a ParaView "
+                                          "XDMF series of the cage's von Mises field.")
+    p.add_argument("run", help="results file of `flexbearing run` (.h5)")
+    p.add_argument("--compare", metavar="OTHER.h5", help="overlay and tabulate another run beside it "
+                                                         "(e.g. the steady scene)")
+    p.add_argument("-o", "--output", metavar="DIR", help="output folder (default: <run>_report beside the run)")
+    p.add_argument("--frames", default="auto", help="von Mises frames: auto (max in each phase and each "
+                                                   "impact) or times in s, e.g. 0.1,0.3")
+    p.add_argument("--reduced-cage", metavar="FILE", help="reduced cage file (default: the one the run names)")
+    p.add_argument("--quiet", action="store_true", help="print only the written paths")
+    p.set_defaults(func=cmd_report)
+
+
+def cmd_report(args) -> int:
+    run = Path(args.run)
+    out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
+    res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
+                       reduced_cage=args.reduced_cage, quiet=args.quiet)
+    if not args.quiet:
+        print_table(json.loads(res["json"].read_text())["phases"])
+    print(f"report: {res['report']}")
+    print(f"plots:  {len(res['plots'])} PNG in {out_dir}")
+    if res["xdmf"]:
+        print(f"xdmf:   {res['xdmf']}")
+    return 0
