@@ -506,7 +506,6 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
     The JSON sidecar lists each frame's time, reason, the recorded max von Mises and the field's
     maximum over the vertices (they agree when the run's evaluator used the same nodal modes)."""
     import h5py
-    import meshio
 
     from fem_cage.reduced_cage import file_sha256, read
     path = _check_run(run_h5)
@@ -551,19 +550,61 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
     xdmf = out_dir / "von_mises.xdmf"
     meta = {"run": str(path), "reduced_cage_file": str(rc_path), "reduced_cage_hash": hash_note,
             "fields": {"von_mises": "Pa", "displacement": "m (elastic, cage body frame)"}, "frames": []}
-    with meshio.xdmf.TimeSeriesWriter(str(xdmf)) as w:
-        w.write_points_cells(np.asarray(rc.vertices, dtype=np.float64),
-                             [("tetra", np.asarray(rc.tets, dtype=np.int64))])
-        for k, q in zip(idx, q_full):
-            sigma = rc.stress_modes @ q                 # (Nv, 6) Pa
-            u = rc.vertex_displacement @ q              # (Nv, 3) m
-            vm = von_mises(sigma)
-            w.write_data(float(t[k]), point_data={"von_mises": vm, "displacement": u})
-            meta["frames"].append({"time": float(t[k]), "sample": int(k), "reason": reasons.get(k, "requested"),
-                                   "field_max_von_mises": float(vm.max()),
-                                   "field_max_vertex": int(vm.argmax()),
-                                   "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[k])})
+    fields = []
+    for k, q in zip(idx, q_full):
+        sigma = rc.stress_modes @ q                 # (Nv, 6) Pa
+        vm = von_mises(sigma)
+        fields.append((float(t[k]), vm, rc.vertex_displacement @ q))   # u: (Nv, 3) m
+        meta["frames"].append({"time": float(t[k]), "sample": int(k), "reason": reasons.get(k, "requested"),
+                               "field_max_von_mises": float(vm.max()), "field_max_vertex": int(vm.argmax()),
+                               "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[k])})
+    write_xdmf_series(xdmf, rc.vertices, rc.tets, fields)
     xdmf.with_suffix(".json").write_text(json.dumps(meta, indent=1) + "\n")
+    return xdmf
+
+
+def write_xdmf_series(xdmf, vertices, tets, frames) -> Path:
+    """XDMF 3 temporal collection of P1 tetrahedra with point data, heavy data in <stem>.h5 beside it.
+
+    frames: [(t, von_mises (Nv,), displacement (Nv, 3)), ...]. Every time grid carries its own
+    Topology/Geometry items pointing at the same /mesh datasets (plain XDMF, no XInclude), so
+    ParaView (Xdmf3 reader) and meshio.xdmf.TimeSeriesReader both read it. Written by hand: meshio
+    5.0's TimeSeriesWriter puts the .h5 in the current directory instead of beside the .xdmf."""
+    import xml.etree.ElementTree as ET
+
+    import h5py
+    xdmf = Path(xdmf)
+    h5 = xdmf.with_suffix(".h5")
+    vertices = np.ascontiguousarray(vertices, dtype=np.float64)
+    tets = np.ascontiguousarray(tets, dtype=np.int64)
+    with h5py.File(h5, "w") as f:
+        f["mesh/geometry"] = vertices
+        f["mesh/topology"] = tets
+        f["time"] = np.array([fr[0] for fr in frames], dtype=np.float64)
+        for i, (_, vm, u) in enumerate(frames):
+            f[f"von_mises/{i}"] = np.asarray(vm, dtype=np.float64)
+            f[f"displacement/{i}"] = np.asarray(u, dtype=np.float64)
+
+    def item(parent, path, shape, dtype="Float", precision="8"):
+        d = ET.SubElement(parent, "DataItem", DataType=dtype, Dimensions=" ".join(map(str, shape)),
+                          Format="HDF", Precision=precision)
+        d.text = f"{h5.name}:{path}"
+
+    root = ET.Element("Xdmf", Version="3.0")
+    coll = ET.SubElement(ET.SubElement(root, "Domain"), "Grid", Name="cage_von_mises",
+                         GridType="Collection", CollectionType="Temporal")
+    for i, (t, _, _) in enumerate(frames):
+        g = ET.SubElement(coll, "Grid", Name=f"t={t:.6g}", GridType="Uniform")
+        topo = ET.SubElement(g, "Topology", TopologyType="Tetrahedron", NumberOfElements=str(len(tets)))
+        item(topo, "/mesh/topology", tets.shape, "Int", "8")
+        item(ET.SubElement(g, "Geometry", GeometryType="XYZ"), "/mesh/geometry", vertices.shape)
+        ET.SubElement(g, "Time", Value=repr(float(t)))
+        item(ET.SubElement(g, "Attribute", Name="von_mises", AttributeType="Scalar", Center="Node"),
+             f"/von_mises/{i}", (len(vertices),))
+        item(ET.SubElement(g, "Attribute", Name="displacement", AttributeType="Vector", Center="Node"),
+             f"/displacement/{i}", (len(vertices), 3))
+    ET.indent(root)
+    xdmf.write_text('<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
     return xdmf
 
 

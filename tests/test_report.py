@@ -1,0 +1,309 @@
+"""coupling.report on small synthetic run files whose statistics are known in closed form.
+
+The synthetic run: Z = 4 balls, dt = 1 ms, 0.6 s in three phases (acceleration 0–0.2 s, uniform
+0.2–0.4 s, deceleration 0.4–0.6 s), one 20 ms impact centred at 0.3 s. Signals:
+
+    outer contact stress, ball b:  A_p + B_p sin(2π (t/T0 − b/4)),  T0 = 20 ms (20 samples)
+        -> peak over phase p = A_p + B_p (the sample k/20 − b/4 ≡ 1/4 exists for every ball),
+           mean over the phase and the balls = A_p (the four sines, a quarter period apart, sum
+           to zero at every instant)
+    inner contact stresses: left = 1.1 × outer (loaded), right = 0.5 × outer -> inner = 1.1 × outer
+    pocket force: −(P_p + P_p sin(...)), negative sign on purpose (the report uses |F|)
+    guiding force: G0 + C sin(π (t − 0.29)/0.02) inside the impact window, G0 outside
+    film (outer, inner-left loaded; inner-right unloaded with film 0, which must be ignored):
+        h0 + dh·t + b·1e-8 (outer), + 1e-7 (inner-left) -> per-ball min = outer
+    slip: +0.02 everywhere except −0.03 at t = 0.45 s (peak = largest magnitude, signed)
+
+Tolerances: 1e-9 relative on values built from sin(π/2 + 2πn) and sums of exact sines
+(rounding of ~1e3 floating-point terms); the XDMF field is compared at 1e-12 relative (HDF5
+stores the float64 values unchanged; only the summation order of S q differs).
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import h5py
+import numpy as np
+import pytest
+
+from coupling import report
+from coupling.results import ResultsWriter
+from coupling.scene import loads_scene
+from mesh.validation import InputError
+
+Z = 4
+DT = 1e-3
+T0 = 0.02
+PHASES = ((0.0, 0.2), (0.2, 0.4), (0.4, 0.6))
+A = (1.5e9, 1.8e9, 1.6e9)          # Pa, mean outer contact stress per phase
+B = (0.1e9, 0.2e9, 0.15e9)         # Pa, amplitude per phase
+P = (100.0, 200.0, 150.0)          # N, pocket force level per phase
+G0, C = 50.0, 400.0                # N, guiding force level and impact bump
+H0, DH = 3e-6, 1e-6                # m, m/s film
+IMPACT = (0.29, 0.31)
+
+SCENE = """
+name = "synthetic_{cage}"
+[cage]
+model = "{cage}"
+[operation]
+duration = 0.6
+[operation.speed]
+phases = [
+  {{ kind = "ramp", duration = 0.2, start_rpm = 10000, end_rpm = 14000 }},
+  {{ kind = "uniform", duration = 0.2, rpm = 14000 }},
+  {{ kind = "ramp", duration = 0.2, start_rpm = 14000, end_rpm = 10000 }},
+]
+[operation.load]
+axial_load = 55e3
+radial_load = 4e3
+[[operation.load.impacts]]
+t_center = 0.3
+duration = 0.02
+magnitude = 50e3
+[output]
+sample_interval = 1e-3
+record = {record}
+"""
+
+
+def _phase(t):
+    return 0 if t < 0.2 - 1e-12 else (1 if t < 0.4 - 1e-12 else 2)
+
+
+def _bump(t):
+    return C * math.sin(math.pi * (t - IMPACT[0]) / 0.02) if IMPACT[0] - 1e-12 <= t <= IMPACT[1] + 1e-12 else 0.0
+
+
+def _sample(t, film=True):
+    p = _phase(t)
+    s = np.sin(2 * np.pi * (round(t / DT) / 20.0 - np.arange(Z) / 4.0))
+    outer = A[p] + B[p] * s
+    cs = np.stack([outer, 1.1 * outer, 0.5 * outer], axis=1)
+    load = np.ones((Z, 3))
+    load[:, 2] = 0.0                              # inner-right unloaded
+    v = {"contact_stress": cs, "contact_load": load,
+         "pocket_force": -(P[p] + P[p] * s),
+         "cage_land_force_magnitude": G0 + _bump(t),
+         "slip_rate": -0.03 if abs(t - 0.45) < 1e-9 else 0.02,
+         "inner_ring_speed": 1000.0 + 100 * t, "cage_speed": 450.0 + 40 * t}
+    if film:
+        h = H0 + DH * t + 1e-8 * np.arange(Z)
+        v["film_thickness_min"] = np.stack([h, h + 1e-7, np.zeros(Z)], axis=1)
+    return v
+
+
+def write_run(path, cage="rigid", film=True, n=601, status="complete"):
+    record = ["contact_stress", "pocket_force", "guiding_force", "slip"] + (["film_thickness"] if film else [])
+    if cage == "flexible":
+        record.append("von_mises")
+    scene = loads_scene(SCENE.format(cage=cage, record=json.dumps(record)), "synthetic.toml")
+    w = ResultsWriter.create(path, scene)
+    for k in range(n):
+        t = k * DT
+        w.add_sample(t, _sample(t, film))
+    w.write_block()
+    w.set_status(status)
+    w.close()
+    return path
+
+
+# ---------------------------------------------------------------- tables
+
+def test_phases_and_impacts_from_scene():
+    scene = loads_scene(SCENE.format(cage="rigid", record='["contact_stress"]'))
+    ph = report.speed_phases(scene)
+    assert [p["kind"] for p in ph] == ["acceleration", "uniform speed", "deceleration"]
+    assert [(p["t_start"], p["t_end"]) for p in ph] == [(0.0, 0.2), (0.2, 0.4), (0.4, 0.6)]
+    assert ph[0]["speed_start_rpm"] == pytest.approx(10000) and ph[2]["speed_end_rpm"] == pytest.approx(10000)
+    imp = report.impact_windows(scene)
+    assert len(imp) == 1
+    assert imp[0]["t_start"] == pytest.approx(0.29) and imp[0]["t_peak"] == pytest.approx(0.3)
+    assert imp[0]["magnitude"] == pytest.approx(50e3)
+
+
+def test_table_rpm_segments_of_one_kind_are_merged():
+    text = SCENE.format(cage="rigid", record='["contact_stress"]').replace(
+        """phases = [
+  { kind = "ramp", duration = 0.2, start_rpm = 10000, end_rpm = 14000 },
+  { kind = "uniform", duration = 0.2, rpm = 14000 },
+  { kind = "ramp", duration = 0.2, start_rpm = 14000, end_rpm = 10000 },
+]""", "table_rpm = [[0.0, 10000], [0.1, 12000], [0.2, 14000], [0.3, 14000]]")
+    ph = report.speed_phases(loads_scene(text))
+    # two acceleration segments -> one phase; constant after the last knot up to the duration
+    assert [(p["kind"], p["t_start"], p["t_end"]) for p in ph] == [
+        ("acceleration", 0.0, 0.2), ("uniform speed", 0.2, 0.6)]
+
+
+def test_phase_table_equals_hand_computed(tmp_path):
+    rows = report.phase_table(write_run(tmp_path / "run.h5"))
+    assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed", "deceleration", "impact"]
+    assert [r["n_samples"] for r in rows] == [601, 200, 200, 201, 21]
+    rel = 1e-9
+    t_all = np.arange(601) * DT
+    for p, r in enumerate(rows[1:4]):
+        assert r["outer_contact_stress_peak"] == pytest.approx(A[p] + B[p], rel=rel)
+        assert r["outer_contact_stress_mean"] == pytest.approx(A[p], rel=rel)
+        assert r["inner_contact_stress_peak"] == pytest.approx(1.1 * (A[p] + B[p]), rel=rel)
+        assert r["inner_contact_stress_mean"] == pytest.approx(1.1 * A[p], rel=rel)
+        assert r["pocket_force_peak"] == pytest.approx(2 * P[p], rel=rel)
+        assert r["pocket_force_mean"] == pytest.approx(P[p], rel=rel)
+        # film: the unloaded inner-right contact (film 0) is ignored; minimum at the phase start, ball 0
+        t0, t1 = PHASES[p]
+        tw = t_all[(t_all >= t0 - 1e-12) & ((t_all < t1 - 1e-12) if p < 2 else (t_all <= t1 + 1e-12))]
+        assert r["film_thickness_min_min"] == pytest.approx(H0 + DH * t0, rel=rel)
+        assert r["film_thickness_min_t_min"] == pytest.approx(t0, abs=1e-12)
+        assert r["film_thickness_min_mean"] == pytest.approx(H0 + DH * tw.mean() + 1e-8 * 1.5, rel=rel)
+    # whole run: the largest phase peak, the sample-weighted mean of the phase means
+    assert rows[0]["outer_contact_stress_peak"] == pytest.approx(A[1] + B[1], rel=rel)
+    assert rows[0]["outer_contact_stress_mean"] == pytest.approx((200 * A[0] + 200 * A[1] + 201 * A[2]) / 601, rel=rel)
+    # guiding force: half-sine bump of C on G0 in the impact window [0.29, 0.31] (21 samples)
+    bump = C * np.sin(np.pi * np.arange(21) / 20)
+    imp = rows[4]
+    assert imp["guiding_force_peak"] == pytest.approx(G0 + C, rel=rel)
+    assert imp["guiding_force_t_peak"] == pytest.approx(0.3, abs=1e-12)
+    assert imp["guiding_force_mean"] == pytest.approx(G0 + bump.sum() / 21, rel=rel)
+    assert rows[2]["guiding_force_mean"] == pytest.approx(G0 + bump.sum() / 200, rel=rel)
+    assert rows[1]["guiding_force_mean"] == pytest.approx(G0, rel=rel)
+    # slip changes sign: the peak is the signed value of largest magnitude (-3 % at 0.45 s)
+    assert rows[3]["slip_rate_peak"] == pytest.approx(-0.03, rel=rel)
+    assert rows[3]["slip_rate_t_peak"] == pytest.approx(0.45, abs=1e-12)
+    assert rows[1]["slip_rate_peak"] == pytest.approx(0.02, rel=rel)
+    assert "von_mises_max_peak" not in rows[0]              # rigid run: not recorded, not reported
+
+
+def test_interrupted_run_reports_the_phases_it_reached(tmp_path):
+    rows = report.phase_table(write_run(tmp_path / "cut.h5", n=251, status="interrupted"))
+    assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed"]
+    assert rows[2]["n_samples"] == 51
+
+
+def test_bad_run_file_is_refused(tmp_path):
+    with pytest.raises(InputError, match="does not exist"):
+        report.phase_table(tmp_path / "missing.h5")
+    other = tmp_path / "other.h5"
+    with h5py.File(other, "w") as f:
+        f["x"] = 1.0
+    with pytest.raises(InputError, match="not a flexbearing results file"):
+        report.phase_table(other)
+
+
+# ---------------------------------------------------------------- plots and report
+
+def _is_nonblank_png(path):
+    import matplotlib.image as mpimg
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    img = mpimg.imread(path)
+    return path.stat().st_size > 5000 and float(img[..., :3].std()) > 0.01
+
+
+def test_plots_only_recorded_quantities(tmp_path):
+    run = write_run(tmp_path / "unsteady.h5")
+    steady = write_run(tmp_path / "nofilm.h5", film=False)
+    paths = report.write_plots(run, tmp_path / "plots", compare=steady)
+    names = sorted(p.name for p in paths)
+    assert names == sorted(["speed.png", "outer_contact_stress.png", "inner_contact_stress.png",
+                            "pocket_force.png", "guiding_force.png", "film_thickness_min.png",
+                            "slip_rate.png", "overview.png"])
+    assert all(_is_nonblank_png(p) for p in paths)
+    names2 = {p.name for p in report.write_plots(steady, tmp_path / "plots2")}
+    assert "film_thickness_min.png" not in names2 and "von_mises_max.png" not in names2
+
+
+# ---------------------------------------------------------------- flexible cage: XDMF
+
+NV, M = 6, 3
+VERTS = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1], [1, 1, 0]], float) * 1e-2
+TETS = np.array([[0, 1, 2, 3], [1, 2, 3, 4], [1, 2, 4, 5]])
+
+
+def _fake_flexible_run(tmp_path):
+    """A flexible run: modal coordinates q(t) in a tiny reduced cage's full basis (3 modes)."""
+    from fem_cage.reduced_cage import write
+    rng = np.random.default_rng(7)
+    S = rng.normal(size=(NV, 6, M)) * 1e7                    # Pa per unit q
+    Phi = rng.normal(size=(NV, 3, M)) * 1e-5                 # m per unit q
+    rc = write(tmp_path / "cage.h5", {
+        "mesh/vertices": VERTS, "mesh/tets": TETS, "stress/modes": S, "modes/vertex_displacement": Phi,
+        "modes/frequency_hz": np.ones(M), "modes/omega": np.ones(M), "modes/modal_stiffness": np.ones(M),
+        "modes/interface": np.zeros((2, 6, M)), "interface/positions": np.zeros((2, 3)),
+        "invariants/mass": 1.0}, {"content_hash": "abcd1234abcd1234"})
+    run = write_run(tmp_path / "flex.h5", cage="flexible")
+    n = 601
+    q = rng.normal(size=(n, M))
+    vm = np.array([_vm_by_deviator(S @ qi).max() for qi in q])
+    with h5py.File(run, "r+") as f:
+        f["outputs/cage_modal_coordinates_full"] = q
+        f["outputs/von_mises_max"] = vm
+        f["outputs/von_mises_max"].attrs["unit"] = "Pa"
+        f.attrs["reduced_cage_file"] = str(rc)
+        f.attrs["reduced_cage_hash"] = "abcd1234abcd1234"
+    return run, S, Phi, q, vm
+
+
+def _vm_by_deviator(voigt):
+    """sqrt(3/2 s:s), s the deviator of the full 3x3 tensor (independent of report.von_mises)."""
+    out = []
+    for xx, yy, zz, yz, xz, xy in voigt:
+        sig = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        s = sig - np.trace(sig) / 3 * np.eye(3)
+        out.append(math.sqrt(1.5 * float((s * s).sum())))
+    return np.array(out)
+
+
+def test_von_mises_xdmf_reads_back_with_meshio(tmp_path):
+    import meshio
+    run, S, Phi, q, vm_rec = _fake_flexible_run(tmp_path)
+    xdmf = report.write_von_mises_xdmf(run, tmp_path / "rep", "auto")
+    t = np.arange(601) * DT
+    # auto frames: the max of the recorded von Mises in each phase and in the impact window
+    windows = [(0, 200), (200, 400), (400, 601), (290, 311)]
+    expected = sorted({lo + int(np.argmax(vm_rec[lo:hi])) for lo, hi in windows})
+    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as r:
+        points, cells = r.read_points_cells()
+        assert np.array_equal(points, VERTS)
+        assert np.array_equal(cells[0].data, TETS) and cells[0].type == "tetra"
+        assert r.num_steps == len(expected)
+        for step, k in enumerate(expected):
+            tk, pdata, _ = r.read_data(step)
+            assert tk == pytest.approx(t[k], abs=1e-12)
+            hand = _vm_by_deviator(S @ q[k])
+            v = 4
+            assert pdata["von_mises"][v] == pytest.approx(hand[v], rel=1e-12)
+            assert pdata["von_mises"].max() == pytest.approx(vm_rec[k], rel=1e-12)
+            assert np.allclose(pdata["displacement"], Phi @ q[k], rtol=1e-12, atol=0)
+    meta = json.loads(xdmf.with_suffix(".json").read_text())
+    assert [fr["sample"] for fr in meta["frames"]] == expected
+    assert meta["reduced_cage_hash"] == "matches"
+
+
+def test_von_mises_xdmf_explicit_frames_and_bad_frames(tmp_path):
+    import meshio
+    run, S, Phi, q, _ = _fake_flexible_run(tmp_path)
+    xdmf = report.write_von_mises_xdmf(run, tmp_path / "rep", "0.1, 0.3004")   # nearest samples 100, 300
+    with meshio.xdmf.TimeSeriesReader(str(xdmf)) as r:
+        r.read_points_cells()
+        times = [r.read_data(i)[0] for i in range(r.num_steps)]
+    assert times == pytest.approx([0.1, 0.3], abs=1e-12)
+    with pytest.raises(InputError, match=r"outside the run \(allowed range \[0, 0.6\] s\)"):
+        report.write_von_mises_xdmf(run, tmp_path / "rep", "0.7")
+    with pytest.raises(InputError, match="--frames"):
+        report.write_von_mises_xdmf(run, tmp_path / "rep", "first")
+
+
+def test_report_command_end_to_end(tmp_path):
+    from coupling.cli import main
+    run, *_ = _fake_flexible_run(tmp_path)
+    steady = write_run(tmp_path / "steady.h5")
+    out = tmp_path / "report"
+    assert main(["report", str(run), "--compare", str(steady), "-o", str(out), "--quiet"]) == 0
+    md = (out / "report.md").read_text()
+    assert "Max. von Mises stress of the cage, peak (MPa)" in md
+    assert "change vs synthetic_rigid" in md
+    assert (out / "von_mises_max.png").exists() and (out / "von_mises.xdmf").exists()
+    js = json.loads((out / "report.json").read_text())
+    assert js["phases"][1]["outer_contact_stress_peak"] == pytest.approx(A[0] + B[0], rel=1e-9)
+    # printed in MPa: the steady (synthetic_rigid) whole-run mean (200·1.5 + 200·1.8 + 201·1.6)/601 GPa
+    assert "| Outer-race contact stress, mean (MPa) | 1,633 |" in md
+    assert main(["report", str(tmp_path / "nope.h5"), "--quiet"]) == 2
