@@ -247,13 +247,15 @@ def window_stats(t: np.ndarray, arrays: dict, mask: np.ndarray) -> dict:
     return row
 
 
-def phase_table(run_h5, include_impacts: bool = True) -> list[dict]:
+def phase_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
     """Per-window statistics of the report's quantities (SI; speeds in rpm as the keys say).
 
     Rows: the whole run, each phase of the speed profile, then each impact window. A row has
     label, kind ("run" | "acceleration" | "uniform speed" | "deceleration" | "impact"), t_start,
     t_end [s], n_samples and for every recorded quantity <key>_peak (<key>_min for the film),
-    <key>_mean and the time of the peak <key>_t_peak (module doc for the definitions)."""
+    <key>_mean and the time of the peak <key>_t_peak (module doc for the definitions).
+    settle [s]: samples with t < settle (the start-up transient from the quasi-static initial
+    state) are left out of every window."""
     import h5py
     path = _check_run(run_h5)
     with h5py.File(path, "r") as f:
@@ -264,21 +266,27 @@ def phase_table(run_h5, include_impacts: bool = True) -> list[dict]:
     if len(t) == 0:
         return []
     t_end = float(t[-1])
-    rows = [{"label": "whole run", "kind": "run", "t_start": float(t[0]), "t_end": t_end}]
-    rows[0].update(window_stats(t, arrays, np.ones(len(t), bool)))
+    if not 0.0 <= settle < t_end:
+        raise InputError(f"settle = {settle:g} s must leave samples to report (allowed range "
+                         f"[0, {t_end:g}) s)")
+    kept = t >= settle - 1e-6 * dt
+    rows = [{"label": "whole run", "kind": "run", "t_start": max(float(t[0]), settle), "t_end": t_end}]
+    rows[0].update(window_stats(t, arrays, kept))
     if scene is not None:
         phases = speed_phases(scene)
         for i, ph in enumerate(phases):
             if ph["t_start"] > t_end + 1e-6 * dt:
                 break            # an interrupted run: phases it never reached are left out
-            mask = window_mask(t, ph["t_start"], ph["t_end"], i == len(phases) - 1, dt)
-            rows.append({**ph, **window_stats(t, arrays, mask)})
+            mask = window_mask(t, ph["t_start"], ph["t_end"], i == len(phases) - 1, dt) & kept
+            if mask.any():
+                rows.append({**ph, **window_stats(t, arrays, mask)})
         if include_impacts:
             for imp in impact_windows(scene):
                 if imp["t_start"] > t_end + 1e-6 * dt:
                     continue
-                mask = window_mask(t, imp["t_start"], imp["t_end"], True, dt)
-                rows.append({**imp, **window_stats(t, arrays, mask)})
+                mask = window_mask(t, imp["t_start"], imp["t_end"], True, dt) & kept
+                if mask.any():
+                    rows.append({**imp, **window_stats(t, arrays, mask)})
     return rows
 
 
@@ -347,9 +355,12 @@ def _plot_quantity(ax, key, data, compare, small=False):
         ax.plot(compare["t"], envelope(key, compare["arrays"][key]) * qd.scale, color="0.6", lw=0.7,
                 label=f"{compare['name']}: worst ball" if qd.per_ball else compare["name"], zorder=2)
     if qd.per_ball:
-        ax.plot(t, a[:, 0] * qd.scale, color="tab:orange", lw=0.5, alpha=0.8, label="ball 1", zorder=3)
+        # ball 1 on top: the paper's curves follow one ball (its contact stress oscillates as it
+        # orbits through the load zone), the envelope is the worst ball at each instant
+        ax.plot(t, a[:, 0] * qd.scale, color="tab:orange", lw=0.5, alpha=0.85, label=f"{data['name']}: ball 1",
+                zorder=5)
         ax.plot(t, envelope(key, a) * qd.scale, color="tab:blue", lw=0.9, zorder=4,
-                label=f"{data['name']}: worst ball ({'min' if qd.extreme == 'min' else 'max'} over balls)")
+                label=f"{data['name']}: worst ball")
     else:
         ax.plot(t, a[:, 0] * qd.scale, color="tab:blue", lw=0.9, label=data["name"], zorder=4)
     _decorate(ax, data, small)
@@ -413,7 +424,7 @@ def write_plots(run_h5, out_dir, compare=None) -> list[Path]:
     if panels:
         ncol = 2 if len(panels) > 3 else 1
         nrow = math.ceil(len(panels) / ncol)
-        height = 2.3 * nrow + 0.9
+        height = 2.3 * nrow + 1.1
         fig, axes = plt.subplots(nrow, ncol, figsize=(11.0, height), sharex=True, squeeze=False)
         for ax, key in zip(axes.flat, panels):
             if key == "speed":
@@ -435,8 +446,8 @@ def write_plots(run_h5, out_dir, compare=None) -> list[Path]:
                     labels.append(lab)
         fig.suptitle(title)
         # matplotlib 3.6: constrained layout ignores figure legends, so reserve the strip by hand
-        fig.tight_layout(rect=(0.0, 0.45 / height, 1.0, 1.0 - 0.1 / height))
-        fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 5), fontsize=7.5,
+        fig.tight_layout(rect=(0.0, 0.65 / height, 1.0, 1.0 - 0.1 / height))
+        fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=7.5,
                    frameon=False)
         written.append(out_dir / "overview.png")
         fig.savefig(written[-1])
@@ -457,15 +468,26 @@ def von_mises(sigma: np.ndarray) -> np.ndarray:
 def auto_frames(t: np.ndarray, vm: np.ndarray, phases: list[dict], impacts: list[dict],
                 dt: float) -> list[tuple[int, str]]:
     """Sample indices of the default frames with the reason: the instant of maximum von Mises in
-    each phase of the speed profile and in each impact window (the impact's stress peak); the
+    each impact window (the impact's stress peak) and in each phase of the speed profile outside
+    the impact windows (the phase's own running peak, which an impact would otherwise hide); the
     whole run's maximum when the scene has neither. Sorted by time, duplicates merged."""
     picks: dict[int, list[str]] = {}
-    windows = [(ph["label"], ph["t_start"], ph["t_end"], i == len(phases) - 1) for i, ph in enumerate(phases)]
-    windows += [(imp["label"], imp["t_start"], imp["t_end"], True) for imp in impacts]
+    ok = np.isfinite(vm)
+    in_impact = np.zeros(len(t), bool)
+    for imp in impacts:
+        in_impact |= window_mask(t, imp["t_start"], imp["t_end"], True, dt)
+    windows = []
+    for i, ph in enumerate(phases):
+        m = window_mask(t, ph["t_start"], ph["t_end"], i == len(phases) - 1, dt) & ok
+        outside = m & ~in_impact
+        windows.append((f"{ph['label']}" + (" (outside impacts)" if outside.any() and
+                                            outside.sum() < m.sum() else ""), outside if outside.any() else m))
+    for imp in impacts:
+        windows.append((imp["label"], window_mask(t, imp["t_start"], imp["t_end"], True, dt) & ok))
     if not windows:
-        windows = [("whole run", float(t[0]), float(t[-1]), True)]
-    for label, t0, t1, closed in windows:
-        idx = np.flatnonzero(window_mask(t, t0, t1, closed, dt) & np.isfinite(vm))
+        windows = [("whole run", ok)]
+    for label, m in windows:
+        idx = np.flatnonzero(m)
         if idx.size:
             k = int(idx[np.argmax(vm[idx])])
             picks.setdefault(k, []).append(f"max von Mises in {label}")
@@ -501,7 +523,8 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
     P1 tetrahedra of the reduced cage file's mesh; point data "von_mises" (Pa) and
     "displacement" (m, elastic deformation in the cage's body frame) rebuilt from the recorded
     modal coordinates (module doc); one grid per frame, time value = the sample time (s).
-    frames: "auto" (auto_frames), "t1,t2,..." or a list of times in s (nearest samples).
+    frames: "auto" (auto_frames: each impact's peak and each phase's peak outside the impacts),
+    "t1,t2,..." or a list of times in s (nearest samples).
     reduced_cage: path of the reduced cage file (default: the run's attribute reduced_cage_file).
     The JSON sidecar lists each frame's time, reason, the recorded max von Mises and the field's
     maximum over the vertices (they agree when the run's evaluator used the same nodal modes)."""
@@ -655,7 +678,7 @@ def _col_name(row: dict) -> str:
 
 
 def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
-                 quiet: bool = True) -> dict:
+                 quiet: bool = True, settle: float = 0.0) -> dict:
     """Plots, the per-phase table (report.md, report.json) and, for a flexible-cage run, the von
     Mises XDMF series. Returns {"report", "json", "plots", "xdmf"} paths (xdmf None if not written)."""
     import h5py
@@ -663,8 +686,8 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     cmp_path = _check_run(compare) if compare is not None else None
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    rows = phase_table(path)
-    cmp_rows = phase_table(cmp_path) if cmp_path else None
+    rows = phase_table(path, settle=settle)
+    cmp_rows = phase_table(cmp_path, settle=settle) if cmp_path else None
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"report: plots of {path.name} -> {out_dir}")
     plots = write_plots(path, out_dir, compare=cmp_path)
@@ -700,7 +723,10 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
            "whole cage revolutions, the paper's \"average value\"). Inner-race contact stress: the "
            "loaded one of the two inner halves; film: the smallest over a ball's loaded contacts; "
            "guiding force: cage–land film force magnitude.",
-           "- phase windows [t_start, t_end), the last one closed; impact windows = the load pulse.", ""]
+           "- phase windows [t_start, t_end), the last one closed; impact windows = the load pulse"
+           + (f"; samples before t = {settle:g} s (start-up transient) left out of every window." if settle
+              else "; the start-up transient from the quasi-static initial state is included "
+                   "(`--settle S` leaves it out)."), ""]
     if cmp_rows:
         md += [f"## {cmp_name} vs {name} (whole runs)", "",
                _markdown_table([(cmp_name, cmp_rows[0]), (name, rows[0])], keys, increase_from=0), ""]
@@ -747,8 +773,10 @@ def register(subparsers) -> None:
     p.add_argument("-o", "--output", metavar="DIR", help="output folder (default: <run>_report beside the run)")
     p.add_argument("--frames", default="auto", help="von Mises frames: auto (max in each phase and each "
                                                    "impact) or times in s, e.g. 0.1,0.3")
+    p.add_argument("--settle", type=float, default=0.0, metavar="S",
+                   help="leave samples before t = S seconds (start-up transient) out of the tables")
     p.add_argument("--reduced-cage", metavar="FILE", help="reduced cage file (default: the one the run names)")
-    p.add_argument("--quiet", action="store_true", help="print only the written paths")
+    p.add_argument("--quiet", action="store_true", help="print only the written paths, not the table")
     p.set_defaults(func=cmd_report)
 
 
@@ -756,7 +784,7 @@ def cmd_report(args) -> int:
     run = Path(args.run)
     out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
-                       reduced_cage=args.reduced_cage, quiet=args.quiet)
+                       reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle)
     if not args.quiet:
         print_table(json.loads(res["json"].read_text())["phases"])
     print(f"report: {res['report']}")

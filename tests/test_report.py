@@ -179,6 +179,14 @@ def test_interrupted_run_reports_the_phases_it_reached(tmp_path):
     assert rows[2]["n_samples"] == 51
 
 
+def test_settle_leaves_the_start_out(tmp_path):
+    rows = report.phase_table(write_run(tmp_path / "run.h5"), settle=0.25)
+    assert [r["kind"] for r in rows] == ["run", "uniform speed", "deceleration", "impact"]
+    assert rows[1]["n_samples"] == 150 and rows[0]["n_samples"] == 351
+    with pytest.raises(InputError, match=r"settle = 0.7 s .*allowed range \[0, 0.6\) s"):
+        report.phase_table(tmp_path / "run.h5", settle=0.7)
+
+
 def test_bad_run_file_is_refused(tmp_path):
     with pytest.raises(InputError, match="does not exist"):
         report.phase_table(tmp_path / "missing.h5")
@@ -257,9 +265,11 @@ def test_von_mises_xdmf_reads_back_with_meshio(tmp_path):
     run, S, Phi, q, vm_rec = _fake_flexible_run(tmp_path)
     xdmf = report.write_von_mises_xdmf(run, tmp_path / "rep", "auto")
     t = np.arange(601) * DT
-    # auto frames: the max of the recorded von Mises in each phase and in the impact window
-    windows = [(0, 200), (200, 400), (400, 601), (290, 311)]
-    expected = sorted({lo + int(np.argmax(vm_rec[lo:hi])) for lo, hi in windows})
+    # auto frames: the max of the recorded von Mises in the impact window [0.29, 0.31] s and in
+    # each phase outside it (the uniform phase 0.2-0.4 s without samples 290..310)
+    windows = [np.arange(0, 200), np.r_[200:290, 311:400], np.arange(400, 601), np.arange(290, 311)]
+    expected = sorted({int(w[np.argmax(vm_rec[w])]) for w in windows})
+    assert len(expected) == 4
     with meshio.xdmf.TimeSeriesReader(str(xdmf)) as r:
         points, cells = r.read_points_cells()
         assert np.array_equal(points, VERTS)
