@@ -126,12 +126,14 @@ def cmd_calibrate(args) -> int:
 
 def register(subparsers):
     from mesh.cli import add_geometry_arguments, add_mesh_arguments
+    from mesh.cage_mesh import DEFAULT_DEGREE
     p = subparsers.add_parser("modes", help="free-free modes of the cage vs the paper's Table 8",
                               description="Free-free modal analysis of the cage (dolfinx + SLEPc).")
     add_geometry_arguments(p)
     add_mesh_arguments(p)
     p.add_argument("--mesh", help="use this .msh instead of the cached mesh")
-    p.add_argument("--degree", type=int, default=2, choices=(1, 2, 3), help="Lagrange degree (default 2)")
+    p.add_argument("--degree", type=int, default=DEFAULT_DEGREE, choices=(1, 2, 3),
+                   help=f"Lagrange degree (default {DEFAULT_DEGREE}: the converged default, see mesh-study)")
     p.add_argument("--n-modes", type=int, default=27)
     p.add_argument("--json", help="write frequencies, ndofs, wall time, mesh info to this JSON file")
     p.add_argument("--xdmf", help="write mode shapes (displacement, von Mises) to this XDMF file")
@@ -152,8 +154,10 @@ def register(subparsers):
     p = subparsers.add_parser("calibrate-cage",
                               help="fit unknown cage geometry to the paper's Table 8 (least squares)",
                               description="Model updating of the cage geometry against Table 8.")
-    add_mesh_arguments(p)
-    p.add_argument("--degree", type=int, default=2, choices=(1, 2, 3))
+    p.add_argument("--size", type=float, default=8.0, help="calibration mesh element size, mm (default 8)")
+    p.add_argument("--pocket-size", type=float, default=8.0, help="pocket element size, mm (default 8)")
+    p.add_argument("--order", type=int, default=2, choices=(1, 2))
+    p.add_argument("--degree", type=int, default=3, choices=(1, 2, 3))
     p.add_argument("--params", nargs="+", default=None,
                    help="parameters to fit (default: pocket_diameter land_width relief_depth)")
     p.add_argument("--max-evals", type=int, default=40)

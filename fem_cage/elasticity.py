@@ -20,6 +20,9 @@ import numpy as np
 from mpi4py import MPI
 
 
+from mesh.cage_mesh import DEFAULT_DEGREE  # noqa: E402  (re-export: the converged default space)
+
+
 def load_cage_mesh(path, comm=MPI.COMM_WORLD):
     """Read a gmsh .msh (linear or curved quadratic tets) into dolfinx, distributed over comm.
 
@@ -68,7 +71,7 @@ def stress(u, material):
     return 2.0 * mu * eps + lam * ufl.tr(eps) * ufl.Identity(len(u))
 
 
-def assemble_stiffness_mass(domain, material, degree: int = 2):
+def assemble_stiffness_mass(domain, material, degree: int = 2, quadrature_degree: int | None = None):
     """Return (V, K, M): the vector P-degree Lagrange space and assembled PETSc matrices.
 
     K_ij = k(phi_j, phi_i), M_ij = m(phi_j, phi_i) (forms in the module docstring); no BCs.
@@ -82,7 +85,7 @@ def assemble_stiffness_mass(domain, material, degree: int = 2):
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     # Quadrature: exact for the P-degree polynomial integrands on affine cells; on curved
     # quadratic cells the Jacobian varies and the default estimate would be needlessly high.
-    md = {"quadrature_degree": 2 * int(degree)}
+    md = {"quadrature_degree": int(quadrature_degree or 2 * int(degree))}
     k_form = fem.form(ufl.inner(stress(u, material), strain(v)) * ufl.dx(metadata=md))
     m_form = fem.form(material.density * ufl.inner(u, v) * ufl.dx(metadata=md))
     K = assemble_matrix(k_form)
