@@ -279,7 +279,7 @@ def phase_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> li
                 break            # an interrupted run: phases it never reached are left out
             mask = window_mask(t, ph["t_start"], ph["t_end"], i == len(phases) - 1, dt) & kept
             if mask.any():
-                rows.append({**ph, **window_stats(t, arrays, mask)})
+                rows.append({**ph, "t_start": max(ph["t_start"], settle), **window_stats(t, arrays, mask)})
         if include_impacts:
             for imp in impact_windows(scene):
                 if imp["t_start"] > t_end + 1e-6 * dt:
@@ -664,7 +664,12 @@ def _markdown_table(columns: list[tuple[str, dict]], keys, increase_from: int | 
         cells = [label] + [_fmt(row.get(field), qd.scale) for _, row in columns]
         if increase_from is not None:
             a, b = columns[increase_from][1].get(field), columns[-1][1].get(field)
-            cells.append(f"{100 * (b - a) / abs(a):+.1f} %" if a and b is not None and a != 0 else "–")
+            if a is None or b is None:
+                cells.append("–")
+            elif qd.display_unit == "%":      # a signed ratio (slip): the difference, in points
+                cells.append(f"{(b - a) * qd.scale:+.2f} points")
+            else:
+                cells.append(f"{100 * (b - a) / abs(a):+.1f} %" if a != 0 else "–")
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
