@@ -33,10 +33,14 @@ Inner ring (mass m_i, diametral/polar inertia I_d, I_p, spin omega_i(t) prescrib
     I_d·theta_z'' = M_z + I_p·omega_i·theta_y'          (gyroscopic coupling of the spinning ring)
 
 Cage (rigid; `_cage_body_rhs`): the same six equations with the cage's own spin as a degree of
-freedom, I_p·omega_c' = M_x, forces from the pockets (computed in `_pocket_interface` at the
-pocket centres) and from the guide land (`_guide_land`). A flexible cage replaces
-`_cage_body_rhs` by the floating-frame equations with modal coordinates; the pocket-interface
-forces it needs (per-pocket force and application point) are already separated.
+freedom, I_p·omega_c' = M_x, forces from the pockets (computed in `_pocket_interface`) and from
+the guide land (`_guide_land`). Hook for the flexible cage (floating frame + modal coordinates,
+state block MODES of multibody.model): `rhs` stores per pocket j the interface force on the cage
+(work[j, W_PK_FX:W_PK_FZ+1], inertial) and its cage-fixed lever (W_PK_LY, W_PK_LZ), and
+`_cage_body_rhs` is the only function that turns the resultants into accelerations; a flexible
+cage replaces it by M(zeta)·zeta'' + ... = Q_flex with the modal forces Phi^T·F built from those
+columns (and adds the elastic pocket displacements to the pocket centres). With zero modes the
+equations are these rigid ones exactly.
 
 Guide land (formulas.md, Ocvirk short bearing; paper §2.4): with eps = e/Cg and U = R1·omega_c
 (outer ring fixed, no whirl term, as the paper):
@@ -65,7 +69,7 @@ from multibody.model import (
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
-    WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG,
+    WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
     WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
     WR_STATUS, WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE,
 )
@@ -677,6 +681,11 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         cfx -= pfx
         cfy -= pfy
         cfz -= pfz
+        work[j, W_PK_FX] = -pfx
+        work[j, W_PK_FY] = -pfy
+        work[j, W_PK_FZ] = -pfz
+        work[j, W_PK_LY] = wy_
+        work[j, W_PK_LZ] = wz_
         m1, m2, m3 = _cross(0.0, wy_, wz_, -pfx, -pfy, -pfz)
         # e_x × w_rot = (0, −wz, wy); beta × that = (by·wy + bz·wz, bz·0 − 0, 0 − by·0)...
         ex_w_y = -wz_
@@ -822,7 +831,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
 OUTPUT_UNITS = {
     "contact_load": "N", "contact_angle": "rad", "contact_stress": "Pa", "approach": "m",
     "entrainment_speed": "m/s", "slide_ratio": "1", "traction_force": "N", "pocket_force": "N", "pocket_offset": "m",
-    "pocket_force_tangential": "N", "churning_drag": "N", "cage_land_force": "N",
+    "pocket_force_tangential": "N", "pocket_force_on_cage": "N", "churning_drag": "N", "cage_land_force": "N",
     "cage_land_force_magnitude": "N", "cage_land_torque": "N·m", "cage_rim_force": "N",
     "cage_eccentricity_ratio": "1", "cage_speed": "rad/s", "cage_centre": "m", "cage_tilt": "rad",
     "inner_ring_speed": "rad/s", "ring_drive_torque": "N·m", "external_load": "N",
@@ -874,6 +883,7 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
         "pocket_force": work[:z, W_POCKET_Q].copy(),
         "pocket_offset": work[:z, W_POCKET_Z].copy(),
         "pocket_force_tangential": work[:z, W_POCKET_T].copy(),
+        "pocket_force_on_cage": work[:z, W_PK_FX:W_PK_FZ + 1].copy(),
         "churning_drag": work[:z, W_DRAG].copy(),
         "cage_land_force": work[z, [M.WR_LAND_FY, M.WR_LAND_FZ]].copy(),
         "cage_land_force_magnitude": float(np.hypot(work[z, M.WR_LAND_FY], work[z, M.WR_LAND_FZ])),

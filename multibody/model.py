@@ -115,7 +115,11 @@ W_POCKET_Q = 3 * N_WC          # pocket normal force magnitude, N
 W_POCKET_Z = W_POCKET_Q + 1    # ball offset from the pocket axis, m
 W_POCKET_T = W_POCKET_Q + 2    # pocket force component on the ball along e_t, N
 W_DRAG = W_POCKET_Q + 3        # churning drag, N
-N_WORK = W_POCKET_Q + 4
+# pocket-interface force on the CAGE (inertial X, Y, Z, N) and its untilted lever from the cage
+# centre (cage-fixed, m): what a flexible cage maps to its interface node j (Phi^T·F)
+W_PK_FX, W_PK_FY, W_PK_FZ = W_POCKET_Q + 4, W_POCKET_Q + 5, W_POCKET_Q + 6
+W_PK_LY, W_PK_LZ = W_POCKET_Q + 7, W_POCKET_Q + 8
+N_WORK = W_POCKET_Q + 9
 # last row (index Z) holds the cage / ring aggregates
 WR_FX, WR_FY, WR_FZ = 0, 1, 2          # external load on the ring (written by load_at)
 WR_LAND_FY, WR_LAND_FZ, WR_LAND_M = 3, 4, 5  # guide-land force on the cage (N) and torque (N·m)
