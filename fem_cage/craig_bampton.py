@@ -87,6 +87,11 @@ class SaddleSolver:
         self.ksp = ksp
         self._b, self._x = self.S.createVecRight(), self.S.createVecRight()
 
+    def destroy(self):
+        """Free the factorisation now (MUMPS holds GBs on the paper cage; don't wait for gc)."""
+        self.ksp.destroy()
+        self.S.destroy()
+
     def solve(self, rhs_u: np.ndarray | None, rhs_c: np.ndarray | None):
         """Return (u, lambda) for S [u; lambda] = [rhs_u; rhs_c] (vectors or column blocks)."""
         cols = next(r for r in (rhs_u, rhs_c) if r is not None)
@@ -164,6 +169,8 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
     Phi = Vs @ Y[:, :n_fixed]
     info = {"slepc_iterations": eps.getIterationNumber(), "operator_applications": ctx.count,
             "nconv": nconv}
+    eps.destroy()
+    A.destroy()
     return np.sqrt(np.maximum(lam[:n_fixed], 0.0)), Phi, info
 
 
@@ -188,6 +195,7 @@ def craig_bampton(K: sp.spmatrix, M: sp.spmatrix, C: sp.spmatrix, n_fixed: int, 
     M_cb = B.T @ (M @ B)
     M_cb = 0.5 * (M_cb + M_cb.T)
     info["lu_solver"] = solver.solver
+    solver.destroy()
     info["coupling_block_max"] = float(np.abs(Phi.T @ (K @ Psi)).max()) if nf else 0.0
     return {"Psi": Psi, "Phi": Phi, "omega_fixed": omega_f, "K_cb": K_cb, "M_cb": M_cb,
             "info": info}
@@ -287,4 +295,5 @@ def full_static(K: sp.spmatrix, C: sp.spmatrix, fixed_node: int, loads: list[tup
         f = C[6 * node:6 * node + 6].T @ F
         u, _ = solver.solve(np.asarray(f).ravel(), None)
         out.append(u)
+    solver.destroy()
     return out

@@ -124,13 +124,12 @@ class ReducedCage:
         """The same body with only the modes idx (indices into this object's modes)."""
         idx = np.asarray(idx)
         inv = dict(self.invariants)
-        for k in ("I3", "I4", "Sx", "S1"):
+        for k in ("I3", "I4", "Sx", "S1", "I8"):          # last axis = mode
             inv[k] = inv[k][..., idx]
         inv["I5"] = inv["I5"][:, idx][:, :, idx]
         inv["I6"] = inv["I6"][idx][:, idx]
-        inv["I8"] = inv["I8"][:, :, idx]
-        inv["I9"] = inv["I9"][:, :, idx][:, :, :, idx]
-        inv["SS"] = inv["SS"][:, :, idx][:, :, :, idx]
+        for k in ("I9", "SS"):                           # last two axes = modes
+            inv[k] = inv[k][..., idx, :][..., idx]
         return ReducedCage(self.frequency_hz[idx], self.omega[idx], self.interface_positions,
                            self.interface_modes[:, :, idx], self.modal_stiffness[idx], inv,
                            self.stress_modes[:, :, idx], self.vertices, self.tets,
