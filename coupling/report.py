@@ -540,6 +540,7 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
                              f"{f.attrs.get('cage_model', '?')!r})")
         t = out["time"][...]
         vm_rec = out["von_mises_max"][...] if "von_mises_max" in out else None
+        vtx_rec = out["von_mises_max_vertex"][...] if "von_mises_max_vertex" in out else None
         rc_path = reduced_cage or f.attrs.get("reduced_cage_file")
         rc_hash = str(f.attrs.get("reduced_cage_hash", ""))
         scene = run_scene(f)
@@ -580,7 +581,8 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
         fields.append((float(t[k]), vm, rc.vertex_displacement @ q))   # u: (Nv, 3) m
         meta["frames"].append({"time": float(t[k]), "sample": int(k), "reason": reasons.get(k, "requested"),
                                "field_max_von_mises": float(vm.max()), "field_max_vertex": int(vm.argmax()),
-                               "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[k])})
+                               "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[k]),
+                               "recorded_max_vertex": None if vtx_rec is None else int(vtx_rec[k])})
     write_xdmf_series(xdmf, rc.vertices, rc.tets, fields)
     xdmf.with_suffix(".json").write_text(json.dumps(meta, indent=1) + "\n")
     return xdmf
