@@ -66,8 +66,8 @@ from multibody.model import (
     P_DW, P_DM, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID,
     P_IIP, P_MC, P_ICP, P_ICD, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_RCAGE_POCKET, P_R1, P_CG,
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_CD, P_SLIN, P_UMIN,
-    P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION,
-    F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND,
+    P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
+    F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
     WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
     WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
@@ -75,6 +75,8 @@ from multibody.model import (
 )
 from multibody.geometry import race_contact, ring_point_in_plane
 from multibody.profiles import load_at, speed_at
+from multibody.guide_land import guide_land_force
+from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from multibody.traction import slice_load_share, traction_coefficient, traction_coefficients_table
 
 
@@ -279,6 +281,14 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         # e_t × tau with e_t = (0,0,1): (0·0 − 1·tau_r, 1·tau_x − 0·0, 0) = (−tau_r, tau_x, 0)
         Mx += -Mn * tr_
         Mr += Mn * tx_
+    if flags[F_ROLLRES] and flags[F_DRAG]:
+        # EHL rolling resistance (multibody.drag): F_R at the contact, opposite to the entrainment
+        # speed, and the pressure rolling force F_H = 2(Rx/r_b)·F_R through the ball centre
+        f_r = ehl_rolling_resistance(q_el, ur, rx, ell, p[P_EBR], p[P_ETA0], p[P_ALPHA_P])
+        f_h = ehl_pressure_rolling_force(f_r, rx, 0.5 * dw)
+        Ft += f_r + f_h
+        Mx += rho * nr * f_r
+        Mr += -rho * nx * f_r
     return (Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p)
 
 
@@ -365,61 +375,23 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
 
 @njit(cache=True)
 def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
-    """Guide-land force (y, z) and torque about X on the cage (module docstring), plus eps, rim force.
+    """Guide-land force (y, z) and torque about X on the cage, plus eps and the rim force.
 
-    Short-bearing (Ocvirk, half-Sommerfeld) forces with the whirl and squeeze terms (Vance,
-    Rotordynamics of Turbomachinery, 1988, §4; the paper's form is the special case e' = 0, phi' = 0):
-        F_r = −(eta·R1·L³/(2Cg²))·[2eps²·|w|/(1 − eps²)² + pi·(1 + 2eps²)·eps'/(1 − eps²)^2.5]
-        F_t =  (eta·R1·L³/(2Cg²))·[pi·eps·w/(2(1 − eps²)^1.5) + 4eps·eps'/(1 − eps²)²]
-    with w = omega_c + omega_land − 2·phi' (omega_land = 0, outer ring fixed), phi' the whirl
-    speed of the cage centre and eps' = e'/Cg; with w = omega_c, eps' = 0 these are the W_r, W_t of
-    formulas.md. The squeeze and whirl terms give the film its damping; without them the film is
-    a pure cross-coupled stiffness and the cage whirls out to the rim.
+    multibody.guide_land.guide_land_force (Ocvirk short bearing with the whirl and squeeze terms,
+    Childs' pi-film; the paper's form is the special case without them; Petroff-type torque;
+    rim penalty contact k_rim·(e − Cg) with friction), outer ring fixed (omega_land = 0). The
+    whirl/squeeze terms give the film its damping: without them it is a pure cross-coupled
+    stiffness and the cage whirls out to the rim. With the drag switch off (conservative runs)
+    only the rim's normal force remains.
     """
     e = math.sqrt(yc * yc + zc * zc)
     cg = p[P_CG]
-    eps = e / cg
-    fy = 0.0
-    fz = 0.0
-    mx = 0.0
-    frim = 0.0
-    if e > 1e-15:
-        ey = yc / e
-        ez = zc / e
-    else:
-        ey = 1.0
-        ez = 0.0
-    # e_perp = e_x × e_e
-    qy = -ez
-    qz = ey
-    if flags[F_LAND]:
-        eta = p[P_ETA0]
-        r1 = p[P_R1]
-        ef = eps if eps < p[P_EPSMAX] else p[P_EPSMAX]
-        one = 1.0 - ef * ef
-        e_dot = vy * ey + vz * ez
-        whirl = (vy * qy + vz * qz) / e if e > 1e-12 else 0.0
-        w = omega_c - 2.0 * whirl
-        epsd = e_dot / cg
-        k = eta * r1 * p[P_L3] / (2.0 * cg * cg)
-        fr = -k * (2.0 * ef * ef * abs(w) / (one * one) + math.pi * (1.0 + 2.0 * ef * ef) * epsd / (one * one * math.sqrt(one)))
-        ft = k * (math.pi * ef * w / (2.0 * one * math.sqrt(one)) + 4.0 * ef * epsd / (one * one))
-        fy += fr * ey + ft * qy
-        fz += fr * ez + ft * qz
-        mx += -2.0 * math.pi * eta * omega_c * r1 ** 3 * p[P_LAND_L] / (cg * math.sqrt(one))
-    if e > cg:
-        pen = e - cg
-        frim = p[P_KRIM] * pen * math.sqrt(pen)
-        fy -= frim * ey
-        fz -= frim * ez
-        if flags[F_DRAG] and p[P_MURIM] > 0.0:
-            vt = omega_c * p[P_R1] + vy * qy + vz * qz
-            reg = vt / 0.01 if abs(vt) < 0.01 else (1.0 if vt > 0.0 else -1.0)
-            ff = p[P_MURIM] * frim * reg
-            fy -= ff * qy
-            fz -= ff * qz
-            mx -= ff * p[P_R1]
-    return fy, fz, mx, eps, frim
+    eta = p[P_ETA0] if flags[F_LAND] else 0.0
+    mu = p[P_MURIM] if flags[F_DRAG] else 0.0
+    fy, fz, mx = guide_land_force(yc, zc, vy, vz, omega_c, 0.0, p[P_R1], p[P_LAND_L], cg, eta,
+                                  p[P_EPSMAX], True, p[P_KRIM], mu)
+    frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
+    return fy, fz, mx, e / cg, frim
 
 
 @njit(cache=True)
@@ -509,7 +481,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     fo = p[P_FE]
     fi = p[P_FI]
     rmid = p[P_RCAGE_POCKET]
-    drag_k = 0.5 * p[P_OILFRAC] * p[P_RHO_OIL] * p[P_CD] * math.pi * dw * dw / 4.0
+    rho_mix, eta_mix = oil_air_mixture(p[P_OILFRAC], p[P_RHO_OIL], p[P_ETA0])
     for j in range(z):
         o = 9 * j
         xb = y[o]
@@ -698,9 +670,9 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         cmz += m3
         # ---- churning drag on the orbiting ball (oil–air mixture at rest)
         if flags[F_DRAG]:
-            fd = drag_k * vbt * abs(vbt)
-            ft -= fd
-            work[j, W_DRAG] = fd
+            fd = churning_drag(dw, vbt, rho_mix, eta_mix)
+            ft += fd
+            work[j, W_DRAG] = -fd
         else:
             work[j, W_DRAG] = 0.0
         # ---- ball equations (module docstring)
@@ -748,7 +720,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
     free run), its kinetic energy is constant and left out.
 
     Hertz: V = (2/5)·K·delta^2.5. Pocket: V = Kc·Z²/2 (Z <= Cp), Kc·Cp²/2 + Kc·Cp·(Z − Cp) +
-    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: (2/5)·K_rim·(e − Cg)^2.5. Load: −F·x_ring.
+    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: K_rim·(e − Cg)²/2. Load: −F·x_ring.
     """
     z = int(p[P_Z])
     r0 = 9 * z
@@ -820,7 +792,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
     ek += 0.5 * p[P_ICP] * y[c0 + 9] ** 2 + 0.5 * p[P_ICD] * (y[c0 + 10] ** 2 + y[c0 + 11] ** 2)
     e = math.sqrt(y[c0 + 1] ** 2 + y[c0 + 2] ** 2)
     if e > p[P_CG]:
-        ev += 0.4 * p[P_KRIM] * (e - p[P_CG]) ** 2.5
+        ev += 0.5 * p[P_KRIM] * (e - p[P_CG]) ** 2
     f3 = np.empty(3)
     load_at(t, load_table, impacts, f3)
     ev -= f3[0] * xi + f3[1] * yi + f3[2] * zi

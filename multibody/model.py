@@ -45,9 +45,10 @@ Assumed inputs (not in the paper; options keys, SI):
   k_lin = 1.5·K·delta^0.5, added to the Hertz force of every ball–race and the Hertz part of
   every ball–pocket contact (a fraction of the critical damping of the ball on the contact's
   linearised stiffness; Harris & Kotzalas Vol. 2 §... use ~2–10 %).
-* ``drag_coefficient`` (default 0.5): sphere drag coefficient C_d of the churning drag.
-* ``rim_stiffness`` (1e10 N/m^1.5) and ``rim_friction`` (0.1): the cage–land rim contact when
-  the eccentricity exceeds the guide clearance.
+* Churning drag: multibody.drag (sphere C_d(Re), oil–air mixture of Oil.oil_air_fraction).
+  ``drag_coefficient`` is kept for compatibility and unused.
+* ``rim_stiffness`` (N/m, default multibody.guide_land.rim_stiffness: (pi/4)·E'·L) and
+  ``rim_friction`` (0.1): the cage–land rim penalty contact beyond the guide clearance.
 * ``pocket_friction`` (0.0): Coulomb friction coefficient at the ball–pocket contact
   (regularised), used only while no hydrodynamic pocket model is wired in.
 * ``gravity`` (0.0 m/s², along −Z): off by default so that steady runs compare with the
@@ -72,6 +73,7 @@ from multibody.bearing import Bearing, Oil
 from multibody.hertz import effective_modulus, ellipticity, hertz_stiffness, race_curvature_radii
 from multibody.traction import TRACTION_FIT_4106
 from multibody.geometry import inner_groove_centres, outer_groove_centre
+from multibody.guide_land import rim_stiffness
 
 # ---------------------------------------------------------------- parameter indices
 # Viscosities: the guide-land film, the churning drag and the film thickness use eta(T) at the oil
@@ -154,7 +156,7 @@ DEFAULT_OPTIONS = {
     "hertz_fixed_angle": False,
     "damping_ratio": 0.05,
     "drag_coefficient": 0.5,
-    "rim_stiffness": 1e10,
+    "rim_stiffness": None,
     "rim_friction": 0.1,
     "pocket_friction": 0.0,
     "gravity": 0.0,
@@ -289,7 +291,10 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None) -> Mode
     else:
         p[P_L3] = cage.width ** 3
         p[P_LAND_L] = cage.width
-    p[P_KRIM] = require_range("model.rim_stiffness", _option(options, "rim_stiffness"), 1e6, 1e13, unit="N/m^1.5")
+    k_rim = _option(options, "rim_stiffness")
+    if k_rim is None:
+        k_rim = rim_stiffness(e_bc, p[P_LAND_L])
+    p[P_KRIM] = require_range("model.rim_stiffness", k_rim, 1e5, 1e13, unit="N/m")
     p[P_MURIM] = require_range("model.rim_friction", _option(options, "rim_friction"), 0.0, 1.0)
     # oil: the traction fit and the film models take eta0 "at ambient" (multibody.traction)
     p[P_ETA0] = oil.viscosity()                      # land film, film thickness: at the oil temperature
@@ -309,7 +314,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None) -> Mode
     flags = np.zeros(N_FLAGS, dtype=np.int64)
     flags[F_TRACTION] = bool(_option(options, "traction"))
     flags[F_DRAG] = bool(_option(options, "drag"))
-    flags[F_ROLLRES] = bool(_option(options, "rolling_resistance"))
+    flags[F_ROLLRES] = bool(_option(options, "rolling_resistance"))  # active only with drag on
     flags[F_LAND] = bool(_option(options, "drag"))
     flags[F_DAMPING] = bool(_option(options, "damping"))
     flags[F_TRANSVERSE] = bool(_option(options, "transverse_traction"))
