@@ -76,6 +76,7 @@ from multibody.model import (
 from multibody.geometry import race_contact, ring_point_in_plane
 from multibody.profiles import load_at, speed_at
 from multibody.guide_land import guide_land_force
+from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from multibody.traction import slice_load_share, traction_coefficient, traction_coefficients_table
 
@@ -128,6 +129,7 @@ STATUS_DEEP_RACE = 1        # race approach beyond DELTA_MAX_FRAC·Dw
 STATUS_DEEP_POCKET = 2      # ball beyond the pocket clearance by more than DELTA_MAX_FRAC·Dw
 STATUS_RIM = 3              # cage beyond the guide clearance by more than its clearance
 STATUS_NONFINITE = 4
+POCKET_H_MIN = 1e-7        # m: floor of the ball–pocket gap in the sliding resistance (assumed)
 DELTA_MAX_FRAC = 0.01       # 220 um for Dw = 22 mm: ~4x the Hertz approach at the static capacity
 CONTACT_NAMES = ("outer race", "inner-left race", "inner-right race", "pocket", "guide land rim")
 
@@ -349,27 +351,49 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     qx = px + da * ax + rp * ux
     qy = py + da * ay + rp * uy
     qz = pz + da * az + rp * uz
-    mu = p[P_MUPOCKET]
-    if flags[F_DRAG] and mu > 0.0:
+    if flags[F_DRAG]:
+        # Lubricated pocket (multibody.pocket; paper §2.3.2): on each side s = ±1 of the ball
+        # (points b + s·Rb·u and p + (d·a)a + s·Rp·u) the ball surface slides on the pocket wall at
+        # g = (v_ball − v_wall) tangential; the film there gives the Poiseuille rolling resistance
+        # F_R (entrainment g/2 relative to the wall, independent of the gap) and the Couette
+        # sliding resistance F_S (gap h0 = Cp − s·Z, floored at POCKET_H_MIN, wetted edge at the
+        # gap Cp), both along −g on the ball. Entrainment radius Rb (the ball surface runs along
+        # the radial pocket axis), transverse radius R_xi (conforming, pocket.pocket_curvature_radii).
         rb = 0.5 * p[P_DW]
-        sx, sy, sz = _cross(wbx, wby, wbz, rb * ux, rb * uy, rb * uz)
-        cx_, cy_, cz_ = _cross(wcx, wcy, wcz, qx - cx, qy - cy, qz - cz)
-        # cage wall point velocity = v_pocket_centre + w_c × (q − p); v_p given at p
-        ox, oy, oz = _cross(wcx, wcy, wcz, qx - px, qy - py, qz - pz)
-        gx = vbx + sx - (vpx + ox)
-        gy = vby + sy - (vpy + oy)
-        gz = vbz + sz - (vpz + oz)
-        gn = gx * ux + gy * uy + gz * uz
-        gx -= gn * ux
-        gy -= gn * uy
-        gz -= gn * uz
-        g = math.sqrt(gx * gx + gy * gy + gz * gz)
-        reg = g if g > 0.01 else 0.01
-        tf = mu * Q / reg
-        fx -= tf * gx
-        fy -= tf * gy
-        fz -= tf * gz
-        mx, my, mz = _cross(rb * ux, rb * uy, rb * uz, -tf * gx, -tf * gy, -tf * gz)
+        eta = p[P_ETA0]
+        rxi, reta = pocket_curvature_radii(rb, p[P_RPOCKET])
+        cp_gap = p[P_CP]
+        for side in (1.0, -1.0):
+            sx, sy, sz = _cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
+            wx_ = px + da * ax + side * rp * ux
+            wy_ = py + da * ay + side * rp * uy
+            wz_ = pz + da * az + side * rp * uz
+            ox, oy, oz = _cross(wcx, wcy, wcz, wx_ - px, wy_ - py, wz_ - pz)
+            gx = vbx + sx - (vpx + ox)
+            gy = vby + sy - (vpy + oy)
+            gz = vbz + sz - (vpz + oz)
+            gn = gx * ux + gy * uy + gz * uz
+            gx -= gn * ux
+            gy -= gn * uy
+            gz -= gn * uz
+            g = math.sqrt(gx * gx + gy * gy + gz * gz)
+            if g <= 1e-12:
+                continue
+            h0 = cp_gap - side * zz
+            if h0 < POCKET_H_MIN:
+                h0 = POCKET_H_MIN
+            f_r = abs(pocket_rolling_resistance(0.5 * g, reta, rxi, eta))
+            f_s = abs(pocket_sliding_resistance(g, h0, cp_gap, reta, rxi, eta))
+            # Coulomb part (option pocket_friction, default 0) on the loaded side only
+            f_c = p[P_MUPOCKET] * Q if side > 0.0 else 0.0
+            tf = (f_r + f_s + f_c) / g
+            fx -= tf * gx
+            fy -= tf * gy
+            fz -= tf * gz
+            m1, m2, m3 = _cross(side * rb * ux, side * rb * uy, side * rb * uz, -tf * gx, -tf * gy, -tf * gz)
+            mx += m1
+            my += m2
+            mz += m3
     return fx, fy, fz, mx, my, mz, qx, qy, qz, Q, zz
 
 
