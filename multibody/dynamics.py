@@ -21,10 +21,19 @@ triad (e_x, e_r, e_t), whose angular velocity is psi'·e_x (de_r/dt = psi'·e_t,
 F and M collect, for each ball: the Hertz loads of the outer and the two inner half-grooves
 (Q = K·delta^1.5, K from the exact Hertz solution at the current contact angle, tabulated in
 cos(alpha)), optional viscous contact damping, the sliced EHL traction of every loaded contact
-(traction fit of multibody.traction, `_sliced_traction`), the ball–pocket force (paper §2.3.1:
-linear Kc·Z up to the pocket clearance, Hertz beyond) with optional pocket friction, the churning
-drag (Harris & Kotzalas Vol. 2 §3: F_d = ½·rho_e·C_d·(pi·Dw²/4)·v², rho_e = oil fraction × rho)
-and gravity (off by default).
+(traction fit of multibody.traction, `_sliced_traction`; transverse traction on by default, see
+below), the EHL rolling resistance F_R at each contact and the pressure rolling force F_H through
+the ball centre (multibody.drag), the ball–pocket force (paper §2.3.1: linear Kc·Z up to the
+pocket clearance, Hertz beyond) with the lubricated pocket's Poiseuille rolling and Couette
+sliding resistances (multibody.pocket), the churning drag in the oil–air mixture
+(multibody.drag: F_d = ½·rho_mix·C_d(Re)·(pi·Dw²/4)·v², mixture at rest) and gravity (off).
+
+Transverse traction (model option, default ON, unlike the paper's T_eta = 0): with traction only
+along the rolling direction nothing restrains the ball's rotation about e_t, the gyroscopic
+moment of the orbiting frame makes w_r and w_t drift without bound (observed: w_r ~ 1100 rad/s
+after 0.5 s); the paper's statement that the preload prevents gyroscopic rotation and hence
+transverse sliding is what the transverse traction enforces. With it the slip vector
+(du, dv)/UR gets mu(|s|) along it (multibody.traction module docstring).
 
 Inner ring (mass m_i, diametral/polar inertia I_d, I_p, spin omega_i(t) prescribed):
 
@@ -307,8 +316,8 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     b ball centre, (px, py, pz) pocket centre, a pocket axis (radial, unit), v_p the velocity of
     the pocket centre, w_c the cage angular velocity, c the cage centre. Offset of the ball from
     the pocket axis Z = |d − (d·a)a|, d = b − p; normal force on the ball −Q(Z)·u, u the unit
-    offset, Q = Kc·Z (Z <= Cp), Kc·Cp + Kn·(Z − Cp)^1.5 (+ damping) beyond; Coulomb friction
-    mu_p·Q against the sliding of the ball surface on the pocket wall (regularised below 1 cm/s).
+    offset, Q = Kc·Z (Z <= Cp), Kc·Cp + Kn·(Z − Cp)^1.5 (+ damping) beyond; with the drag switch
+    the hydrodynamic pocket resistances (comment below) and optional Coulomb friction mu_p·Q.
     Returns (F on ball (3), M on ball about its centre (3), point of action on the cage (3), Q, Z).
     The cage receives −F at that point.
     """

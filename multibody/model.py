@@ -49,8 +49,8 @@ Assumed inputs (not in the paper; options keys, SI):
   ``drag_coefficient`` is kept for compatibility and unused.
 * ``rim_stiffness`` (N/m, default multibody.guide_land.rim_stiffness: (pi/4)·E'·L) and
   ``rim_friction`` (0.1): the cage–land rim penalty contact beyond the guide clearance.
-* ``pocket_friction`` (0.0): Coulomb friction coefficient at the ball–pocket contact
-  (regularised), used only while no hydrodynamic pocket model is wired in.
+* ``pocket_friction`` (0.0): an optional Coulomb friction coefficient at the loaded side of the
+  pocket, added to the hydrodynamic pocket resistances (multibody.pocket).
 * ``gravity`` (0.0 m/s², along −Z): off by default so that steady runs compare with the
   quasi-static solution without weight.
 * ``traction_slip_linear`` (2e-3): below this slip |s| the traction curve is replaced by the
