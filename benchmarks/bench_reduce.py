@@ -35,10 +35,10 @@ def main(argv=None):
             t = time.perf_counter()
             path, red, summary = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER,
                                        cm.DEFAULT_POCKET_SIZE, coupling, n_fixed,
-                                       quiet=args.quiet, checks=True)
+                                       quiet=args.quiet, checks=True, degree=cm.DEFAULT_DEGREE)
             summary["wall_time_total_s"] = time.perf_counter() - t
             summary["mesh"] = {"size_m": cm.DEFAULT_MESH_SIZE, "pocket_size_m": cm.DEFAULT_POCKET_SIZE,
-                               "order": cm.DEFAULT_ORDER}
+                               "order": cm.DEFAULT_ORDER, "degree": cm.DEFAULT_DEGREE}
             summary["file"] = str(path)
             old[f"{coupling}_nfixed{n_fixed}"] = summary
             RESULTS.parent.mkdir(exist_ok=True)

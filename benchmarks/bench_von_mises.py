@@ -28,12 +28,13 @@ def paper_file():
     import mesh.cage_mesh as cm
     from fem_cage import reduced_cage as rcf
     key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
-                        rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED)
+                        rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE)
     path = rcf.find_cached(key)
     if path is None:
         from fem_cage.reduce_cli import build
         path, _, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
-                           rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, quiet=False, checks=False)
+                           rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, quiet=False, checks=False,
+                           degree=cm.DEFAULT_DEGREE)
     return path
 
 

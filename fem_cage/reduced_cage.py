@@ -7,12 +7,14 @@ Schema "flexbearing.reduced_cage", version 1 (HDF5; SI units: m, kg, s, Pa, rad)
 Root attributes
   schema = "flexbearing.reduced_cage", schema_version = 1, content_hash (16 hex: cache key of
   every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
-  pocket_size, coupling, n_fixed_interface_modes), coupling ("rbe2" | "rbe3"),
+  pocket_size, FE degree, coupling, n_fixed), coupling ("rbe2" | "rbe3"),
   n_modes (M = 6Z + n_fixed), n_rigid = 6, default_n_keep = 26, created_by, units = "SI",
   notes (the truncation caveat below).
-/mesh           vertices (Nv, 3) m; tets (Nc, 4) int64 vertex indices (the P1 skeleton of the
-                curved P2 mesh, for ParaView); attrs: source_msh (path at build time),
-                msh_sha256, n_dofs (3 x P2 nodes of the full model), element ("P2 curved tets").
+/mesh           vertices (Nn, 3) m: the geometry nodes (vertices + edge nodes of the curved
+                quadratic mesh) where stress and displacement are given; tets (Nc, 10) int64
+                node indices in VTK tetra10 order (Nc, 4 for a linear mesh); attrs: source_msh (path at build time),
+                msh_sha256, n_dofs (of the full model), element (e.g. "P3 on curved order-2
+                tetrahedra").
 /interface      positions (Z, 3) m: interface node i at pocket i's centre; pocket (Z) int;
                 dof_names = ux uy uz rx ry rz (node DOF order, body frame).
 /modes          frequency_hz (M), omega (M) rad/s, ascending; modes 0–5 rigid (omega = 0):
@@ -20,7 +22,7 @@ Root attributes
                 through the CoM (ascending principal moment); modes 6.. elastic.
                 modal_mass (M, M) = identity, modal_stiffness (M) = omega^2 (diagonal);
                 interface (Z, 6, M): mode k at interface node i, DOF d (translations m, rotations
-                rad per unit q); vertex_displacement (Nv, 3, M) m per unit q;
+                rad per unit q); vertex_displacement (Nn, 3, M) m per unit q at /mesh/vertices;
                 rigid_twist (6, 6): (t, omega) about the body origin of each rigid mode.
 /invariants     mass, center_of_mass (3), inertia_origin (3,3), inertia_com (3,3),
                 I1..I9 (fem_cage.invariants docstring; I5 (3,M,M), I8 (3,3,M), I9 (3,3,M,M)),
@@ -28,7 +30,7 @@ Root attributes
                 first (3) = ∫rho x, second (3,3) = ∫rho x_a x_b, S1 (3,M) = ∫rho Phi,
                 Sx (3,3,M) = ∫rho x_a Phi_k,b, SS (3,3,M,M) = ∫rho Phi_j,a Phi_k,b (Shabana's
                 S_ab); Mff = I6 = identity.
-/stress         modes (Nv, 6, M) Pa per unit q at the mesh vertices (Voigt xx yy zz yz xz xy;
+/stress         modes (Nn, 6, M) Pa per unit q at /mesh/vertices (Voigt xx yy zz yz xz xy;
                 averaged nodal stress, fem_cage.stress_modes); rigid columns are exactly 0.
 /checks         attrs: JSON of the verification summary (static exactness, stress recovery,
                 frequencies, invariants), when computed.
@@ -68,10 +70,11 @@ TRUNCATION_NOTE = ("Full orthonormalised CB basis stored; statically exact for i
 
 
 def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str,
-              n_fixed: int) -> dict:
-    """Every input that changes the reduced cage (the dict hashed into the file name)."""
+              n_fixed: int, degree: int = 3) -> dict:
+    """Every input that changes the reduced cage (the dict hashed into the file name): geometry
+    and material, mesh size / geometric order / pocket size, FE degree, coupling, n_fixed."""
     return {"schema_version": SCHEMA_VERSION, "geometry": geometry.to_dict(),
-            "mesh_size": float(mesh_size), "order": int(order),
+            "mesh_size": float(mesh_size), "order": int(order), "degree": int(degree),
             "pocket_size": None if pocket_size is None else float(pocket_size),
             "coupling": str(coupling), "n_fixed": int(n_fixed), "mesh_version": 1}
 

@@ -165,3 +165,23 @@ def test_rbe2_stiffens_and_matches_its_coupled_model(small_model):
     r = check_frequencies(red, 2)
     assert np.max(np.abs(np.array(r["reduced_hz"]) / np.array(r["coupled_full_hz"]) - 1)) <= 0.005
     assert r["reduced_hz"][0] > 1.1 * r["full_hz"][0]
+
+
+@pytest.mark.parametrize("degree", [2, 3])
+def test_nodal_stress_of_uniform_strain(small_model, degree):
+    """u = (e x, 0, 0): sigma_xx = (lambda + 2 mu) e, sigma_yy = sigma_zz = lambda e, shear 0
+    (Hooke) at every node; the nodal displacement is the exact field (geometry nodes)."""
+    from fem_cage.elasticity import assemble_stiffness_mass, lame_parameters
+    from fem_cage.stress_modes import NodalStress
+    g, domain, ft, V, K, M = small_model
+    V, _, _ = assemble_stiffness_mass(domain, g.material, degree)
+    op = NodalStress(V, g.material)
+    X = V.tabulate_dof_coordinates()
+    e = 1e-3
+    u = np.zeros((len(X), 3))
+    u[:, 0] = e * X[:, 0]
+    lam, mu = lame_parameters(g.material)
+    s = op(u.ravel())
+    ref = np.array([(lam + 2 * mu) * e, lam * e, lam * e, 0, 0, 0])
+    assert np.abs(s - ref).max() <= 1e-8 * ref[0]
+    assert np.abs(op.displacement(u.ravel())[:, 0] - e * op.coords[:, 0]).max() <= 1e-12

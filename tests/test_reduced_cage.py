@@ -83,3 +83,27 @@ def test_reading_does_not_import_dolfinx(tmp_path):
             "ev(rc.omega * 0 + 1.0); "
             "assert 'dolfinx' not in sys.modules and 'ufl' not in sys.modules, 'FE stack imported'")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_cli_on_cached_file_never_imports_dolfinx(tmp_path):
+    """`flexbearing reduce --json --xdmf` with the paper cage's file in the cache reads the file
+    only (a synthetic file stands in for it here)."""
+    import os
+    import mesh.cage_mesh as cm
+    key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
+                        rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE)
+    cache = tmp_path / "cache"
+    env = dict(os.environ, FLEXBEARING_CACHE=str(cache))
+    code = ("import sys; from fem_cage import reduced_cage as r; import os; "
+            f"r.write(r.cache_path({key!r}), __import__('tests.test_reduced_cage', fromlist=['x'])"
+            "._synthetic(m=30), {'content_hash': 'x'}, {'static': {'max_rel_error_full': 1e-10}}); "
+            "from coupling.cli import main; "
+            f"rc = main(['reduce', '--quiet', '--json', {str(tmp_path / 's.json')!r}, '--xdmf', "
+            f"{str(tmp_path / 'm.xdmf')!r}]); "
+            "assert rc == 0; assert 'dolfinx' not in sys.modules, 'dolfinx imported'")
+    subprocess.run([sys.executable, "-c", code], check=True, env=env, cwd=str(
+        __import__("pathlib").Path(__file__).parent.parent))
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert summary["static"]["max_rel_error_full"] == 1e-10
+    assert len(summary["kept_frequencies_hz"]) == 26
+    assert (tmp_path / "m.xdmf").exists()
