@@ -116,7 +116,13 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     alpha = alphas[-1]
     nm = D.nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, alpha)
     slip = (nm - nc) / nm
+    # for transparency: the same cage speed against nm with other contact angles
+    alt = {}
+    for name, a in (("alpha_free", bearing.free_contact_angle), ("alpha_shim", bearing.shim_angle)):
+        nm_a = D.nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, a)
+        alt[f"slip_pct_{name}"] = 100.0 * (nm_a - nc) / nm_a
     row = dict(case)
+    row.update(alt)
     row.update(slip_pct=100.0 * slip, cage_speed=nc, nominal_cage_speed=nm, contact_angle_deg=math.degrees(alpha),
                error_vs_test_pct=100.0 * abs(100.0 * slip - case["test_slip_pct"]) / case["test_slip_pct"],
                paper_error_vs_test_pct=100.0 * abs(case["paper_slip_pct"] - case["test_slip_pct"]) / case["test_slip_pct"],

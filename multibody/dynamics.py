@@ -943,24 +943,17 @@ def state_layout_cached(model):
 
 
 def film_thickness(model, wc: np.ndarray) -> dict:
-    """Minimum and central film thickness per contact (Hamrock & Dowson 1977; formulas.md), m.
-
-    Uses multibody.film if present; U = eta0·|UR|/(E'·Rx), G = alpha_p·E', W = Q/(E'·Rx²),
-    k = 1.03·(Ry/Rx)^0.64. Zero where there is no load.
-    """
+    """Minimum and central film thickness per contact (Hamrock & Dowson 1977, multibody.film), m,
+    at the current load, entrainment speed and radii, viscosity at the oil temperature. Zero
+    where there is no load."""
+    from multibody.film import film_thickness as hd
     p = model.p
-    Q = wc[:, :, WC_Q]
-    ur = np.abs(wc[:, :, WC_UR])
-    rx = wc[:, :, WC_RX]
-    ry = wc[:, :, WC_RY]
-    e = p[P_EBR]
-    hmin = np.zeros_like(Q)
-    hc = np.zeros_like(Q)
-    on = (Q > 0) & (ur > 0) & (rx > 0)
-    U = p[P_ETA0] * ur[on] / (e * rx[on])
-    G = p[M.P_ALPHA_P] * e
-    W = Q[on] / (e * rx[on] ** 2)
-    k = 1.03 * (ry[on] / rx[on]) ** 0.64
-    hmin[on] = rx[on] * 3.63 * U ** 0.68 * G ** 0.49 * W ** -0.073 * (1 - np.exp(-0.68 * k))
-    hc[on] = rx[on] * 2.69 * U ** 0.67 * G ** 0.53 * W ** -0.067 * (1 - 0.61 * np.exp(-0.73 * k))
+    z = wc.shape[0]
+    hmin = np.zeros((z, 3))
+    hc = np.zeros((z, 3))
+    for j in range(z):
+        for c in range(3):
+            if wc[j, c, WC_Q] > 0.0 and wc[j, c, WC_RX] > 0.0:
+                hmin[j, c], hc[j, c] = hd(wc[j, c, WC_RX], wc[j, c, WC_RY], p[P_EBR], wc[j, c, WC_Q],
+                                          wc[j, c, WC_UR], p[P_ETA0], p[M.P_ALPHA_P])
     return {"film_thickness_min": hmin, "film_thickness_central": hc}
