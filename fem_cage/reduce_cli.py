@@ -104,7 +104,9 @@ def file_arrays(red: dict) -> dict:
     Z = len(red["interface_positions"])
     m = len(red["omega"])
     inv = red["invariants"]
-    data = {"mesh/vertices": red["stress_op"].coords, "mesh/tets": red["stress_op"].vtk_cells,
+    data = {"mesh/vertices": red["stress_op"].coords,
+            "mesh/tets": red["stress_op"].vtk_cells[:, :4],          # P1 skeleton (corners)
+            "mesh/tets10": red["stress_op"].vtk_cells,
             "interface/positions": red["interface_positions"],
             "interface/pocket": np.arange(Z),
             "modes/frequency_hz": red["frequency_hz"], "modes/omega": red["omega"],
@@ -274,8 +276,9 @@ def write_xdmf(rc, path, n_keep: int | None = None) -> Path:
         pd[f"{tag}_von_mises"] = von_mises(rc.stress_modes[:, :, k])
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    kind = {4: "tetra", 10: "tetra10"}[rc.tets.shape[1]]
-    meshio.write(path, meshio.Mesh(rc.vertices, [(kind, rc.tets)], point_data=pd))
+    cells = rc.tets10 if rc.tets10 is not None else rc.tets
+    kind = {4: "tetra", 10: "tetra10"}[cells.shape[1]]
+    meshio.write(path, meshio.Mesh(rc.vertices, [(kind, cells)], point_data=pd))
     return path
 
 

@@ -2,17 +2,18 @@
 
 numpy + h5py only: a run that finds its reduced cage in the cache never imports dolfinx.
 
-Schema "flexbearing.reduced_cage", version 1 (HDF5; SI units: m, kg, s, Pa, rad)
+Schema "flexbearing.reduced_cage", version 2 (HDF5; SI units: m, kg, s, Pa, rad)
 -------------------------------------------------------------------------------
 Root attributes
-  schema = "flexbearing.reduced_cage", schema_version = 1, content_hash (16 hex: cache key of
+  schema = "flexbearing.reduced_cage", schema_version = 2, content_hash (16 hex: cache key of
   every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
   pocket_size, FE degree, coupling, n_fixed), coupling ("rbe2" | "rbe3"),
   n_modes (M = 6Z + n_fixed), n_rigid = 6, default_n_keep = 26, created_by, units = "SI",
   notes (the truncation caveat below).
 /mesh           vertices (Nn, 3) m: the geometry nodes (vertices + edge nodes of the curved
-                quadratic mesh) where stress and displacement are given; tets (Nc, 10) int64
-                node indices in VTK tetra10 order (Nc, 4 for a linear mesh); attrs: source_msh (path at build time),
+                quadratic mesh) where stress and displacement are given; tets (Nc, 4) int64:
+                the corner nodes of each cell (a P1 tetrahedron skeleton for any XDMF writer);
+                tets10 (Nc, 10): all nodes in VTK tetra10 order (quadratic mesh only); attrs: source_msh (path at build time),
                 msh_sha256, n_dofs (of the full model), element (e.g. "P3 on curved order-2
                 tetrahedra").
 /interface      positions (Z, 3) m: interface node i at pocket i's centre; pocket (Z) int;
@@ -34,6 +35,9 @@ Root attributes
                 averaged nodal stress, fem_cage.stress_modes); rigid columns are exactly 0.
 /checks         attrs: JSON of the verification summary (static exactness, stress recovery,
                 frequencies, invariants), when computed.
+
+Version history: 1 = stress at mesh vertices only, /mesh/tets (Nc, 4); 2 = stress and displacement
+at all geometry nodes, /mesh/tets (Nc, 4) corner skeleton + /mesh/tets10, FE degree in the key.
 
 Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
 constraint modes + n_fixed fixed-interface modes, M-orthonormalised, sorted by frequency). The
@@ -62,7 +66,7 @@ from pathlib import Path
 import numpy as np
 
 SCHEMA = "flexbearing.reduced_cage"
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 N_RIGID = 6
 DEFAULT_N_KEEP = 26
 DEFAULT_N_FIXED = 30
@@ -118,6 +122,7 @@ class ReducedCage:
     attrs: dict = field(default_factory=dict)
     checks: dict = field(default_factory=dict)
     modes: np.ndarray = None             # indices of the kept modes in the file's full basis
+    tets10: np.ndarray | None = None     # (Nc, 10) VTK tetra10 order, quadratic meshes
 
     def __post_init__(self):
         if self.modes is None:
@@ -141,7 +146,7 @@ class ReducedCage:
                            self.interface_modes[:, :, idx], self.modal_stiffness[idx], inv,
                            self.stress_modes[:, :, idx], self.vertices, self.tets,
                            self.vertex_displacement[:, :, idx], self.attrs, self.checks,
-                           self.modes[idx])
+                           self.modes[idx], self.tets10)
 
     def truncate(self, n_keep: int = DEFAULT_N_KEEP) -> "ReducedCage":
         """The first n_keep modes by frequency (rigid ones included)."""
@@ -234,4 +239,5 @@ def read(path) -> ReducedCage:
             modal_stiffness=f["modes/modal_stiffness"][()], invariants=inv,
             stress_modes=f["stress/modes"][()], vertices=f["mesh/vertices"][()],
             tets=f["mesh/tets"][()], vertex_displacement=f["modes/vertex_displacement"][()],
-            attrs=attrs, checks=checks)
+            attrs=attrs, checks=checks,
+            tets10=f["mesh/tets10"][()] if "tets10" in f["mesh"] else None)
