@@ -209,6 +209,7 @@ def _write(path: Path):
     fd, tmp = tempfile.mkstemp(suffix=".msh", dir=path.parent)
     os.close(fd)
     gmsh.write(tmp)
+    os.chmod(tmp, 0o644)             # mkstemp makes 0600; a mesh is an ordinary file
     os.replace(tmp, path)
 
 
