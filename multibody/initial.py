@@ -126,11 +126,36 @@ def quasi_static(model, speed_rad_s: float, load, ring_guess=None, omega_orbit: 
         return np.concatenate([F, Mm / (0.5 * dm)])
 
     v0 = np.zeros(5) if ring_guess is None else np.asarray(ring_guess, float)
-    # first guess along the load: a small displacement so that the loaded contacts engage
+    # first guess: the ring displaced along the load until the force along it balances (bracketed
+    # 1-D search from 0.1 um doubling up to 2 mm, then bisection): it engages the contacts even
+    # through a radial clearance, where a Newton start at zero has a zero Jacobian
     if ring_guess is None:
         fn = np.linalg.norm(load)
         if fn > 0:
-            v0[:3] = 1e-6 * load / fn
+            d = load / fn
+
+            def along(s):
+                v = np.zeros(5)
+                v[:3] = s * d
+                return float(ring_residual(v)[:3] @ d)
+
+            lo, f_lo = 0.0, along(0.0)
+            s = 1e-7
+            while s < 2e-3:
+                f_s = along(s)
+                if f_s * f_lo <= 0.0:
+                    for _ in range(60):
+                        mid = 0.5 * (lo + s)
+                        f_m = along(mid)
+                        if f_m * f_lo <= 0.0:
+                            s = mid
+                        else:
+                            lo, f_lo = mid, f_m
+                    break
+                lo, f_lo = s, f_s
+                s *= 2.0
+            v0[:3] = s * d
+            balls[:] = (0.0, 0.5 * dm)
     scale = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
     sol = root(lambda u: ring_residual(u * scale), v0 / scale, method="hybr", options={"xtol": 1e-12})
     ring = sol.x * scale
