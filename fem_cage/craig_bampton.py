@@ -2,7 +2,8 @@
 
 Interface coordinates are linear functionals of the displacement, u_b = C u (6 per interface
 node: RBE2 master DOFs selected after elimination, or RBE3 averages; fem_cage.interface).
-The Craig–Bampton basis (Craig & Bampton, AIAA J. 6(7):1313, 1968) is u = Psi u_b + Phi eta:
+The Craig–Bampton basis (Craig & Bampton, AIAA J. 6(7):1313, 1968) is u = Psi u_b + Phi eta
+(+ U xi when augmented):
 
 * constraint (static) modes Psi (n x nb): the least-energy displacement for each unit interface
   value, min 1/2 u^T K u subject to C u = e_j:
@@ -13,10 +14,32 @@ The Craig–Bampton basis (Craig & Bampton, AIAA J. 6(7):1313, 1968) is u = Psi 
   (the saddle point also handles a free–free K: C fixes the rigid motions);
 * fixed-interface normal modes Phi (n x nf): K phi = omega^2 M phi on {C u = 0}, computed by
   SLEPc (Krylov–Schur) on the operator A x = [I 0] S^-1 [M x; 0] with S the saddle matrix of
-  (1) (eigenvalues 1/omega^2), then cleaned by a Rayleigh–Ritz step on the converged vectors.
+  (1) (eigenvalues 1/omega^2), then cleaned by a Rayleigh–Ritz step on the converged vectors;
+* optional fixed-interface static body-load vectors U (n x nl) (augmentation): the static
+  response to a distributed load f with the interface held, min 1/2 u^T K u - u^T f on {C u = 0},
 
-Reduced matrices, with B = [Psi Phi]:  K_cb = diag(Psi^T K Psi, Omega^2) (the coupling block
-Phi^T K Psi = -Phi^T C^T Lambda vanishes because C Phi = 0), M_cb = B^T M B (full).
+      [ K  C^T ] [ U ]   [ f ]
+      [ C   0  ] [ L ] = [ 0 ]                                                      (2)
+
+  (the same saddle factorisation, one more right-hand side per load), then M-orthogonalised
+  against Phi and M-orthonormalised. Why: the CB basis [Psi Phi] is statically complete only for
+  loads at the interface. The free–free static response to a self-equilibrated body load f is
+  u = Psi C u + w with C w = 0 and v^T K w = v^T f for every v with C v = 0 (the Psi part drops
+  out: v^T K Psi = -v^T C^T Lambda = 0), i.e. w = U from (2): [Psi U] holds it exactly.
+  Used for the centrifugal load of the spinning cage, f_cf = M x_perp (per unit Omega^2, x the
+  bearing axis; fem_cage.reduce_cli.centrifugal_load): a thin ring's
+  axisymmetric stretching lies far above the 30 fixed-interface modes, and without U the hoop
+  stress of the full CB basis is off by tens of percent (measured -33 %...+24 % on a 6-pocket
+  test ring; tests/test_cb_centrifugal.py). This is the "modal truncation augmentation" /
+  static-correction idea (Dickens, Nakagawa & Wittbrodt, Comput. Struct. 62 (1997) 985) applied
+  inside the reduction, so the runtime's residual static correction of discarded modes becomes
+  exact for the centrifugal load too.
+
+Reduced matrices, with B = [Psi Phi U]:  K_cb = B^T K B with the Psi–Phi block zero (the coupling
+Phi^T K Psi = -Phi^T C^T Lambda vanishes because C Phi = 0) and Phi^T K Phi = Omega^2; the Psi–U
+block vanishes for the same reason and the Phi–U block because U is M-orthogonal to the
+fixed-interface eigenvectors (Phi^T K U = Omega^2 Phi^T M U = 0); both are computed, not assumed
+(info "augmentation_coupling_max"). M_cb = B^T M B (full).
 
 "Modified Craig–Bampton" (ADAMS/Flex, MSC.ADAMS "Theory of Flexible Bodies"; Exudyn's
 FEMinterface does the same): solve K_cb N = M_cb N diag(omega^2) on the reduced space, so the
@@ -174,10 +197,41 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
     return np.sqrt(np.maximum(lam[:n_fixed], 0.0)), Phi, info
 
 
-def craig_bampton(K: sp.spmatrix, M: sp.spmatrix, C: sp.spmatrix, n_fixed: int, tol=1e-10):
-    """Constraint + fixed-interface modes and the CB reduced matrices.
+def body_load_vectors(solver: SaddleSolver, M: sp.spmatrix, Phi: np.ndarray,
+                      body_loads: np.ndarray) -> np.ndarray:
+    """Fixed-interface static responses (2) to the columns of body_loads (n x nl), M-orthogonalised
+    against the fixed-interface modes Phi and among themselves, unit modal mass (n x nl).
 
-    Returns dict: Psi (n x nb), Phi (n x nf), omega_fixed, K_cb, M_cb ((nb+nf)^2), info.
+    Classical Gram–Schmidt in the M inner product, done twice ("twice is enough", Giraud et al.,
+    Numer. Math. 101 (2005) 87): U and Phi are nearly parallel in the low modes' directions, and
+    one pass leaves M-inner products ~1e-8 there. A load whose response lies in span(Phi) to
+    1e-10 of its norm adds nothing and is refused (the reduction would be singular)."""
+    U, _ = solver.solve(np.asarray(body_loads, dtype=float).reshape(M.shape[0], -1), None)
+    U = U.reshape(M.shape[0], -1)
+    out = np.zeros_like(U)
+    for j in range(U.shape[1]):
+        u = U[:, j].copy()
+        norm0 = np.sqrt(u @ (M @ u))
+        for _ in range(2):
+            Q = np.hstack([Phi, out[:, :j]])
+            u -= Q @ (Q.T @ (M @ u))
+        norm = np.sqrt(u @ (M @ u))
+        if not norm > 1e-10 * norm0:
+            raise ValueError(f"craig_bampton.body_loads column {j}: its fixed-interface static "
+                             "response lies in the span of the fixed-interface modes")
+        out[:, j] = u / norm
+    return out
+
+
+def craig_bampton(K: sp.spmatrix, M: sp.spmatrix, C: sp.spmatrix, n_fixed: int, tol=1e-10,
+                  body_loads: np.ndarray | None = None):
+    """Constraint + fixed-interface modes (+ fixed-interface body-load vectors) and the CB
+    reduced matrices.
+
+    body_loads: None or (n x nl) distributed loads (e.g. the centrifugal load M x_perp) whose
+    fixed-interface static responses (2) augment the basis.
+    Returns dict: Psi (n x nb), Phi (n x nf), U (n x nl), omega_fixed, K_cb, M_cb
+    ((nb+nf+nl)^2), info.
     """
     K, M, C = sp.csr_matrix(K), sp.csr_matrix(M), sp.csr_matrix(C)
     solver = SaddleSolver(K, C)
@@ -186,18 +240,31 @@ def craig_bampton(K: sp.spmatrix, M: sp.spmatrix, C: sp.spmatrix, n_fixed: int, 
         omega_f, Phi, info = fixed_interface_modes(solver, K, M, n_fixed, tol)
     else:
         omega_f, Phi, info = np.zeros(0), np.zeros((K.shape[0], 0)), {}
-    nb, nf = C.shape[0], Phi.shape[1]
+    if body_loads is not None and np.size(body_loads):
+        U = body_load_vectors(solver, M, Phi, body_loads)
+    else:
+        U = np.zeros((K.shape[0], 0))
+    nb, nf, nl = C.shape[0], Phi.shape[1], U.shape[1]
     Kbb = Psi.T @ (K @ Psi)
-    K_cb = np.zeros((nb + nf, nb + nf))
+    K_cb = np.zeros((nb + nf + nl, nb + nf + nl))
     K_cb[:nb, :nb] = 0.5 * (Kbb + Kbb.T)
-    K_cb[nb:, nb:] = np.diag(omega_f ** 2)
-    B = np.hstack([Psi, Phi])
+    K_cb[nb:nb + nf, nb:nb + nf] = np.diag(omega_f ** 2)
+    B = np.hstack([Psi, Phi, U])
+    if nl:
+        KU = B.T @ (K @ U)                          # (nb+nf+nl, nl): the U rows and columns
+        K_cb[:, nb + nf:] = KU
+        K_cb[nb + nf:, :] = KU.T
+        uu = KU[nb + nf:]
+        K_cb[nb + nf:, nb + nf:] = 0.5 * (uu + uu.T)
+        scale = max(np.abs(np.diag(uu)).max(), 1e-300)
+        info["augmentation_coupling_max"] = float(np.abs(KU[:nb + nf]).max() / scale)
     M_cb = B.T @ (M @ B)
     M_cb = 0.5 * (M_cb + M_cb.T)
     info["lu_solver"] = solver.solver
     solver.destroy()
     info["coupling_block_max"] = float(np.abs(Phi.T @ (K @ Psi)).max()) if nf else 0.0
-    return {"Psi": Psi, "Phi": Phi, "omega_fixed": omega_f, "K_cb": K_cb, "M_cb": M_cb,
+    info["n_body_load_vectors"] = int(nl)
+    return {"Psi": Psi, "Phi": Phi, "U": U, "omega_fixed": omega_f, "K_cb": K_cb, "M_cb": M_cb,
             "info": info}
 
 

@@ -2,8 +2,9 @@
 
 Pipeline (fem_cage modules in brackets):
   mesh (mesh.cage_mesh, cached) -> K, M (elasticity) -> pocket interface nodes and RBE2/RBE3
-  coupling (interface) -> constraint + fixed-interface modes, modified CB orthonormalisation
-  (craig_bampton) -> invariants (invariants) -> vertex stress modes (stress_modes) -> HDF5 file
+  coupling (interface) -> constraint + fixed-interface modes + the fixed-interface static
+  response to the centrifugal load (default; --no-centrifugal-vector drops it), modified CB
+  orthonormalisation (craig_bampton) -> invariants (invariants) -> vertex stress modes (stress_modes) -> HDF5 file
   (reduced_cage), cached under a hash of every input.
 Checks (--json, --check): static exactness at several pockets (full basis and n_keep
 truncation), stress recovery of a pocket load case vs the full FE solution, free–free
@@ -24,10 +25,27 @@ import numpy as np
 
 # ------------------------------------------------------------------ the reduction
 
+def centrifugal_load(M, X: np.ndarray) -> np.ndarray:
+    """Consistent nodal centrifugal load of the cage spinning about its axis x, per unit Omega^2:
+
+        f_cf = M x_perp,   x_perp = (0, y, z)   (N per (rad/s)^2; body force rho Omega^2 x_perp)
+
+    M: blocked vector mass matrix (dof = 3 node + component), X (N, 3) node coordinates (the FE
+    interpolant of x_perp is exact: the coordinate field is in the FE space)."""
+    xp = np.zeros(3 * len(X))
+    xp[1::3], xp[2::3] = X[:, 1], X[:, 2]
+    return M @ xp
+
+
 def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: str = "rbe3",
-                 n_fixed: int = 30, quiet: bool = True) -> dict:
+                 n_fixed: int = 30, quiet: bool = True, centrifugal: bool = True) -> dict:
     """Run the reduction on an assembled model; return a dict of arrays and operators
-    (the in-memory reduced cage plus what the checks need: Kz, C, T, Phi_full, stress op)."""
+    (the in-memory reduced cage plus what the checks need: Kz, C, T, Phi_full, stress op).
+
+    centrifugal: augment the CB basis with the fixed-interface static response to the
+    centrifugal load f_cf (centrifugal_load; fem_cage.craig_bampton Eq. (2)), so the full basis
+    is statically exact for the spinning cage's centrifugal load as well as for pocket loads
+    (one more mode: M = 6Z + n_fixed + 1)."""
     from tqdm import tqdm
     from . import interface as itf
     from .craig_bampton import petsc_to_scipy, craig_bampton, orthonormalise
@@ -62,14 +80,19 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
         C = itf.rbe3_constraint(n, walls, weights, X, xm)
         Kz, Mz = K, M
     timings["interface_s"] = time.perf_counter() - t0
+    f_cf = centrifugal_load(M, X)                # physical DOFs; kept for the checks
+    body = None
+    if centrifugal:
+        body = T.T @ f_cf if T is not None else f_cf     # the same virtual work in the DOFs z
     log(f"{n} dofs, {Z} pocket interface nodes ({coupling}); factorising and solving "
-        f"{6 * Z} constraint modes + {n_fixed} fixed-interface modes (SLEPc)")
+        f"{6 * Z} constraint modes + {n_fixed} fixed-interface modes (SLEPc)"
+        + (" + the centrifugal vector" if centrifugal else ""))
     t0 = time.perf_counter()
-    cb = craig_bampton(Kz, Mz, C, n_fixed)
+    cb = craig_bampton(Kz, Mz, C, n_fixed, body_loads=body)
     timings["craig_bampton_s"] = time.perf_counter() - t0
     G = itf.rigid_interface_matrix(xm)
     N, omega, tw = orthonormalise(cb["K_cb"], cb["M_cb"], G)
-    B = np.hstack([cb["Psi"], cb["Phi"]]) @ N
+    B = np.hstack([cb["Psi"], cb["Phi"], cb["U"]]) @ N
     Phi_full = T @ B if T is not None else B
     phi_b = N[:6 * Z]
     log(f"orthonormalised {N.shape[1]} modes; invariants")
@@ -96,7 +119,8 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
             "vertex_displacement": vdisp, "invariants": inv, "moments": mom, "rigid": rigid,
             "rigid_twist": tw, "Kz": Kz, "Mz": Mz, "K": K, "M": M, "C": C, "T": T,
             "omega_fixed": cb["omega_fixed"], "info": cb["info"], "orthogonality": ortho,
-            "timings": timings, "n_dofs": n, "coupling": coupling, "n_fixed": n_fixed}
+            "timings": timings, "n_dofs": n, "coupling": coupling, "n_fixed": n_fixed,
+            "centrifugal": bool(centrifugal), "Bz": B, "f_cf": f_cf}
 
 
 def file_arrays(red: dict) -> dict:
@@ -183,6 +207,44 @@ def check_stress(red: dict, load_node: int, fixed_node: int = 0, force_n: float 
         out[f"vertex_{label}"] = node
         out[f"location_distance_{label}_m"] = float(np.linalg.norm(
             red["stress_op"].coords[node] - red["stress_op"].coords[n_full]))
+    return out
+
+
+def check_centrifugal(red: dict, spin: float = 1000.0, n_keep: int = 26) -> dict:
+    """The spinning cage's static centrifugal response, free–free full FE vs the modal basis.
+
+    Full FE (inertia relief, so a load that is not exactly self-equilibrated on the mesh is still
+    well posed): K u = Omega^2 f_cf - M R a, R^T M u = 0 (R the exact rigid modes), by the saddle
+    LU; f_cf = M x_perp (centrifugal_load). Modal: the elastic quasi-static coordinates
+    q_k = Omega^2 Q_k / omega_k^2, Q_k = Phi_k^T f_cf = Sx[1,1,k] + Sx[2,2,k] (the rigid
+    accelerations project to zero on the mean-axis elastic modes), stress = stress_modes @ q.
+    Errors: Frobenius norm of the nodal stress difference over all stress nodes, relative, for
+    the full basis and for the first n_keep modes alone. (The runtime's residual static
+    correction — n_keep modes plus the discarded modes' quasi-static coordinates — is, for a
+    static load, the full basis: the same q.)"""
+    import scipy.sparse as sp
+    from .craig_bampton import SaddleSolver
+    from .stress_modes import von_mises
+    K, M, Bz = red["Kz"], red["Mz"], red["Bz"]
+    f = spin ** 2 * (red["T"].T @ red["f_cf"] if red["T"] is not None else red["f_cf"])
+    R = Bz[:, :6]
+    solver = SaddleSolver(sp.csr_matrix(K), sp.csr_matrix((M @ R).T))
+    u, _ = solver.solve(f, None)
+    solver.destroy()
+    u_phys = red["T"] @ u if red["T"] is not None else u
+    S_full = red["stress_op"](u_phys)
+    omega = red["omega"]
+    Q = Bz.T @ f
+    q = np.zeros_like(Q)
+    q[6:] = Q[6:] / omega[6:] ** 2
+    out = {"spin_rad_s": spin, "vm_max_fe_Pa": float(von_mises(S_full).max()),
+           "centrifugal_vector": bool(red.get("centrifugal", False))}
+    qk = q.copy()
+    qk[n_keep:] = 0.0
+    for label, qq in (("full", q), ("truncated", qk)):
+        S = red["stress"] @ qq
+        out[f"stress_rel_error_{label}"] = _rel(S, S_full)
+        out[f"vm_max_{label}_basis_Pa"] = float(von_mises(S).max())
     return out
 
 
@@ -294,6 +356,9 @@ def register(subparsers):
     p.add_argument("--coupling", choices=("rbe2", "rbe3"), default=None,
                    help="pocket coupling: rbe3 distributing (default, adds no stiffness) or rbe2 rigid")
     p.add_argument("--n-fixed", type=int, default=None, help="fixed-interface normal modes (default 30)")
+    p.add_argument("--no-centrifugal-vector", dest="centrifugal", action="store_false",
+                   help="do not augment the basis with the fixed-interface centrifugal response "
+                        "(then the full basis is statically exact for pocket loads only)")
     p.add_argument("--n-keep", type=int, default=26, help="modes the runtime keeps, rigid included (default 26)")
     p.add_argument("--force", action="store_true", help="rebuild even if cached")
     p.add_argument("--check", action="store_true", help="run the verification (needs dolfinx)")
@@ -305,7 +370,7 @@ def register(subparsers):
 
 
 def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, checks=False,
-          n_keep=26, degree=3):
+          n_keep=26, degree=3, centrifugal=True):
     """Mesh, assemble, reduce, optionally verify; write the cache file. Returns (path, red, checks)."""
     from mpi4py import MPI
     from mesh.cage_mesh import cached_cage_mesh
@@ -313,18 +378,19 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
     from . import reduced_cage as rcf
     if MPI.COMM_WORLD.size > 1:
         raise RuntimeError("flexbearing reduce runs in serial")
-    key = rcf.cache_key(geometry, size, order, pocket_size, coupling, n_fixed, degree)
+    key = rcf.cache_key(geometry, size, order, pocket_size, coupling, n_fixed, degree, centrifugal)
     msh = cached_cage_mesh(geometry, size, order, pocket_size)
     domain, _, facet_tags, _ = load_cage_mesh(msh, MPI.COMM_SELF)
     V, K, M = assemble_stiffness_mass(domain, geometry.material, degree)
     t0 = time.perf_counter()
-    red = reduce_model(domain, facet_tags, V, K, M, geometry, coupling, n_fixed, quiet)
+    red = reduce_model(domain, facet_tags, V, K, M, geometry, coupling, n_fixed, quiet, centrifugal)
     red["timings"]["reduce_total_s"] = time.perf_counter() - t0
     summary = summarize(red)
     if checks:
         summary.update(run_checks(red, domain, geometry, degree, n_keep))
     attrs = {"content_hash": rcf.cache_path(key).stem, "parameters": key, "coupling": coupling,
-             "n_modes": int(len(red["omega"])), "created_by": "flexbearing reduce"}
+             "n_modes": int(len(red["omega"])), "created_by": "flexbearing reduce",
+             "centrifugal_vector": bool(centrifugal)}
     data = file_arrays(red)
     path = rcf.cache_path(key)
     data_attrs = dict(attrs)
@@ -342,6 +408,7 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
 def summarize(red: dict) -> dict:
     return {"frequencies_hz": red["frequency_hz"].tolist(), "n_modes": int(len(red["omega"])),
             "coupling": red["coupling"], "n_fixed": int(red["n_fixed"]), "n_dofs": int(red["n_dofs"]),
+            "centrifugal_vector": bool(red.get("centrifugal", False)),
             "n_stress_vertices": int(red["stress"].shape[0]), "orthogonality": red["orthogonality"],
             "timings": red["timings"], "solver": red["info"]}
 
@@ -356,6 +423,7 @@ def run_checks(red: dict, domain, geometry, degree: int, n_keep: int = 26) -> di
            # whole ring as a cantilever from the clamped pocket, stresses of GPa per kN)
            "stress": check_stress(red, 1, 0, 1000.0, n_keep),
            "frequencies": check_frequencies(red, 10),
+           "centrifugal": check_centrifugal(red, 1000.0, n_keep),
            "invariants": check_invariants(red, domain, geometry.material.density, 2 * degree)}
     m = min(n_keep, len(red["omega"]))
     out["von_mises_evaluator"] = check_von_mises(red["stress"][:, :, :m], red["omega"][:m])
@@ -376,19 +444,21 @@ def run(args) -> int:
     n_fixed = rcf.DEFAULT_N_FIXED if args.n_fixed is None else args.n_fixed
     require_range("reduce.n_fixed", n_fixed, 0, 2000)
     geometry = PAPER_CAGE.validate()
-    key = rcf.cache_key(geometry, size, order, pocket, coupling, n_fixed, degree)
+    centrifugal = getattr(args, "centrifugal", True)
+    key = rcf.cache_key(geometry, size, order, pocket, coupling, n_fixed, degree, centrifugal)
     path = None if args.force else rcf.find_cached(key)
     summary = None
     if path is None or args.check:
         path, red, summary = build(geometry, size, order, pocket, coupling, n_fixed,
                                    quiet=args.quiet, checks=args.check or args.json is not None,
-                                   n_keep=args.n_keep, degree=degree)
+                                   n_keep=args.n_keep, degree=degree, centrifugal=centrifugal)
     rc = rcf.read(path)
     if rc.n_modes < args.n_keep:
         raise InputError(f"reduce.n_keep = {args.n_keep} is outside the allowed range [1, {rc.n_modes}]")
     if not args.quiet:
         print(f"reduced cage: {path}")
-        print(f"  {rc.n_modes} modes stored ({coupling}, {n_fixed} fixed-interface); "
+        print(f"  {rc.n_modes} modes stored ({coupling}, {n_fixed} fixed-interface"
+              f"{', centrifugal vector' if centrifugal else ''}); "
               f"kept {args.n_keep}: elastic {np.round(rc.frequency_hz[6:args.n_keep], 1).tolist()} Hz")
     if args.output:
         import shutil

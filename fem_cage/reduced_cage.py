@@ -2,14 +2,15 @@
 
 numpy + h5py only: a run that finds its reduced cage in the cache never imports dolfinx.
 
-Schema "flexbearing.reduced_cage", version 2 (HDF5; SI units: m, kg, s, Pa, rad)
+Schema "flexbearing.reduced_cage", version 3 (HDF5; SI units: m, kg, s, Pa, rad)
 -------------------------------------------------------------------------------
 Root attributes
-  schema = "flexbearing.reduced_cage", schema_version = 2, content_hash (16 hex: cache key of
+  schema = "flexbearing.reduced_cage", schema_version = 3, content_hash (16 hex: cache key of
   every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
-  pocket_size, FE degree, coupling, n_fixed), coupling ("rbe2" | "rbe3"),
-  n_modes (M = 6Z + n_fixed), n_rigid = 6, default_n_keep = 26, created_by, units = "SI",
-  notes (the truncation caveat below).
+  pocket_size, FE degree, coupling, n_fixed, centrifugal_vector), coupling ("rbe2" | "rbe3"),
+  centrifugal_vector (bool: basis augmented with the fixed-interface centrifugal response),
+  n_modes (M = 6Z + n_fixed + 1 with the centrifugal vector, 6Z + n_fixed without),
+  n_rigid = 6, default_n_keep = 26, created_by, units = "SI", notes (the truncation caveat below).
 /mesh           vertices (Nn, 3) m: the geometry nodes (vertices + edge nodes of the curved
                 quadratic mesh) where stress and displacement are given; tets (Nc, 4) int64:
                 the corner nodes of each cell (a P1 tetrahedron skeleton for any XDMF writer);
@@ -37,14 +38,24 @@ Root attributes
                 frequencies, invariants), when computed.
 
 Version history: 1 = stress at mesh vertices only, /mesh/tets (Nc, 4); 2 = stress and displacement
-at all geometry nodes, /mesh/tets (Nc, 4) corner skeleton + /mesh/tets10, FE degree in the key.
+at all geometry nodes, /mesh/tets (Nc, 4) corner skeleton + /mesh/tets10, FE degree in the key;
+3 = the CB basis is augmented (default) with the fixed-interface static response to the
+centrifugal load about the bearing axis, u_cf = K_ii^-1 M x_perp (interface held; fem_cage.
+craig_bampton Eq. (2)) before the modified-CB orthonormalisation: one more mode, same datasets,
+root attribute centrifugal_vector and the flag in parameters/cache key. Why: with constraint +
+fixed-interface modes only, the full basis is statically exact for interface (pocket) loads but
+not for body loads — the spinning cage's hoop stress was off by tens of percent on a thin test
+ring; constraint modes + u_cf hold the exact free–free static centrifugal response
+(tests/test_cb_centrifugal.py). read() also accepts version-2 files (same layout, no
+augmentation: centrifugal_vector reads False).
 
 Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
-constraint modes + n_fixed fixed-interface modes, M-orthonormalised, sorted by frequency). The
+constraint modes + n_fixed fixed-interface modes + the centrifugal vector, M-orthonormalised,
+sorted by frequency). The
 runtime keeps the first n_keep (default 26 = 6 rigid + 20 elastic, the paper's count of 26
 "modal frequencies" with the rigid ones included, as ADAMS numbers them). Only the full basis is
-statically exact for loads at the interface nodes (to solver precision); a truncated basis is
-not — the file's /checks give the static error of both. Frame convention for the floating frame
+statically exact for loads at the interface nodes and (version 3) for the centrifugal load (to
+solver precision); a truncated basis is not — the file's /checks give the static error of both. Frame convention for the floating frame
 of reference: the elastic modes (6..) are M-orthogonal to all rigid motions, i.e. they satisfy
 the linearised mean-axis (Tisserand) conditions ∫rho Phi dV = 0 and ∫rho x × Phi dV = 0 about
 the CoM; a runtime whose body frame carries the rigid motion drops modes 0–5 (`elastic()`).
@@ -66,7 +77,8 @@ from pathlib import Path
 import numpy as np
 
 SCHEMA = "flexbearing.reduced_cage"
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
+READABLE_VERSIONS = (2, 3)           # 2: same layout, basis without the centrifugal vector
 N_RIGID = 6
 DEFAULT_N_KEEP = 26
 DEFAULT_N_FIXED = 30
@@ -78,13 +90,15 @@ TRUNCATION_NOTE = ("Full orthonormalised CB basis stored; statically exact for i
 
 
 def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str,
-              n_fixed: int, degree: int = 3) -> dict:
+              n_fixed: int, degree: int = 3, centrifugal: bool = True) -> dict:
     """Every input that changes the reduced cage (the dict hashed into the file name): geometry
-    and material, mesh size / geometric order / pocket size, FE degree, coupling, n_fixed."""
+    and material, mesh size / geometric order / pocket size, FE degree, coupling, n_fixed,
+    centrifugal (basis augmented with the fixed-interface centrifugal response)."""
     return {"schema_version": SCHEMA_VERSION, "geometry": geometry.to_dict(),
             "mesh_size": float(mesh_size), "order": int(order), "degree": int(degree),
             "pocket_size": None if pocket_size is None else float(pocket_size),
-            "coupling": str(coupling), "n_fixed": int(n_fixed), "mesh_version": 1}
+            "coupling": str(coupling), "n_fixed": int(n_fixed),
+            "centrifugal_vector": bool(centrifugal), "mesh_version": 1}
 
 
 def cache_path(key: dict) -> Path:
@@ -160,21 +174,37 @@ class ReducedCage:
 
 
 def static_correction(interface_modes: np.ndarray, omega: np.ndarray, interface_loads: np.ndarray,
-                      first: int) -> np.ndarray:
+                      first: int, modal_load: np.ndarray | None = None) -> np.ndarray:
     """Quasi-static coordinates of the modes first.. (mode-acceleration / residual-flexibility
     method; Craig & Kurdila, "Fundamentals of Structural Dynamics", 2006, §14.3):
 
-        q_k = Phi_b,k^T F / omega_k^2,   k >= first                                   (S)
+        q_k = (Phi_b,k^T F + g_k) / omega_k^2,   k >= first                           (S)
 
     interface_modes (Z, 6, M), omega (M), interface_loads (Z, 6) forces N / moments N m at the
-    interface nodes in the body frame. Keeping modes < first dynamic and adding (S) for the rest
+    interface nodes in the body frame; modal_load (M,) optional distributed load already in modal
+    form, g_k (e.g. centrifugal_modal_load: Omega^2 Q_k). Keeping modes < first dynamic and adding (S) for the rest
     restores the static exactness of the full basis (a static load has q_k = (S) for every
     elastic mode because the modal stiffness is diagonal) without putting the high frequencies
     (up to ~100 kHz on the paper cage) into the integrator. Rigid modes (omega = 0) are skipped."""
     Pb = interface_modes[:, :, first:].reshape(-1, interface_modes.shape[2] - first)
     w2 = np.asarray(omega[first:]) ** 2
     f = Pb.T @ np.asarray(interface_loads, dtype=float).ravel()
+    if modal_load is not None:
+        f = f + np.asarray(modal_load, dtype=float)[first:]
     return np.where(w2 > 0, f / np.where(w2 > 0, w2, 1.0), 0.0)
+
+
+def centrifugal_modal_load(invariants: dict, spin: float) -> np.ndarray:
+    """Modal centrifugal load of the cage spinning at Omega = spin (rad/s) about its axis x:
+
+        Omega^2 Q_k,  Q_k = ∫rho Phi_k · x_perp dV = Sx[1,1,k] + Sx[2,2,k],  x_perp = (0, y, z)
+
+    (N m per unit q; the generalised force of the body force rho Omega^2 x_perp; Shabana,
+    "Dynamics of Multibody Systems", ch. 5, the centrifugal term of the elastic equations). With a
+    version-3 file (centrifugal vector in the basis) the full basis' static answer
+    q_k = Omega^2 Q_k / omega_k^2 is the exact free–free FE response (tests/test_cb_centrifugal.py)."""
+    Sx = np.asarray(invariants["Sx"])
+    return float(spin) ** 2 * (Sx[1, 1, :] + Sx[2, 2, :])
 
 
 def modal_damping(omega: np.ndarray, beta: float) -> np.ndarray:
@@ -227,9 +257,11 @@ def read(path) -> ReducedCage:
         if f.attrs.get("schema") != SCHEMA:
             raise ValueError(f"{path}: not a {SCHEMA} file")
         ver = int(f.attrs["schema_version"])
-        if ver != SCHEMA_VERSION:
-            raise ValueError(f"{path}: schema_version {ver}, this flexbearing reads {SCHEMA_VERSION}")
+        if ver not in READABLE_VERSIONS:
+            raise ValueError(f"{path}: schema_version {ver}, this flexbearing reads "
+                             f"{', '.join(map(str, READABLE_VERSIONS))}")
         attrs = {k: (json.loads(v) if k == "parameters" else v) for k, v in f.attrs.items()}
+        attrs.setdefault("centrifugal_vector", False)
         inv = {k: (f["invariants"][k][()]) for k in f["invariants"]}
         checks = json.loads(f["checks"].attrs.get("summary", "{}"))
         return ReducedCage(
