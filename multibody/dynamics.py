@@ -88,6 +88,8 @@ from multibody.guide_land import guide_land_force
 from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from multibody.traction import slice_load_share, traction_coefficient, traction_coefficients_table
+from coupling.floating_frame import accelerations as ffrf_accelerations
+from coupling.floating_frame import add_node_load, node_kinematics, deformed_moments, mass_matrix
 
 
 
@@ -428,24 +430,176 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
 
 
 @njit(cache=True)
-def _cage_body_rhs(y, dydt, c0, fx, fy, fz, mx, my, mz, p):
-    """Rigid cage: Newton–Euler in the non-spinning tilted frame (module docstring).
+def cage_rotation(phi, by, bz, A):
+    """A = R_z(bz)·R_y(by)·R_x(phi): cage body -> inertial (spin phi about the cage axis, then the
+    tilts about Y and Z; for small tilts A ≈ (I + [beta]x)·R_x(phi), beta = (0, by, bz))."""
+    cf = math.cos(phi)
+    sf = math.sin(phi)
+    cy = math.cos(by)
+    sy = math.sin(by)
+    cz = math.cos(bz)
+    sz = math.sin(bz)
+    # R_z R_y
+    a00 = cz * cy
+    a01 = -sz
+    a02 = cz * sy
+    a10 = sz * cy
+    a11 = cz
+    a12 = sz * sy
+    a20 = -sy
+    a21 = 0.0
+    a22 = cy
+    # · R_x(phi) = [[1,0,0],[0,cf,-sf],[0,sf,cf]]
+    A[0, 0] = a00
+    A[0, 1] = a01 * cf + a02 * sf
+    A[0, 2] = -a01 * sf + a02 * cf
+    A[1, 0] = a10
+    A[1, 1] = a11 * cf + a12 * sf
+    A[1, 2] = -a11 * sf + a12 * cf
+    A[2, 0] = a20
+    A[2, 1] = a21 * cf + a22 * sf
+    A[2, 2] = -a21 * sf + a22 * cf
 
-    The flexible cage replaces this with the floating-frame + modal equations; it receives the same
-    resultant forces and, per pocket, the interface forces (see `rhs`).
+
+@njit(cache=True)
+def cage_angular_velocity(by, bz, dphi, dby, dbz):
+    """Inertial angular velocity w = G(theta)·theta' of A = R_z(bz)R_y(by)R_x(phi):
+    w = e_z·bz' + R_z e_y·by' + R_z R_y e_x·phi'."""
+    cy = math.cos(by)
+    sy = math.sin(by)
+    cz = math.cos(bz)
+    sz = math.sin(bz)
+    wx = cz * cy * dphi - sz * dby
+    wy = sz * cy * dphi + cz * dby
+    wz = -sy * dphi + dbz
+    return wx, wy, wz
+
+
+@njit(cache=True)
+def _cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az):
+    """theta'' = G⁻¹·(w' − G'·theta') for the inertial angular acceleration w' = (ax, ay, az).
+
+    G = [g1, g2, e_z], g1 = R_z R_y e_x = (cz·cy, sz·cy, −sy), g2 = R_z e_y = (−sz, cz, 0);
+    G'·theta' = phi'·(w_zy × g1) + by'·(bz'·e_z × g2), w_zy = e_z·bz' + g2·by' (the frame R_z R_y).
     """
-    m = p[P_MC]
-    ip = p[P_ICP]
-    idm = p[P_ICD]
-    om = y[c0 + 9]
+    cy = math.cos(by)
+    sy = math.sin(by)
+    cz = math.cos(bz)
+    sz = math.sin(bz)
+    g1x, g1y, g1z = cz * cy, sz * cy, -sy
+    g2x, g2y = -sz, cz
+    wzx = g2x * dby
+    wzy = g2y * dby
+    wzz = dbz
+    c1x, c1y, c1z = _cross(wzx, wzy, wzz, g1x, g1y, g1z)
+    # e_z × g2 = (−g2y, g2x, 0)
+    rx = ax - dphi * c1x - dby * dbz * (-g2y)
+    ry = ay - dphi * c1y - dby * dbz * g2x
+    rz = az - dphi * c1z
+    # solve [g1 g2 e_z] (u, v, w) = r: the first two rows involve u, v only
+    det = g1x * g2y - g2x * g1y            # = cy
+    u = (rx * g2y - g2x * ry) / det
+    v = (g1x * ry - g1y * rx) / det
+    w = rz - g1z * u
+    return u, v, w
+
+
+@njit(cache=True)
+def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
+    """Cage equations: the floating-frame equations of coupling.floating_frame with the applied
+    generalised forces cage[16] (pocket loads, added by `rhs`), the guide-land force and torque
+    at the frame origin and gravity; rigid cage = zero modes (module docstring).
+
+    State: (x, y, z) frame origin, theta = (phi, by, bz) with A = R_z(bz)R_y(by)R_x(phi), their
+    rates, then q and q' (block MODES)."""
+    (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
+     Qext, A, scr) = cage
+    n = stiff.shape[0]
+    phi = y[c0 + 3]
+    by = y[c0 + 4]
+    bz = y[c0 + 5]
+    dphi = y[c0 + 9]
+    dby = y[c0 + 10]
+    dbz = y[c0 + 11]
+    cage_rotation(phi, by, bz, A)
+    wx, wy, wz = cage_angular_velocity(by, bz, dphi, dby, dbz)
+    w = scr[0]
+    # body-frame angular velocity
+    w[0] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
+    w[1] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
+    w[2] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
+    # guide land at the frame origin: force (0, fy, fz), torque about X; gravity along −Z
+    Qext[1] += land_fy
+    Qext[2] += land_fz - mass[0] * grav
+    Qext[3] += A[0, 0] * land_mx
+    Qext[4] += A[0, 1] * land_mx
+    Qext[5] += A[0, 2] * land_mx
+    q = y[m0:m0 + n]
+    qd = y[m0 + n:m0 + 2 * n]
+    ffrf_accelerations(A, w, q, qd, Qext, mass[0], first, second, S1, Sx, SS, Mff, stiff, damp,
+                       Mmat, rvec, U, Wab, acc)
     for k in range(6):
         dydt[c0 + k] = y[c0 + 6 + k]
-    dydt[c0 + 6] = fx / m
-    dydt[c0 + 7] = fy / m
-    dydt[c0 + 8] = fz / m - p[P_GRAV]
-    dydt[c0 + 9] = mx / ip
-    dydt[c0 + 10] = (my - ip * om * y[c0 + 11]) / idm
-    dydt[c0 + 11] = (mz + ip * om * y[c0 + 10]) / idm
+    dydt[c0 + 6] = acc[0]
+    dydt[c0 + 7] = acc[1]
+    dydt[c0 + 8] = acc[2]
+    # w' (inertial) = A·w'_body
+    ax = A[0, 0] * acc[3] + A[0, 1] * acc[4] + A[0, 2] * acc[5]
+    ay = A[1, 0] * acc[3] + A[1, 1] * acc[4] + A[1, 2] * acc[5]
+    az = A[2, 0] * acc[3] + A[2, 1] * acc[4] + A[2, 2] * acc[5]
+    u, v, ww = _cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az)
+    dydt[c0 + 9] = u
+    dydt[c0 + 10] = v
+    dydt[c0 + 11] = ww
+    for k in range(n):
+        dydt[m0 + k] = qd[k]
+        dydt[m0 + n + k] = acc[6 + k]
+
+
+@njit(cache=True)
+def _pocket_pose(j, y, c0, m0, cage, pos, vel, axis, wnode):
+    """Pocket j of the (flexible) cage: centre pos, its velocity vel, axis (unit, radial in the
+    undeformed cage, turned by the interface node's small elastic rotation) and the node's
+    angular velocity wnode, all inertial. The cage rotation must be in cage[17] (A)."""
+    (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
+     Qext, A, scr) = cage
+    n = stiff.shape[0]
+    q = y[m0:m0 + n]
+    qd = y[m0 + n:m0 + 2 * n]
+    R = y[c0:c0 + 3]
+    Rd = y[c0 + 6:c0 + 9]
+    wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])
+    w = scr[1]
+    w[0] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
+    w[1] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
+    w[2] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
+    rot = scr[2]
+    node_kinematics(R, A, Rd, w, q, qd, npos, nmodes, j, pos, vel, rot)
+    # undeformed radial axis through the node, turned by the node rotation: e + rot × e
+    ny = npos[j, 1]
+    nz = npos[j, 2]
+    nr = math.sqrt(ny * ny + nz * nz)
+    ey = ny / nr
+    ez = nz / nr
+    bx = rot[1] * ez - rot[2] * ey
+    by_ = ey - rot[0] * ez
+    bz_ = ez + rot[0] * ey
+    bn = math.sqrt(bx * bx + by_ * by_ + bz_ * bz_)
+    bx /= bn
+    by_ /= bn
+    bz_ /= bn
+    for i in range(3):
+        axis[i] = A[i, 0] * bx + A[i, 1] * by_ + A[i, 2] * bz_
+    # node angular velocity: A (w + Psi_j q')
+    o0 = w[0]
+    o1 = w[1]
+    o2 = w[2]
+    for k in range(n):
+        o0 += nmodes[j, 3, k] * qd[k]
+        o1 += nmodes[j, 4, k] * qd[k]
+        o2 += nmodes[j, 5, k] * qd[k]
+    for i in range(3):
+        wnode[i] = A[i, 0] * o0 + A[i, 1] * o1 + A[i, 2] * o2
 
 
 @njit(cache=True)
@@ -458,12 +612,12 @@ def _flag(work, zb, status, ball, contact, value):
 
 
 @njit(cache=True)
-def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work):
+def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work, cage):
     """dy/dt of the bearing at time t (module docstring); fills `work` with the contact results.
 
-    p, flags, htab, ttab: Model.p, Model.flags, Model.hertz_table, Model.traction_table;
-    speed_table, load_table, impacts: multibody.profiles arrays; work: float64 (Z+1, N_WORK).
-    Allocation-free.
+    p, flags, htab, ttab, cage: Model.p, Model.flags, Model.hertz_table, Model.traction_table,
+    Model.cage; speed_table, load_table, impacts: multibody.profiles arrays; work: float64
+    (Z+1, N_WORK). Allocation-free.
     """
     z = int(p[P_Z])
     zb = z
@@ -473,6 +627,13 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     grav = p[P_GRAV]
     r0 = 9 * z
     c0 = r0 + 11
+    m0 = c0 + 12
+    A = cage[17]
+    scr = cage[18]
+    Qext = cage[16]
+    for k in range(Qext.shape[0]):
+        Qext[k] = 0.0
+    cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
     omega_i = speed_at(t, speed_table)
     load_at(t, load_table, impacts, work[zb, WR_FX:WR_FX + 3])
     work[zb, WR_OMEGA_I] = omega_i
@@ -489,15 +650,10 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     xc = y[c0]
     yc = y[c0 + 1]
     zc = y[c0 + 2]
-    phic = y[c0 + 3]
-    by_ = y[c0 + 4]
-    bz_ = y[c0 + 5]
     vxc = y[c0 + 6]
     vyc = y[c0 + 7]
     vzc = y[c0 + 8]
     wcx = y[c0 + 9]
-    wcy = y[c0 + 10]
-    wcz = y[c0 + 11]
     # accumulators
     rfx = 0.0
     rfy = 0.0
@@ -505,15 +661,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     rmx = 0.0
     rmy = 0.0
     rmz = 0.0
-    cfx = 0.0
-    cfy = 0.0
-    cfz = 0.0
-    cmx = 0.0
-    cmy = 0.0
-    cmz = 0.0
     fo = p[P_FE]
     fi = p[P_FI]
-    rmid = p[P_RCAGE_POCKET]
     rho_mix, eta_mix = oil_air_mixture(p[P_OILFRAC], p[P_RHO_OIL], p[P_ETA0])
     for j in range(z):
         o = 9 * j
@@ -626,28 +775,18 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     rmx += m1
                     rmy += m2
                     rmz += m3
-        # ---- pocket j (rigid cage, small tilts): centre p = c + q + beta × q, axis likewise
-        psi_p = phic + 2.0 * math.pi * j / z
-        cp_ = math.cos(psi_p)
-        sp_ = math.sin(psi_p)
-        tilt = by_ * sp_ - bz_ * cp_
-        qx = rmid * tilt
-        qy = rmid * cp_
-        qz = rmid * sp_
-        ppx = xc + qx
-        ppy = yc + qy
-        ppz = zc + qz
-        ax = tilt
-        ay = cp_
-        az = sp_
-        an = math.sqrt(ax * ax + ay * ay + az * az)
-        ax /= an
-        ay /= an
-        az /= an
-        ox, oy, oz = _cross(wcx, wcy, wcz, qx, qy, qz)
-        vpx = vxc + ox
-        vpy = vyc + oy
-        vpz = vzc + oz
+        # ---- pocket j: pose of the pocket's interface node (floating frame + modes)
+        pos = scr[3]
+        vel = scr[4]
+        axv = scr[5]
+        wn = scr[6]
+        _pocket_pose(j, y, c0, m0, cage, pos, vel, axv, wn)
+        ppx = pos[0]
+        ppy = pos[1]
+        ppz = pos[2]
+        ax = axv[0]
+        ay = axv[1]
+        az = axv[2]
         # ball in inertial components
         bx = xb
         byy = rb * cs
@@ -657,7 +796,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         wby = w_r * cs - w_t * sn
         wbz = w_r * sn + w_t * cs
         pk = _pocket_interface(bx, byy, bzz, vbx, vbyy, vbzz, w_x, wby, wbz,
-                               ppx, ppy, ppz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz,
+                               ppx, ppy, ppz, ax, ay, az, vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
                                xc, yc, zc, p, flags)
         pfx, pfy, pfz = pk[0], pk[1], pk[2]
         work[j, W_POCKET_Q] = pk[9]
@@ -673,34 +812,31 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         mx += pk[3]
         mr += pk[4] * cs + pk[5] * sn
         mt += -pk[4] * sn + pk[5] * cs
-        # On the cage: −F. Generalised forces of the linearised cage kinematics (the pocket
-        # geometry moves as w = c + w_rot + beta × w_rot, w_rot the untilted position), so
-        # that the pocket force is the exact gradient of its potential for the cage as well:
-        # the force acts at the point of the pocket axis level with the ball, untilted lever
-        # w_rot = (R_pocket + d·a)·(0, cos psi_p, sin psi_p);
-        #   Q_phi = (w_rot × F)_x + F·(beta × (e_x × w_rot)),  Q_beta = (w_rot × F)_(y, z).
+        # On the cage: −F_b and the reaction moment, applied at the point w of the pocket axis
+        # level with the ball (the normal force's line of action passes through it), carried to
+        # the interface node: node force −F_b, node moment (w − p)×(−F_b) − M_b − (b − w)×F_b.
+        # This is the virtual work of the pocket force for the node's motion, so the normal
+        # force stays the exact gradient of its potential (conservative runs conserve energy).
         da_ = (bx - ppx) * ax + (byy - ppy) * ay + (bzz - ppz) * az
-        lev = rmid + da_
-        wy_ = lev * cp_
-        wz_ = lev * sp_
-        cfx -= pfx
-        cfy -= pfy
-        cfz -= pfz
+        wpx = ppx + da_ * ax
+        wpy = ppy + da_ * ay
+        wpz = ppz + da_ * az
+        Fc = scr[7]
+        Fc[0] = -pfx
+        Fc[1] = -pfy
+        Fc[2] = -pfz
+        l1, l2, l3 = _cross(da_ * ax, da_ * ay, da_ * az, -pfx, -pfy, -pfz)
+        b1, b2, b3 = _cross(bx - wpx, byy - wpy, bzz - wpz, pfx, pfy, pfz)
+        Tn = scr[2]
+        Tn[0] = l1 - pk[3] - b1
+        Tn[1] = l2 - pk[4] - b2
+        Tn[2] = l3 - pk[5] - b3
+        add_node_load(A, y[m0:m0 + cage[7].shape[0]], cage[9], cage[10], j, Fc, Tn, Qext)
         work[j, W_PK_FX] = -pfx
         work[j, W_PK_FY] = -pfy
         work[j, W_PK_FZ] = -pfz
-        work[j, W_PK_LY] = wy_
-        work[j, W_PK_LZ] = wz_
-        m1, m2, m3 = _cross(0.0, wy_, wz_, -pfx, -pfy, -pfz)
-        # e_x × w_rot = (0, −wz, wy); beta × that = (by·wy + bz·wz, bz·0 − 0, 0 − by·0)...
-        ex_w_y = -wz_
-        ex_w_z = wy_
-        bxw_x = by_ * ex_w_z - bz_ * ex_w_y
-        bxw_y = -0.0 * ex_w_z + bz_ * 0.0
-        bxw_z = 0.0 * ex_w_y - by_ * 0.0
-        cmx += m1 + (-pfx) * bxw_x + (-pfy) * bxw_y + (-pfz) * bxw_z
-        cmy += m2
-        cmz += m3
+        work[j, W_PK_LY] = wpy - yc
+        work[j, W_PK_LZ] = wpz - zc
         # ---- churning drag on the orbiting ball (oil–air mixture at rest)
         if flags[F_DRAG]:
             fd = churning_drag(dw, vbt, rho_mix, eta_mix)
@@ -740,12 +876,12 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     work[zb, WR_EPS] = eps
     if eps > 2.0:
         _flag(work, zb, STATUS_RIM, -1, 4, eps)
-    _cage_body_rhs(y, dydt, c0, cfx, cfy + lfy, cfz + lfz, cmx + lmx, cmy, cmz, p)
+    _cage_body_rhs(y, dydt, c0, m0, cage, lfy, lfz, lmx, p[P_GRAV])
 
 
 # ---------------------------------------------------------------- energy (conservative runs)
 @njit(cache=True)
-def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
+def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     """Kinetic energy of balls, ring and cage + elastic energy of the contacts − work potential
     of the (constant) external load, J. Conserved when traction, drag and damping are off and the
     Hertz constants are fixed (model option hertz_fixed_angle; otherwise K(alpha) makes the Hertz
@@ -753,11 +889,16 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
     free run), its kinetic energy is constant and left out.
 
     Hertz: V = (2/5)·K·delta^2.5. Pocket: V = Kc·Z²/2 (Z <= Cp), Kc·Cp²/2 + Kc·Cp·(Z − Cp) +
-    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: K_rim·(e − Cg)²/2. Load: −F·x_ring.
+    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: K_rim·(e − Cg)²/2. Load: −F·x_ring. Cage: ½·vᵀM(q)v of the
+    floating-frame body, v = (R', w_body, q'), plus the modal strain energy ½·Σ omega_k²·q_k².
     """
     z = int(p[P_Z])
     r0 = 9 * z
     c0 = r0 + 11
+    m0 = c0 + 12
+    A = cage[17]
+    scr = cage[18]
+    cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
     mb = p[P_MB]
     ib = p[P_IB]
     dw = p[P_DW]
@@ -794,23 +935,18 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
                 else:
                     K = _hertz_lookup(htab, kind, ca)[0]
                 ev += 0.4 * K * delta ** 2.5
-        # pocket
-        psi_p = y[c0 + 3] + 2.0 * math.pi * j / z
-        cp_ = math.cos(psi_p)
-        sp_ = math.sin(psi_p)
-        tilt = y[c0 + 4] * sp_ - y[c0 + 5] * cp_
-        rmid = p[P_RCAGE_POCKET]
-        ax = tilt
-        ay = cp_
-        az = sp_
-        an = math.sqrt(ax * ax + ay * ay + az * az)
-        dx = xb - (y[c0] + rmid * tilt)
-        dy = rb * math.cos(psi) - (y[c0 + 1] + rmid * cp_)
-        dz = rb * math.sin(psi) - (y[c0 + 2] + rmid * sp_)
-        da = (dx * ax + dy * ay + dz * az) / an
-        ux = dx - da * ax / an
-        uy = dy - da * ay / an
-        uz = dz - da * az / an
+        # pocket (exact pose of its interface node, as in rhs)
+        _pocket_pose(j, y, c0, m0, cage, scr[3], scr[4], scr[5], scr[6])
+        ax = scr[5, 0]
+        ay = scr[5, 1]
+        az = scr[5, 2]
+        dx = xb - scr[3, 0]
+        dy = rb * math.cos(psi) - scr[3, 1]
+        dz = rb * math.sin(psi) - scr[3, 2]
+        da = dx * ax + dy * ay + dz * az
+        ux = dx - da * ax
+        uy = dy - da * ay
+        uz = dz - da * az
         zz = math.sqrt(ux * ux + uy * uy + uz * uz)
         cp = p[P_CP]
         kc = p[P_KC]
@@ -821,8 +957,26 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts):
     # ring (translation + tilt) and cage
     ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
     ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
-    ek += 0.5 * p[P_MC] * (y[c0 + 6] ** 2 + y[c0 + 7] ** 2 + y[c0 + 8] ** 2)
-    ek += 0.5 * p[P_ICP] * y[c0 + 9] ** 2 + 0.5 * p[P_ICD] * (y[c0 + 10] ** 2 + y[c0 + 11] ** 2)
+    (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
+     Qext, A, scr) = cage
+    n = stiff.shape[0]
+    q = y[m0:m0 + n]
+    wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])
+    v = rvec
+    v[0] = y[c0 + 6]
+    v[1] = y[c0 + 7]
+    v[2] = y[c0 + 8]
+    v[3] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
+    v[4] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
+    v[5] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
+    for k in range(n):
+        v[6 + k] = y[m0 + n + k]
+        ev += 0.5 * stiff[k] * q[k] * q[k]
+    deformed_moments(q, second, Sx, SS, U, Wab)
+    mass_matrix(A, q, mass[0], first, S1, Mff, U, Wab, Mmat)
+    for i in range(6 + n):
+        for k in range(6 + n):
+            ek += 0.5 * v[i] * Mmat[i, k] * v[k]
     e = math.sqrt(y[c0 + 1] ** 2 + y[c0 + 2] ** 2)
     if e > p[P_CG]:
         ev += 0.5 * p[P_KRIM] * (e - p[P_CG]) ** 2
@@ -869,7 +1023,7 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
     work = new_work(model)
     dydt = np.zeros_like(y)
     rhs(t, y, dydt, model.p, model.flags, model.hertz_table, model.traction_table,
-        speed_table, load_table, impacts, work)
+        speed_table, load_table, impacts, work, model.cage)
     lay = state_layout_cached(model)
     balls = y[: 9 * z].reshape(z, 9)
     ring = y[lay["ring"]: lay["ring"] + 11]

@@ -90,7 +90,7 @@ class SimulationUnstable(RuntimeError):
 
 @njit(cache=True)
 def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, ld, imp,
-             work, scale, relmask, K, ytmp, ynew, max_steps):
+             work, scale, relmask, K, ytmp, ynew, max_steps, cage):
     """Adaptive explicit RK (FSAL tableau A, weights B, error weights E) from t to t_end, in place.
 
     K: (n_stages, n) stage derivatives; K[0] must hold f(t, y) on entry (FSAL) and holds f at the
@@ -121,7 +121,7 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
                 ytmp[q] = acc
             if i == s - 1:
                 work[zb, 10] = 0.0  # reset the status before the FSAL stage (at the new state)
-            D_rhs(t + C[i] * h, ytmp, K[i], p, flags, htab, ttab, sp, ld, imp, work)
+            D_rhs(t + C[i] * h, ytmp, K[i], p, flags, htab, ttab, sp, ld, imp, work, cage)
         # the last stage state is the 5th-order solution (FSAL): ytmp
         err = 0.0
         finite = True
@@ -213,12 +213,12 @@ def advance(model, y, t, t_next, speed_table, load_table, impacts, tol: float = 
     if ws.fsal_t != t or ws.fsal_y is None or not np.array_equal(ws.fsal_y, y):
         ws.work[-1, M.WR_STATUS] = 0.0
         D.rhs(t, y, ws.K[0], model.p, model.flags, model.hertz_table, model.traction_table,
-              speed_table, load_table, impacts, ws.work)
+              speed_table, load_table, impacts, ws.work, model.cage)
     t1, h1, n_acc, n_rej, code = _rk_loop(y, float(t), float(t_next), float(h), float(tol), ws.A, ws.B, ws.C,
                                           ws.E, ws.order, model.p, model.flags, model.hertz_table,
                                           model.traction_table, speed_table, load_table, impacts,
                                           ws.work, model.scale, model.relmask, ws.K, ws.ytmp, ws.ynew,
-                                          int(max_steps))
+                                          int(max_steps), model.cage)
     if code != OK:
         _raise_unstable(model, code, y, ws, t1, h1, speed_table, load_table, impacts)
     ws.fsal_t = t1

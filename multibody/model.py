@@ -144,6 +144,12 @@ class Model(NamedTuple):
     n_balls: int
     n_modes: int
     n_state: int
+    # The cage body in floating-frame form (coupling.floating_frame.FlexibleBody arrays followed by
+    # its work arrays, `cage_arrays`): mass (1,), first, second, S1, Sx, SS, Mff, stiffness,
+    # damping, node_position, node_modes, Mmat, rhs, U, Wab, acc, Qext, A (3,3), scratch (8,3).
+    # A rigid cage is the same
+    # body with zero modes, so rigid and flexible cages run through the same equations.
+    cage: tuple = ()
 
 
 DEFAULT_OPTIONS = {
@@ -167,6 +173,27 @@ DEFAULT_OPTIONS = {
     "inner_ring_added_mass": 0.0,
     "n_modes": 0,
 }
+
+
+def cage_arrays(body) -> tuple:
+    """The numba argument tuple of a cage body (coupling.floating_frame.FlexibleBody)."""
+    from coupling.floating_frame import new_workspace
+    Mmat, rvec, U, Wab = new_workspace(body.n_modes)
+    d = 6 + body.n_modes
+    return (np.array([body.mass]), *(np.ascontiguousarray(a, dtype=np.float64) for a in body[1:]),
+            Mmat, rvec, U, Wab, np.zeros(d), np.zeros(d), np.zeros((3, 3)), np.zeros((8, 3)))
+
+
+def rigid_cage_body(cage, pitch_diameter: float):
+    """The rigid cage as a floating-frame body with zero modes: mass and inertia of the annulus
+    minus the pockets (`cage_mass_properties`), CoM at the frame origin, one interface node per
+    pocket on its axis at the pitch radius (the ball centres' radius)."""
+    from coupling.floating_frame import rigid_body
+    mc, icp, icd = cage_mass_properties(cage)
+    psi = 2.0 * math.pi * np.arange(cage.n_pockets) / cage.n_pockets
+    r = 0.5 * pitch_diameter
+    nodes = np.stack([np.zeros_like(psi), r * np.cos(psi), r * np.sin(psi)], axis=1)
+    return rigid_body(mc, np.zeros(3), np.diag([icp, icd, icd]), node_position=nodes)
 
 
 def state_layout(model: Model) -> dict:
@@ -227,10 +254,12 @@ def _option(options: dict, key: str):
     return options[key] if key in options else DEFAULT_OPTIONS[key]
 
 
-def build_model(bearing: Bearing, oil: Oil, options: dict | None = None) -> Model:
+def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_body=None) -> Model:
     """Model arrays for `bearing` lubricated with `oil` (module docstring for every entry).
 
     options: any key of DEFAULT_OPTIONS; unknown keys are an InputError.
+    cage_body: the cage as a floating-frame body (coupling.floating_frame.FlexibleBody; the
+    flexible cage of coupling.flexible_cage); None = the rigid cage (`rigid_cage_body`).
     """
     options = dict(options or {})
     unknown = set(options) - set(DEFAULT_OPTIONS)
@@ -240,9 +269,15 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None) -> Mode
     oil.validate()
     n_slices = int(_option(options, "n_slices"))
     require_range("model.n_slices", n_slices, 1, 64)
-    n_modes = int(_option(options, "n_modes"))
-    if n_modes != 0:
-        raise InputError(f"model.n_modes = {n_modes}: only the rigid cage (0) is implemented in multibody")
+    if int(_option(options, "n_modes")) != 0:
+        raise InputError(f"model.n_modes = {_option(options, 'n_modes')}: the modes of a flexible cage come "
+                         "from its reduced cage file (cage.model = 'flexible'), not from this option")
+    if cage_body is None:
+        cage_body = rigid_cage_body(bearing.cage, bearing.pitch_diameter)
+    if cage_body.node_position.shape[0] != bearing.n_balls:
+        raise InputError(f"cage body has {cage_body.node_position.shape[0]} pocket interface nodes, "
+                         f"the bearing {bearing.n_balls} balls")
+    n_modes = cage_body.n_modes
     zeta = require_range("model.damping_ratio", _option(options, "damping_ratio"), 0.0, 1.0)
     s_lin = require_range("model.traction_slip_linear", _option(options, "traction_slip_linear"), 1e-6, 0.1)
     u_min = require_range("model.min_rolling_speed", _option(options, "min_rolling_speed"), 1e-3, 10.0, unit="m/s")
@@ -327,7 +362,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None) -> Mode
     n_state = 9 * z + 11 + 12 + 2 * n_modes
     scale, relmask = _error_scales(z, n_modes, dw)
     return Model(p=p, flags=flags, hertz_table=htab, traction_table=np.array(TRACTION_FIT_4106, dtype=np.float64),
-                 scale=scale, relmask=relmask, n_balls=z, n_modes=n_modes, n_state=n_state)
+                 scale=scale, relmask=relmask, n_balls=z, n_modes=n_modes, n_state=n_state,
+                 cage=cage_arrays(cage_body))
 
 
 def _error_scales(z: int, n_modes: int, dw: float) -> tuple[np.ndarray, np.ndarray]:
@@ -365,5 +401,8 @@ def _error_scales(z: int, n_modes: int, dw: float) -> tuple[np.ndarray, np.ndarr
     rel[c0 + 9] = 1.0
     s[c0 + 10:c0 + 12] = 1.0
     if n_modes:
-        s[c0 + 12:] = 1e-6
+        # modal coordinates of mass-normalised modes: displacement ~ q / sqrt(cage mass), so the
+        # position and velocity scales of the bodies apply
+        s[c0 + 12:c0 + 12 + n_modes] = 1e-4
+        s[c0 + 12 + n_modes:] = 0.1
     return s, rel

@@ -23,7 +23,7 @@ IMP = np.zeros((0, 6))
 def _rhs(model, y, t=0.0, sp=SP, ld=LD):
     dy = np.zeros_like(y)
     work = D.new_work(model)
-    D.rhs(t, y, dy, model.p, model.flags, model.hertz_table, model.traction_table, sp, ld, IMP, work)
+    D.rhs(t, y, dy, model.p, model.flags, model.hertz_table, model.traction_table, sp, ld, IMP, work, model.cage)
     return dy, work
 
 

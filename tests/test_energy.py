@@ -30,12 +30,12 @@ def _free_run(tol, duration, rpm=10000.0, fa=5000.0, fr=1000.0, n_out=10):
     imp = np.zeros((0, 6))
     ws = I.Workspace(m)
     t, h = 0.0, 1e-6
-    ek0, ev0 = D.mechanical_energy(0.0, y, m.p, m.flags, m.hertz_table, ld, imp)
+    ek0, ev0 = D.mechanical_energy(0.0, y, m.p, m.flags, m.hertz_table, ld, imp, m.cage)
     energies = [ek0 + ev0]
     elastic = []
     for k in range(1, n_out + 1):
         y, t, h, _, _ = I.advance(m, y, t, duration * k / n_out, sp, ld, imp, tol, h, ws)
-        ek, ev = D.mechanical_energy(t, y, m.p, m.flags, m.hertz_table, ld, imp)
+        ek, ev = D.mechanical_energy(t, y, m.p, m.flags, m.hertz_table, ld, imp, m.cage)
         energies.append(ek + ev)
     return np.array(energies), ev0
 
