@@ -24,7 +24,7 @@ EXE = str(Path(sys.executable).with_name("flexbearing"))
 
 
 def run(cmd, json_path):
-    env = dict(os.environ, OMP_NUM_THREADS="1")
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_MCA_mpi_yield_when_idle="1")
     t0 = time.perf_counter()
     subprocess.run(cmd + ["--json", str(json_path), "--quiet"], check=True, env=env, cwd=ROOT)
     wall = time.perf_counter() - t0

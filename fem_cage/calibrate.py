@@ -84,7 +84,12 @@ class Evaluator:
         size, ps, order, degree = self.mesh
         t0 = time.perf_counter()
         path = cached_cage_mesh(g, size, order, ps)
-        res, _, _ = run_modes(g, path, degree, 27, classify=False)
+        res, V, vecs = run_modes(g, path, degree, 27, classify=False)
+        for v in vecs:
+            v.destroy()
+        del V, vecs
+        import gc
+        gc.collect()
         f = res["frequencies_hz"]
         self.memo[key] = f
         r = residuals(f)

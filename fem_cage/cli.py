@@ -38,6 +38,8 @@ def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True):
     V, K, M = assemble_stiffness_mass(domain, g.material, degree)
     t2 = time.perf_counter()
     freqs, vecs, info = free_free_modes(K, M, n_modes, return_info=True)
+    K.destroy()
+    M.destroy()
     t3 = time.perf_counter()
     res = {"frequencies_hz": [float(f) for f in freqs], "ndofs": global_ndofs(V),
            "mass_kg": total_mass(domain, g.material),

@@ -82,9 +82,14 @@ def free_free_modes(K, M, n_modes: int = 27, shift: float | None = None, tol: fl
         M.mult(v, Mv)
         v.scale(1.0 / np.sqrt(v.dot(Mv)))
         out.append(v)
+    info = {"solver": solver, "shift": shift, "iterations": eps.getIterationNumber(), "nconv": nconv}
+    for i in set(range(nconv)) - set(order.tolist()):
+        vecs[i].destroy()
+    Mv.destroy()
+    # Free the factorisation now: petsc4py objects in reference cycles otherwise live until
+    # the cyclic GC runs, and repeated solves (calibration, mesh study) pile up gigabytes.
+    eps.destroy()
     if return_info:
-        info = {"solver": solver, "shift": shift, "iterations": eps.getIterationNumber(),
-                "nconv": nconv}
         return freqs, out, info
     return freqs, out
 
