@@ -27,6 +27,7 @@ Damping: D = beta·K (paper), i.e. modal damping beta·omega_k².
 """
 from __future__ import annotations
 
+from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -93,3 +94,120 @@ def flexible_cage_body(rc, n_keep: int = 26, beta: float = 0.0,
     return CageModalBasis(body, T, np.sqrt(np.maximum(kdiag, 0.0)) / (2 * np.pi),
                           np.ascontiguousarray(rc.stress_modes @ T),
                           np.ascontiguousarray(rc.vertex_displacement @ T))
+
+
+# --------------------------------------------------------------------------- the run's backend
+def reduced_cage_path(scene, quiet: bool = False):
+    """The reduced cage file for the scene's cage: from the cache, or built once (imports the FE
+    stack only then). Key = every input that changes it (fem_cage.reduced_cage.cache_key)."""
+    from fem_cage import reduced_cage as rcf
+    import mesh.cage_mesh as cm
+    f = scene.flexible
+    size = f.get("mesh_size", cm.DEFAULT_MESH_SIZE)
+    degree = f.get("element_order", cm.DEFAULT_DEGREE)
+    pocket = min(cm.DEFAULT_POCKET_SIZE, size)
+    key = rcf.cache_key(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
+                        rcf.DEFAULT_N_FIXED, degree, True)
+    path = rcf.find_cached(key)
+    if path is None:
+        from fem_cage.reduce_cli import build
+        if not quiet:
+            print(f"building the reduced cage (mesh {size * 1e3:g} mm, P{degree}, Craig–Bampton; "
+                  "a few minutes, once): " + str(rcf.cache_path(key)), flush=True)
+        path, _, _ = build(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
+                           rcf.DEFAULT_N_FIXED, quiet=quiet, degree=degree, centrifugal=True)
+    return path
+
+
+class StressRecovery:
+    """Maximum von Mises stress of the cage from a state of the run, exact over the mesh nodes.
+
+    The run integrates the kept modes q (n_keep − 6 elastic); the discarded modes of the full
+    Craig–Bampton basis follow quasi-statically (residual flexibility / mode acceleration, Craig &
+    Kurdila 2006 §14.3; fem_cage.reduced_cage.static_correction):
+
+        q_k = (Phi_b,kᵀ·F_nodes + Omega_x²·Q_cf,k) / omega_k²,   k >= n_keep
+
+    F_nodes the pocket-node loads (body frame) and Omega_x the cage's spin, Q_cf the centrifugal
+    modal load. The stress field is sigma = S·q_full (stress modes of the full basis) and its
+    maximum von Mises value over the nodes comes from the exact bounded search of
+    fem_cage.von_mises (no node can be missed).
+    """
+
+    def __init__(self, rc, n_keep: int):
+        from fem_cage.von_mises import MaxVonMisesSorted
+        self.rc = rc
+        self.n_keep = int(n_keep)
+        self.omega = np.asarray(rc.omega, dtype=float)
+        self.q_cf = centrifugal_generalised_force(rc.invariants["Sx"])
+        self.evaluator = MaxVonMisesSorted(rc.stress_modes)
+        self.M = rc.n_modes
+
+    def full_coordinates(self, q_kept, node_load, spin) -> np.ndarray:
+        from fem_cage.reduced_cage import static_correction
+        q = np.zeros(self.M)
+        q[N_RIGID:self.n_keep] = q_kept[: self.n_keep - N_RIGID]
+        w2 = self.omega[self.n_keep:] ** 2
+        q[self.n_keep:] = (static_correction(self.rc.interface_modes, self.omega, node_load, self.n_keep)
+                           + spin ** 2 * self.q_cf[self.n_keep:] / w2)
+        return q
+
+    def __call__(self, q_full) -> tuple[float, int]:
+        return self.evaluator(q_full)
+
+
+def backend(scene):
+    """The flexible-cage physics for coupling.run: the multibody model with the reduced cage as
+    its floating-frame body (26 modes by default), its initial state with the cage's quasi-static
+    centrifugal deformation, and outputs extended by the cage stress."""
+    from types import SimpleNamespace
+    from fem_cage import reduced_cage as rcf
+    from multibody import dynamics, initial, integrator, model as mb
+
+    path = reduced_cage_path(scene)
+    rc = rcf.read(path)
+    n_keep = int(scene.flexible.get("n_modes", 26))
+    beta = float(scene.flexible.get("damping_beta", 1e-5))
+    basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
+    stress = StressRecovery(rc, n_keep) if "von_mises" in scene.outputs else None
+    n = basis.body.n_modes
+    file_attrs = {"reduced_cage_file": str(Path(path).resolve()),
+                  "reduced_cage_hash": str(rc.attrs.get("content_hash", Path(path).stem)),
+                  "cage_n_modes": n_keep}
+
+    def build_model(bearing, oil, options):
+        return mb.build_model(bearing, oil, options, cage_body=basis.body)
+
+    def initial_state(model, speed_rad_s, Fa, Fr, load=None):
+        y = np.array(initial.initial_state(model, speed_rad_s, Fa, Fr, load=load), dtype=np.float64)
+        lay = mb.state_layout(model)
+        # start on the static centrifugal deformation of the spinning cage (no breathing transient)
+        spin = y[lay["cage"] + 9]
+        y[lay["modes"]:lay["modes"] + n] = spin ** 2 * (basis.body.Sx[1, 1] + basis.body.Sx[2, 2]) / basis.body.stiffness
+        return y
+
+    def evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=False):
+        out = dynamics.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film)
+        lay = mb.state_layout(model)
+        q = y[lay["modes"]:lay["modes"] + n]
+        out["cage_modal_coordinates"] = q.copy()
+        if stress is not None:
+            A = model.cage[17]
+            dynamics.cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
+            wx, wy, wz = dynamics.cage_angular_velocity(*(y[lay["cage"] + k] for k in (4, 5, 9, 10, 11)))
+            spin = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz       # body-frame spin component
+            qf = stress.full_coordinates(q, model.cage[19], spin)
+            vm, node = stress(qf)
+            out["von_mises_max"] = float(vm)
+            out["von_mises_max_vertex"] = int(node)
+            out["cage_modal_coordinates_full"] = qf
+        return out
+
+    units = dict(getattr(dynamics, "OUTPUT_UNITS", {}))
+    units.update({"von_mises_max": "Pa", "von_mises_max_vertex": "1", "cage_modal_coordinates": "1",
+                  "cage_modal_coordinates_full": "1"})
+    ws = getattr(integrator, "Workspace", None)
+    return SimpleNamespace(build_model=build_model, initial_state=initial_state,
+                           advance=integrator.advance, evaluate_outputs=evaluate_outputs,
+                           new_workspace=(lambda m: ws(m)) if ws else None, OUTPUT_UNITS=units,
+                           FILE_ATTRS=file_attrs, basis=basis, reduced_cage=rc)

@@ -207,6 +207,9 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
                            time.perf_counter() - wall_start)
     if mode == "new":
         writer = ResultsWriter.create(out_path, scene, units)
+    # what the backend wants the file to carry (e.g. the reduced cage file and its hash)
+    for key, value in (getattr(backend, "FILE_ATTRS", None) or {}).items():
+        writer.f.attrs[key] = value
 
     try:
         if cp is None:

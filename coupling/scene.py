@@ -19,10 +19,10 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     [cage]
     model = "rigid"           # "rigid" | "flexible"
     pocket_diameter = 22.5e-3 # any scalar field of mesh.cage_geometry.CageGeometry
-    n_modes = 26              # flexible only: modes kept, FE mesh size [m], element order,
-    mesh_size = 2.5e-3        #   stiffness-proportional damping D = damping_beta·K [s]
-    element_order = 2
-    damping_beta = 1e-5
+    n_modes = 26              # flexible only: modes kept (6 rigid + 20 elastic, as the paper),
+    mesh_size = 5e-3          #   FE mesh size [m] (default mesh.cage_mesh.DEFAULT_MESH_SIZE),
+    element_order = 3         #   FE degree on the curved mesh (default P3),
+    damping_beta = 1e-5       #   stiffness-proportional damping D = damping_beta·K [s]
     [cage.material]           # density, youngs_modulus, poisson_ratio
 
     [model]                   # multibody options passed to multibody.model.build_model
@@ -242,7 +242,7 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         if k == "n_modes":
             flexible[k] = _integer("cage.n_modes", v, 1, 500)
         elif k == "element_order":
-            flexible[k] = _integer("cage.element_order", v, 1, 2)
+            flexible[k] = _integer("cage.element_order", v, 1, 3)   # FE degree (default P3)
         elif k == "mesh_size":
             flexible[k] = _number("cage.mesh_size", v, 0.0, 0.5 * bearing.cage.width, lo_open=True,
                                   unit="m")

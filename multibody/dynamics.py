@@ -513,7 +513,7 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     State: (x, y, z) frame origin, theta = (phi, by, bz) with A = R_z(bz)R_y(by)R_x(phi), their
     rates, then q and q' (block MODES)."""
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr) = cage
+     Qext, A, scr, node_load) = cage
     n = stiff.shape[0]
     phi = y[c0 + 3]
     by = y[c0 + 4]
@@ -562,7 +562,7 @@ def _pocket_pose(j, y, c0, m0, cage, pos, vel, axis, wnode):
     undeformed cage, turned by the interface node's small elastic rotation) and the node's
     angular velocity wnode, all inertial. The cage rotation must be in cage[17] (A)."""
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr) = cage
+     Qext, A, scr, node_load) = cage
     n = stiff.shape[0]
     q = y[m0:m0 + n]
     qd = y[m0 + n:m0 + 2 * n]
@@ -832,6 +832,10 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         Tn[1] = l2 - pk[4] - b2
         Tn[2] = l3 - pk[5] - b3
         add_node_load(A, y[m0:m0 + cage[7].shape[0]], cage[9], cage[10], j, Fc, Tn, Qext)
+        nl = cage[19]
+        for i in range(3):
+            nl[j, i] = A[0, i] * Fc[0] + A[1, i] * Fc[1] + A[2, i] * Fc[2]
+            nl[j, 3 + i] = A[0, i] * Tn[0] + A[1, i] * Tn[1] + A[2, i] * Tn[2]
         work[j, W_PK_FX] = -pfx
         work[j, W_PK_FY] = -pfy
         work[j, W_PK_FZ] = -pfz
@@ -958,7 +962,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
     ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr) = cage
+     Qext, A, scr, node_load) = cage
     n = stiff.shape[0]
     q = y[m0:m0 + n]
     wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])

@@ -146,7 +146,8 @@ class Model(NamedTuple):
     n_state: int
     # The cage body in floating-frame form (coupling.floating_frame.FlexibleBody arrays followed by
     # its work arrays, `cage_arrays`): mass (1,), first, second, S1, Sx, SS, Mff, stiffness,
-    # damping, node_position, node_modes, Mmat, rhs, U, Wab, acc, Qext, A (3,3), scratch (8,3).
+    # damping, node_position, node_modes, Mmat, rhs, U, Wab, acc, Qext, A (3,3), scratch (8,3),
+    # node_load (Z, 6): each pocket node's force and moment on the cage in the body frame.
     # A rigid cage is the same
     # body with zero modes, so rigid and flexible cages run through the same equations.
     cage: tuple = ()
@@ -181,7 +182,8 @@ def cage_arrays(body) -> tuple:
     Mmat, rvec, U, Wab = new_workspace(body.n_modes)
     d = 6 + body.n_modes
     return (np.array([body.mass]), *(np.ascontiguousarray(a, dtype=np.float64) for a in body[1:]),
-            Mmat, rvec, U, Wab, np.zeros(d), np.zeros(d), np.zeros((3, 3)), np.zeros((8, 3)))
+            Mmat, rvec, U, Wab, np.zeros(d), np.zeros(d), np.zeros((3, 3)), np.zeros((8, 3)),
+            np.zeros((body.node_position.shape[0], 6)))
 
 
 def rigid_cage_body(cage, pitch_diameter: float):
