@@ -161,7 +161,7 @@ def register(subparsers):
     p.add_argument("--order", type=int, default=2, choices=(1, 2))
     p.add_argument("--degree", type=int, default=3, choices=(1, 2, 3))
     p.add_argument("--params", nargs="+", default=None,
-                   help="parameters to fit (default: pocket_diameter land_width relief_depth)")
+                   help="parameters to fit (default: pocket_diameter chamfer land_width relief_depth)")
     p.add_argument("--max-evals", type=int, default=40)
     p.add_argument("-o", "--output", default="out/calibrate-cage", help="output folder")
     p.add_argument("--quiet", action="store_true")
