@@ -89,9 +89,10 @@ def test_small_cage_pocket_frf_below_first_mode(small_cage):
     fixed-interface modes + centrifugal vector = 57 modes; first elastic pair 3653 Hz). Unit
     circumferential, radial and axial force on pocket 1; elastic response of its interface node;
     undamped; w = 0 (inertia-relief static), 0.45 f_1, 0.9 f_1 (>= 10 % from the resonance).
-    (b) 26 modes + residual static correction within 1 % of the full FE (measured <= 0.46 %, set by
-    the inertia-relief body load at w = 0, which the CB basis holds only approximately; 2.2e-4 with
-    60 fixed-interface modes); (a) 26 modes alone are 3-5 % off (measured up to 5.3 %).
+    (b) 26 modes + residual static correction within 1 % of the full FE (measured <= 0.49 %; at
+    w = 0 0.46 %, set by the inertia-relief body load M R a, which the CB basis holds only
+    approximately: 2.2e-4 with 60 fixed-interface modes); (a) 26 modes alone are off by up to
+    5.1 % (measured).
     Above the first modes the small cage's 26-mode set is not enough: measured (b) 0.9 % at 7.1 kHz,
     3-5 % near 8-9 kHz, i.e. the 1 % claim up to the 10th elastic mode does NOT hold on this toy
     cage (benchmarks/bench_frf.py measures the paper cage)."""
