@@ -204,7 +204,7 @@ def backend(scene):
         return out
 
     units = dict(getattr(dynamics, "OUTPUT_UNITS", {}))
-    units.update({"von_mises_max": "Pa", "von_mises_max_vertex": "1", "cage_modal_coordinates": "1",
+    units.update({"von_mises_max": "Pa", "von_mises_max_vertex": "index", "cage_modal_coordinates": "1",
                   "cage_modal_coordinates_full": "1"})
     ws = getattr(integrator, "Workspace", None)
     return SimpleNamespace(build_model=build_model, initial_state=initial_state,
