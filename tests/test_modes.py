@@ -95,3 +95,16 @@ def test_modes_under_mpirun_match_serial(tmp_path):
     assert p["mpi_ranks"] == 2 and p["ndofs"] == s["ndofs"]
     # Same discrete problem, different partition: elastic frequencies agree to solver tolerance.
     assert np.allclose(p["frequencies_hz"][6:], s["frequencies_hz"][6:], rtol=1e-7)
+
+
+def test_mode_shapes_xdmf(coarse_ring, tmp_path):
+    # ParaView output: one step per mode, displacement + von Mises, and a JSON sidecar whose
+    # frequencies are the solver's.
+    from fem_cage.mode_xdmf import write_modes_xdmf
+    f, vecs, V, cl = coarse_ring
+    path = write_modes_xdmf(tmp_path / "modes", V, vecs[:8], f[:8], NOMINAL_CAGE.material)
+    assert path.exists() and path.with_suffix(".h5").exists()
+    text = path.read_text()
+    assert text.count('Name="displacement"') == 8 and text.count('Name="von_mises"') == 8
+    meta = json.loads(path.with_suffix(".json").read_text())
+    assert [m["frequency_hz"] for m in meta["modes"]] == pytest.approx(list(f[:8]))
