@@ -105,6 +105,6 @@ def test_mode_shapes_xdmf(coarse_ring, tmp_path):
     path = write_modes_xdmf(tmp_path / "modes", V, vecs[:8], f[:8], NOMINAL_CAGE.material)
     assert path.exists() and path.with_suffix(".h5").exists()
     text = path.read_text()
-    assert text.count('Name="displacement"') == 8 and text.count('Name="von_mises"') == 8
+    assert text.count('<Attribute Name="displacement"') == 8 and text.count('<Attribute Name="von_mises"') == 8
     meta = json.loads(path.with_suffix(".json").read_text())
     assert [m["frequency_hz"] for m in meta["modes"]] == pytest.approx(list(f[:8]))
