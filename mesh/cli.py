@@ -8,8 +8,9 @@ from pathlib import Path
 def add_geometry_arguments(p):
     """Cage geometry options shared by mesh/modes/mesh-study (lengths in mm on the command line)."""
     g = p.add_argument_group("cage geometry (mm; default: the paper preset)")
-    g.add_argument("--preset", choices=("paper", "nominal"), default="paper",
-                   help="paper = calibrated preset (PAPER_CAGE), nominal = SPEC §1 defaults")
+    g.add_argument("--preset", choices=("paper", "nominal", "calibrated"), default="paper",
+                   help="paper = PAPER_CAGE (multibody's preset), nominal = SPEC §1 defaults, "
+                        "calibrated = fitted to Table 8 (CALIBRATED_CAGE)")
     g.add_argument("--pocket-diameter-mm", type=float)
     g.add_argument("--land-width-mm", type=float)
     g.add_argument("--relief-depth-mm", type=float)
@@ -18,8 +19,8 @@ def add_geometry_arguments(p):
 
 
 def geometry_from_args(args):
-    from .cage_geometry import PAPER_CAGE, NOMINAL_CAGE
-    g = PAPER_CAGE if args.preset == "paper" else NOMINAL_CAGE
+    from .cage_geometry import PAPER_CAGE, NOMINAL_CAGE, CALIBRATED_CAGE
+    g = {"paper": PAPER_CAGE, "nominal": NOMINAL_CAGE, "calibrated": CALIBRATED_CAGE}[args.preset]
     ch = {}
     for opt, field in (("pocket_diameter_mm", "pocket_diameter"), ("land_width_mm", "land_width"),
                        ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer")):
