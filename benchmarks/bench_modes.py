@@ -1,6 +1,6 @@
 """Benchmark: the paper cage's 27 free-free modes at the default (converged) mesh.
 
-Measures wall time of `flexbearing modes` (calibrated paper cage, default mesh, P2 on curved quadratic
+Measures wall time of `flexbearing modes` (calibrated paper cage, default mesh, P3 on curved quadratic
 tets), serial and under `mpirun -n 2`, with the mesh built once beforehand (cached) and the
 mesh build timed separately. Writes benchmarks/results/modes_bench.json and .md.
 The machine load at the time is recorded (os.getloadavg) because the box is shared.
