@@ -105,7 +105,8 @@ def _invalidate_stale_numba_cache() -> None:
     import os
     import glob
     here = os.path.dirname(os.path.abspath(__file__))
-    names = ("dynamics.py", "integrator.py", "geometry.py", "traction.py", "profiles.py", "hertz.py", "model.py")
+    names = ("dynamics.py", "integrator.py", "geometry.py", "traction.py", "profiles.py", "hertz.py", "model.py",
+             "drag.py", "guide_land.py", "pocket.py", "film.py", os.path.join("..", "coupling", "floating_frame.py"))
     h = hashlib.sha1()
     for n in names:
         try:
@@ -423,8 +424,10 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
     cg = p[P_CG]
     eta = p[P_ETA0] if flags[F_LAND] else 0.0
     mu = p[P_MURIM] if flags[F_DRAG] else 0.0
-    fy, fz, mx = guide_land_force(yc, zc, vy, vz, omega_c, 0.0, p[P_R1], p[P_LAND_L], cg, eta,
-                                  p[P_EPSMAX], True, p[P_KRIM], mu)
+    # n lands of width w: P_LAND_L = n·w, P_L3 = n·w³  ->  n = sqrt(P_LAND_L³ / P_L3)
+    n_lands = int(round(math.sqrt(p[P_LAND_L] ** 3 / p[P_L3])))
+    fy, fz, mx = guide_land_force(yc, zc, vy, vz, omega_c, 0.0, p[P_R1], p[P_LAND_L] / n_lands, cg,
+                                  eta, p[P_EPSMAX], True, p[P_KRIM], mu, n_lands)
     frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
     return fy, fz, mx, e / cg, frim
 

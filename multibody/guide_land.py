@@ -57,19 +57,20 @@ def ocvirk_forces(eps, U, eta, L, Cg):
 
 @njit(cache=True)
 def guide_land_force(ey, ez, vy, vz, omega_cage, omega_land, R1, L, Cg, eta, eps_max, dynamic,
-                     k_rim, mu_rim):
+                     k_rim, mu_rim, n_lands=1):
     """Film + rim force on the cage from the guide land: returns (F_y, F_z, M_x) in N, N, N·m.
 
     ey, ez: cage centre offset from the land centre (m); vy, vz its velocity (m/s, used only if
-    dynamic); omega_cage, omega_land: spin speeds about +x (rad/s); R1 guiding radius (m); L land
-    width (m); Cg radial clearance (m); eta viscosity (Pa·s); eps_max film cap (< 1); dynamic:
+    dynamic); omega_cage, omega_land: spin speeds about +x (rad/s); R1 guiding radius (m); L width
+    of one land (m), n_lands identical lands side by side (each a short bearing: forces add as
+    n·L³, the Petroff torque as n·L); Cg radial clearance (m); eta viscosity (Pa·s); eps_max film cap (< 1); dynamic:
     include whirl and squeeze; k_rim (N/m), mu_rim: rim contact. Equations: module docstring.
     """
     e = math.sqrt(ey * ey + ez * ez)
     eps_true = e / Cg
     eps = min(eps_true, eps_max)
     q = 1.0 - eps * eps
-    torque = 2.0 * math.pi * eta * (omega_land - omega_cage) * R1 ** 3 * L / (Cg * math.sqrt(q))
+    torque = 2.0 * math.pi * eta * (omega_land - omega_cage) * R1 ** 3 * n_lands * L / (Cg * math.sqrt(q))
     if e <= 0.0:
         return 0.0, 0.0, torque
     cy = ey / e
@@ -81,13 +82,14 @@ def guide_land_force(ey, ez, vy, vz, omega_cage, omega_land, R1, L, Cg, eta, eps
         epsdot = edot / Cg
         if eps_true >= eps_max and epsdot > 0.0:
             epsdot = 0.0                               # capped film: no further squeeze growth
-        c = eta * R1 * L ** 3 / (2.0 * Cg * Cg)
+        c = n_lands * eta * R1 * L ** 3 / (2.0 * Cg * Cg)
         wr = c * (2.0 * eps * eps * abs(ws - 2.0 * phidot) / (q * q)
                   + math.pi * (1.0 + 2.0 * eps * eps) * epsdot / q ** 2.5)
         wt = c * (math.pi * eps * (ws - 2.0 * phidot) / (2.0 * q ** 1.5) + 4.0 * eps * epsdot / (q * q))
     else:
         wr, wt = ocvirk_forces(eps, R1 * ws, eta, L, Cg)
-        wr = abs(wr)                                   # restoring for either sense of rotation
+        wr = n_lands * abs(wr)
+        wt = n_lands * wt                                   # restoring for either sense of rotation
     # radial (−e_hat) and tangential (x_hat × e_hat = (−cz, cy)) components
     fy = -wr * cy - wt * cz
     fz = -wr * cz + wt * cy

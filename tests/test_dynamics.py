@@ -107,15 +107,18 @@ def test_guide_land_short_bearing_forces_match_formulas():
     """Ocvirk forces and Petroff torque (formulas.md) at whirl = squeeze = 0, eps = 0.5."""
     model = build_model(PAPER_BEARING, PAPER_OIL)
     p = model.p
-    cg, r1, eta, L = p[M.P_CG], p[M.P_R1], p[M.P_ETA0], PAPER_BEARING.cage.width
+    cg, r1, eta = p[M.P_CG], p[M.P_R1], p[M.P_ETA0]
+    cage = PAPER_BEARING.cage
+    # two guide lands of width w beside the relief (or one land over the full width)
+    n, L = (2, cage.land_width) if cage.relief_depth > 0 else (1, cage.width)
     eps, om = 0.5, 600.0
     fy, fz, mx, e_out, frim = D._guide_land(eps * cg, 0.0, 0.0, 0.0, om, p, model.flags)
     U = r1 * om
-    wr = eta * U * L ** 3 * eps ** 2 / (cg ** 2 * (1 - eps ** 2) ** 2)
-    wt = math.pi * eta * U * L ** 3 * eps / (4 * cg ** 2 * (1 - eps ** 2) ** 1.5)
+    wr = n * eta * U * L ** 3 * eps ** 2 / (cg ** 2 * (1 - eps ** 2) ** 2)
+    wt = n * math.pi * eta * U * L ** 3 * eps / (4 * cg ** 2 * (1 - eps ** 2) ** 1.5)
     assert fy == pytest.approx(-wr, rel=1e-12)       # towards the centre
     assert fz == pytest.approx(wt, rel=1e-12)        # 90° ahead in the sense of rotation
-    m_ref = -2 * math.pi * eta * om * r1 ** 3 * L / (cg * math.sqrt(1 - eps ** 2))
+    m_ref = -2 * math.pi * eta * om * r1 ** 3 * n * L / (cg * math.sqrt(1 - eps ** 2))
     assert mx == pytest.approx(m_ref, rel=1e-12)
     assert e_out == pytest.approx(eps) and frim == 0.0
     # a whirl at half the spin speed cancels the wedge effect: w = omega − 2·whirl = 0

@@ -56,15 +56,15 @@ def test_rigid_properties_steiner():
 @pytest.fixture(scope="module")
 def ring():
     from mpi4py import MPI
-    from mesh.cage_geometry import PAPER_CAGE
+    from mesh.cage_geometry import NOMINAL_CAGE   # plain rectangular section (no relief, chamfer)
     from mesh.cage_mesh import cached_ring_mesh
     from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
     from fem_cage.craig_bampton import petsc_to_scipy
-    path = cached_ring_mesh(PAPER_CAGE, 6e-3, 2)
+    path = cached_ring_mesh(NOMINAL_CAGE, 6e-3, 2)
     domain, _, _, _ = load_cage_mesh(path, MPI.COMM_SELF)
-    V, K, M = assemble_stiffness_mass(domain, PAPER_CAGE.material, 2)
+    V, K, M = assemble_stiffness_mass(domain, NOMINAL_CAGE.material, 2)
     X = V.tabulate_dof_coordinates()[:, :3]
-    return domain, X, petsc_to_scipy(M), PAPER_CAGE
+    return domain, X, petsc_to_scipy(M), NOMINAL_CAGE
 
 
 def test_ring_moments_vs_direct_integration(ring):
