@@ -21,7 +21,9 @@ The static response of the *discarded* modes to that load,
 normalised to unit modal mass, is appended as one more Ritz vector. It lives in the span of the
 discarded modes, so it is M- and K-orthogonal to the kept ones: the modal mass stays the identity
 and the modal stiffness diagonal, its own entry being the Rayleigh quotient Σ q_k² omega_k² / Σ q_k².
-With it the kept basis reproduces the full basis's static centrifugal response exactly.
+With it the kept basis reproduces the full basis's static centrifugal response exactly. Off by
+default: the run (`backend`) instead treats every discarded mode quasi-statically in the stress
+recovery (`StressRecovery`), which covers the centrifugal and the pocket loads alike.
 
 Damping: D = beta·K (paper), i.e. modal damping beta·omega_k².
 """
@@ -69,7 +71,7 @@ def modal_transform(omega: np.ndarray, Sx: np.ndarray, n_keep: int, centrifugal_
 
 
 def flexible_cage_body(rc, n_keep: int = 26, beta: float = 0.0,
-                       centrifugal_correction: bool = True) -> CageModalBasis:
+                       centrifugal_correction: bool = False) -> CageModalBasis:
     """Floating-frame arrays of the reduced cage `rc` (fem_cage.reduced_cage.ReducedCage, full
     basis) for a run keeping n_keep modes (rigid included), damping D = beta·K."""
     M = rc.n_modes

@@ -100,9 +100,13 @@ def paper_reduced_cage():
 
 def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
     """The reduced paper cage keeping only its 6 rigid modes (the floating frame, no elastic
-    coordinates) and a rigid cage with the file's mass, centre of mass and inertia run the same
-    bearing for 2 ms (14,000 rpm, 55 kN / 4 kN): every output agrees to 1e-9 relative (round-off
-    of the two routes to the second moment of mass, ∫rho x xᵀ from the FE vs ½tr(J)I − J)."""
+    coordinates) and a rigid cage with the file's mass, centre of mass and inertia are the same
+    model: the right-hand sides agree to round-off (1e-11 of each block's largest entry; the two
+    routes to the second moment of mass, ∫rho x xᵀ from the FE vs ½tr(J)I − J, differ in the last
+    bits) at a state with cage translation, spin, tilt and their rates. Integrated 2 ms at
+    14,000 rpm, 55 kN / 4 kN, the runs agree to the integrator tolerance, not to round-off: the
+    adaptive step control turns last-bit differences into different step sequences; the difference
+    shrinks with the tolerance (asserted: 10x tighter tolerance -> at least 5x smaller)."""
     from coupling.flexible_cage import flexible_cage_body
     from coupling.floating_frame import rigid_body
     from multibody import dynamics, initial, integrator, model as mb
@@ -117,13 +121,27 @@ def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
     sp = np.array([[0.0, speed], [1.0, speed]])
     ld = np.array([[0.0, 55e3, 0.0, -4e3], [1.0, 55e3, 0.0, -4e3]])
     imp = np.zeros((0, 6))
-    outs = []
-    for body in (zero_modes, rigid):
-        m = mb.build_model(PAPER_BEARING, PAPER_OIL, {}, cage_body=body)
-        y = np.array(initial.initial_state(m, speed, 55e3, 4e3), dtype=float)
-        y, t, h, _, _ = integrator.advance(m, y, 0.0, 2e-3, sp, ld, imp, 1e-6, 1e-7)
-        outs.append((y.copy(), dynamics.evaluate_outputs(m, t, y, sp, ld, imp)))
-    (y0, o0), (y1, o1) = outs
-    assert np.allclose(y0, y1, rtol=1e-9, atol=1e-12 * np.abs(y1).max())
-    for k in ("contact_stress", "pocket_force", "cage_land_force", "cage_speed"):
-        assert np.allclose(o0[k], o1[k], rtol=1e-9, atol=1e-9 * np.abs(o1[k]).max() + 1e-12), k
+    models = [mb.build_model(PAPER_BEARING, PAPER_OIL, {}, cage_body=b) for b in (zero_modes, rigid)]
+    y0 = np.array(initial.initial_state(models[1], speed, 55e3, 4e3), dtype=float)
+    c0 = mb.state_layout(models[1])["cage"]
+    y0[c0:c0 + 3] += (1e-6, 2e-5, -1e-5)
+    y0[c0 + 4:c0 + 6] = (2e-4, -1e-4)
+    y0[c0 + 6:c0 + 9] = (0.01, -0.02, 0.03)
+    y0[c0 + 10:c0 + 12] = (0.5, -0.3)
+    d = []
+    for m in models:
+        dy = np.zeros_like(y0)
+        dynamics.rhs(0.0, y0, dy, m.p, m.flags, m.hertz_table, m.traction_table, sp, ld, imp,
+                     dynamics.new_work(m), m.cage)
+        d.append(dy)
+    for a, b in ((0, c0), (c0, c0 + 12)):
+        scale = np.abs(d[1][a:b]).max()
+        assert np.abs(d[0][a:b] - d[1][a:b]).max() <= 1e-11 * scale
+    diffs = []
+    for tol in (1e-6, 1e-7):
+        ys = []
+        for m in models:
+            y, t, h, _, _ = integrator.advance(m, y0.copy(), 0.0, 2e-3, sp, ld, imp, tol, 1e-7)
+            ys.append(y.copy())
+        diffs.append(np.abs(ys[0][:c0] - ys[1][:c0]).max() / np.abs(ys[1][:c0]).max())
+    assert diffs[0] < 1e-4 and diffs[1] < 0.2 * diffs[0]
