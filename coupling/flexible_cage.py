@@ -196,8 +196,9 @@ def backend(scene):
         if stress is not None:
             A = model.cage[17]
             dynamics.cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
-            wx, wy, wz = dynamics.cage_angular_velocity(*(y[lay["cage"] + k] for k in (4, 5, 9, 10, 11)))
-            spin = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz       # body-frame spin component
+            w = np.zeros(3)
+            dynamics.cage_body_angular_velocity(A, y, lay["cage"], w)
+            spin = w[0]                                             # body-frame spin component
             qf = stress.full_coordinates(q, model.cage[19], spin)
             vm, node = stress(qf)
             out["von_mises_max"] = float(vm)

@@ -479,6 +479,15 @@ def cage_angular_velocity(by, bz, dphi, dby, dbz):
 
 
 @njit(cache=True)
+def cage_body_angular_velocity(A, y, c0, w):
+    """w[:] = Aᵀ·G(theta)·theta': the cage's angular velocity in its body frame (A current)."""
+    wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])
+    w[0] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
+    w[1] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
+    w[2] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
+
+
+@njit(cache=True)
 def _cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az):
     """theta'' = G⁻¹·(w' − G'·theta') for the inertial angular acceleration w' = (ax, ay, az).
 
@@ -525,12 +534,8 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     dby = y[c0 + 10]
     dbz = y[c0 + 11]
     cage_rotation(phi, by, bz, A)
-    wx, wy, wz = cage_angular_velocity(by, bz, dphi, dby, dbz)
     w = scr[0]
-    # body-frame angular velocity
-    w[0] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
-    w[1] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
-    w[2] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
+    cage_body_angular_velocity(A, y, c0, w)
     # guide land at the frame origin: force (0, fy, fz), torque about X; gravity along −Z
     Qext[1] += land_fy
     Qext[2] += land_fz - mass[0] * grav
@@ -560,10 +565,11 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
 
 
 @njit(cache=True)
-def _pocket_pose(j, y, c0, m0, cage, pos, vel, axis, wnode):
+def _pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
     """Pocket j of the (flexible) cage: centre pos, its velocity vel, axis (unit, radial in the
     undeformed cage, turned by the interface node's small elastic rotation) and the node's
-    angular velocity wnode, all inertial. The cage rotation must be in cage[17] (A)."""
+    angular velocity wnode, all inertial. The cage rotation must be in cage[17] (A) and its
+    body-frame angular velocity in w (`cage_body_angular_velocity`)."""
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
      Qext, A, scr, node_load) = cage
     n = stiff.shape[0]
@@ -571,11 +577,6 @@ def _pocket_pose(j, y, c0, m0, cage, pos, vel, axis, wnode):
     qd = y[m0 + n:m0 + 2 * n]
     R = y[c0:c0 + 3]
     Rd = y[c0 + 6:c0 + 9]
-    wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])
-    w = scr[1]
-    w[0] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
-    w[1] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
-    w[2] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
     rot = scr[2]
     node_kinematics(R, A, Rd, w, q, qd, npos, nmodes, j, pos, vel, rot)
     # undeformed radial axis through the node, turned by the node rotation: e + rot × e
@@ -637,6 +638,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     for k in range(Qext.shape[0]):
         Qext[k] = 0.0
     cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
+    cage_body_angular_velocity(A, y, c0, scr[1])
     omega_i = speed_at(t, speed_table)
     load_at(t, load_table, impacts, work[zb, WR_FX:WR_FX + 3])
     work[zb, WR_OMEGA_I] = omega_i
@@ -783,7 +785,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         vel = scr[4]
         axv = scr[5]
         wn = scr[6]
-        _pocket_pose(j, y, c0, m0, cage, pos, vel, axv, wn)
+        _pocket_pose(j, y, c0, m0, cage, scr[1], pos, vel, axv, wn)
         ppx = pos[0]
         ppy = pos[1]
         ppz = pos[2]
@@ -906,6 +908,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     A = cage[17]
     scr = cage[18]
     cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
+    cage_body_angular_velocity(A, y, c0, scr[1])
     mb = p[P_MB]
     ib = p[P_IB]
     dw = p[P_DW]
@@ -943,7 +946,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
                     K = _hertz_lookup(htab, kind, ca)[0]
                 ev += 0.4 * K * delta ** 2.5
         # pocket (exact pose of its interface node, as in rhs)
-        _pocket_pose(j, y, c0, m0, cage, scr[3], scr[4], scr[5], scr[6])
+        _pocket_pose(j, y, c0, m0, cage, scr[1], scr[3], scr[4], scr[5], scr[6])
         ax = scr[5, 0]
         ay = scr[5, 1]
         az = scr[5, 2]
@@ -968,14 +971,13 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
      Qext, A, scr, node_load) = cage
     n = stiff.shape[0]
     q = y[m0:m0 + n]
-    wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])
     v = rvec
     v[0] = y[c0 + 6]
     v[1] = y[c0 + 7]
     v[2] = y[c0 + 8]
-    v[3] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
-    v[4] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
-    v[5] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
+    v[3] = scr[1, 0]
+    v[4] = scr[1, 1]
+    v[5] = scr[1, 2]
     for k in range(n):
         v[6 + k] = y[m0 + n + k]
         ev += 0.5 * stiff[k] * q[k] * q[k]
