@@ -261,16 +261,6 @@ def test_existing_file_is_not_overwritten(tmp_path):
     assert h5py.is_hdf5(out)
 
 
-def test_flexible_cage_refused_until_coupling_exists(tmp_path):
-    from coupling.run import flexible_backend_available
-    if flexible_backend_available():
-        pytest.skip("coupling.flexible_cage.backend exists")
-    scene = fake_scene(SCENE + '\n[cage]\nmodel = "flexible"\n')
-    with pytest.raises(InputError, match="flexible cage coupling not available yet"):
-        run_scene(scene, tmp_path / "r.h5", quiet=True)
-    assert not (tmp_path / "r.h5").exists()
-
-
 def test_failure_keeps_a_valid_file(tmp_path):
     calls = {"n": 0}
 
@@ -298,15 +288,6 @@ def test_cli_run_refuses_bad_scene_before_computing(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "operation.load.points[0].axial_load = -100 N is outside the allowed range [0, 1e+07] N" in err
     assert not (tmp_path / "x.h5").exists()
-
-
-def test_cli_run_flexible_message(tmp_path, capsys):
-    from coupling.run import flexible_backend_available
-    if flexible_backend_available():
-        pytest.skip("coupling.flexible_cage.backend exists")
-    from coupling.cli import main
-    assert main(["run", "scenes/paper_unsteady.toml", "-o", str(tmp_path / "x.h5"), "--quiet"]) == 2
-    assert "flexible cage coupling not available yet" in capsys.readouterr().err
 
 
 def test_rigid_scene_does_not_import_the_fe_stack():
