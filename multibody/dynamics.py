@@ -87,7 +87,7 @@ from multibody.profiles import load_at, speed_at
 from multibody.guide_land import guide_land_force
 from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
-from multibody.traction import slice_load_share, traction_coefficient, traction_coefficients_table
+from multibody.traction import sliced_traction, traction_coefficients_table
 from coupling.floating_frame import accelerations as ffrf_accelerations
 from coupling.floating_frame import add_node_load, node_kinematics, deformed_moments, mass_matrix
 
@@ -166,50 +166,6 @@ def _hertz_lookup(htab, kind, cos_a):
 
 
 @njit(cache=True)
-def _mu_regularised(s_abs, A, B, C, D, s_lin):
-    """|mu| of the traction curve at slip |s|, straight line through 0 below s_lin (model docstring)."""
-    if s_abs >= s_lin:
-        return traction_coefficient(s_abs, A, B, C, D)
-    return traction_coefficient(s_lin, A, B, C, D) * s_abs / s_lin
-
-
-@njit(cache=True)
-def _sliced_traction(Q, a, ur, du0, du1, dv, A, B, C, D, n_slices, transverse, s_lin):
-    """Traction on the ball, sliced along the major axis (multibody.traction, paper §2.2.2).
-
-    Same integration as `multibody.traction.sliced_traction` (Hertz load share per slice,
-    du(y) = du0 + du1·y race − ball in the rolling direction, dv transverse), with the traction
-    curve regularised below s_lin so that the force is continuous in the slip. Returns
-    (T_t, T_tau, M_n): rolling and transverse traction (N) and the moment about the contact normal
-    direction e_t × tau (N·m) on the ball.
-    """
-    tx = 0.0
-    ty = 0.0
-    mz = 0.0
-    h = 2.0 / n_slices
-    for m in range(n_slices):
-        lo = -1.0 + m * h
-        hi = lo + h
-        qm = Q * slice_load_share(lo, hi)
-        y = 0.5 * (lo + hi) * a
-        du = du0 + y * du1
-        if transverse:
-            sv = math.sqrt(du * du + dv * dv)
-            if sv > 0.0:
-                mu = _mu_regularised(sv / ur, A, B, C, D, s_lin)
-                tmx = qm * mu * du / sv
-                ty += qm * mu * dv / sv
-            else:
-                tmx = 0.0
-        else:
-            mu = _mu_regularised(abs(du) / ur, A, B, C, D, s_lin)
-            tmx = qm * mu if du >= 0.0 else -qm * mu
-        tx += tmx
-        mz -= y * tmx
-    return tx, ty, mz
-
-
-@njit(cache=True)
 def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
           rv_x, rv_r, rv_t0, ring_speed, ring_rc, p, flags, htab, ttab):
     """One ball–race contact: load, geometry and the forces/moments on the ball.
@@ -281,8 +237,8 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         if urr < p[P_UMIN]:
             urr = p[P_UMIN]
         A, B, C, D = traction_coefficients_table(Q, urr, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
-        Tt, Ttau, Mn = _sliced_traction(Q, a_ax, urr, du0, du1, dv, A, B, C, D,
-                                        flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
+        Tt, Ttau, Mn = sliced_traction(Q, a_ax, urr, du0, du1, 0.0, dv, A, B, C, D,
+                                       flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
         # force on the ball at p: Tt·e_t + Ttau·tau
         Fx += Ttau * tx_
         Fr += Ttau * tr_

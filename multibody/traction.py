@@ -97,6 +97,19 @@ def traction_coefficient(s, A, B, C, D):
 
 
 @njit(cache=True)
+def traction_coefficient_regularised(s, A, B, C, D, s_lin):
+    """mu(s) of `traction_coefficient` for |s| >= s_lin, the straight line through the origin and
+    mu(s_lin) below it; odd in s. The fit has mu(0+) = A + D != 0 (a jump at s = 0 that makes a
+    dynamics right-hand side discontinuous); s_lin = 0 gives the fit itself."""
+    x = abs(s)
+    if x >= s_lin:
+        mu = traction_coefficient(x, A, B, C, D)
+    else:
+        mu = traction_coefficient(s_lin, A, B, C, D) * x / s_lin
+    return mu if s >= 0.0 else -mu
+
+
+@njit(cache=True)
 def slice_load_share(eta_lo, eta_hi):
     """Fraction of the Hertz load between eta = y/a = eta_lo and eta_hi: F(hi) − F(lo),
     F(eta) = (3·eta − eta³)/4 (integral of the elliptical pressure, module docstring)."""
@@ -112,13 +125,14 @@ def slip_polynomial_from_three_points(a, du_minus, du_centre, du_plus):
 
 
 @njit(cache=True)
-def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, transverse):
+def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, transverse, s_lin=0.0):
     """Traction on the ball integrated over n_slices slices along the major axis (module docstring).
 
     Q normal load (N); a semi-major axis (m); u_rolling = UR (m/s, its magnitude is used);
     du(y) = du0 + du1·y + du2·y² the rolling-direction sliding velocity race − ball (m/s);
     dv transverse sliding velocity (m/s, used only if transverse); A..D traction coefficients;
-    n_slices >= 1. Returns (T_x, T_y, M_z): rolling-direction traction (N), transverse traction
+    n_slices >= 1; s_lin: regularisation of the curve at small slip (`traction_coefficient_regularised`,
+    0 = none). Returns (T_x, T_y, M_z): rolling-direction traction (N), transverse traction
     (N, 0 unless transverse), and moment about the contact normal (N·m), all acting on the ball.
     A uniform slip (du1 = du2 = 0, dv = 0) gives T_x = Q·mu(du0/UR) exactly for any n.
     """
@@ -139,11 +153,11 @@ def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, tr
         du = du0 + y * (du1 + y * du2)
         if transverse and dv != 0.0:
             sv = math.sqrt(du * du + dv * dv)
-            mu = traction_coefficient(sv / ur, A, B, C, D)
+            mu = traction_coefficient_regularised(sv / ur, A, B, C, D, s_lin)
             tmx = qm * mu * du / sv
             ty += qm * mu * dv / sv
         else:
-            tmx = qm * traction_coefficient(du / ur, A, B, C, D)
+            tmx = qm * traction_coefficient_regularised(du / ur, A, B, C, D, s_lin)
         tx += tmx
         mz -= y * tmx
     return tx, ty, mz
