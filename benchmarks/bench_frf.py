@@ -28,6 +28,9 @@ def main(argv=None):
     ap.add_argument("--n-freq", type=int, default=40)
     ap.add_argument("--exclude", type=float, default=0.02)
     ap.add_argument("--load-node", type=int, default=1)
+    ap.add_argument("--n-fixed", type=int, default=30, help="fixed-interface modes of the CB basis")
+    ap.add_argument("--n-keep", type=int, default=26, help="modes kept dynamic (rigid included)")
+    ap.add_argument("--output", type=Path, default=RESULTS)
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
     from tqdm import tqdm
@@ -37,7 +40,7 @@ def main(argv=None):
     from fem_cage.frequency_response import compare, frequency_grid
     t0 = time.perf_counter()
     path, red, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
-                         "rbe3", 30, quiet=args.quiet, checks=False, degree=cm.DEFAULT_DEGREE)
+                         "rbe3", args.n_fixed, quiet=args.quiet, checks=False, degree=cm.DEFAULT_DEGREE)
     t_build = time.perf_counter() - t0
     from fem_cage.modes import free_free_modes
     from fem_cage.craig_bampton import scipy_to_petsc
@@ -48,7 +51,7 @@ def main(argv=None):
                                 args.n_freq, args.exclude))
     bar = tqdm(total=n_grid, desc="full FE frequency response", disable=args.quiet)
     t0 = time.perf_counter()
-    r = compare(red, args.load_node, 26, 10, args.n_freq, args.exclude, 0.0,
+    r = compare(red, args.load_node, args.n_keep, 10, args.n_freq, args.exclude, 0.0,
                 full_hz=f_all[6:], progress=bar)
     bar.close()
     r["timings_s"] = {"build": t_build, "full_modes": t_modes,
@@ -57,8 +60,9 @@ def main(argv=None):
     r["n_dofs"] = int(red["n_dofs"])
     r["mesh"] = {"size_m": cm.DEFAULT_MESH_SIZE, "pocket_size_m": cm.DEFAULT_POCKET_SIZE,
                  "order": cm.DEFAULT_ORDER, "degree": cm.DEFAULT_DEGREE}
-    RESULTS.parent.mkdir(exist_ok=True)
-    RESULTS.write_text(json.dumps(r, indent=1, default=float))
+    r["n_fixed"], r["n_keep"] = args.n_fixed, args.n_keep
+    args.output.parent.mkdir(exist_ok=True)
+    args.output.write_text(json.dumps(r, indent=1, default=float))
     if not args.quiet:
         for k in ("a_truncated", "b_truncated_residual", "c_full_basis"):
             print(k, "max rel error", r[f"max_rel_error_{k}"], r[f"worst_{k}"],
