@@ -69,17 +69,23 @@ def node_vm_sq(A, k, q):
 
 
 @njit(cache=True)
-def max_von_mises_sq(A, bound, block_bound, block_starts, q, work):
-    """(max_n vm_n(q)^2, n*) over sorted nodes; work: float array of len(block_starts)-1."""
-    nb = block_starts.shape[0] - 1
+def _block_norms(q, block_starts, work):
+    """work[b] = ||q over mode block b||; returns SAFETY·||q|| (the factor of the node bounds)."""
     qn = 0.0
-    for b in range(nb):
+    for b in range(block_starts.shape[0] - 1):
         s = 0.0
         for j in range(block_starts[b], block_starts[b + 1]):
             s += q[j] * q[j]
         work[b] = np.sqrt(s)
         qn += s
-    qn = np.sqrt(qn) * SAFETY
+    return np.sqrt(qn) * SAFETY
+
+
+@njit(cache=True)
+def max_von_mises_sq(A, bound, block_bound, block_starts, q, work):
+    """(max_n vm_n(q)^2, n*) over sorted nodes; work: float array of len(block_starts)-1."""
+    nb = block_starts.shape[0] - 1
+    qn = _block_norms(q, block_starts, work)
     best = -1.0
     arg = -1
     for k in range(A.shape[0]):
@@ -116,14 +122,7 @@ def brute_force_max_sq(A, q):
 def _count_visits(A, bound, block_bound, block_starts, q, work):
     """Diagnostics: (nodes passed the global test, exact evaluations) for one call."""
     nb = block_starts.shape[0] - 1
-    qn = 0.0
-    for b in range(nb):
-        s = 0.0
-        for j in range(block_starts[b], block_starts[b + 1]):
-            s += q[j] * q[j]
-        work[b] = np.sqrt(s)
-        qn += s
-    qn = np.sqrt(qn) * SAFETY
+    qn = _block_norms(q, block_starts, work)
     best = -1.0
     visited = 0
     exact = 0
