@@ -25,24 +25,12 @@ SMALL = dict(RING, pocket_diameter=8e-3, ball_diameter=7.5e-3)
 SPIN = 1000.0          # rad/s
 
 
-def _chain(n=60, seed=4):
-    """Free chain of springs, 3 DOF per node (null space: 3 translations), SPD lumped M."""
-    rng = np.random.default_rng(seed)
-    rows, cols, vals = [], [], []
-    for i in range(n // 3 - 1):
-        k = rng.random() + 0.5
-        for c in range(3):
-            a, b = 3 * i + c, 3 * (i + 1) + c
-            rows += [a, b, a, b]; cols += [a, b, b, a]; vals += [k, k, -k, -k]
-    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n)), sp.diags(rng.random(n) + 1.0).tocsr()
-
-
-def test_augmented_basis_holds_the_free_free_static_body_load_response():
+def test_augmented_basis_holds_the_free_free_static_body_load_response(spring_chain):
     """Generic algebra: a self-equilibrated distributed load f on a free chain (6 interface DOFs,
     3 fixed-interface modes of 54). The exact response u (K u = f, u M-orthogonal to the rigid
     translations) lies in span[Psi Phi U] to rounding (1e-10 relative), not in span[Psi Phi]
     (> 1e-2: the 51 dropped fixed-interface modes carry it). The U column is M-orthonormal to Phi."""
-    K, M = _chain()
+    K, M = spring_chain(60, 4)
     n = K.shape[0]
     C = itf.selection_matrix(n, np.array([0, 1, 2, 30, 31, 32]))
     rng = np.random.default_rng(5)

@@ -12,23 +12,12 @@ import scipy.sparse as sp
 from fem_cage import frequency_response as fr
 
 
-def _chain(n=30, seed=7):
-    rng = np.random.default_rng(seed)
-    rows, cols, vals = [], [], []
-    for i in range(n // 3 - 1):
-        k = rng.random() + 0.5
-        for c in range(3):
-            a, b = 3 * i + c, 3 * (i + 1) + c
-            rows += [a, b, a, b]; cols += [a, b, b, a]; vals += [k, k, -k, -k]
-    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n)), sp.diags(rng.random(n) + 1.0).tocsr()
-
-
 @pytest.mark.parametrize("beta", [0.0, 0.05])
-def test_direct_equals_modal_superposition_all_modes(beta):
+def test_direct_equals_modal_superposition_all_modes(beta, spring_chain):
     """(K - w^2 M + i w beta K) u = f solved directly equals sum_k phi_k phi_k^T f /
     (omega_k^2 - w^2 + i w beta omega_k^2) with every mode (rounding: 1e-9 relative); the elastic
     response (rigid translations removed) at w = 0 is the inertia-relief static solution."""
-    K, M = _chain()
+    K, M = spring_chain(30, 7)
     n = K.shape[0]
     lam, Phi = sla.eigh(K.toarray(), M.toarray())
     lam[:3] = 0.0                                      # three free translations
