@@ -70,6 +70,28 @@ def modal_transform(omega: np.ndarray, Sx: np.ndarray, n_keep: int, centrifugal_
     return np.hstack(cols)
 
 
+def guide_modal_loads(rc):
+    """(M, 3) modal loads of the guide-surface land load per unit body-frame force y, z (N) and
+    torque about x (N m) in the file's full basis (fem_cage.reduced_cage, schema >= 4), or None
+    for an older file (its land load then acts on the floating frame only)."""
+    G = getattr(rc, "guide_modal_loads", None)
+    return None if G is None else np.asarray(G, dtype=float)
+
+
+def load_point_modes(rc) -> np.ndarray:
+    """(Z + 1, 6, M): the interface modes of the Z pockets and, as load point Z, the guide
+    surface: rows 0..2 its modal loads per unit land force y, z and torque x (rows 3..5 zero),
+    so the residual static correction Phi_bᵀ·F covers the pocket and the land loads alike with
+    the node-load array of the model (multibody.model: row Z = the land load)."""
+    Z, _, M = rc.interface_modes.shape
+    out = np.zeros((Z + 1, 6, M))
+    out[:Z] = rc.interface_modes
+    G = guide_modal_loads(rc)
+    if G is not None:
+        out[Z, :3] = G.T
+    return out
+
+
 def flexible_cage_body(rc, n_keep: int = 26, beta: float = 0.0,
                        centrifugal_correction: bool = False) -> CageModalBasis:
     """Floating-frame arrays of the reduced cage `rc` (fem_cage.reduced_cage.ReducedCage, full
@@ -89,10 +111,12 @@ def flexible_cage_body(rc, n_keep: int = 26, beta: float = 0.0,
     mass = float(inv["mass"])
     first = np.asarray(inv["first"], dtype=float)
     second = np.asarray(inv["second"], dtype=float)
+    G = guide_modal_loads(rc)
     body = FlexibleBody(mass, first, second, np.ascontiguousarray(S1), np.ascontiguousarray(Sx),
                         np.ascontiguousarray(SS), np.ascontiguousarray(Mff), kdiag, beta * kdiag,
                         np.ascontiguousarray(rc.interface_positions, dtype=float),
-                        np.ascontiguousarray(rc.interface_modes @ T))
+                        np.ascontiguousarray(rc.interface_modes @ T),
+                        None if G is None else np.ascontiguousarray((G @ T).T))
     return CageModalBasis(body, T, np.sqrt(np.maximum(kdiag, 0.0)) / (2 * np.pi),
                           np.ascontiguousarray(rc.stress_modes @ T),
                           np.ascontiguousarray(rc.vertex_displacement @ T))
@@ -128,34 +152,53 @@ class StressRecovery:
     Craig–Bampton basis follow quasi-statically (residual flexibility / mode acceleration, Craig &
     Kurdila 2006 §14.3; fem_cage.reduced_cage.static_correction):
 
-        q_k = (Phi_b,kᵀ·F_nodes + Omega_x²·Q_cf,k) / omega_k²,   k >= n_keep
+        q_k = (Phi_b,kᵀ·F_nodes + G_kᵀ·L + Omega_x²·Q_cf,k) / omega_k²,   k >= n_keep
 
-    F_nodes the pocket-node loads (body frame) and Omega_x the cage's spin, Q_cf the centrifugal
-    modal load. The stress field is sigma = S·q_full (stress modes of the full basis) and its
+    F_nodes the pocket-node loads (body frame), L the guide-land force y, z and torque x (body
+    frame) with G its modal loads (load_point_modes), Omega_x the cage's spin, Q_cf the
+    centrifugal modal load. The stress field is sigma = S·q_full (stress modes of the full basis) and its
     maximum von Mises value over the nodes comes from the exact bounded search of
-    fem_cage.von_mises (no node can be missed).
+    fem_cage.von_mises.MaxVonMises (no node can be missed).
+
+    `monitor(cage_offset, modes_offset)` gives the same evaluation as a compiled peak-hold the
+    integrator runs after every accepted step (multibody.stress_peak).
     """
 
     def __init__(self, rc, n_keep: int):
-        from fem_cage.von_mises import MaxVonMisesSorted
+        from fem_cage.von_mises import MaxVonMises
         self.rc = rc
         self.n_keep = int(n_keep)
         self.omega = np.asarray(rc.omega, dtype=float)
         self.q_cf = centrifugal_generalised_force(rc.invariants["Sx"])
-        self.evaluator = MaxVonMisesSorted(rc.stress_modes)
+        # group nodes by their stress per typical modal amplitude (1/omega; rigid modes carry none)
+        scale = np.zeros_like(self.omega)
+        scale[N_RIGID:] = 1.0 / np.maximum(self.omega[N_RIGID:], 1e-30)
+        self.evaluator = MaxVonMises(rc.stress_modes, mode_scale=scale)
         self.M = rc.n_modes
+        self.load_modes = load_point_modes(rc)     # pockets + the guide surface (row Z)
 
     def full_coordinates(self, q_kept, node_load, spin) -> np.ndarray:
         from fem_cage.reduced_cage import static_correction
         q = np.zeros(self.M)
         q[N_RIGID:self.n_keep] = q_kept[: self.n_keep - N_RIGID]
         w2 = self.omega[self.n_keep:] ** 2
-        q[self.n_keep:] = (static_correction(self.rc.interface_modes, self.omega, node_load, self.n_keep)
+        nl = np.zeros((self.load_modes.shape[0], 6))
+        nl[:len(node_load)] = node_load                # (Z, 6) pockets only, or (Z + 1, 6) with the land
+        q[self.n_keep:] = (static_correction(self.load_modes, self.omega, nl, self.n_keep)
                            + spin ** 2 * self.q_cf[self.n_keep:] / w2)
         return q
 
     def __call__(self, q_full) -> tuple[float, int]:
         return self.evaluator(q_full)
+
+    def vertex(self, row: int) -> int:
+        """Mesh vertex of an evaluator row (what the compiled monitor returns)."""
+        return int(self.evaluator.node_ids[row])
+
+    def monitor(self, cage_offset: int, modes_offset: int) -> tuple:
+        from multibody.stress_peak import new_monitor
+        return new_monitor(self.evaluator, self.load_modes, self.omega, self.q_cf,
+                           self.n_keep, cage_offset, modes_offset, self.n_keep - N_RIGID)
 
 
 def backend(scene):
@@ -188,29 +231,60 @@ def backend(scene):
         y[lay["modes"]:lay["modes"] + n] = spin ** 2 * (basis.body.Sx[1, 1] + basis.body.Sx[2, 2]) / basis.body.stiffness
         return y
 
+    monitors = {}          # one compiled peak-hold per model (multibody.stress_peak)
+
+    def monitor_of(model):
+        key = id(model)
+        if key not in monitors:
+            lay = mb.state_layout(model)
+            monitors[key] = (model, stress.monitor(lay["cage"], lay["modes"]))
+        return monitors[key][1]
+
+    def advance(model, y, t, t_next, speed_table, load_table, impacts, tol=integrator.DEFAULT_TOL,
+                h=1e-6, ws=None, max_steps=10_000_000, method="dopri5"):
+        mon = monitor_of(model) if stress is not None else None
+        return integrator.advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws,
+                                  max_steps, method, monitor=mon)
+
     def evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=False):
+        """Outputs at the sample (t, y). With stress recorded, von_mises_max is the largest value
+        over every integrator step since the previous sample (the compiled monitor), with the
+        vertex, the time it occurred and the full modal coordinates of that step; at a sample
+        no step led to (the first) it is evaluated at (t, y) itself."""
         out = dynamics.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film)
         lay = mb.state_layout(model)
         q = y[lay["modes"]:lay["modes"] + n]
         out["cage_modal_coordinates"] = q.copy()
         if stress is not None:
-            A = model.cage[17]
-            dynamics.cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
-            w = np.zeros(3)
-            dynamics.cage_body_angular_velocity(A, y, lay["cage"], w)
-            spin = w[0]                                             # body-frame spin component
-            qf = stress.full_coordinates(q, model.cage[19], spin)
-            vm, node = stress(qf)
+            from multibody import stress_peak
+            mon = monitor_of(model)
+            pk = stress_peak.peak(mon)
+            if pk is None:
+                A = model.cage[17]
+                dynamics.cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
+                w = np.zeros(3)
+                dynamics.cage_body_angular_velocity(A, y, lay["cage"], w)
+                spin = w[0]                                         # body-frame spin component
+                qf = stress.full_coordinates(q, model.cage[19], spin)
+                vm, node = stress(qf)
+                t_peak, n_eval = t, 1
+            else:
+                vm, row, t_peak, n_eval, qf = pk
+                node = stress.vertex(row)
+            stress_peak.reset(mon)
             out["von_mises_max"] = float(vm)
             out["von_mises_max_vertex"] = int(node)
+            out["von_mises_max_time"] = float(t_peak)
+            out["von_mises_steps"] = int(n_eval)
             out["cage_modal_coordinates_full"] = qf
         return out
 
     units = dict(getattr(dynamics, "OUTPUT_UNITS", {}))
-    units.update({"von_mises_max": "Pa", "von_mises_max_vertex": "index", "cage_modal_coordinates": "1",
+    units.update({"von_mises_max": "Pa", "von_mises_max_vertex": "index", "von_mises_max_time": "s",
+                  "von_mises_steps": "steps", "cage_modal_coordinates": "1",
                   "cage_modal_coordinates_full": "1"})
     ws = getattr(integrator, "Workspace", None)
     return SimpleNamespace(build_model=build_model, initial_state=initial_state,
-                           advance=integrator.advance, evaluate_outputs=evaluate_outputs,
+                           advance=advance, evaluate_outputs=evaluate_outputs,
                            new_workspace=(lambda m: ws(m)) if ws else None, OUTPUT_UNITS=units,
                            FILE_ATTRS=file_attrs, basis=basis, reduced_cage=rc)

@@ -73,6 +73,10 @@ class FlexibleBody(NamedTuple):
     damping: np.ndarray     # (n,)   modal damping beta·omega_k²
     node_position: np.ndarray  # (P,3) interface nodes, body frame, m
     node_modes: np.ndarray     # (P,6,n) interface mode rows: ux uy uz rx ry rz per unit q
+    # (3,n) modal loads of the guide-surface (land) load per unit body-frame land force y, z (N)
+    # and torque about x (N m): Phi^T f of the distributed land loads (None: the land load
+    # deforms nothing, it acts on the frame only — a rigid body, or a file without them)
+    land_modes: np.ndarray | None = None
 
     @property
     def n_modes(self) -> int:

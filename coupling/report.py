@@ -522,7 +522,8 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
 
     P1 tetrahedra of the reduced cage file's mesh; point data "von_mises" (Pa) and
     "displacement" (m, elastic deformation in the cage's body frame) rebuilt from the recorded
-    modal coordinates (module doc); one grid per frame, time value = the sample time (s).
+    modal coordinates (module doc); one grid per frame, time value = the time of the integrator
+    step with the interval's maximum stress (von_mises_max_time; the sample time for older runs).
     frames: "auto" (auto_frames: each impact's peak and each phase's peak outside the impacts),
     "t1,t2,..." or a list of times in s (nearest samples).
     reduced_cage: path of the reduced cage file (default: the run's attribute reduced_cage_file).
@@ -541,6 +542,9 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
         t = out["time"][...]
         vm_rec = out["von_mises_max"][...] if "von_mises_max" in out else None
         vtx_rec = out["von_mises_max_vertex"][...] if "von_mises_max_vertex" in out else None
+        # the step of the sample interval where the maximum occurred (runs since the per-step
+        # monitor): its modal coordinates are what cage_modal_coordinates_full holds
+        t_peak = out["von_mises_max_time"][...] if "von_mises_max_time" in out else None
         rc_path = reduced_cage or f.attrs.get("reduced_cage_file")
         rc_hash = str(f.attrs.get("reduced_cage_hash", ""))
         scene = run_scene(f)
@@ -578,8 +582,10 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
     for k, q in zip(idx, q_full):
         sigma = rc.stress_modes @ q                 # (Nv, 6) Pa
         vm = von_mises(sigma)
-        fields.append((float(t[k]), vm, rc.vertex_displacement @ q))   # u: (Nv, 3) m
-        meta["frames"].append({"time": float(t[k]), "sample": int(k), "reason": reasons.get(k, "requested"),
+        tk = float(t[k]) if t_peak is None or not np.isfinite(t_peak[k]) else float(t_peak[k])
+        fields.append((tk, vm, rc.vertex_displacement @ q))   # u: (Nv, 3) m
+        meta["frames"].append({"time": tk, "sample": int(k), "sample_time": float(t[k]),
+                               "reason": reasons.get(k, "requested"),
                                "field_max_von_mises": float(vm.max()), "field_max_vertex": int(vm.argmax()),
                                "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[k]),
                                "recorded_max_vertex": None if vtx_rec is None else int(vtx_rec[k])})

@@ -193,7 +193,7 @@ def pocket_directions(x_node: np.ndarray) -> np.ndarray:
 
 def compare(red: dict, load_node: int = 1, n_keep: int = 26, n_elastic: int = 10,
             n_freq: int = 60, exclude: float = 0.02, beta: float = 0.0, full_hz=None,
-            progress=None) -> dict:
+            progress=None, at_resonances: bool = False) -> dict:
     """Full FE (1) vs reduced cage (2)–(3) at interface node load_node of an in-memory reduction
     (fem_cage.reduce_cli.reduce_model), unit circumferential, radial and axial pocket forces.
 
@@ -203,7 +203,12 @@ def compare(red: dict, load_node: int = 1, n_keep: int = 26, n_elastic: int = 10
     of the interface node's translations, elastic response (4)): (a) n_keep modes without the
     residual correction, (b) with it, (c) the whole basis dynamic (the CB basis' own floor);
     each also with the static amplitude as the floor of the denominator (antiresonances);
-    plus (b) for the total response (rigid modes included, w > 0)."""
+    plus (b) for the total response (rigid modes included, w > 0).
+
+    at_resonances: add the full model's elastic natural frequencies (<= f_max) to the grid — with
+    damping (beta > 0, exclude = 0) the response peaks there and the frequency error of the
+    reduced model costs most: relative error ~ (delta omega_k / omega_k) / zeta_k at the peak,
+    zeta_k = beta·omega_k / 2."""
     from .craig_bampton import scipy_to_petsc
     omega = red["omega"]
     if full_hz is None:
@@ -215,6 +220,8 @@ def compare(red: dict, load_node: int = 1, n_keep: int = 26, n_elastic: int = 10
     red_hz = red["frequency_hz"][6:6 + n_elastic + 2]
     f_max = full_hz[n_elastic - 1]
     freqs = frequency_grid(f_max, np.r_[full_hz, red_hz], n_freq, exclude)
+    if at_resonances:
+        freqs = np.unique(np.r_[freqs, full_hz[full_hz <= f_max * (1 + 1e-12)]])
     w = 2 * np.pi * freqs
     Z = len(red["interface_positions"])
     Fd = pocket_directions(red["interface_positions"][load_node])

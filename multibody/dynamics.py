@@ -481,7 +481,7 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     State: (x, y, z) frame origin, theta = (phi, by, bz) with A = R_z(bz)R_y(by)R_x(phi), their
     rates, then q and q' (block MODES)."""
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr, node_load) = cage
+     Qext, A, scr, node_load, land_modes) = cage
     n = stiff.shape[0]
     phi = y[c0 + 3]
     by = y[c0 + 4]
@@ -492,12 +492,25 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     cage_rotation(phi, by, bz, A)
     w = scr[0]
     cage_body_angular_velocity(A, y, c0, w)
-    # guide land at the frame origin: force (0, fy, fz), torque about X; gravity along −Z
+    # guide land: resultant force (0, fy, fz) and torque about X on the frame; gravity along −Z
     Qext[1] += land_fy
     Qext[2] += land_fz - mass[0] * grav
     Qext[3] += A[0, 0] * land_mx
     Qext[4] += A[0, 1] * land_mx
     Qext[5] += A[0, 2] * land_mx
+    # ... and distributed over the guide surface for the elastic coordinates: the file's
+    # statically equivalent land loads (cosine pressure for the force, uniform shear for the
+    # torque; fem_cage.reduce_cli) per unit body-frame force y, z and torque x, Q_q += Gᵀ·L_b.
+    # Kept in row Z of node_load for the stress recovery's residual modes.
+    zl = node_load.shape[0] - 1
+    lby = A[1, 1] * land_fy + A[2, 1] * land_fz
+    lbz = A[1, 2] * land_fy + A[2, 2] * land_fz
+    lbx = A[0, 0] * land_mx
+    node_load[zl, 0] = lby
+    node_load[zl, 1] = lbz
+    node_load[zl, 2] = lbx
+    for k in range(n):
+        Qext[6 + k] += land_modes[0, k] * lby + land_modes[1, k] * lbz + land_modes[2, k] * lbx
     q = y[m0:m0 + n]
     qd = y[m0 + n:m0 + 2 * n]
     ffrf_accelerations(A, w, q, qd, Qext, mass[0], first, second, S1, Sx, SS, Mff, stiff, damp,
@@ -527,7 +540,7 @@ def _pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
     angular velocity wnode, all inertial. The cage rotation must be in cage[17] (A) and its
     body-frame angular velocity in w (`cage_body_angular_velocity`)."""
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr, node_load) = cage
+     Qext, A, scr, node_load, land_modes) = cage
     n = stiff.shape[0]
     q = y[m0:m0 + n]
     qd = y[m0 + n:m0 + 2 * n]
@@ -924,7 +937,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
     ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr, node_load) = cage
+     Qext, A, scr, node_load, land_modes) = cage
     n = stiff.shape[0]
     q = y[m0:m0 + n]
     v = rvec

@@ -48,6 +48,7 @@ from numba import njit
 
 from multibody import dynamics as D
 from multibody import model as M
+from multibody.stress_peak import disabled_monitor, stress_peak_step
 
 DEFAULT_TOL = 1e-6
 H_MIN = 1e-12
@@ -90,11 +91,12 @@ class SimulationUnstable(RuntimeError):
 
 @njit(cache=True)
 def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, ld, imp,
-             work, scale, relmask, K, ytmp, ynew, max_steps, cage):
+             work, scale, relmask, K, ytmp, ynew, max_steps, cage, mon):
     """Adaptive explicit RK (FSAL tableau A, weights B, error weights E) from t to t_end, in place.
 
     K: (n_stages, n) stage derivatives; K[0] must hold f(t, y) on entry (FSAL) and holds f at the
-    returned state on exit. Returns (t, h, n_acc, n_rej, code).
+    returned state on exit. mon: the cage stress monitor (multibody.stress_peak), evaluated at
+    every accepted state. Returns (t, h, n_acc, n_rej, code).
     """
     n = y.shape[0]
     s = A.shape[0]
@@ -150,6 +152,8 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
                 K[0, q] = K[s - 1, q]
             t = t_end if last else t + h
             n_acc += 1
+            # the FSAL stage was evaluated at this state: the cage's node loads are current
+            stress_peak_step(t, y, cage, mon)
             if work[zb, 10] != 0.0:
                 return t, h, n_acc, n_rej, 1
             e1 = err if err > 1e-10 else 1e-10
@@ -179,6 +183,7 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
 
 
 D_rhs = D.rhs
+_DISABLED = disabled_monitor()
 
 
 class Workspace:
@@ -201,11 +206,13 @@ class Workspace:
 
 def advance(model, y, t, t_next, speed_table, load_table, impacts, tol: float = DEFAULT_TOL,
             h: float = 1e-6, ws: Workspace | None = None, max_steps: int = 10_000_000,
-            method: str = "dopri5"):
+            method: str = "dopri5", monitor: tuple | None = None):
     """Advance the state from t to t_next (module docstring). Returns (y, t, h, n_steps, n_rejected).
 
     `y` is updated in place and returned. Pass the same Workspace between calls of one run to
-    reuse the FSAL derivative and the scratch arrays. Raises SimulationUnstable.
+    reuse the FSAL derivative and the scratch arrays. `monitor`: a cage stress monitor
+    (multibody.stress_peak.new_monitor) evaluated after every accepted step. Raises
+    SimulationUnstable.
     """
     if ws is None:
         ws = Workspace(model, method)
@@ -218,7 +225,8 @@ def advance(model, y, t, t_next, speed_table, load_table, impacts, tol: float = 
                                           ws.E, ws.order, model.p, model.flags, model.hertz_table,
                                           model.traction_table, speed_table, load_table, impacts,
                                           ws.work, model.scale, model.relmask, ws.K, ws.ytmp, ws.ynew,
-                                          int(max_steps), model.cage)
+                                          int(max_steps), model.cage,
+                                          _DISABLED if monitor is None else monitor)
     if code != OK:
         _raise_unstable(model, code, y, ws, t1, h1, speed_table, load_table, impacts)
     ws.fsal_t = t1

@@ -147,7 +147,9 @@ class Model(NamedTuple):
     # The cage body in floating-frame form (coupling.floating_frame.FlexibleBody arrays followed by
     # its work arrays, `cage_arrays`): mass (1,), first, second, S1, Sx, SS, Mff, stiffness,
     # damping, node_position, node_modes, Mmat, rhs, U, Wab, acc, Qext, A (3,3), scratch (8,3),
-    # node_load (Z, 6): each pocket node's force and moment on the cage in the body frame.
+    # node_load (Z + 1, 6): each pocket node's force and moment on the cage in the body frame,
+    # and in row Z the guide-land load (force y, z, torque x, body frame; the rest 0),
+    # land_modes (3, n): the modal loads of the distributed land load per unit of row Z.
     # A rigid cage is the same
     # body with zero modes, so rigid and flexible cages run through the same equations.
     cage: tuple = ()
@@ -181,9 +183,13 @@ def cage_arrays(body) -> tuple:
     from coupling.floating_frame import new_workspace
     Mmat, rvec, U, Wab = new_workspace(body.n_modes)
     d = 6 + body.n_modes
-    return (np.array([body.mass]), *(np.ascontiguousarray(a, dtype=np.float64) for a in body[1:]),
+    land = getattr(body, "land_modes", None)
+    land = np.zeros((3, body.n_modes)) if land is None else np.ascontiguousarray(land, dtype=np.float64)
+    if land.shape != (3, body.n_modes):
+        raise ValueError(f"cage body land_modes must be (3, {body.n_modes}), got {land.shape}")
+    return (np.array([body.mass]), *(np.ascontiguousarray(a, dtype=np.float64) for a in body[1:11]),
             Mmat, rvec, U, Wab, np.zeros(d), np.zeros(d), np.zeros((3, 3)), np.zeros((8, 3)),
-            np.zeros((body.node_position.shape[0], 6)))
+            np.zeros((body.node_position.shape[0] + 1, 6)), land)
 
 
 def rigid_cage_body(cage, pitch_diameter: float):
