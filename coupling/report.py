@@ -14,7 +14,9 @@ Quantities (each only when the run recorded what it needs)
     pocket_force           ball–pocket normal force of each ball, |F|         pocket_force
     guiding_force          cage–guide-land film force |(F_y, F_z)|            cage_land_force_magnitude
     cage_rim_force         cage–rim contact force (only if ever non-zero)     cage_rim_force
-    von_mises_max          maximum von Mises stress over the cage             von_mises_max
+    von_mises_max          maximum von Mises stress over the cage and over    von_mises_max
+                           every integrator step of the sample interval
+                           (multibody.stress_peak; the mean is over samples)
     film_thickness_min     minimum film thickness of each ball over its       film_thickness_min where
                            loaded contacts (unloaded contacts carry no film)  contact_load > 0
     slip_rate              cage slip S = (n_m - n_c)/n_m                      slip_rate
