@@ -57,6 +57,7 @@ import numpy as np
 
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody.model import build_model
+from multibody import traction as TR
 from multibody.initial import initial_state
 from multibody import dynamics as D
 from multibody import integrator as I
@@ -93,17 +94,74 @@ def design_clearance(bearing=PAPER_BEARING) -> float:
 VALIDATION_BEARING = replace(PAPER_BEARING, radial_clearance=design_clearance(PAPER_BEARING))
 
 
+def pure_rolling_cage_speed_ratio(alpha_outer: float, alpha_inner: float, beta: float, ball_diameter: float,
+                                  pitch_diameter: float) -> float:
+    """omega_c/omega_i of a ball rolling without slip (rolling direction) on the fixed outer race and
+    the inner race, its spin axis in the axial plane at the pitch angle beta from the bearing axis
+    (beta > 0 turns the axis towards the normal of the contact line: beta = alpha_o makes it
+    perpendicular to the outer contact normal, beta = alpha_i to the inner one).
+
+    Rolling at the contact of angle alpha (contact point at Dw/2 from the ball centre along the
+    contact normal), in the frame orbiting with the cage (ball spin omega_R about its axis):
+        outer:  omega_c·r_o           = omega_R·(Dw/2)·cos(alpha_o − beta),  r_o = dm/2 + (Dw/2)·cos alpha_o
+        inner:  (omega_i − omega_c)·r_i = omega_R·(Dw/2)·cos(alpha_i − beta),  r_i = dm/2 − (Dw/2)·cos alpha_i
+    hence omega_c/omega_i = q/(1 + q), q = r_i·cos(alpha_o − beta)/(r_o·cos(alpha_i − beta))
+    (Harris & Kotzalas, Rolling Bearing Analysis Vol. 1, ch. "Ball and roller kinematics": the
+    race-control cases are beta from the gyroscopic balance; beta = 0 is the torque-free ball whose
+    angular velocity stays parallel to the bearing axis; beta = alpha_i means no spin at the inner
+    contact). For alpha_o = alpha_i = alpha it is nm/ni = (1 − Dw·cos alpha/dm)/2 for every beta."""
+    r = 0.5 * ball_diameter
+    ri = 0.5 * pitch_diameter - r * math.cos(alpha_inner)
+    ro = 0.5 * pitch_diameter + r * math.cos(alpha_outer)
+    q = ri * math.cos(alpha_outer - beta) / (ro * math.cos(alpha_inner - beta))
+    return q / (1.0 + q)
+
+
 def slip_rate_cases() -> list[dict]:
     """The 15 steady slip-rate cases of paper Tables 4/5 (loads N, speed rpm, slips in %)."""
     return [dict(case=c, group=g, axial_load=fa, radial_load=fr, speed_rpm=n, test_slip_pct=ts,
                  paper_slip_pct=ps) for c, g, fa, fr, n, ts, ps in _TABLE5]
 
 
+def validation_oil(oil_temperature_c=None, oil_air_fraction=None, oil=PAPER_OIL):
+    """The oil of the validation: `oil` at the given temperature (°C) and cavity oil volume
+    fraction (defaults VALIDATION_OIL_TEMPERATURE_C, VALIDATION_OIL_AIR_FRACTION), validated."""
+    t = VALIDATION_OIL_TEMPERATURE_C if oil_temperature_c is None else oil_temperature_c
+    x = VALIDATION_OIL_AIR_FRACTION if oil_air_fraction is None else oil_air_fraction
+    return replace(oil, temperature_c=float(t), oil_air_fraction=float(x)).validate()
+
+
+def traction_table_for(law: str | None = None, traction_scale: float = 1.0) -> np.ndarray:
+    """Traction coefficient table of a named law (multibody.traction): "fit" = the paper's 4106
+    fit (TRACTION_FIT_4106, 4 rows); "bounded" = the same fit evaluated inside its data range with
+    the limiting-shear bound (TRACTION_BOUNDED_4106, multibody.traction.bounded_traction_table).
+    traction_scale (diagnostic only, 1 = none) multiplies the whole curve (rows A, B, D)."""
+    law = VALIDATION_TRACTION_LAW if law is None else law
+    if law == "fit":
+        tab = np.array(TR.TRACTION_FIT_4106, dtype=np.float64)
+    elif law == "bounded":
+        tab = np.array(TR.TRACTION_BOUNDED_4106, dtype=np.float64)
+    else:
+        from mesh.validation import InputError
+        raise InputError(f"traction law = {law!r} is not known; allowed: 'fit', 'bounded'")
+    if traction_scale != 1.0:
+        tab[[0, 1, 3], 0] *= traction_scale
+    return tab
+
+
+def build_validation_model(bearing, oil, options: dict | None = None, traction_law: str | None = None,
+                           traction_scale: float = 1.0):
+    """multibody.model.build_model with the traction table of `traction_law` (`traction_table_for`)."""
+    model = build_model(bearing, oil, options)
+    return model._replace(traction_table=traction_table_for(traction_law, traction_scale))
+
+
 def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dict | None = None,
                   tol: float = 1e-5, window: float = 0.05, t_min: float = 0.3, t_max: float = 2.0,
-                  settle_rel: float = 2e-4, sample_dt: float = 1e-3, progress=None) -> dict:
+                  settle_rel: float = 2e-4, sample_dt: float = 1e-3, progress=None,
+                  traction_law: str | None = None, traction_scale: float = 1.0) -> dict:
     """Run one steady case to a settled cage speed (module docstring); returns its result row."""
-    model = build_model(bearing, oil, options)
+    model = build_validation_model(bearing, oil, options, traction_law, traction_scale)
     omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
     fa, fr = case["axial_load"], case["radial_load"]
     y = initial_state(model, omega, fa, fr)
@@ -114,10 +172,10 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     t, h = 0.0, 1e-6
     n_steps = n_rej = 0
     wall0 = time.perf_counter()
-    means, alphas = [], []
+    means, alphas, a_out, a_in = [], [], [], []
     settled = False
     while t < t_max - 1e-12:
-        speeds, angs = [], []
+        speeds, angs, ao_w, ai_w = [], [], [], []
         t_w_end = t + window
         while t < t_w_end - 1e-12:
             y, t, h, a, b = I.advance(model, y, t, min(t + sample_dt, t_w_end), sp, ld, imp, tol, h, ws)
@@ -125,9 +183,13 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
             n_rej += b
             out = D.evaluate_outputs(model, t, y, sp, ld, imp)
             speeds.append(out["cage_speed"])
+            ao_w.append(np.mean(np.abs(out["contact_angle_outer"])))
+            ai_w.append(np.mean(np.abs(out["contact_angle_inner_loaded"])))
             angs.append(0.5 * (np.mean(out["contact_angle_outer"]) + np.mean(np.abs(out["contact_angle_inner_loaded"]))))
         means.append(float(np.mean(speeds)))
         alphas.append(float(np.mean(angs)))
+        a_out.append(float(np.mean(ao_w)))
+        a_in.append(float(np.mean(ai_w)))
         if progress is not None:
             progress(t, means[-1])
         if t >= t_min and len(means) >= 3:
@@ -155,15 +217,22 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     for name, a in (("alpha_free", bearing.free_contact_angle), ("alpha_shim", bearing.shim_angle)):
         nm_a = D.nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, a)
         alt[f"slip_pct_{name}"] = 100.0 * (nm_a - nc) / nm_a
+    # the pure-rolling cage speeds of the same contact angles (`pure_rolling_cage_speed_ratio`):
+    # free ball (spin axis parallel to the bearing axis, beta = 0) and no spin at the inner contact
+    for name, beta in (("beta0", 0.0), ("inner_control", a_in[-1])):
+        ratio = pure_rolling_cage_speed_ratio(a_out[-1], a_in[-1], beta, bearing.ball_diameter, bearing.pitch_diameter)
+        alt[f"slip_pct_pure_rolling_{name}"] = 100.0 * (nm - ratio * omega) / nm
     row = dict(case)
     row.update(alt)
     row.update(slip_pct=100.0 * slip, cage_speed=nc, nominal_cage_speed=nm, contact_angle_deg=math.degrees(alpha),
+               contact_angle_outer_deg=math.degrees(a_out[-1]), contact_angle_inner_deg=math.degrees(a_in[-1]),
                error_vs_test_pct=100.0 * abs(100.0 * slip - case["test_slip_pct"]) / case["test_slip_pct"],
                paper_error_vs_test_pct=100.0 * abs(case["paper_slip_pct"] - case["test_slip_pct"]) / case["test_slip_pct"],
                t_end=t, settled=settled, steps=n_steps, rejected=n_rej,
                wall_s=time.perf_counter() - wall0, oil_temperature_c=oil.temperature_c,
                radial_clearance=bearing.radial_clearance,
-               window_means=means)
+               traction_law=VALIDATION_TRACTION_LAW if traction_law is None else traction_law,
+               traction_scale=traction_scale, window_means=means)
     return row
 
 
@@ -197,7 +266,7 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
         oil_temperature_c = VALIDATION_OIL_TEMPERATURE_C
     if oil_air_fraction is None:
         oil_air_fraction = VALIDATION_OIL_AIR_FRACTION
-    oil = replace(oil, temperature_c=float(oil_temperature_c), oil_air_fraction=float(oil_air_fraction)).validate()
+    oil = validation_oil(oil_temperature_c, oil_air_fraction, oil)
     sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
     rows = []
     bar = None
@@ -271,6 +340,10 @@ def main(argv=None) -> None:
     ap.add_argument("--radial-clearance", type=float, default=None,
                     help="diametral clearance Pd, m (default: design_clearance, 88.4e-6 for the paper bearing)")
     ap.add_argument("--t-max", type=float, default=2.0)
+    ap.add_argument("--traction-law", default=None, choices=["fit", "bounded"],
+                    help="traction coefficient law (default: VALIDATION_TRACTION_LAW)")
+    ap.add_argument("--traction-scale", type=float, default=1.0,
+                    help="diagnostic only: multiply the traction curve (1 = the law itself)")
     ap.add_argument("--json", default=None)
     ap.add_argument("--out-dir", default=None, help="write slip_rate.md/.json there")
     ap.add_argument("--quiet", action="store_true")
@@ -278,12 +351,11 @@ def main(argv=None) -> None:
     cases = [int(c) for c in a.cases.split(",")] if a.cases else None
     bearing = None if a.radial_clearance is None else replace(VALIDATION_BEARING, radial_clearance=a.radial_clearance)
     rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
-                                    quiet=a.quiet)
+                                    quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale)
     print(format_table(rows))
     if a.json:
         with open(a.json, "w") as f:
-            json.dump({"rows": [{k: v for k, v in r.items() if k != "window_means"} for r in rows],
-                       "summary": summarise(rows)}, f, indent=2, default=float)
+            json.dump({"rows": rows, "summary": summarise(rows)}, f, indent=2, default=float)
     if a.out_dir:
         write_report(rows, a.out_dir)
 
@@ -291,6 +363,7 @@ def main(argv=None) -> None:
 # The oil state of the validation (module docstring): calibrated on cases 1–8 (`calibrate`).
 VALIDATION_OIL_TEMPERATURE_C = 120.0
 VALIDATION_OIL_AIR_FRACTION = 0.005
+VALIDATION_TRACTION_LAW = "fit"
 
 if __name__ == "__main__":
     main()

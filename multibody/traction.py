@@ -36,6 +36,33 @@ giving T_y = sum Q_m·mu_m·dv/|dvec| and the T_y part of the moment is zero (sl
 
 Sign convention: du, dv = race surface velocity minus ball surface velocity at the contact; the
 returned forces act on the ball (positive along +du). The race receives the opposite.
+
+Bounded law (option; `bounded_traction_table`, TRACTION_BOUNDED_4106). The fit is a regression of
+ball-on-disc traction curves; its plateau D ∝ Qb^0.74 is a power law, and at the slip-rate test's
+light contacts (inner race 85–190 N, p0 0.50–0.70 GPa; outer 200–1200 N, 0.62–1.1 GPa) it gives
+curve maxima of only 0.002–0.005 (inner) and 0.006–0.011 (outer) (benchmarks/results/slip_rate.md,
+"fit at the test's contacts"). EHL traction of ester-class turbine oils at these pressures is of
+the order of a few hundredths (qualitative sources: the EHL friction curve rises linearly with the
+slide–roll ratio, reaches a plateau set by the lubricant's limiting shear stress tau_L and falls
+by shear heating at larger slip, MDPI Lubricants 13(11):485, 2025, §3.3–3.4 and conclusions; the
+maximum traction is set by tau_L(p, T), Bair & Winer, J. Lubr. Technol. 101(3):251, 1979; traction
+grows with contact pressure and falls with surface speed, Loewenthal & Rohn, NASA TP-2154, 1983).
+No numerical traction curve of 4106/MIL-L-23699 oil was retrievable here, so the bound is built
+from the fit itself and is NOT checked against a published number:
+
+    mu_b(s; Q, UR, T) = k·mu_fit(s; max(Qb, Qb_min), clamp(Ub, Ub_min, Ub_max), Tb),
+    k = min(1, mu_lim / max_s mu_fit(s; ...)),
+
+i.e. the fit is evaluated without extrapolating its power laws below the smallest dimensionless
+load Qb_min (below it the curve of Qb_min is used: traction coefficient independent of load, as
+the limiting-shear picture tau_L = Lambda·p gives mu = Lambda for every load), and the whole curve
+is scaled down if its peak exceeds mu_lim = tau_L/p (limiting shear stress proportional to
+pressure, Bair & Winer 1979). QB_MIN_4106 = 2.4e-5 is the Qb of an inner-race contact of the paper
+bearing at p0 ≈ 1.0 GPa (alpha 40°, Rx = 9.9 mm: Q = 542 N, p0 = 1.01 GPa): an ASSUMED lower end of the fit's data (ball-on-disc
+traction rigs run at p0 >= 1 GPa; the original data range of Wang, Yang & Wang 2004 is not known
+here). MU_LIMIT_4106 = 0.06 (assumed Lambda) is inactive at the test's conditions. Inside its range the
+bounded law is the fit exactly; the paper's fit stays the default of the dynamics
+(model.traction_table = TRACTION_FIT_4106).
 """
 from __future__ import annotations
 
@@ -54,16 +81,59 @@ TRACTION_FIT_4106 = np.array([
 ])
 
 
+def bounded_traction_table(qb_range, ub_range, mu_limit, fit=TRACTION_FIT_4106) -> np.ndarray:
+    """The 6-row table of the bounded law (module docstring "Bounded law"): the fit's rows A..D,
+    row 4 = (Qb_min, Qb_max, Ub_min, Ub_max), row 5 = (mu_lim, 0, 0, 0)."""
+    tab = np.zeros((6, 4))
+    tab[:4] = fit
+    tab[4] = (qb_range[0], qb_range[1], ub_range[0], ub_range[1])
+    tab[5, 0] = mu_limit
+    return tab
+
+
+# bounded law for 4106 oil (module docstring "Bounded law"): Qb clamped from below at QB_MIN_4106,
+# Ub not clamped, plateau capped at MU_LIMIT_4106
+QB_MIN_4106 = 2.4e-5
+MU_LIMIT_4106 = 0.06
+TRACTION_BOUNDED_4106 = bounded_traction_table((QB_MIN_4106, 1.0), (0.0, 1.0), MU_LIMIT_4106)
+
+
+@njit(cache=True)
+def traction_curve_maximum(A, B, C, D):
+    """max over s >= 0 of mu(s) = (A + B·s)·exp(−C·s) + D (unclipped; B, C > 0): the stationary point
+    d mu/ds = (B − C·(A + B·s))·exp(−C·s) = 0 at s* = 1/C − A/B if s* > 0, else the larger of
+    mu(0) = A + D and the plateau mu(inf) = D."""
+    best = max(A + D, D)
+    if B > 0.0 and C > 0.0:
+        s = 1.0 / C - A / B
+        if s > 0.0:
+            v = (A + B * s) * math.exp(-C * s) + D
+            if v > best:
+                best = v
+    return best
+
+
 @njit(cache=True)
 def traction_coefficients_table(Q, u_rolling, Rx, E_eff, eta0, temperature_k, thermal_conductivity, table):
     """(A, B, C, D) of the traction curve from a coefficient table (rows A..D: factor, Qb, Ub, Tb
-    exponents). Qb = Q/(E'Rx²), Ub = eta0·UR/(E'Rx), Tb = eta0·K0·T0/(E'Rx)² (module docstring)."""
+    exponents). Qb = Q/(E'Rx²), Ub = eta0·UR/(E'Rx), Tb = eta0·K0·T0/(E'Rx)² (module docstring).
+
+    A table of 6 rows is the bounded law (`bounded_traction_table`, module docstring "Bounded
+    law"): row 4 = (Qb_min, Qb_max, Ub_min, Ub_max), the fit's data range, into which Qb and Ub are
+    clamped before the power laws are evaluated (no extrapolation); row 5 = (mu_lim, 0, 0, 0), the
+    limiting-shear traction coefficient tau_L/p: if the curve's maximum exceeds mu_lim, A, B, D are
+    scaled by mu_lim/max (the curve keeps its shape, its peak is tau_L/p). A 4-row table is the
+    paper's fit unchanged."""
     if Q <= 0.0 or u_rolling == 0.0:
         return 0.0, 0.0, 0.0, 0.0
     er = E_eff * Rx
     qb = Q / (er * Rx)
     ub = eta0 * abs(u_rolling) / er
     tb = eta0 * thermal_conductivity * temperature_k / (er * er)
+    bounded = table.shape[0] >= 6
+    if bounded:
+        qb = min(max(qb, table[4, 0]), table[4, 1])
+        ub = min(max(ub, table[4, 2]), table[4, 3])
     lq = math.log(qb)
     lu = math.log(ub)
     lt = math.log(tb)
@@ -71,6 +141,13 @@ def traction_coefficients_table(Q, u_rolling, Rx, E_eff, eta0, temperature_k, th
     b = table[1, 0] * math.exp(table[1, 1] * lq + table[1, 2] * lu + table[1, 3] * lt)
     c = table[2, 0] * math.exp(table[2, 1] * lq + table[2, 2] * lu + table[2, 3] * lt)
     d = table[3, 0] * math.exp(table[3, 1] * lq + table[3, 2] * lu + table[3, 3] * lt)
+    if bounded and table[5, 0] > 0.0:
+        mx = traction_curve_maximum(a, b, c, d)
+        if mx > table[5, 0]:
+            f = table[5, 0] / mx
+            a *= f
+            b *= f
+            d *= f
     return a, b, c, d
 
 

@@ -1,0 +1,123 @@
+"""Force and torque budgets of the steady slip-rate cases (paper Table 5; coupling.validate).
+
+For one case: run the dynamic model (rigid cage) for `--t-run` s from the quasi-static start, then
+average the recorded quantities over `--window` s (1 ms samples) and print what drives and what
+brakes the balls and the cage:
+
+* per contact (outer, loaded inner half): load Q, contact angle, p0, entrainment speed UR, slide
+  ratio s = du/UR, rolling-direction traction T (on the ball, N) and T/Q, and the traction fit's
+  plateau D and curve maximum at that load and speed (multibody.traction);
+* per ball: churning drag, tangential pocket force, ball spin components in the orbiting frame;
+* cage: land (Petroff) torque, pocket torque sum_j r·F_t, cage speed, nm, slip.
+
+    nice -n 5 .venv/bin/python -m benchmarks.bench_slip_rate --case 1 --t-run 0.6 [--traction-law bounded]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from coupling import validate as V
+from multibody import dynamics as D
+from multibody import integrator as I
+from multibody import model as M
+from multibody.initial import initial_state
+from multibody.traction import traction_coefficients_table, traction_curve_maximum
+
+
+def case_budget(case_no: int, t_run: float = 0.6, window: float = 0.05, oil_temperature_c=None,
+                oil_air_fraction=None, traction_law=None, tol: float = 1e-5, traction_scale: float = 1.0) -> dict:
+    case = [c for c in V.slip_rate_cases() if c["case"] == case_no][0]
+    bearing = V.VALIDATION_BEARING
+    oil = V.validation_oil(oil_temperature_c, oil_air_fraction)
+    model = V.build_validation_model(bearing, oil, traction_law=traction_law, traction_scale=traction_scale)
+    omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
+    fa, fr = case["axial_load"], case["radial_load"]
+    y = initial_state(model, omega, fa, fr)
+    sp = np.array([[0.0, omega]])
+    ld = np.array([[0.0, fa, 0.0, -fr]])
+    imp = np.zeros((0, 6))
+    ws = I.Workspace(model)
+    t, h = 0.0, 1e-6
+    y, t, h, _, _ = I.advance(model, y, t, t_run - window, sp, ld, imp, tol, h, ws)
+    acc: dict = {}
+    n = 0
+    while t < t_run - 1e-12:
+        y, t, h, _, _ = I.advance(model, y, t, min(t + 1e-3, t_run), sp, ld, imp, tol, h, ws)
+        out = D.evaluate_outputs(model, t, y, sp, ld, imp)
+        Q = out["contact_load"]
+        pick = np.where(Q[:, 1] >= Q[:, 2], 1, 2)
+        zi = np.arange(Q.shape[0])
+        rows = {
+            "Q_o": Q[:, 0], "Q_i": Q[zi, pick], "Q_i_other": Q[zi, 3 - pick],
+            "alpha_o_deg": np.degrees(out["contact_angle"][:, 0]),
+            "alpha_i_deg": np.degrees(np.abs(out["contact_angle"][zi, pick])),
+            "p0_o": out["contact_stress"][:, 0], "p0_i": out["contact_stress"][zi, pick],
+            "UR_o": np.abs(out["entrainment_speed"][:, 0]), "UR_i": np.abs(out["entrainment_speed"][zi, pick]),
+            "s_o": out["slide_ratio"][:, 0], "s_i": out["slide_ratio"][zi, pick],
+            "T_o": out["traction_force"][:, 0], "T_i": out["traction_force"][zi, pick],
+            "drag": out["churning_drag"], "pocket_t": out["pocket_force_tangential"],
+            "w_x": out["ball_angular_velocity"][:, 0], "w_r": out["ball_angular_velocity"][:, 1],
+            "w_t": out["ball_angular_velocity"][:, 2],
+        }
+        for k, v in rows.items():
+            acc[k] = acc.get(k, 0.0) + float(np.mean(v))
+        for k in ("cage_land_torque", "cage_speed", "nominal_cage_speed", "slip_rate", "cage_eccentricity_ratio"):
+            acc[k] = acc.get(k, 0.0) + float(out[k])
+        n += 1
+    res = {k: v / n for k, v in acc.items()}
+    # traction fit at the mean inner and outer conditions
+    p = model.p
+    for c, kind in (("o", 0), ("i", 1)):
+        q, ur = res[f"Q_{c}"], res[f"UR_{c}"]
+        alpha = math.radians(res[f"alpha_{c}_deg"])
+        rx = D._hertz_lookup(model.hertz_table, kind, math.cos(alpha))[4]
+        A, B, C, Dd = traction_coefficients_table(q, max(ur, p[M.P_UMIN]), rx, p[M.P_EBR], p[M.P_ETA_TRACTION],
+                                                  p[M.P_T0K], p[M.P_K0], model.traction_table)
+        res[f"fit_D_{c}"] = Dd
+        res[f"fit_mu_max_{c}"] = traction_curve_maximum(A, B, C, Dd)
+        res[f"mu_eff_{c}"] = res[f"T_{c}"] / q if q > 0 else 0.0
+    res["pocket_torque"] = -res["pocket_t"] * 0.5 * bearing.pitch_diameter * bearing.n_balls
+    res.update(case=case_no, t_run=t_run, oil_temperature_c=oil.temperature_c,
+               oil_air_fraction=oil.oil_air_fraction, traction_law=traction_law or V.VALIDATION_TRACTION_LAW,
+               traction_scale=traction_scale)
+    return res
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--case", type=int, nargs="+", default=[1])
+    ap.add_argument("--t-run", type=float, default=0.6)
+    ap.add_argument("--window", type=float, default=0.05)
+    ap.add_argument("--oil-temperature", type=float, default=None)
+    ap.add_argument("--oil-air-fraction", type=float, default=None)
+    ap.add_argument("--traction-law", default=None, choices=[None, "fit", "bounded"])
+    ap.add_argument("--traction-scale", type=float, default=1.0, help="diagnostic: multiply the traction curve")
+    ap.add_argument("--json", default=None)
+    a = ap.parse_args(argv)
+    allres = []
+    for c in a.case:
+        r = case_budget(c, a.t_run, a.window, a.oil_temperature, a.oil_air_fraction, a.traction_law,
+                        traction_scale=a.traction_scale)
+        allres.append(r)
+        print(f"case {c} ({r['traction_law']}, T {r['oil_temperature_c']} C, X {r['oil_air_fraction']}, "
+              f"{r['t_run']} s): slip {100 * r['slip_rate']:.2f} %  cage {r['cage_speed']:.1f} rad/s  nm {r['nominal_cage_speed']:.1f}")
+        for c2 in ("o", "i"):
+            print(f"  {c2}: Q {r[f'Q_{c2}']:.1f} N  alpha {r[f'alpha_{c2}_deg']:.1f} deg  p0 {r[f'p0_{c2}'] / 1e9:.3f} GPa  "
+                  f"UR {r[f'UR_{c2}']:.2f} m/s  s {r[f's_{c2}']:+.4f}  T {r[f'T_{c2}']:+.3f} N  T/Q {r[f'mu_eff_{c2}']:+.4f}  "
+                  f"fit D {r[f'fit_D_{c2}']:.4f}  fit mu_max {r[f'fit_mu_max_{c2}']:.4f}")
+        print(f"  inner other half Q {r['Q_i_other']:.1f} N; drag {r['drag']:+.3f} N/ball; pocket F_t {r['pocket_t']:+.3f} N/ball; "
+              f"w (x, r, t) {r['w_x']:.0f}, {r['w_r']:.1f}, {r['w_t']:.1f} rad/s")
+        print(f"  cage: land torque {r['cage_land_torque']:+.4f} N m, pocket torque {r['pocket_torque']:+.4f} N m, "
+              f"eps {r['cage_eccentricity_ratio']:.3f}")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(allres, f, indent=2, default=float)
+
+
+if __name__ == "__main__":
+    main()
