@@ -11,6 +11,7 @@ brakes the balls and the cage:
 * cage: land (Petroff) torque, pocket torque sum_j r·F_t, cage speed, nm, slip.
 
     nice -n 5 .venv/bin/python -m benchmarks.bench_slip_rate --case 1 --t-run 0.6 [--traction-law bounded]
+    .venv/bin/python -m benchmarks.bench_slip_rate --tables [--oil-temperature 120]   (quasi-static, seconds)
 """
 from __future__ import annotations
 
@@ -88,6 +89,47 @@ def case_budget(case_no: int, t_run: float = 0.6, window: float = 0.05, oil_temp
     return res
 
 
+def static_tables(oil_temperature_c: float = 120.0) -> str:
+    """Quasi-static start of every case (multibody.initial): mean outer / loaded-inner contact load,
+    angle, p0 and entrainment speed, the 4106 fit's plateau D and curve maximum at those contacts
+    (the paper's fit, eta0 at 20 °C, T0 = oil temperature), and the slip of the pure-rolling cage
+    speed for the same angles with a free ball (beta = 0), beta = alpha_o and beta = alpha_i
+    (coupling.validate.pure_rolling_cage_speed_ratio), against nm at the mean angle."""
+    oil = V.validation_oil(oil_temperature_c, 0.003)
+    model = V.build_validation_model(V.VALIDATION_BEARING, oil, traction_law="fit")
+    p = model.p
+    dw, dm = p[M.P_DW], p[M.P_DM]
+    lines = [f"quasi-static contacts, 4106 fit at T = {oil_temperature_c} C (eta0 of the fit 0.055 Pa s)",
+             "| case | rpm | test % | Q_o N | Q_i N | a_o deg | a_i deg | p0_o GPa | p0_i GPa | fit D_o | fit max_o "
+             "| fit D_i | fit max_i | S beta=0 % | S beta=a_o % | S beta=a_i % |",
+             "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for c in V.slip_rate_cases():
+        w = c["speed_rpm"] * math.pi / 30.0
+        y = initial_state(model, w, c["axial_load"], c["radial_load"])
+        out = D.evaluate_outputs(model, 0.0, y, np.array([[0.0, w]]),
+                                 np.array([[0.0, c["axial_load"], 0.0, -c["radial_load"]]]), np.zeros((0, 6)))
+        Q, ang = out["contact_load"], out["contact_angle"]
+        zi = np.arange(Q.shape[0])
+        pick = np.where(Q[:, 1] >= Q[:, 2], 1, 2)
+        vals = []
+        for kind, q, a, ur, p0 in ((0, Q[:, 0], ang[:, 0], out["entrainment_speed"][:, 0], out["contact_stress"][:, 0]),
+                                   (1, Q[zi, pick], ang[zi, pick], out["entrainment_speed"][zi, pick],
+                                    out["contact_stress"][zi, pick])):
+            qm, am, um = float(np.mean(q)), float(np.mean(np.abs(a))), float(np.mean(np.abs(ur)))
+            rx = D._hertz_lookup(model.hertz_table, kind, math.cos(am))[4]
+            A, B, C, Dd = traction_coefficients_table(qm, um, rx, p[M.P_EBR], p[M.P_ETA_TRACTION], p[M.P_T0K],
+                                                      p[M.P_K0], model.traction_table)
+            vals.append((qm, am, float(np.mean(p0)), Dd, traction_curve_maximum(A, B, C, Dd)))
+        ao, ai = vals[0][1], vals[1][1]
+        nm = 0.5 * (1.0 - dw * math.cos(0.5 * (ao + ai)) / dm)
+        s = [100.0 * (nm - V.pure_rolling_cage_speed_ratio(ao, ai, b, dw, dm)) / nm for b in (0.0, ao, ai)]
+        lines.append(f"| {c['case']} | {c['speed_rpm']} | {c['test_slip_pct']:.2f} | {vals[0][0]:.0f} | {vals[1][0]:.0f} | "
+                     f"{math.degrees(ao):.1f} | {math.degrees(ai):.1f} | {vals[0][2] / 1e9:.2f} | {vals[1][2] / 1e9:.2f} | "
+                     f"{vals[0][3]:.4f} | {vals[0][4]:.4f} | {vals[1][3]:.4f} | {vals[1][4]:.4f} | "
+                     f"{s[0]:.2f} | {s[1]:.2f} | {s[2]:.2f} |")
+    return "\n".join(lines)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--case", type=int, nargs="+", default=[1])
@@ -98,7 +140,11 @@ def main(argv=None):
     ap.add_argument("--traction-law", default=None, choices=[None, "fit", "bounded"])
     ap.add_argument("--traction-scale", type=float, default=1.0, help="diagnostic: multiply the traction curve")
     ap.add_argument("--json", default=None)
+    ap.add_argument("--tables", action="store_true", help="print the quasi-static contact/fit/kinematics table and exit")
     a = ap.parse_args(argv)
+    if a.tables:
+        print(static_tables(120.0 if a.oil_temperature is None else a.oil_temperature))
+        return
     allres = []
     for c in a.case:
         r = case_budget(c, a.t_run, a.window, a.oil_temperature, a.oil_air_fraction, a.traction_law,
