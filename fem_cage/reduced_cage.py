@@ -2,14 +2,18 @@
 
 numpy + h5py only: a run that finds its reduced cage in the cache never imports dolfinx.
 
-Schema "flexbearing.reduced_cage", version 3 (HDF5; SI units: m, kg, s, Pa, rad)
+Schema "flexbearing.reduced_cage", version 4 (HDF5; SI units: m, kg, s, Pa, rad)
 -------------------------------------------------------------------------------
 Root attributes
-  schema = "flexbearing.reduced_cage", schema_version = 3, content_hash (16 hex: cache key of
+  schema = "flexbearing.reduced_cage", schema_version = 4, content_hash (16 hex: cache key of
   every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
-  pocket_size, FE degree, coupling, n_fixed, centrifugal_vector), coupling ("rbe2" | "rbe3"),
+  pocket_size, FE degree, coupling, n_fixed, centrifugal_vector, guide_load_vectors,
+  inertia_relief_vectors), coupling ("rbe2" | "rbe3"),
   centrifugal_vector (bool: basis augmented with the fixed-interface centrifugal response),
-  n_modes (M = 6Z + n_fixed + 1 with the centrifugal vector, 6Z + n_fixed without),
+  guide_load_vectors (bool: ... with the fixed-interface responses to the 3 unit land loads),
+  inertia_relief_vectors (bool: ... with those to the 6 rigid-body inertia loads M R),
+  n_modes (M = 6Z + n_fixed + 1 + 3 + 6 with all three augmentations (default; 160 on the paper
+  cage), each one dropped removes its count),
   n_rigid = 6, default_n_keep = 26, created_by, units = "SI", notes (the truncation caveat below).
 /mesh           vertices (Nn, 3) m: the geometry nodes (vertices + edge nodes of the curved
                 quadratic mesh) where stress and displacement are given; tets (Nc, 4) int64:
@@ -34,6 +38,18 @@ Root attributes
                 S_ab); Mff = I6 = identity.
 /stress         modes (Nn, 6, M) Pa per unit q at /mesh/vertices (Voigt xx yy zz yz xz xy;
                 averaged nodal stress, fem_cage.stress_modes); rigid columns are exactly 0.
+/loads          guide_modal_loads (M, 3): G = Phi^T [f_y f_z f_t], the modal loads (N m per unit
+                q, i.e. generalised forces) of the land (guide-surface) load per unit land force
+                along body y, along body z (N) and per unit land torque about the cage axis x (N m),
+                in the same full basis as /modes/interface and /stress/modes; the modal force of a
+                land load L = (F_y, F_z, M_x) is G @ L. f_y, f_z, f_t: consistent nodal loads of
+                a radial traction c cos(theta) e_r, c sin(theta) e_r and a uniform shear c_t
+                e_theta on the guide surface (facet tag 200), theta = atan2(z, y), with exact unit
+                resultant force / torque (fem_cage.reduce_cli.guide_load_vectors: the equations,
+                and the caveat that they keep the resultant and torque of the film load but not
+                its local pressure peak near the minimum film). attrs: columns (JSON list
+                ["land force y N", "land force z N", "land torque x N m"]), units,
+                distribution, guide_area_m2.
 /checks         attrs: JSON of the verification summary (static exactness, stress recovery,
                 frequencies, invariants), when computed.
 
@@ -46,16 +62,29 @@ root attribute centrifugal_vector and the flag in parameters/cache key. Why: wit
 fixed-interface modes only, the full basis is statically exact for interface (pocket) loads but
 not for body loads — the spinning cage's hoop stress was off by tens of percent on a thin test
 ring; constraint modes + u_cf hold the exact free–free static centrifugal response
-(tests/test_cb_centrifugal.py). read() also accepts version-2 files (same layout, no
-augmentation: centrifugal_vector reads False).
+(tests/test_cb_centrifugal.py). 4 = /loads/guide_modal_loads, and the basis is augmented
+(default) with the fixed-interface static responses to the three unit land loads and to the six
+rigid-body inertia loads (fem_cage.reduce_cli.reduce_model): nine more modes, root attributes
+guide_load_vectors and inertia_relief_vectors, both flags in parameters/cache key. Why: the land
+force of the outer-ring-guided cage acts on the guide surface, and it (like a single pocket
+force) has a net force, so its quasi-static response in the free cage is the inertia-relief
+solution; with these vectors the full basis holds it exactly (tests/test_guide_loads.py). Paper
+cage, F_y = 100 N + M_x = 1 N m (`flexbearing reduce --check`, check_guide): full basis vs full
+FE 1.8e-11 in displacement, 1.1e-10 in max von Mises; the schema-3 basis 1.7 % and +173 %. The
+26 kept modes alone miss 99.6 % of that max von Mises: the land load is carried by the static
+correction (static_correction with guide_modal_loads), not by the kept modes.
+read() also accepts version-2 and 3 files (same layout without /loads:
+ReducedCage.guide_modal_loads is None; centrifugal_vector of a version-2 file reads False;
+guide_load_vectors and inertia_relief_vectors read False).
 
 Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
 constraint modes + n_fixed fixed-interface modes + the centrifugal vector, M-orthonormalised,
-sorted by frequency). The
+sorted by frequency; version 4 adds the 3 land-load and 6 inertia-relief vectors). The
 runtime keeps the first n_keep (default 26 = 6 rigid + 20 elastic, the paper's count of 26
 "modal frequencies" with the rigid ones included, as ADAMS numbers them). Only the full basis is
-statically exact for loads at the interface nodes and (version 3) for the centrifugal load (to
-solver precision); a truncated basis is not — the file's /checks give the static error of both. Frame convention for the floating frame
+statically exact for loads at the interface nodes and (version 3) for the centrifugal load and
+(version 4) for land loads and, in the free cage, for loads with a net force (to solver
+precision); a truncated basis is not — the file's /checks give the static error of both. Frame convention for the floating frame
 of reference: the elastic modes (6..) are M-orthogonal to all rigid motions, i.e. they satisfy
 the linearised mean-axis (Tisserand) conditions ∫rho Phi dV = 0 and ∫rho x × Phi dV = 0 about
 the CoM; a runtime whose body frame carries the rigid motion drops modes 0–5 (`elastic()`).
@@ -77,8 +106,9 @@ from pathlib import Path
 import numpy as np
 
 SCHEMA = "flexbearing.reduced_cage"
-SCHEMA_VERSION = 3
-READABLE_VERSIONS = (2, 3)           # 2: same layout, basis without the centrifugal vector
+SCHEMA_VERSION = 4
+READABLE_VERSIONS = (2, 3, 4)        # 2, 3: no /loads; 2: basis without the centrifugal vector
+GUIDE_LOAD_COLUMNS = ("land force y N", "land force z N", "land torque x N m")
 N_RIGID = 6
 DEFAULT_N_KEEP = 26
 DEFAULT_N_FIXED = 30
@@ -90,15 +120,20 @@ TRUNCATION_NOTE = ("Full orthonormalised CB basis stored; statically exact for i
 
 
 def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str,
-              n_fixed: int, degree: int = 3, centrifugal: bool = True) -> dict:
+              n_fixed: int, degree: int = 3, centrifugal: bool = True, guide_loads: bool = True,
+              inertia_relief: bool = True) -> dict:
     """Every input that changes the reduced cage (the dict hashed into the file name): geometry
     and material, mesh size / geometric order / pocket size, FE degree, coupling, n_fixed,
-    centrifugal (basis augmented with the fixed-interface centrifugal response)."""
+    centrifugal (basis augmented with the fixed-interface centrifugal response), guide_loads
+    (... with the responses to the unit land loads), inertia_relief (... with the responses to
+    the rigid-body inertia loads). The schema version is in the key, so a version-3 cache entry
+    is never taken for a version-4 request."""
     return {"schema_version": SCHEMA_VERSION, "geometry": geometry.to_dict(),
             "mesh_size": float(mesh_size), "order": int(order), "degree": int(degree),
             "pocket_size": None if pocket_size is None else float(pocket_size),
             "coupling": str(coupling), "n_fixed": int(n_fixed),
-            "centrifugal_vector": bool(centrifugal), "mesh_version": 1}
+            "centrifugal_vector": bool(centrifugal), "guide_load_vectors": bool(guide_loads),
+            "inertia_relief_vectors": bool(inertia_relief), "mesh_version": 1}
 
 
 def cache_path(key: dict) -> Path:
@@ -137,6 +172,8 @@ class ReducedCage:
     checks: dict = field(default_factory=dict)
     modes: np.ndarray = None             # indices of the kept modes in the file's full basis
     tets10: np.ndarray | None = None     # (Nc, 10) VTK tetra10 order, quadratic meshes
+    guide_modal_loads: np.ndarray | None = None   # (M, 3) per unit land F_y, F_z (N), M_x (N m);
+    #                                               None for schema 2-3 files
 
     def __post_init__(self):
         if self.modes is None:
@@ -160,7 +197,8 @@ class ReducedCage:
                            self.interface_modes[:, :, idx], self.modal_stiffness[idx], inv,
                            self.stress_modes[:, :, idx], self.vertices, self.tets,
                            self.vertex_displacement[:, :, idx], self.attrs, self.checks,
-                           self.modes[idx], self.tets10)
+                           self.modes[idx], self.tets10,
+                           None if self.guide_modal_loads is None else self.guide_modal_loads[idx])
 
     def truncate(self, n_keep: int = DEFAULT_N_KEEP) -> "ReducedCage":
         """The first n_keep modes by frequency (rigid ones included)."""
@@ -182,7 +220,8 @@ def static_correction(interface_modes: np.ndarray, omega: np.ndarray, interface_
 
     interface_modes (Z, 6, M), omega (M), interface_loads (Z, 6) forces N / moments N m at the
     interface nodes in the body frame; modal_load (M,) optional distributed load already in modal
-    form, g_k (e.g. centrifugal_modal_load: Omega^2 Q_k). Keeping modes < first dynamic and adding (S) for the rest
+    form, g_k (e.g. centrifugal_modal_load: Omega^2 Q_k; a land load L = (F_y, F_z, M_x):
+    guide_modal_loads @ L). Keeping modes < first dynamic and adding (S) for the rest
     restores the static exactness of the full basis (a static load has q_k = (S) for every
     elastic mode because the modal stiffness is diagonal) without putting the high frequencies
     (up to ~100 kHz on the paper cage) into the integrator. Rigid modes (omega = 0) are skipped."""
@@ -262,6 +301,11 @@ def read(path) -> ReducedCage:
                              f"{', '.join(map(str, READABLE_VERSIONS))}")
         attrs = {k: (json.loads(v) if k == "parameters" else v) for k, v in f.attrs.items()}
         attrs.setdefault("centrifugal_vector", False)
+        attrs.setdefault("guide_load_vectors", False)
+        attrs.setdefault("inertia_relief_vectors", False)
+        # None for version 2-3 (and for a hand-made file without /loads, e.g. a test's synthetic
+        # cage): the runtime then applies the land load to the floating frame only
+        gml = f["loads/guide_modal_loads"][()] if "loads/guide_modal_loads" in f else None
         inv = {k: (f["invariants"][k][()]) for k in f["invariants"]}
         checks = json.loads(f["checks"].attrs.get("summary", "{}"))
         return ReducedCage(
@@ -272,4 +316,5 @@ def read(path) -> ReducedCage:
             stress_modes=f["stress/modes"][()], vertices=f["mesh/vertices"][()],
             tets=f["mesh/tets"][()], vertex_displacement=f["modes/vertex_displacement"][()],
             attrs=attrs, checks=checks,
-            tets10=f["mesh/tets10"][()] if "tets10" in f["mesh"] else None)
+            tets10=f["mesh/tets10"][()] if "tets10" in f["mesh"] else None,
+            guide_modal_loads=gml)

@@ -20,7 +20,8 @@ def _synthetic(m=10, Z=4, nv=30, seed=0):
             "modes/modal_mass": np.eye(m), "modes/modal_stiffness": omega ** 2,
             "modes/interface": rng.random((Z, 6, m)),
             "modes/vertex_displacement": rng.random((nv, 3, m)),
-            "modes/rigid_twist": np.eye(6), "stress/modes": rng.random((nv, 6, m))}
+            "modes/rigid_twist": np.eye(6), "stress/modes": rng.random((nv, 6, m)),
+            "loads/guide_modal_loads": rng.random((m, 3))}
     inv = {"mass": 1.0, "center_of_mass": np.zeros(3), "inertia_origin": np.eye(3),
            "inertia_com": np.eye(3), "I1": 1.0, "I2": np.zeros(3), "I3": rng.random((3, m)),
            "I4": rng.random((3, m)), "I5": rng.random((3, m, m)), "I6": np.eye(m),
@@ -47,6 +48,8 @@ def test_round_trip_truncate_elastic(tmp_path):
     assert list(e.modes) == [6, 7]
     assert np.array_equal(e.interface_modes, data["modes/interface"][:, :, 6:8])
     assert np.array_equal(e.invariants["I5"], data["invariants/I5"][:, 6:8, 6:8])
+    assert np.array_equal(rc.guide_modal_loads, data["loads/guide_modal_loads"])
+    assert np.array_equal(e.guide_modal_loads, data["loads/guide_modal_loads"][6:8])
     assert np.allclose(rcf.modal_damping(e.omega, 1e-5), 1e-5 * e.omega ** 2)
     with pytest.raises(ValueError):          # InputError is a ValueError
         rc.truncate(11)
@@ -61,6 +64,25 @@ def test_schema_version_checked(tmp_path):
         rcf.read(p)
 
 
+def test_older_schema_versions_read_without_guide_loads(tmp_path):
+    """Version-2/3 files (no /loads) still read: guide_modal_loads is None and the augmentation
+    flags read False (a version-4 file without /loads, e.g. a hand-made synthetic one, reads the
+    same way)."""
+    import h5py
+    data = _synthetic()
+    del data["loads/guide_modal_loads"]
+    p = rcf.write(tmp_path / "c.h5", data, {})
+    for ver in (2, 3):
+        with h5py.File(p, "a") as f:
+            f.attrs["schema_version"] = ver
+        rc = rcf.read(p)
+        assert rc.guide_modal_loads is None and rc.truncate(8).guide_modal_loads is None
+        assert rc.attrs["guide_load_vectors"] is False and rc.attrs["inertia_relief_vectors"] is False
+    with h5py.File(p, "a") as f:
+        f.attrs["schema_version"] = 4
+    assert rcf.read(p).guide_modal_loads is None
+
+
 def test_cache_key_depends_on_every_input():
     base = rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30)
     variants = [rcf.cache_key(PAPER_CAGE.with_(width=0.029), 3e-3, 2, 1.5e-3, "rbe3", 30),
@@ -68,7 +90,15 @@ def test_cache_key_depends_on_every_input():
                 rcf.cache_key(PAPER_CAGE, 3e-3, 1, 1.5e-3, "rbe3", 30),
                 rcf.cache_key(PAPER_CAGE, 3e-3, 2, None, "rbe3", 30),
                 rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe2", 30),
-                rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 40)]
+                rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 40),
+                rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, False),
+                rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, False),
+                rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, True, False)]
+    # the runtime's 8-argument call (coupling.flexible_cage) gets the land-load and inertia-relief
+    # augmented version-4 file
+    assert rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True) == \
+        rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, True, True)
+    assert base["schema_version"] == 4 and base["guide_load_vectors"] and base["inertia_relief_vectors"]
     mat = PAPER_CAGE.material.__class__(7800.0, 209e9, 0.295)
     variants.append(rcf.cache_key(PAPER_CAGE.with_(material=mat), 3e-3, 2, 1.5e-3, "rbe3", 30))
     paths = {rcf.cache_path(k) for k in variants}
