@@ -116,7 +116,7 @@ def flexible_cage_body(rc, n_keep: int = 26, beta: float = 0.0,
                         np.ascontiguousarray(SS), np.ascontiguousarray(Mff), kdiag, beta * kdiag,
                         np.ascontiguousarray(rc.interface_positions, dtype=float),
                         np.ascontiguousarray(rc.interface_modes @ T),
-                        None if G is None else np.ascontiguousarray((G @ T).T))
+                        None if G is None else np.ascontiguousarray((T.T @ G).T))
     return CageModalBasis(body, T, np.sqrt(np.maximum(kdiag, 0.0)) / (2 * np.pi),
                           np.ascontiguousarray(rc.stress_modes @ T),
                           np.ascontiguousarray(rc.vertex_displacement @ T))
