@@ -11,7 +11,7 @@ cage speed (mean over the last averaging window). alpha: the mean of the loaded 
 of the outer race and of the more loaded inner half, averaged over the balls and the window
 (the ball's kinematic mean; the paper does not say which alpha it takes).
 
-Settling: the run goes in windows of `window` s (outputs every 1 ms); it stops after `t_min`
+Settling: the run goes in windows of `window` s (outputs every 1 ms); it stops after `t_min` (1.0 s)
 when two consecutive window means of the cage speed differ by less than `settle_rel` (relative),
 or when they approach their limit geometrically (ratio q of successive differences in (0, 0.9))
 and the remaining change predicted by Aitken's extrapolation, d·q/(1 − q), is below `settle_rel`;
@@ -32,7 +32,10 @@ VALIDATION_BEARING); it is a design rule, not a fit.
 Oil state: the test's oil supply temperature is not given (rig range 23–200 °C), nor the oil
 content of the cavity. Both are calibrated together on cases 1–8 only (`calibrate`, a grid) and
 are the same for every case; cases 9–15 are the check (VALIDATION_*; the calibration grid and the
-result are in benchmarks/results/slip_rate.md).
+result are in benchmarks/results/slip_rate.md). The cavity oil fraction is either constant or
+X_ref·(4000 rpm/n) (`case_oil_air_fraction`: Parker's 1/n at a constant oil supply); X_ref is the
+calibrated number. Traction: the paper's 4106 fit (default) or the bounded law of
+multibody.traction (`traction_table_for`, option --traction-law bounded).
 
 Diagnosis (benchmarks/results/slip_rate.md has the numbers and the commands; benchmarks/bench_slip_rate.py
 prints the budgets). With the paper's 4106 fit the traction curve maxima at the test's contacts are
@@ -185,7 +188,7 @@ def build_validation_model(bearing, oil, options: dict | None = None, traction_l
 
 
 def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dict | None = None,
-                  tol: float = 1e-5, window: float = 0.05, t_min: float = 0.3, t_max: float = 2.0,
+                  tol: float = 1e-5, window: float = 0.05, t_min: float = 1.0, t_max: float = 2.0,
                   settle_rel: float = 2e-4, sample_dt: float = 1e-3, progress=None,
                   traction_law: str | None = None, traction_scale: float = 1.0) -> dict:
     """Run one steady case to a settled cage speed (module docstring); returns its result row."""
@@ -373,6 +376,9 @@ def main(argv=None) -> None:
     ap.add_argument("--radial-clearance", type=float, default=None,
                     help="diametral clearance Pd, m (default: design_clearance, 88.4e-6 for the paper bearing)")
     ap.add_argument("--t-max", type=float, default=2.0)
+    ap.add_argument("--t-min", type=float, default=1.0,
+                    help="no settling test before this time, s (the cage speed can pause on its way: "
+                         "at t_min 0.3 s case 9 'settled' at 0.30 s while its neighbours drifted for 1–3 s)")
     ap.add_argument("--traction-law", default=None, choices=["fit", "bounded"],
                     help="traction coefficient law (default: VALIDATION_TRACTION_LAW)")
     ap.add_argument("--oil-air-scaling", default=None, choices=["constant", "inverse_speed"],
@@ -386,7 +392,7 @@ def main(argv=None) -> None:
     cases = [int(c) for c in a.cases.split(",")] if a.cases else None
     bearing = None if a.radial_clearance is None else replace(VALIDATION_BEARING, radial_clearance=a.radial_clearance)
     rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
-                                    quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale,
+                                    quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale, t_min=a.t_min,
                                     oil_air_scaling=a.oil_air_scaling)
     print(format_table(rows))
     if a.json:
