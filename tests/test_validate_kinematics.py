@@ -80,3 +80,13 @@ def test_traction_tables():
         assert T.traction_coefficient(s, *ck) == pytest.approx(k * T.traction_coefficient(s, *c1), rel=1e-12)
     with pytest.raises(InputError, match="traction law"):
         V.traction_table_for("dry")
+
+
+def test_cavity_oil_fraction_scaling():
+    """X = X_ref·(4000/n) for "inverse_speed" (Parker's 1/n at constant oil supply; exact), X_ref for
+    "constant"; an unknown scaling is an InputError naming the field."""
+    assert V.case_oil_air_fraction(0.003, 4000, "inverse_speed") == pytest.approx(0.003, rel=1e-15)
+    assert V.case_oil_air_fraction(0.003, 12000, "inverse_speed") == pytest.approx(0.001, rel=1e-15)
+    assert V.case_oil_air_fraction(0.003, 12000, "constant") == 0.003
+    with pytest.raises(InputError, match="oil_air_scaling"):
+        V.case_oil_air_fraction(0.003, 4000, "parker2")
