@@ -383,6 +383,8 @@ def main(argv=None) -> None:
                     help="traction coefficient law (default: VALIDATION_TRACTION_LAW)")
     ap.add_argument("--oil-air-scaling", default=None, choices=["constant", "inverse_speed"],
                     help="oil fraction vs speed: constant, or X_ref·4000/n (default: VALIDATION_OIL_AIR_SCALING)")
+    ap.add_argument("--transverse-traction", default="on", choices=["on", "off"],
+                    help="model option transverse_traction (off = the paper's T_eta = 0)")
     ap.add_argument("--traction-scale", type=float, default=1.0,
                     help="diagnostic only: multiply the traction curve (1 = the law itself)")
     ap.add_argument("--json", default=None)
@@ -391,7 +393,9 @@ def main(argv=None) -> None:
     a = ap.parse_args(argv)
     cases = [int(c) for c in a.cases.split(",")] if a.cases else None
     bearing = None if a.radial_clearance is None else replace(VALIDATION_BEARING, radial_clearance=a.radial_clearance)
+    options = None if a.transverse_traction == "on" else {"transverse_traction": False}
     rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
+                                    options=options,
                                     quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale, t_min=a.t_min,
                                     oil_air_scaling=a.oil_air_scaling)
     print(format_table(rows))
