@@ -36,12 +36,7 @@ def case_budget(case_no: int, t_run: float = 0.6, window: float = 0.05, oil_temp
     bearing = V.VALIDATION_BEARING
     oil = V.validation_oil(oil_temperature_c, oil_air_fraction)
     model = V.build_validation_model(bearing, oil, traction_law=traction_law, traction_scale=traction_scale)
-    omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
-    fa, fr = case["axial_load"], case["radial_load"]
-    y = initial_state(model, omega, fa, fr)
-    sp = np.array([[0.0, omega]])
-    ld = np.array([[0.0, fa, 0.0, -fr]])
-    imp = np.zeros((0, 6))
+    omega, y, sp, ld, imp = V.steady_case_start(model, case)
     ws = I.Workspace(model)
     t, h = 0.0, 1e-6
     y, t, h, _, _ = I.advance(model, y, t, t_run - window, sp, ld, imp, tol, h, ws)

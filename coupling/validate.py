@@ -187,18 +187,22 @@ def build_validation_model(bearing, oil, options: dict | None = None, traction_l
     return model._replace(traction_table=traction_table_for(traction_law, traction_scale))
 
 
+def steady_case_start(model, case: dict):
+    """(omega rad/s, quasi-static initial state, speed table, load table, no impacts) of a
+    steady test case: constant inner-ring speed, axial load along +x, radial load along −z."""
+    omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
+    fa, fr = case["axial_load"], case["radial_load"]
+    y = initial_state(model, omega, fa, fr)
+    return (omega, y, np.array([[0.0, omega]]), np.array([[0.0, fa, 0.0, -fr]]), np.zeros((0, 6)))
+
+
 def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dict | None = None,
                   tol: float = 1e-5, window: float = 0.05, t_min: float = 1.0, t_max: float = 2.0,
                   settle_rel: float = 2e-4, sample_dt: float = 1e-3, progress=None,
                   traction_law: str | None = None, traction_scale: float = 1.0) -> dict:
     """Run one steady case to a settled cage speed (module docstring); returns its result row."""
     model = build_validation_model(bearing, oil, options, traction_law, traction_scale)
-    omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
-    fa, fr = case["axial_load"], case["radial_load"]
-    y = initial_state(model, omega, fa, fr)
-    sp = np.array([[0.0, omega]])
-    ld = np.array([[0.0, fa, 0.0, -fr]])
-    imp = np.zeros((0, 6))
+    omega, y, sp, ld, imp = steady_case_start(model, case)
     ws = I.Workspace(model)
     t, h = 0.0, 1e-6
     n_steps = n_rej = 0
