@@ -87,27 +87,33 @@ def _lu_solver():
     return "petsc"
 
 
+def lu_ksp(A):
+    """A direct solver for the PETSc matrix A: KSP PREONLY + LU (MUMPS when available, with
+    memory relaxation ICNTL(14) = 80: indefinite systems — saddle points, K − w²M near a
+    resonance — need room to pivot). Returns (ksp set up, solver name)."""
+    from petsc4py import PETSc
+    ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+    ksp.setOperators(A)
+    ksp.setType(PETSc.KSP.Type.PREONLY)
+    pc = ksp.getPC()
+    pc.setType(PETSc.PC.Type.LU)
+    solver = _lu_solver()
+    pc.setFactorSolverType(solver)
+    if solver == "mumps":
+        pc.setFactorSetUpSolverType()
+        pc.getFactorMatrix().setMumpsIcntl(14, 80)
+    ksp.setUp()
+    return ksp, solver
+
+
 class SaddleSolver:
     """Factorise S = [[K, C^T], [C, 0]] once (LU, MUMPS when available); solve many RHS."""
 
     def __init__(self, K: sp.spmatrix, C: sp.spmatrix):
-        from petsc4py import PETSc
         self.n, self.nc = K.shape[0], C.shape[0]
         S = sp.bmat([[K, C.T], [C, None]], format="csr")
         self.S = scipy_to_petsc(S)
-        ksp = PETSc.KSP().create(PETSc.COMM_SELF)
-        ksp.setOperators(self.S)
-        ksp.setType(PETSc.KSP.Type.PREONLY)
-        pc = ksp.getPC()
-        pc.setType(PETSc.PC.Type.LU)
-        self.solver = _lu_solver()
-        pc.setFactorSolverType(self.solver)
-        if self.solver == "mumps":
-            pc.setFactorSetUpSolverType()
-            F = pc.getFactorMatrix()
-            F.setMumpsIcntl(14, 80)          # memory relaxation: saddle pivoting needs room
-        ksp.setUp()
-        self.ksp = ksp
+        self.ksp, self.solver = lu_ksp(self.S)
         self._b, self._x = self.S.createVecRight(), self.S.createVecRight()
 
     def destroy(self):

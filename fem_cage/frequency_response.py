@@ -45,21 +45,9 @@ class _LU:
     """A x = b for a sparse real matrix, factorised once (PETSc LU, MUMPS when available)."""
 
     def __init__(self, A: sp.spmatrix):
-        from petsc4py import PETSc
-        from .craig_bampton import scipy_to_petsc, _lu_solver
+        from .craig_bampton import lu_ksp, scipy_to_petsc
         self.A = scipy_to_petsc(A)
-        ksp = PETSc.KSP().create(PETSc.COMM_SELF)
-        ksp.setOperators(self.A)
-        ksp.setType(PETSc.KSP.Type.PREONLY)
-        pc = ksp.getPC()
-        pc.setType(PETSc.PC.Type.LU)
-        solver = _lu_solver()
-        pc.setFactorSolverType(solver)
-        if solver == "mumps":
-            pc.setFactorSetUpSolverType()
-            pc.getFactorMatrix().setMumpsIcntl(14, 80)   # indefinite near resonances: room to pivot
-        ksp.setUp()
-        self.ksp = ksp
+        self.ksp, _ = lu_ksp(self.A)
         self._b, self._x = self.A.createVecRight(), self.A.createVecRight()
 
     def solve(self, b: np.ndarray) -> np.ndarray:
