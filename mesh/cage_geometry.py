@@ -47,6 +47,11 @@ class CageGeometry:
     land_width: float = 28.3e-3 / 2       # with relief_depth = 0 the whole outside is the guide
     relief_depth: float = 0.0
     chamfer: float = 0.0                   # 45° edge chamfer size on the four ring edges (0 = none)
+    # 45° chamfer on the two *bore* edges when it differs from `chamfer` (None = `chamfer`, i.e.
+    # all four edges alike). The bore of an outer-ring-guided cage has no guiding function, so
+    # its edges may be broken more than the guide-land edges (clearance to the inner-ring
+    # shoulders, oil entry from under-race lubrication); the outside edges stay limited by the land.
+    bore_chamfer: float | None = None
     material: Material = field(default=STEEL_40CrNiMoA)
     # The ball the pockets hold: only used to refuse pockets that cannot take it (Dp <= Dw) or
     # are absurdly loose (Dp > 1.1·Dw, the same bound multibody.bearing applies).
@@ -66,6 +71,11 @@ class CageGeometry:
 
     def pocket_azimuths(self) -> list[float]:
         return [2.0 * math.pi * k / self.n_pockets for k in range(self.n_pockets)]
+
+    @property
+    def bore_edge_chamfer(self) -> float:
+        """Chamfer on the bore edges, m: bore_chamfer, or chamfer when bore_chamfer is None."""
+        return self.chamfer if self.bore_chamfer is None else self.bore_chamfer
 
     @property
     def relief_width(self) -> float:
@@ -98,15 +108,30 @@ class CageGeometry:
         require_range("cage.relief_depth", self.relief_depth, 0.0, wall, hi_open=True, unit="m")
         require_range("cage.chamfer", self.chamfer, 0.0, 0.5 * min(wall, self.width), hi_open=True,
                       unit="m")
+        if self.bore_chamfer is not None:
+            # Same limit as the outside chamfer: each leaves a flat side face between the two.
+            require_range("cage.bore_chamfer", self.bore_chamfer, 0.0, 0.5 * min(wall, self.width),
+                          hi_open=True, unit="m")
         if self.relief_depth > 0.0:
             # The chamfer must not eat the guide land, nor reach the relief floor.
             require_range("cage.chamfer", self.chamfer, 0.0,
                           min(self.land_width, wall - self.relief_depth), hi_open=True, unit="m")
+            if self.bore_chamfer is not None:
+                # nor may the bore chamfer climb the side face past the relief floor (the section
+                # polygon would then cross itself where the relief is wider than the flat bore).
+                require_range("cage.bore_chamfer", self.bore_chamfer, 0.0, wall - self.relief_depth,
+                              hi_open=True, unit="m")
         self.material.validate("cage.material")
         return self
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        """All fields, except optional features added later (bore_chamfer) while they are unset:
+        the dict is hashed into cache keys (meshes, reduced cages), so a geometry that does not
+        use a newer field keeps the content hash it had before that field existed."""
+        d = asdict(self)
+        if d["bore_chamfer"] is None:
+            del d["bore_chamfer"]
+        return d
 
     def with_(self, **changes) -> "CageGeometry":
         return replace(self, **changes)

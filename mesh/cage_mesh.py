@@ -1,7 +1,7 @@
 """The cage as a tagged tetrahedral mesh (gmsh OpenCASCADE).
 
 Construction: the ring's cross-section (bore, outside cylinder, optional central relief between
-two guide lands, optional 45° edge chamfers) is drawn in the x–r half plane and revolved 360°
+two guide lands, optional 45° edge chamfers, the bore edges' own size when bore_chamfer is set) is drawn in the x–r half plane and revolved 360°
 about the bearing axis x; Z radial cylinders of diameter Dp are cut out at azimuths
 theta_k = 2*pi*k/Z (from +y towards +z), centred on the mid-plane x = 0. The revolution seam
 is turned half a pocket pitch away from pocket 0 so no pocket wall lies on it.
@@ -71,18 +71,17 @@ def _check_sizes(geometry: CageGeometry, size: float, order: int, pocket_size: f
 def _profile_points(g: CageGeometry, pockets: bool = True) -> list[tuple[float, float]]:
     """Closed polygon (x, r) of the ring's cross-section, counter-clockwise in the x–r plane."""
     w2, ri, ro, c = 0.5 * g.width, g.inner_radius, g.outer_radius, g.chamfer
-    pts = []
-    if c > 0:
-        pts += [(-w2 + c, ri), (w2 - c, ri), (w2, ri + c), (w2, ro - c), (w2 - c, ro)]
-    else:
-        pts += [(-w2, ri), (w2, ri), (w2, ro)]
+    cb = g.bore_edge_chamfer                 # bore edges: bore_chamfer, or chamfer when unset
+    pts = [(-w2 + cb, ri), (w2 - cb, ri)] if cb > 0 else [(-w2, ri), (w2, ri)]
+    if cb > 0:
+        pts += [(w2, ri + cb)]
+    pts += [(w2, ro - c), (w2 - c, ro)] if c > 0 else [(w2, ro)]
     if g.relief_depth > 0 and g.relief_width > 0:
         wr2, rr = 0.5 * g.relief_width, ro - g.relief_depth
         pts += [(wr2, ro), (wr2, rr), (-wr2, rr), (-wr2, ro)]
-    if c > 0:
-        pts += [(-w2 + c, ro), (-w2, ro - c), (-w2, ri + c)]
-    else:
-        pts += [(-w2, ro)]
+    pts += [(-w2 + c, ro), (-w2, ro - c)] if c > 0 else [(-w2, ro)]
+    if cb > 0:
+        pts += [(-w2, ri + cb)]
     return pts
 
 

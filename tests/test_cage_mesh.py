@@ -19,6 +19,9 @@ from mesh.validation import InputError
     (dict(relief_depth=9e-3), "cage.relief_depth"),             # deeper than the wall
     (dict(chamfer=-1e-4), "cage.chamfer"),
     (dict(relief_depth=1e-3, land_width=2e-3, chamfer=2.5e-3), "cage.chamfer"),  # eats the land
+    (dict(bore_chamfer=-1e-4), "cage.bore_chamfer"),
+    (dict(bore_chamfer=4.5e-3), "cage.bore_chamfer"),           # > half the 8.65 mm wall
+    (dict(relief_depth=6e-3, land_width=5e-3, bore_chamfer=3e-3), "cage.bore_chamfer"),  # past the relief floor
 ])
 def test_invalid_geometry_names_field_and_range(change, field):
     with pytest.raises(InputError) as err:
@@ -99,3 +102,47 @@ def test_cached_mesh_is_reused(tmp_path, monkeypatch):
     mtime = p1.stat().st_mtime_ns
     p2 = cage_mesh.cached_cage_mesh(NOMINAL_CAGE, 10e-3, 1, 10e-3)
     assert p1 == p2 and p2.stat().st_mtime_ns == mtime and p1.parent == tmp_path / "meshes"
+
+
+def test_bore_chamfer_unset_keeps_the_cache_identity():
+    # Cache keys (meshes, reduced cages) hash to_dict(): a geometry that does not set the newer
+    # bore_chamfer field must give the same dict (same keys) as before the field existed.
+    before = {"outside_diameter", "bore_diameter", "width", "n_pockets", "pocket_diameter",
+              "land_width", "relief_depth", "chamfer", "material", "ball_diameter"}
+    assert set(NOMINAL_CAGE.to_dict()) == before
+    assert NOMINAL_CAGE.bore_edge_chamfer == NOMINAL_CAGE.chamfer
+    g = NOMINAL_CAGE.with_(chamfer=0.5e-3, bore_chamfer=2e-3)
+    assert g.to_dict()["bore_chamfer"] == 2e-3 and g.bore_edge_chamfer == 2e-3
+
+
+def test_section_profile_with_bore_chamfer():
+    # Shoelace area of the section polygon = W h - 2 c^2/2 (outside edges) - 2 cb^2/2 (bore edges)
+    # - relief (W - 2 L) d: closed form of the drawn section (45° chamfers are right isosceles).
+    from mesh.cage_mesh import _profile_points
+    c, cb, L, d = 0.5e-3, 2e-3, 5e-3, 1e-3
+    g = NOMINAL_CAGE.with_(chamfer=c, bore_chamfer=cb, land_width=L, relief_depth=d).validate()
+    P = np.array(_profile_points(g))
+    area = 0.5 * abs(np.dot(P[:, 0], np.roll(P[:, 1], -1)) - np.dot(P[:, 1], np.roll(P[:, 0], -1)))
+    h = g.outer_radius - g.inner_radius
+    assert area == pytest.approx(g.width * h - c ** 2 - cb ** 2 - (g.width - 2 * L) * d, rel=1e-12)
+    # bore corners at x = ±(W/2 - cb), outside corners at x = ±(W/2 - c)
+    ri, ro = g.inner_radius, g.outer_radius
+    assert sorted(abs(x) for x, r in P if r == ri) == pytest.approx([0.5 * g.width - cb] * 2)
+    assert sorted(abs(x) for x, r in P if r == ro and abs(x) > 0.5 * g.relief_width + 1e-9) == \
+        pytest.approx([0.5 * g.width - c] * 2)
+
+
+def test_bore_chamfer_mesh_nodes(tmp_path):
+    # Meshed with a 2 mm bore chamfer and no outside chamfer: bore nodes stay within
+    # |x| <= W/2 - cb, side-face nodes at r >= ri + cb (1e-9 m: nodes on the CAD surfaces).
+    from mesh.cage_mesh import build_cage_mesh
+    cb = 2e-3
+    g = NOMINAL_CAGE.with_(bore_chamfer=cb)
+    path = build_cage_mesh(g, 10e-3, 1, tmp_path / "c.msh", pocket_size=10e-3)
+    groups, _ = _groups(path)
+    Xb = groups["bore"][2]
+    assert np.all(np.abs(Xb[:, 0]) <= 0.5 * g.width - cb + 1e-9)
+    for side in ("side_left", "side_right"):
+        r = np.hypot(groups[side][2][:, 1], groups[side][2][:, 2])
+        assert r.min() >= g.inner_radius + cb - 1e-9 and r.max() <= g.outer_radius + 1e-9
+    assert "other" in groups            # the chamfer faces

@@ -5,7 +5,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fem_cage.calibrate import BOUNDS, Evaluator, residuals, table8_vector
+from fem_cage.calibrate import (BOUNDS, BOXES, Evaluator, geometry_of, linearised_fit, residuals,
+                                table8_vector)
 from fem_cage.modes import PAPER_TABLE8_HZ
 from mesh.cage_geometry import CALIBRATED_CAGE, NOMINAL_CAGE
 
@@ -58,3 +59,64 @@ def test_calibrated_preset_is_the_recorded_calibration():
         assert lo - 1e-12 <= value <= hi + 1e-12
     # nominal geometry (SPEC §1) is kept apart from the calibrated one
     assert NOMINAL_CAGE.pocket_diameter == 22.5e-3 and NOMINAL_CAGE.relief_depth == 0.0
+
+
+@pytest.mark.parametrize("box", sorted(BOXES))
+def test_every_corner_of_every_box_is_a_valid_cage(box):
+    import itertools
+    names = list(BOXES[box])
+    for corner in itertools.product(*(BOXES[box][n] for n in names)):
+        geometry_of(names, corner)           # raises InputError if not a valid cage
+
+
+def test_plausible_box_keeps_a_guide_land_and_a_reasonable_pocket():
+    b = BOXES["plausible"]
+    assert b["guide_flat"][0] >= 2e-3 and b["chamfer"][1] <= 1e-3
+    assert 0.5 * (b["pocket_diameter"][0] - 22e-3) == pytest.approx(0.05e-3)       # clearance 0.05 mm
+    assert 0.5 * (b["pocket_diameter"][1] - 22e-3) == pytest.approx(0.5e-3)        # ... 0.5 mm
+    # the bore chamfer stays inside the side rail (W - Dp)/2 of the smallest pocket's neighbour
+    assert b["bore_chamfer"][1] < 0.5 * (28.3e-3 - b["pocket_diameter"][1])
+
+
+def test_guide_flat_is_land_minus_chamfer():
+    g = geometry_of(["chamfer", "guide_flat", "relief_depth"], [1e-3, 2e-3, 1e-3])
+    assert g.land_width == pytest.approx(3e-3, abs=1e-15)
+
+
+def test_linearised_fit_recovers_a_uniform_scale_and_respects_bounds():
+    # Every frequency 5 % high and d f / d z = -0.1 f_table: the exact optimum is z = 0.5, r = 0;
+    # with z <= 0.3 the residual is 0.05 - 0.03 = 0.02 for every mode (closed form).
+    t = np.sort(table8_vector())
+    f0, J = 1.05 * t, (-0.1 * t)[:, None]
+    z, r = linearised_fit(f0, J, np.zeros(1), np.zeros(1), np.ones(1), n_starts=3)
+    assert z[0] == pytest.approx(0.5, abs=1e-6) and np.abs(r).max() < 1e-6
+    z, r = linearised_fit(f0, J, np.zeros(1), np.zeros(1), np.full(1, 0.3), n_starts=3)
+    assert z[0] == pytest.approx(0.3, abs=1e-9) and r == pytest.approx(np.full(21, 0.02), abs=1e-9)
+
+
+def test_linearised_fit_guide_flat_constraint_is_active():
+    # Narrower land (lower z_land) and larger chamfer both lower every frequency, which are 10 %
+    # high: the fit wants land -> chamfer; with land - chamfer >= 1 mm the constraint is active.
+    t = np.sort(table8_vector())
+    names, lo, hi = ["chamfer", "land_width"], np.array([0.0, 0.5e-3]), np.array([3e-3, 14e-3])
+    f0 = 1.10 * t
+    J = np.stack([-0.02 * t, 0.02 * t], axis=1)
+    z0 = np.array([0.0, 1.0])
+    z, r = linearised_fit(f0, J, z0, np.zeros(2), np.ones(2), 1e-3, names, lo, hi, n_starts=10)
+    p = lo + z * (hi - lo)
+    assert p[1] - p[0] == pytest.approx(1e-3, abs=1e-7)
+    assert np.all(r > 0)                 # the constraint stops it short of the table
+
+
+def test_log_records_of_another_base_geometry_are_not_reused(tmp_path):
+    log = tmp_path / "e.jsonl"
+    f = list(np.concatenate([np.zeros(6), table8_vector()]))
+    rec = {"params": {"pocket_diameter": 22.5e-3, "bore_diameter": 164e-3}, "mesh": [0.008, 0.008, 2, 3],
+           "frequencies_hz": f, "base": "0000000000000000"}
+    log.write_text(json.dumps(rec) + "\n")
+    ev = Evaluator(["pocket_diameter", "bore_diameter"], log_path=log, bounds=BOXES["envelope"])
+    assert ev.memo == {}
+    rec.pop("base")                      # no "base": an evaluation on the nominal cage
+    log.write_text(json.dumps(rec) + "\n")
+    ev = Evaluator(["pocket_diameter", "bore_diameter"], log_path=log, bounds=BOXES["envelope"])
+    assert list(ev.memo) == [(0.0225, 0.164)]
