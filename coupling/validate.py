@@ -29,6 +29,17 @@ that allows it, and the one that makes the two-point free contact angle equal th
 (alpha0 = alphaD = 30°), is that critical value. The validation uses it (`design_clearance`,
 VALIDATION_BEARING); it is a design rule, not a fit.
 
+Gravity (physics, not fitted): the rig's spindle is horizontal (paper §3.1, Figs. 10–12: electric
+spindle, cantilever test shaft), so the runs carry gravity, VALIDATION_GRAVITY = 9.81 m/s² along −z,
+the direction of the radial load (the paper does not give their relative direction). It matters
+for the cage: without a static load the short-bearing land film has no stiffness, and the
+outer-ring-guided cage whirls forward at half its speed (measured whirl/cage speed 0.505, case 4)
+and spirals out to the rim (eps = 1 at 0.16 s), where the capped film torque and the rim friction
+multiply the land drag torque by 3–4 (0.57 N·m against 0.155 N·m centred) and the high-speed cases
+drift for seconds; the cage's own weight (4.8 N) keeps the orbit inside the clearance (max eps 0.85)
+(tests/test_cage_whirl.py). The runs before this change (benchmarks/results/slip_rate.md, "without
+gravity") had gravity off.
+
 Oil state: the test's oil supply temperature is not given (rig range 23–200 °C), nor the oil
 content of the cavity. Both are calibrated together on cases 1–8 only (`calibrate`, a grid) and
 are the same for every case; cases 9–15 are the check (VALIDATION_*; the calibration grid and the
@@ -182,7 +193,9 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0) -> n
 
 def build_validation_model(bearing, oil, options: dict | None = None, traction_law: str | None = None,
                            traction_scale: float = 1.0):
-    """multibody.model.build_model with the traction table of `traction_law` (`traction_table_for`)."""
+    """multibody.model.build_model with the traction table of `traction_law` (`traction_table_for`)
+    and gravity VALIDATION_GRAVITY unless `options` sets "gravity" (module docstring, "Gravity")."""
+    options = {"gravity": VALIDATION_GRAVITY, **(options or {})}
     model = build_model(bearing, oil, options)
     return model._replace(traction_table=traction_table_for(traction_law, traction_scale))
 
@@ -389,6 +402,8 @@ def main(argv=None) -> None:
                     help="oil fraction vs speed: constant, or X_ref·4000/n (default: VALIDATION_OIL_AIR_SCALING)")
     ap.add_argument("--transverse-traction", default="on", choices=["on", "off"],
                     help="model option transverse_traction (off = the paper's T_eta = 0)")
+    ap.add_argument("--gravity", type=float, default=None,
+                    help="m/s^2 along -z (default VALIDATION_GRAVITY = 9.81: the rig's spindle is horizontal; 0 = off)")
     ap.add_argument("--traction-scale", type=float, default=1.0,
                     help="diagnostic only: multiply the traction curve (1 = the law itself)")
     ap.add_argument("--json", default=None)
@@ -397,7 +412,9 @@ def main(argv=None) -> None:
     a = ap.parse_args(argv)
     cases = [int(c) for c in a.cases.split(",")] if a.cases else None
     bearing = None if a.radial_clearance is None else replace(VALIDATION_BEARING, radial_clearance=a.radial_clearance)
-    options = None if a.transverse_traction == "on" else {"transverse_traction": False}
+    options = {} if a.transverse_traction == "on" else {"transverse_traction": False}
+    if a.gravity is not None:
+        options["gravity"] = a.gravity
     rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
                                     options=options,
                                     quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale, t_min=a.t_min,
@@ -417,6 +434,7 @@ VALIDATION_OIL_TEMPERATURE_C = 140.0
 VALIDATION_OIL_AIR_FRACTION = 0.003
 VALIDATION_TRACTION_LAW = "fit"
 VALIDATION_OIL_AIR_SCALING = "inverse_speed"
+VALIDATION_GRAVITY = 9.81
 
 if __name__ == "__main__":
     main()
