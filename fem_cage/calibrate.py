@@ -261,6 +261,37 @@ def linearised_fit(f0, Jf, z0, z_lo, z_hi, min_guide_flat=None, names=None, lo=N
     return best.x, res(best.x)
 
 
+def equivalent_ring_thickness(frequency_hz: float, n: int, mean_radius: float, width: float,
+                              material) -> float:
+    """Radial thickness h of the solid rectangular ring (mean radius R, axial width b, the cage
+    material) whose in-plane bending mode n has the given frequency, m. Model: the Timoshenko
+    ring of fem_cage.ring_theory (formula 3: shear, rotary inertia, extensible centre line;
+    Kirkhope 1976), inverted by bisection on h in (0.1 mm, R). For a thin ring
+    f_n = 1/(2 pi) sqrt(E h^2 / (12 rho R^4)) n (n^2 - 1)/sqrt(n^2 + 1) (Hoppe), so h is ~ f.
+    It condenses a pocketed cage's in-plane stiffness-to-mass ratio into one length; the
+    in-plane frequencies do not depend on b for a solid ring, b only enters the shear term."""
+    from scipy.optimize import brentq
+    from .ring_theory import thick_ring_inplane_hz
+
+    def g(h):
+        return thick_ring_inplane_hz(n, mean_radius + 0.5 * h, mean_radius - 0.5 * h, width,
+                                     material) - frequency_hz
+    return float(brentq(g, 1e-4, mean_radius, xtol=1e-12))
+
+
+def inplane_equivalent_thickness(report_modes, reference=NOMINAL_CAGE) -> dict:
+    """{n: h_eq (m)} for the in-plane bending modes n = 2..6 found by the classifier (first
+    of each pair), all on one reference ring: the Table 3 envelope's mean radius 84.9 mm,
+    width 28.3 mm, 40CrNiMoA, so different cages and the paper's Table 8 compare on one scale
+    (the solid 8.65 mm ring itself gives 8.65 mm)."""
+    out = {}
+    for m in report_modes:
+        if m["family"] == "in-plane bending" and 2 <= m["n"] <= 6 and m["n"] not in out:
+            out[m["n"]] = equivalent_ring_thickness(m["frequency_hz"], m["n"], reference.mean_radius,
+                                                    reference.width, reference.material)
+    return out
+
+
 def verify(geometry, classify=True):
     """27 modes of `geometry` at the default (converged) mesh; dict with RMS, max, modes."""
     from mesh.cage_mesh import (cached_cage_mesh, DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER,
@@ -277,6 +308,7 @@ def verify(geometry, classify=True):
            "wall_s": time.perf_counter() - t0}
     if classify:
         out["modes"] = res["modes"]
+        out["inplane_equivalent_thickness_m"] = inplane_equivalent_thickness(res["modes"])
     return out
 
 
@@ -371,10 +403,13 @@ RELAXATIONS = [
 ]
 
 
-def linearise(log_path, quiet=False) -> dict:
-    """Jacobian of the stated box's optimum (from its evaluation log: resumable, extra
-    evaluations are appended) and the linearised effect of relaxing each active bound."""
-    ev = Evaluator(DEFAULT_PARAMS, log_path=log_path, quiet=quiet)
+def linearise(log_path, quiet=False, box="stated") -> dict:
+    """Jacobian at a box's best logged point (from its evaluation log: resumable, extra
+    evaluations are appended), the half-gradient J^T r (KKT check: ~0 for a free parameter,
+    < 0 at an upper bound, > 0 at a lower bound) and, for the stated box, the linearised
+    effect of relaxing each active bound (RELAXATIONS)."""
+    names = list(DEFAULT_PARAMS if box == "stated" else BOXES[box])
+    ev = Evaluator(names, log_path=log_path, quiet=quiet, bounds=BOXES[box])
     p_best = np.array(ev.best()[0])
     z0 = ev.to_z(p_best)
     f0, Jf = ev.frequency_jacobian(z0)
@@ -382,11 +417,12 @@ def linearise(log_path, quiet=False) -> dict:
     r0 = (np.sort(f0) - t) / t
     grad = (Jf / t[:, None]).T @ r0          # 1/2 d(sum r^2)/dz: KKT check at the bounds
     span_mm = (ev.hi - ev.lo) / MM
-    out = {"params_mm": dict(zip(ev.names, p_best / MM)), "z": z0.tolist(),
+    out = {"box": box, "params_mm": dict(zip(ev.names, p_best / MM)), "z": z0.tolist(),
+           "rms": float(np.sqrt(np.mean(r0 ** 2))), "max": float(np.max(np.abs(r0))),
            "half_gradient_per_z": dict(zip(ev.names, grad.tolist())),
            "rel_jacobian_per_mm": {n: (Jf[:, j] / f0 / span_mm[j]).tolist() for j, n in enumerate(ev.names)},
            "scenarios": []}
-    for label, relax, flat in RELAXATIONS:
+    for label, relax, flat in (RELAXATIONS if box == "stated" else ()):
         lo_mm = np.array([relax.get(n, (ev.lo[j] / MM, ev.hi[j] / MM))[0] for j, n in enumerate(ev.names)])
         hi_mm = np.array([relax.get(n, (ev.lo[j] / MM, ev.hi[j] / MM))[1] for j, n in enumerate(ev.names)])
         z_lo, z_hi = (lo_mm * MM - ev.lo) / (ev.hi - ev.lo), (hi_mm * MM - ev.lo) / (ev.hi - ev.lo)
@@ -422,8 +458,10 @@ def main(argv=None) -> int:
     p.add_argument("--no-nominal", action="store_true", help="skip the nominal cage's verification")
     p.add_argument("-o", "--output", required=True)
     p.add_argument("--quiet", action="store_true")
-    p = sub.add_parser("linearise", help="Jacobian at the stated box's optimum and the relaxations")
-    p.add_argument("--log", required=True, help="the stated box's evaluations.jsonl")
+    p = sub.add_parser("linearise", help="Jacobian and KKT check at a box's best logged point "
+                                         "(+ the relaxations for the stated box)")
+    p.add_argument("--box", choices=sorted(BOXES), default="stated")
+    p.add_argument("--log", required=True, help="the box's evaluations.jsonl")
     p.add_argument("--json", help="write the result here")
     p.add_argument("--quiet", action="store_true")
     p = sub.add_parser("check", help="one geometry (NOMINAL_CAGE + changes) at the default mesh")
@@ -441,7 +479,11 @@ def main(argv=None) -> int:
         run_calibration(Path(args.output), params=names, quiet=args.quiet, max_evals=args.max_evals,
                         box=args.box, start=start, verify_nominal=not args.no_nominal)
     elif args.cmd == "linearise":
-        out = linearise(args.log, quiet=args.quiet)
+        out = linearise(args.log, quiet=args.quiet, box=args.box)
+        print(f"best logged point ({args.box}): " + ", ".join(f"{n} {v:.3f} mm" for n, v in out["params_mm"].items())
+              + f"; RMS {100 * out['rms']:.2f} %, max {100 * out['max']:.2f} % (calibration mesh)")
+        print("half-gradient J^T r per unit z (KKT: ~0 free, < 0 at upper, > 0 at lower bound): "
+              + ", ".join(f"{n} {v:+.2e}" for n, v in out["half_gradient_per_z"].items()))
         for s in out["scenarios"]:
             ptxt = ", ".join(f"{n} {v:.3f}" for n, v in s["params_mm"].items())
             print(f"{s['label']:50s} {ptxt}; guide flat {s['guide_flat_mm']:.2f} mm: "

@@ -40,6 +40,8 @@ DEFAULT_ORDER = 2
 DEFAULT_DEGREE = 3
 # Distance (in global element sizes) over which the size grows from pocket_size to size.
 REFINE_GROWTH = 1.5
+# Smallest chamfer drawn, m (smaller ones are drawn as sharp edges; see _profile_points).
+MIN_FEATURE = 1e-6
 
 TAG_CAGE = 1
 TAG_POCKET0 = 101
@@ -70,8 +72,12 @@ def _check_sizes(geometry: CageGeometry, size: float, order: int, pocket_size: f
 
 def _profile_points(g: CageGeometry, pockets: bool = True) -> list[tuple[float, float]]:
     """Closed polygon (x, r) of the ring's cross-section, counter-clockwise in the x–r plane."""
-    w2, ri, ro, c = 0.5 * g.width, g.inner_radius, g.outer_radius, g.chamfer
+    w2, ri, ro = 0.5 * g.width, g.inner_radius, g.outer_radius
+    # Chamfers below MIN_FEATURE are drawn as absent: OCC cannot make the sub-tolerance edge
+    # ("Could not create line"), and a 1 µm break is below any machining tolerance.
+    c = g.chamfer if g.chamfer >= MIN_FEATURE else 0.0
     cb = g.bore_edge_chamfer                 # bore edges: bore_chamfer, or chamfer when unset
+    cb = cb if cb >= MIN_FEATURE else 0.0
     pts = [(-w2 + cb, ri), (w2 - cb, ri)] if cb > 0 else [(-w2, ri), (w2, ri)]
     if cb > 0:
         pts += [(w2, ri + cb)]

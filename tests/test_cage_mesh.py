@@ -146,3 +146,12 @@ def test_bore_chamfer_mesh_nodes(tmp_path):
         r = np.hypot(groups[side][2][:, 1], groups[side][2][:, 2])
         assert r.min() >= g.inner_radius + cb - 1e-9 and r.max() <= g.outer_radius + 1e-9
     assert "other" in groups            # the chamfer faces
+
+
+def test_sub_micrometre_chamfer_is_drawn_as_a_sharp_edge():
+    # An optimiser may push a chamfer to ~1e-9 m; OCC cannot draw that edge, and it is no
+    # feature of a machined part: below MIN_FEATURE (1 µm) the corner is drawn sharp.
+    from mesh.cage_mesh import _profile_points, MIN_FEATURE
+    sharp = _profile_points(NOMINAL_CAGE)
+    assert _profile_points(NOMINAL_CAGE.with_(chamfer=1e-9, bore_chamfer=0.3 * MIN_FEATURE)) == sharp
+    assert len(_profile_points(NOMINAL_CAGE.with_(chamfer=MIN_FEATURE))) == len(sharp) + 4
