@@ -8,22 +8,27 @@ from pathlib import Path
 def add_geometry_arguments(p):
     """Cage geometry options shared by mesh/modes/mesh-study (lengths in mm on the command line)."""
     g = p.add_argument_group("cage geometry (mm; default: the paper preset)")
-    g.add_argument("--preset", choices=("paper", "nominal", "calibrated"), default="paper",
+    g.add_argument("--preset", choices=("paper", "nominal", "calibrated", "table8"), default="paper",
                    help="paper = PAPER_CAGE (multibody's preset), nominal = SPEC §1 defaults, "
-                        "calibrated = fitted to Table 8 (CALIBRATED_CAGE)")
+                        "calibrated = fitted to Table 8 inside the Table 3 envelope (CALIBRATED_CAGE), "
+                        "table8 = 7.0 mm-wall ring that reproduces Table 8, outside the envelope "
+                        "(TABLE8_EQUIVALENT_CAGE)")
     g.add_argument("--pocket-diameter-mm", type=float)
     g.add_argument("--land-width-mm", type=float)
     g.add_argument("--relief-depth-mm", type=float)
     g.add_argument("--chamfer-mm", type=float)
+    g.add_argument("--bore-chamfer-mm", type=float, help="bore-edge chamfer (default: --chamfer-mm)")
     g.add_argument("--n-pockets", type=int)
 
 
 def geometry_from_args(args):
-    from .cage_geometry import PAPER_CAGE, NOMINAL_CAGE, CALIBRATED_CAGE
-    g = {"paper": PAPER_CAGE, "nominal": NOMINAL_CAGE, "calibrated": CALIBRATED_CAGE}[args.preset]
+    from .cage_geometry import PAPER_CAGE, NOMINAL_CAGE, CALIBRATED_CAGE, TABLE8_EQUIVALENT_CAGE
+    g = {"paper": PAPER_CAGE, "nominal": NOMINAL_CAGE, "calibrated": CALIBRATED_CAGE,
+         "table8": TABLE8_EQUIVALENT_CAGE}[args.preset]
     ch = {}
     for opt, field in (("pocket_diameter_mm", "pocket_diameter"), ("land_width_mm", "land_width"),
-                       ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer")):
+                       ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer"),
+                       ("bore_chamfer_mm", "bore_chamfer")):
         v = getattr(args, opt, None)
         if v is not None:
             ch[field] = v * 1e-3

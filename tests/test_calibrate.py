@@ -137,3 +137,18 @@ def test_equivalent_ring_thickness_inverts_the_timoshenko_ring():
     f2 = thick_ring_inplane_hz(2, g.outer_radius, g.inner_radius, g.width, g.material)
     h = equivalent_ring_thickness(0.5 * f2, 2, g.mean_radius, g.width, g.material)
     assert h == pytest.approx(0.5 * (g.outer_radius - g.inner_radius), rel=0.01)
+
+
+@pytest.mark.slow
+def test_table8_equivalent_preset_meets_the_table8_target():
+    """The 7.0 mm-wall stand-in (mesh.cage_geometry.TABLE8_EQUIVALENT_CAGE, outside Table 3's
+    bore) at the default mesh: RMS over modes 7-27 <= 3 % and every mode <= 6 % (issue 2's
+    target; measured 2.31 % / 4.55 %), and the calibrated preset inside the envelope stays at its
+    reported 4.42 % / 7.86 % (within 0.05 points: mesh cache and solver tolerance)."""
+    from fem_cage.calibrate import verify
+    from mesh.cage_geometry import TABLE8_EQUIVALENT_CAGE, CALIBRATED_CAGE
+    r = verify(TABLE8_EQUIVALENT_CAGE, classify=False)
+    assert r["rms"] <= 0.03 and r["max"] <= 0.06
+    c = verify(CALIBRATED_CAGE, classify=False)
+    assert c["rms"] == pytest.approx(0.0442, abs=5e-4)
+    assert c["max"] == pytest.approx(0.0786, abs=5e-4)
