@@ -47,6 +47,9 @@ def register(subparsers) -> None:
                         "(each case until the cage speed settles)")
     s.add_argument("--out", default="out/validate/slip_rate", help="with --case-set: folder of the per-case results")
     s.add_argument("--resume", action="store_true", help="with --case-set: continue existing per-case results")
+    s.add_argument("--t-max", type=float, default=None,
+                   help="longest simulated time per case, s (default: coupling.validate's, 15 s: the "
+                        "light-load high-speed cases need 4-15 s to settle)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
@@ -132,7 +135,8 @@ def cmd_validate_slip_rate(args) -> int:
         if importlib.util.find_spec("coupling.validate") is not None:
             import coupling.validate as val
             cases = parse_cases(args.cases, len(val.slip_rate_cases()))
-            raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet)
+            kw = {} if getattr(args, "t_max", None) is None else {"t_max": args.t_max}
+            raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, **kw)
             rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
                      "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],
                      "slip_ours": r["slip_pct"] / 100.0, "slip_test": r["test_slip_pct"] / 100.0,

@@ -300,7 +300,7 @@ def summarise(rows: list[dict]) -> dict:
 
 def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: float | None = None,
                              oil_air_fraction: float | None = None, bearing=None, oil=PAPER_OIL,
-                             options: dict | None = None, tol: float = 1e-5, t_max: float = 2.0,
+                             options: dict | None = None, tol: float = 1e-5, t_max: float = 15.0,
                              quiet: bool = False, oil_air_scaling: str | None = None, **kw) -> list[dict]:
     """Run the steady slip-rate cases (all 15 by default); returns the rows (see `run_slip_case`).
 
@@ -392,7 +392,8 @@ def main(argv=None) -> None:
     ap.add_argument("--oil-air-fraction", type=float, default=None, help="- (default: calibrated)")
     ap.add_argument("--radial-clearance", type=float, default=None,
                     help="diametral clearance Pd, m (default: design_clearance, 88.4e-6 for the paper bearing)")
-    ap.add_argument("--t-max", type=float, default=2.0)
+    ap.add_argument("--t-max", type=float, default=15.0,
+                    help="longest simulated time per case, s (light-load cases at 8000-12,000 rpm need 4-15 s)")
     ap.add_argument("--t-min", type=float, default=1.0,
                     help="no settling test before this time, s (the cage speed can pause on its way: "
                          "at t_min 0.3 s case 9 'settled' at 0.30 s while its neighbours drifted for 1–3 s)")
