@@ -12,8 +12,10 @@ References used as expected values (never the solver's own output):
   (Jones 1959; Harris & Kotzalas Vol. 2, ch. 2).
 * Euler's equation: the gyroscopic moment equals d(J·omega_b)/dt for omega_b carried by the orbit.
 
-The 218 angular-contact bearing of Harris's examples is used throughout: Dw = 22.23 mm,
-dm = 125.3 mm, Z = 16, fi = fo = 0.5232, alpha0 = 40°, steel (E = 207 GPa, nu = 0.3).
+A 218-size angular-contact bearing is used throughout: Dw = 22.23 mm, dm = 125.3 mm, Z = 16,
+fi = fo = 0.5232, alpha0 = 40°, steel (E = 207 GPa, nu = 0.3). These are the dimensions usually
+quoted for Harris's 218 example, but no copy of that example was retrieved here: the expected
+values below come from the independent equations listed above, not from the book's results.
 """
 import math
 
