@@ -139,6 +139,42 @@ def pure_rolling_cage_speed_ratio(alpha_outer: float, alpha_inner: float, beta: 
     return q / (1.0 + q)
 
 
+def race_control_kinematics(alpha_outer: float, alpha_inner: float, race: str, ball_diameter: float,
+                            pitch_diameter: float) -> tuple[float, float]:
+    """(omega_c/omega_i, beta) of Jones's race control (J. Basic Eng. 82(2):309, 1960): the ball
+    rolls without slip in the rolling direction on both races and has no spin on the controlling
+    `race` ("outer" or "inner"); beta = pitch of its spin axis from the bearing axis in the cage
+    frame, in the convention of `pure_rolling_cage_speed_ratio`.
+
+    Cage frame (x axial, r radial, t = x × r), ball spin Omega = (W_x, W_r, 0) relative to the cage,
+    contact normals n_o = (sin a_o, cos a_o), n_i = (−sin a_i, −cos a_i), contact radii
+    R_o,i = dm/2 + (Dw/2)·n_r, races turning at −omega_c (outer) and omega_i − omega_c (inner):
+
+        rolling, outer:  (Dw/2)·(W_x·n_or − W_r·n_ox) = −omega_c·R_o
+        rolling, inner:  (Dw/2)·(W_x·n_ir − W_r·n_ix) = (omega_i − omega_c)·R_i
+        no spin, outer:  (Omega + omega_c·e_x)·n_o = 0      or, inner: (Omega − (omega_i − omega_c)·e_x)·n_i = 0
+
+    three linear equations in (W_x, W_r, omega_c). Unlike beta = alpha (spin axis normal to the
+    contact line in the cage frame, `pure_rolling_cage_speed_ratio`), this is zero spin relative to
+    the race itself, which turns at omega_c (outer) or omega_i − omega_c (inner) about e_x."""
+    if race not in ("outer", "inner"):
+        from mesh.validation import InputError
+        raise InputError(f"race = {race!r} is not known; allowed: 'outer', 'inner'")
+    rho = 0.5 * ball_diameter
+    nox, nor = math.sin(alpha_outer), math.cos(alpha_outer)
+    nix, nir = -math.sin(alpha_inner), -math.cos(alpha_inner)
+    ro = 0.5 * pitch_diameter + rho * nor
+    ri = 0.5 * pitch_diameter + rho * nir
+    a = np.array([[rho * nor, -rho * nox, ro],
+                  [rho * nir, -rho * nix, ri],
+                  [nox, nor, nox] if race == "outer" else [nix, nir, nix]])
+    b = np.array([0.0, ri, 0.0 if race == "outer" else nix])
+    wx, wr, wc = np.linalg.solve(a, b)
+    # spin axis direction (cos beta, −sin beta) up to the sign of the rolling speed
+    beta = math.atan2(-wr * math.copysign(1.0, wx), abs(wx))
+    return float(wc), float(beta)
+
+
 OIL_AIR_REFERENCE_RPM = 4000.0
 
 
@@ -183,9 +219,11 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0) -> n
         tab = np.array(TR.TRACTION_FIT_4106, dtype=np.float64)
     elif law == "bounded":
         tab = np.array(TR.TRACTION_BOUNDED_4106, dtype=np.float64)
+    elif law == "origin":
+        tab = np.array(TR.TRACTION_ORIGIN_4106, dtype=np.float64)
     else:
         from mesh.validation import InputError
-        raise InputError(f"traction law = {law!r} is not known; allowed: 'fit', 'bounded'")
+        raise InputError(f"traction law = {law!r} is not known; allowed: 'fit', 'bounded', 'origin'")
     if traction_scale != 1.0:
         tab[[0, 1, 3], 0] *= traction_scale
     return tab
@@ -195,7 +233,7 @@ def build_validation_model(bearing, oil, options: dict | None = None, traction_l
                            traction_scale: float = 1.0):
     """multibody.model.build_model with the traction table of `traction_law` (`traction_table_for`)
     and gravity VALIDATION_GRAVITY unless `options` sets "gravity" (module docstring, "Gravity")."""
-    options = {"gravity": VALIDATION_GRAVITY, **(options or {})}
+    options = {"gravity": VALIDATION_GRAVITY, "ball_attitude": VALIDATION_BALL_ATTITUDE, **(options or {})}
     model = build_model(bearing, oil, options)
     return model._replace(traction_table=traction_table_for(traction_law, traction_scale))
 
@@ -397,7 +435,7 @@ def main(argv=None) -> None:
     ap.add_argument("--t-min", type=float, default=1.0,
                     help="no settling test before this time, s (the cage speed can pause on its way: "
                          "at t_min 0.3 s case 9 'settled' at 0.30 s while its neighbours drifted for 1–3 s)")
-    ap.add_argument("--traction-law", default=None, choices=["fit", "bounded"],
+    ap.add_argument("--traction-law", default=None, choices=["fit", "bounded", "origin"],
                     help="traction coefficient law (default: VALIDATION_TRACTION_LAW)")
     ap.add_argument("--oil-air-scaling", default=None, choices=["constant", "inverse_speed"],
                     help="oil fraction vs speed: constant, or X_ref·4000/n (default: VALIDATION_OIL_AIR_SCALING)")
@@ -405,6 +443,11 @@ def main(argv=None) -> None:
                     help="model option transverse_traction (off = the paper's T_eta = 0)")
     ap.add_argument("--gravity", type=float, default=None,
                     help="m/s^2 along -z (default VALIDATION_GRAVITY = 9.81: the rig's spindle is horizontal; 0 = off)")
+    ap.add_argument("--ball-attitude", default=None, choices=["free", "outer", "inner", "jones"],
+                    help="model option ball_attitude: free Euler balls or race control (default: VALIDATION_BALL_ATTITUDE)")
+    ap.add_argument("--attitude-ring-reaction", default="off", choices=["on", "off"],
+                    help="race control: gyroscopic friction reaction on the inner ring (model option; default off "
+                         "here: it destabilises race control at the test's light loads, multibody.dynamics docstring)")
     ap.add_argument("--traction-scale", type=float, default=1.0,
                     help="diagnostic only: multiply the traction curve (1 = the law itself)")
     ap.add_argument("--json", default=None)
@@ -416,6 +459,9 @@ def main(argv=None) -> None:
     options = {} if a.transverse_traction == "on" else {"transverse_traction": False}
     if a.gravity is not None:
         options["gravity"] = a.gravity
+    if a.ball_attitude is not None:
+        options["ball_attitude"] = a.ball_attitude
+    options["attitude_ring_reaction"] = a.attitude_ring_reaction == "on"
     rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
                                     options=options,
                                     quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale, t_min=a.t_min,
@@ -436,6 +482,7 @@ VALIDATION_OIL_AIR_FRACTION = 0.01
 VALIDATION_TRACTION_LAW = "fit"
 VALIDATION_OIL_AIR_SCALING = "inverse_speed"
 VALIDATION_GRAVITY = 9.81
+VALIDATION_BALL_ATTITUDE = "free"
 
 if __name__ == "__main__":
     main()

@@ -35,6 +35,42 @@ after 0.5 s); the paper's statement that the preload prevents gyroscopic rotatio
 transverse sliding is what the transverse traction enforces. With it the slip vector
 (du, dv)/UR gets mu(|s|) along it (multibody.traction module docstring).
 
+Ball attitude (model option `ball_attitude`, default "free" = the Euler equations above). The
+options "outer", "inner" and "jones" impose race control instead (Jones, J. Basic Eng. 82(2):309,
+1960, the hypothesis of multibody.quasi_static: the ball's spin axis lies in the ball plane,
+gyroscopic pivoting is prevented, and the controlling race has no spin): with n the controlling
+contact's normal (from the groove centre through the ball, in the (e_x, e_r) plane) and w_race
+its race's angular velocity (0 outer, omega_i inner),
+
+    (w − w_race·e_x)·n = 0,   w_t = 0,   I_b·(dw/dt)·u = M·u,   u = e_t × n = (−n_r, n_x, 0),
+
+i.e. one rotational degree of freedom, the rolling about u, driven by the applied moments; the two
+constraints are held by a first-order relaxation at rate k = `attitude_rate` (default 2e4 1/s,
+time constant 50 us, far below the 1–10 ms of the ball and cage dynamics and far above the
+integrator's 1–10 us steps). The moments that hold the constraints act on the ball as pure
+couples from the races. About e_t it is the gyroscopic couple M_c = I_b·psi'·w_r − M_t of the
+orbiting frame, realised as equal and opposite friction forces f·u_i at the inner and −f·u_i at
+the outer contact point, f = M_c/((p_i − p_o) × u_i)_t, u_i = e_t × n_i (Jones's race-control
+factors lambda_o = lambda_i = 1 when the contacts are collinear; multibody.quasi_static's
+`friction_share` = (1, 1)); the inner ring receives −f·u_i at its contact point (option
+`attitude_ring_reaction`, default on). That reaction matters: at the paper's 14,000 rpm it is
+~130 N per ball along the axis, 5 % of the ring's 55 kN; without it the mean ball loads come out
+5–8 % above the quasi-static ones. It also depends on the ring's position through the constraint
+(a circulatory force): measured stable over 0.4 s at the paper case (55 kN, 14,000 rpm), but at
+light load (2000 N axial, 4000 rpm, drag off, where it is ~35 N per ball, a third of the load)
+the run leaves the race-control speed after ~0.5 s (cage 2–9 % slow at 0.8 s, gross sliding);
+with the option off the same runs hold the race-control speed to 3e-4. Use it off for light-load
+studies. About n the constraint moment is the spin-locking couple, not fed back (the ring's
+spin is prescribed). Carrying the gyroscopic moment instead as one friction force on the ball at
+the controlling contact (lambda = 2 there) makes that force follow the contact normal through
+the constraint, a follower force: measured, a growing axial oscillation of the balls (contact
+angles ±1° to ±3.5° within 0.25 s at 2000 N, 4000 rpm) that ends in gross sliding, also at a
+10 ms constraint time constant; so it is not offered. "jones" picks per ball and step the race
+with the larger Q·a·cos(alpha_o − alpha_i) (outer) or Q·a (inner) (Jones's criterion with E(k)
+ratio 1); an unloaded controlling race falls back to the free equations. A constrained run is not
+conservative (the constraint moment does work on the spin about n). The initial state
+(multibody.initial) starts such balls on the race-control kinematics.
+
 Inner ring (mass m_i, diametral/polar inertia I_d, I_p, spin omega_i(t) prescribed):
 
     m_i·(x'', y'', z'') = F_ext(t) + sum of the race reactions
@@ -76,7 +112,7 @@ from multibody.model import (
     P_IIP, P_MC, P_ICP, P_ICD, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_RCAGE_POCKET, P_R1, P_CG,
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_CD, P_SLIN, P_UMIN,
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
-    F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES,
+    F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
     WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
     WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
@@ -658,6 +694,20 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         mx = 0.0
         mr = 0.0
         mt = 0.0
+        # race-control attitude (module docstring): load, semi-major axis and normal of the outer
+        # contact and of the more loaded inner half
+        q_ctl_o = 0.0
+        a_ctl_o = 0.0
+        nxo = 0.0
+        nro = 1.0
+        q_ctl_i = 0.0
+        a_ctl_i = 0.0
+        nxi = 0.0
+        nri = -1.0
+        xpo = 0.0
+        rpo = 0.0
+        xpi = 0.0
+        rpi = 0.0
         # ring translation seen in the ball plane
         ring_rc = yi * cs + zi * sn
         rv_r = vyi * cs + vzi * sn
@@ -692,6 +742,20 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     drc = (-yi * sn + zi * cs) - x0 * thp
                     ft_lean = res[0] * (-res[2] * dxc - res[1] * drc) / rb
                     res = res[:12] + (res[12] + ft_lean,) + res[13:]
+            if c == 0:
+                q_ctl_o = res[0]
+                a_ctl_o = res[7]
+                nxo = res[2]                 # outer: n = (sin a, cos a)
+                nro = res[1]
+                xpo = res[16]
+                rpo = res[17]
+            elif res[0] > q_ctl_i:
+                q_ctl_i = res[0]
+                a_ctl_i = res[7]
+                nxi = -res[2]                # inner: n = (−sin a, −cos a)
+                nri = -res[1]
+                xpi = res[16]
+                rpi = res[17]
             wc = c * N_WC
             work[j, wc + WC_Q] = res[0]
             work[j, wc + WC_COS] = res[1]
@@ -822,6 +886,56 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
             work[j, W_DRAG] = -fd
         else:
             work[j, W_DRAG] = 0.0
+        # ---- race-control attitude (module docstring): which race controls
+        ctl = -1
+        att = flags[F_ATTITUDE]
+        if att == 1:
+            if q_ctl_o > 0.0:
+                ctl = 0
+        elif att == 2:
+            if q_ctl_i > 0.0:
+                ctl = 1
+        elif att == 3:
+            if q_ctl_o > 0.0 and q_ctl_i > 0.0:
+                # Jones: the race with the larger spin-friction capacity Q·a·E(k) controls; the
+                # outer one enters with cos(alpha_o − alpha_i) = −n_o·n_i (E(k) ratio taken as 1)
+                cos_oi = -(nxo * nxi + nro * nri)
+                ctl = 0 if q_ctl_o * a_ctl_o * cos_oi >= q_ctl_i * a_ctl_i else 1
+            elif q_ctl_o > 0.0:
+                ctl = 0
+            elif q_ctl_i > 0.0:
+                ctl = 1
+        kr = p[P_ATT_RATE]
+        cnx = cnr = w_ring = ux = ur = 0.0
+        if ctl >= 0:
+            if ctl == 0:
+                cnx, cnr, w_ring = nxo, nro, 0.0
+            else:
+                cnx, cnr, w_ring = nxi, nri, omega_i
+            ux = -cnr
+            ur = cnx
+            if flags[F_ATT_RING] and q_ctl_o > 0.0 and q_ctl_i > 0.0:
+                # the gyroscopic couple I_b·psi'·w_r − M_t the races supply: forces +f·u_i at the
+                # inner contact point and −f·u_i at the outer one (module docstring); the inner
+                # ring receives −f·u_i at its contact point
+                dpx = xpi - xpo
+                dpr = rpi - rpo
+                uix = -nri
+                uir = nxi
+                arm = dpx * uir - dpr * uix
+                if arm != 0.0:
+                    f_g = (ib * psid * w_r - mt) / arm
+                    gx = -f_g * uix
+                    gr = -f_g * uir
+                    gy = gr * cs
+                    gz = gr * sn
+                    rfx += gx
+                    rfy += gy
+                    rfz += gz
+                    m1, m2, m3 = _cross(xpi - xi, rpi * cs - yi, rpi * sn - zi, gx, gy, gz)
+                    rmx += m1
+                    rmy += m2
+                    rmz += m3
         # ---- ball equations (module docstring)
         dydt[o] = vbx
         dydt[o + 1] = vbr
@@ -829,9 +943,18 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         dydt[o + 3] = fx / mb
         dydt[o + 4] = fr / mb + rb * psid * psid
         dydt[o + 5] = (ft / mb - 2.0 * vbr * psid) / rb
-        dydt[o + 6] = mx / ib
-        dydt[o + 7] = mr / ib + psid * w_t
-        dydt[o + 8] = mt / ib - psid * w_r
+        if ctl < 0:
+            dydt[o + 6] = mx / ib
+            dydt[o + 7] = mr / ib + psid * w_t
+            dydt[o + 8] = mt / ib - psid * w_r
+        else:
+            # race control: no spin on the controlling race, no yaw; the one free rotation is
+            # about u = e_t × n (in the ball plane, normal to n), driven by M·u
+            a_u = (mx * ux + mr * ur) / ib + psid * w_t * ur
+            b_n = kr * (w_ring * cnx - (w_x * cnx + w_r * cnr))
+            dydt[o + 6] = a_u * ux + b_n * cnx
+            dydt[o + 7] = a_u * ur + b_n * cnr
+            dydt[o + 8] = -kr * w_t
     # ---- inner ring
     mi = p[P_MI]
     idr = p[P_IID]

@@ -17,6 +17,12 @@ the dynamics. Nested solution: for a trial ring position each ball is solved by 
 (2x2, finite-difference Jacobian); the 5 ring equations are solved by scipy's hybrid Powell
 method. Radial load Fr acts along −Z (the scene default) unless a full load vector is given.
 
+Race-control balls (model option ball_attitude "outer", "inner", "jones"; multibody.dynamics
+"Ball attitude"): the orbit is the mean over the balls of Jones's race-control orbital speed
+(`race_control_ball_kinematics`: both contacts roll, the controlling race does not spin), and each
+ball's angular velocity makes its controlling contact roll without spin, so the constrained run
+starts on its constraint.
+
 When the geometry engineer's `multibody.quasi_static` lands it supersedes this solver as the
 reference; this one stays as the dynamics' own consistent equilibrium (same force law).
 """
@@ -31,6 +37,36 @@ from mesh.validation import InputError, require_range
 from multibody import model as M
 from multibody.dynamics import _hertz_lookup, nominal_cage_speed
 from multibody.geometry import race_contact, ring_point_in_plane
+
+
+def _semi_major_axis(model, kind, Q, ca):
+    """Hertz semi-major axis a (m) of a race contact, as in multibody.dynamics._race."""
+    if Q <= 0.0:
+        return 0.0
+    K, ell, ek, R, rx, ry = _hertz_lookup(model.hertz_table, kind, ca)
+    b = (6.0 * ek * Q * R / (math.pi * ell * model.p[M.P_EBR])) ** (1.0 / 3.0)
+    return ell * b
+
+
+def control_contact(model, res) -> int:
+    """Contact index (0 outer, 1/2 inner halves) of the race that controls the ball's attitude under
+    the model option ball_attitude (multibody.dynamics docstring, "Ball attitude"), −1 for free
+    balls or an unloaded controlling race. res: [(Q, ca, sa, nx, nr, x_p, r_p) x 3]."""
+    att = int(model.flags[M.F_ATTITUDE])
+    ci = 1 if res[1][0] >= res[2][0] else 2
+    qo, qi = res[0][0], res[ci][0]
+    if att == 1:
+        return 0 if qo > 0.0 else -1
+    if att == 2:
+        return ci if qi > 0.0 else -1
+    if att == 3:
+        if qo > 0.0 and qi > 0.0:
+            cos_oi = -(res[0][3] * res[ci][3] + res[0][4] * res[ci][4])
+            ao = _semi_major_axis(model, 0, qo, res[0][1])
+            ai = _semi_major_axis(model, 1, qi, res[ci][1])
+            return 0 if qo * ao * cos_oi >= qi * ai else ci
+        return 0 if qo > 0.0 else (ci if qi > 0.0 else -1)
+    return -1
 
 
 def _ball_forces(model, psi, xb, rb, ring, omega_orbit):
@@ -168,6 +204,36 @@ def quasi_static(model, speed_rad_s: float, load, ring_guess=None, omega_orbit: 
             "residual": resid, "contacts": res, "converged": bool(sol.success)}
 
 
+def race_control_ball_kinematics(model, qs, j: int, speed_rad_s: float):
+    """(omega_m, w_x, w_r) of ball j of a quasi-static result under race control, or None for a
+    free ball: the three linear conditions of Jones's kinematics (multibody.quasi_static module
+    docstring) at the ball's own contact points, w absolute (rad/s):
+
+        r·omega_m + rho_o·(w_x·n_or − w_r·n_ox) = 0                           (outer rolls)
+        r·omega_m + rho_i·(w_x·n_ir − w_r·n_ix) = omega_i·(r_pi − r_ring)    (inner rolls)
+        w_x·n_cx + w_r·n_cr = w_race·n_cx                                    (no spin, race c)
+    """
+    cont = qs["contacts"][j]
+    cc = control_contact(model, cont)
+    if cc < 0:
+        return None
+    x, r, psi = qs["ball_x"][j], qs["ball_r"][j], qs["psi"][j]
+    ring = qs["ring"]
+    ci = 1 if cont[1][0] >= cont[2][0] else 2
+    ring_rc = ring[1] * math.cos(psi) + ring[2] * math.sin(psi)
+    a, b = [], []
+    for c in (0, ci):
+        Q, ca, sa, nx, nr, xp, rp = cont[c]
+        rho = math.hypot(xp - x, rp - r)
+        a.append([r, rho * nr, -rho * nx])
+        b.append(0.0 if c == 0 else speed_rad_s * (rp - ring_rc))
+    nx, nr = cont[cc][3], cont[cc][4]
+    a.append([0.0, nx, nr])
+    b.append((0.0 if cc == 0 else speed_rad_s) * nx)
+    om, wx, wr = np.linalg.solve(np.array(a), np.array(b))
+    return float(om), float(wx), float(wr)
+
+
 def _mean_alpha(qs) -> float:
     Q, ang = qs["contact_load"], qs["contact_angle"]
     pick = np.where(Q[:, 1] >= Q[:, 2], 1, 2)
@@ -190,6 +256,12 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
     if refine:
         om = nominal_cage_speed(speed_rad_s, dw, dm, _mean_alpha(qs))
         qs = quasi_static(model, speed_rad_s, load, ring_guess=qs["ring"], omega_orbit=om)
+        if model.flags[M.F_ATTITUDE] != 0 and speed_rad_s > 0.0:
+            # race control: orbit at the mean race-control orbital speed (module docstring)
+            oms = [k[0] for k in (race_control_ball_kinematics(model, qs, j, speed_rad_s) for j in range(z))
+                   if k is not None]
+            if oms:
+                qs = quasi_static(model, speed_rad_s, load, ring_guess=qs["ring"], omega_orbit=float(np.mean(oms)))
     if not qs["converged"] and np.max(np.abs(qs["residual"])) > 1e-3 * (1.0 + np.linalg.norm(load)):
         raise InputError(f"quasi-static initial state did not converge for load {tuple(load)} N "
                          f"(residual {qs['residual']})")
@@ -214,6 +286,14 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
             vrace = 0.0 if c == 0 else speed_rad_s * (rp - ring_rc)
             rows.append([rho * nr, -rho * nx])
             rhs.append(vrace - r * om)
+        cc = control_contact(model, cont)
+        if cc >= 0:
+            # race control: the controlling contact rolls and does not spin (module docstring)
+            Q, ca, sa, nx, nr, xp, rp = cont[cc]
+            w_race = 0.0 if cc == 0 else speed_rad_s
+            k = 0 if cc == 0 else 1
+            rows = [rows[k], [nx, nr]]
+            rhs = [rhs[k], w_race * nx]
         w = np.linalg.solve(np.array(rows), np.array(rhs))
         y[o + 6], y[o + 7] = w
     r0 = lay["ring"]

@@ -95,12 +95,16 @@ P_SLIN, P_UMIN, P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX = 38, 39, 40, 41, 42, 43
 P_ALPHA0 = 44                          # free contact angle (rad)
 P_LAND_L = 45                          # effective land width used for the Petroff torque, m
 P_ETA_TRACTION = 46                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
-N_PARAMS = 47
+P_ATT_RATE = 47                        # relaxation rate of the race-control ball attitude constraint, 1/s
+N_PARAMS = 48
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 1, 2, 3, 4, 5, 6
 F_HERTZ_FIXED, F_ROLLRES, F_LAND = 7, 8, 9
-N_FLAGS = 10
+F_ATTITUDE = 10                        # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones
+F_ATT_RING = 11                        # race control: gyroscopic friction reaction on the inner ring
+N_FLAGS = 12
+BALL_ATTITUDES = ("free", "outer", "inner", "jones")
 
 # ---------------------------------------------------------------- Hertz table columns
 # table[kind, i, col] at cos(alpha) = i/(n-1); kind 0 outer, 1 inner.
@@ -175,6 +179,9 @@ DEFAULT_OPTIONS = {
     "inner_ring_mass": None,
     "inner_ring_added_mass": 0.0,
     "n_modes": 0,
+    "ball_attitude": "free",          # "free" Euler balls, or race control "outer"/"inner"/"jones" (dynamics docstring)
+    "attitude_rate": 2e4,             # 1/s, relaxation rate of the race-control constraints
+    "attitude_ring_reaction": True,   # race control: gyroscopic friction reaction on the inner ring
 }
 
 
@@ -365,6 +372,12 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     flags[F_NBALLS] = z
     flags[F_NMODES] = n_modes
     flags[F_HERTZ_FIXED] = bool(_option(options, "hertz_fixed_angle"))
+    attitude = _option(options, "ball_attitude")
+    if attitude not in BALL_ATTITUDES:
+        raise InputError(f"model.ball_attitude = {attitude!r} is not known; allowed: {list(BALL_ATTITUDES)}")
+    flags[F_ATTITUDE] = BALL_ATTITUDES.index(attitude)
+    flags[F_ATT_RING] = bool(_option(options, "attitude_ring_reaction"))
+    p[P_ATT_RATE] = require_range("model.attitude_rate", _option(options, "attitude_rate"), 1e2, 1e6, unit="1/s")
 
     htab = _hertz_tables(bearing, e_br)
     n_state = 9 * z + 11 + 12 + 2 * n_modes

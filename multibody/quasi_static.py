@@ -432,14 +432,18 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                        fz: float = 0.0, my: float = 0.0, mz: float = 0.0, control: str = "outer",
                        gyroscopic: bool = True, centrifugal: bool = True, fix_tilt: bool = False,
                        psi0: float = 0.0, tol: float = 1e-9, max_iter: int = 60,
-                       initial: QuasiStaticResult | None = None) -> QuasiStaticResult:
+                       initial: QuasiStaticResult | None = None,
+                       friction_share: tuple[float, float] | None = None) -> QuasiStaticResult:
     """Quasi-static equilibrium (module docstring) under loads on the inner ring and inner-ring speed.
 
     fx, fy, fz (N), my, mz (N·m): external load on the inner ring; inner_speed (rad/s, about +X);
     control: "outer" or "inner" race control; gyroscopic / centrifugal switch those terms;
     fix_tilt holds theta_y = theta_z = 0 (no moment equilibrium, as in the textbook examples that
     apply the load "without tilting"); psi0 the azimuth of ball 0; tol the ring residual relative
-    to the load scale. `initial` warm-starts from a previous result.
+    to the load scale. `initial` warm-starts from a previous result. friction_share = (lambda_o,
+    lambda_i), lambda_o + lambda_i = 2: how the gyroscopic moment's friction is shared between the
+    races (module docstring); None = all of it on the controlling race, (1, 1) = equal and opposite
+    friction forces at the two contacts (the pure couple of multibody.dynamics' race-control balls).
     """
     for name, v in (("fx", fx), ("fy", fy), ("fz", fz), ("my", my), ("mz", mz), ("psi0", psi0)):
         require_finite(name, v)
@@ -452,6 +456,12 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
            np.array(g.active, np.bool_))
     lam = (2.0, 0.0) if control == "outer" else (0.0, 2.0)
+    if friction_share is not None:
+        lo, li = (float(v) for v in friction_share)
+        if not (0.0 <= lo <= 2.0 and 0.0 <= li <= 2.0 and abs(lo + li - 2.0) < 1e-12):
+            raise InputError(f"friction_share = {friction_share!r}: needs lambda_o, lambda_i in [0, 2] "
+                             "with lambda_o + lambda_i = 2")
+        lam = (lo, li)
     fext = np.array([fx, fy, fz, my, mz], float)
     fscale = max(abs(fx), math.hypot(fy, fz), 2.0 * math.hypot(my, mz) / g.pitch_diameter, 1.0)
     if abs(fx) + math.hypot(fy, fz) <= 0.0 and inner_speed == 0.0:

@@ -63,6 +63,22 @@ traction rigs run at p0 >= 1 GPa; the original data range of Wang, Yang & Wang 2
 here). MU_LIMIT_4106 = 0.06 (assumed Lambda) is inactive at the test's conditions. Inside its range the
 bounded law is the fit exactly; the paper's fit stays the default of the dynamics
 (model.traction_table = TRACTION_FIT_4106).
+
+Origin law (option; TRACTION_ORIGIN_4106, `traction_law = "origin"` in coupling.validate). The
+fit's intercept mu(0+) = A + D is a regression residual, not physics: a lubricated contact carries
+no traction without sliding, and the EHL traction curve starts linearly from the origin (Johnson &
+Tevaarwerk, Proc. R. Soc. A 356:215, 1977: the linear/viscoelastic region of the traction curve).
+At the slip-rate test's light contacts (80–250 N) the fit extrapolates to A + D < 0, |A|/D up to
+1.4, i.e. mu = 0 (clipped) for every slip below 2–3 % (measured: outer contact of test case 1,
+Q 205 N, UR 18.6 m/s: A/D = −1.42, mu = 0 up to s = 0.035): a dead zone in which neither
+spin nor transverse creep produces any traction. The origin law keeps the fit's B, C, D and sets
+A = −D:
+
+    mu(s) = D·(1 − exp(−C·s)) + B·s·exp(−C·s),   mu(0) = 0,   mu'(0) = B + C·D,   mu(inf) = D,
+
+which differs from the fit only where exp(−C·s) matters (the fit's C = 5–7: s below ~0.5), and is
+odd in s like the fit. Stored as a 6-row table with no data-range clamp and no cap, flag
+table[5, 1] = 1.
 """
 from __future__ import annotations
 
@@ -96,6 +112,10 @@ def bounded_traction_table(qb_range, ub_range, mu_limit, fit=TRACTION_FIT_4106) 
 QB_MIN_4106 = 2.4e-5
 MU_LIMIT_4106 = 0.06
 TRACTION_BOUNDED_4106 = bounded_traction_table((QB_MIN_4106, 1.0), (0.0, 1.0), MU_LIMIT_4106)
+
+# origin law for 4106 oil (module docstring "Origin law"): the fit with A = −D, no clamping, no cap
+TRACTION_ORIGIN_4106 = bounded_traction_table((0.0, math.inf), (0.0, math.inf), 0.0)
+TRACTION_ORIGIN_4106[5, 1] = 1.0
 
 
 @njit(cache=True)
@@ -141,6 +161,10 @@ def traction_coefficients_table(Q, u_rolling, Rx, E_eff, eta0, temperature_k, th
     b = table[1, 0] * math.exp(table[1, 1] * lq + table[1, 2] * lu + table[1, 3] * lt)
     c = table[2, 0] * math.exp(table[2, 1] * lq + table[2, 2] * lu + table[2, 3] * lt)
     d = table[3, 0] * math.exp(table[3, 1] * lq + table[3, 2] * lu + table[3, 3] * lt)
+    if bounded and table[5, 1] > 0.0:
+        # "through the origin" option: the regression intercept A + D is replaced by the
+        # physical mu(0) = 0 (module docstring, "Origin law")
+        a = -d
     if bounded and table[5, 0] > 0.0:
         mx = traction_curve_maximum(a, b, c, d)
         if mx > table[5, 0]:

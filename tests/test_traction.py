@@ -165,3 +165,25 @@ def test_real_contact_end_to_end():
     tx, _, _ = sliced_traction(3000.0, a, ur, 0.3 * ur, 0.0, 0.0, 0.0, *c, 20, False)
     assert tx == pytest.approx(3000.0 * traction_coefficient(0.3, *c), rel=1e-13)
     assert 0 < tx < 0.03 * 3000.0
+
+
+def test_origin_law_passes_through_zero_with_the_fits_plateau():
+    """Origin law (module docstring): A = −D, so mu(s) = D·(1 − e^{−Cs}) + B·s·e^{−Cs} in closed
+    form (1e-12), mu(0) = 0, mu'(0) = B + C·D (central difference of the closed form, step 1e-7:
+    truncation ~1e-7 relative), odd, and the fit's plateau D at large slip (C = 5.9 here: e^{−5C} ≈ 2e-13). Conditions: the light outer contact of slip-rate test case 1 (Q 205 N, UR 18.6 m/s,
+    Rx 12.4 mm), where the fit itself has a dead zone (mu = 0 for s < 0.03)."""
+    from multibody.traction import TRACTION_ORIGIN_4106
+    args = (205.3, 18.55, 0.012407, E_M50, 0.055, 413.15, K0)
+    A, B, C, D = traction_coefficients_table(*args, TRACTION_FIT_4106)
+    assert A + D < 0 and traction_coefficient(0.02, A, B, C, D) == 0.0      # the fit's dead zone
+    a0, b0, c0, d0 = traction_coefficients_table(*args, TRACTION_ORIGIN_4106)
+    assert (b0, c0, d0) == pytest.approx((B, C, D), rel=1e-14) and a0 == -d0
+    for s in (1e-4, 1e-3, 0.01, 0.05, 0.3, 1.0):
+        closed = d0 * (1 - math.exp(-c0 * s)) + b0 * s * math.exp(-c0 * s)
+        assert traction_coefficient(s, a0, b0, c0, d0) == pytest.approx(closed, rel=1e-12)
+        assert traction_coefficient(-s, a0, b0, c0, d0) == -traction_coefficient(s, a0, b0, c0, d0)
+    assert traction_coefficient(0.0, a0, b0, c0, d0) == 0.0
+    h = 1e-7
+    slope = (traction_coefficient(h, a0, b0, c0, d0) - traction_coefficient(-h, a0, b0, c0, d0)) / (2 * h)
+    assert slope == pytest.approx(b0 + c0 * d0, rel=1e-6)
+    assert traction_coefficient(5.0, a0, b0, c0, d0) == pytest.approx(d0, rel=1e-9)

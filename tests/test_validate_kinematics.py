@@ -90,3 +90,27 @@ def test_cavity_oil_fraction_scaling():
     assert V.case_oil_air_fraction(0.003, 12000, "constant") == 0.003
     with pytest.raises(InputError, match="oil_air_scaling"):
         V.case_oil_air_fraction(0.003, 4000, "parker2")
+
+
+@pytest.mark.parametrize("race", ["outer", "inner"])
+@pytest.mark.parametrize("ao,ai", [(15.7, 38.0), (30.0, 30.0), (4.9, 40.8), (21.5, 36.2)])
+def test_race_control_kinematics_matches_jones_and_harris(race, ao, ai):
+    """Jones's race control, in the closed forms of Harris & Kotzalas (Rolling Bearing Analysis,
+    ball-spin/race-control section): tan beta = sin a_o/(cos a_o + D/dm) for outer-race control,
+    tan beta = sin a_i/(cos a_i − D/dm) for inner-race control, whatever the other angle (1e-12).
+    The cage speed is the pure-rolling one at that beta (1e-12), and the vector check of
+    `_rolling_slips` finds no rolling slip at either contact (1e-9)."""
+    ao, ai = math.radians(ao), math.radians(ai)
+    ratio, beta = V.race_control_kinematics(ao, ai, race, DW, DM)
+    g = DW / DM
+    expected = (math.atan(math.sin(ao) / (math.cos(ao) + g)) if race == "outer"
+                else math.atan(math.sin(ai) / (math.cos(ai) - g)))
+    assert beta == pytest.approx(expected, abs=1e-12)
+    assert ratio == pytest.approx(V.pure_rolling_cage_speed_ratio(ao, ai, beta, DW, DM), rel=1e-12)
+    s_o, s_i = _rolling_slips(ao, ai, beta, ratio)
+    assert abs(s_o) < 1e-9 and abs(s_i) < 1e-9
+
+
+def test_race_control_unknown_race_is_refused():
+    with pytest.raises(InputError, match="race"):
+        V.race_control_kinematics(0.3, 0.5, "cage", DW, DM)

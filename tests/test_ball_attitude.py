@@ -1,0 +1,135 @@
+"""Race-control ball attitude (model option `ball_attitude`, multibody.dynamics docstring).
+
+Closed forms, at the quasi-static state of slip-rate test case 12 conditions (2000 N axial, no
+radial load, 4000 rpm: outer angle ~21°, inner ~36°, so the two contact normals are not collinear):
+
+* equation level (exact up to rounding, 1e-9 relative): with race control the ball's angular
+  acceleration along the free rolling axis u = e_t × n equals the free ball's (I_b·dw/dt·u = M·u,
+  the same applied moments), the spin on the controlling race relaxes at the rate k,
+  d/dt[(w − w_race·e_x)·n] = −k·(w − w_race·e_x)·n, the yaw w_t relaxes at k, and the
+  translational equations are unchanged (the constraint moments are pure couples);
+* motion level (T_RUN = 0.3 s, drag off, started on the race-control kinematics by
+  multibody.initial): the spin axis of every ball sits at Jones's race-control pitch of the race
+  that controls, in Harris & Kotzalas's closed form tan beta = sin a/(cos a ± D/dm) (+ outer,
+  − inner; `coupling.validate.race_control_kinematics`), within TOL_BETA_DEG = 0.02°; the closed
+  form assumes pure rolling on the controlling race (measured: inner +0.0099° at 0.02 s, +0.0065°
+  at 0.1 s, +0.0042° at 0.2 s; outer +0.0005°, +0.0001°, −0.0001°); and the cage turns at the
+  race-control pure-rolling speed of the run's mean contact angles (`race_control_kinematics`, an
+  independent 3×3 linear solve) within TOL_CAGE_SPEED = 0.05 % (measured relative difference,
+  inner control: −0.071 % at 0.1 s, −0.030 % at 0.3 s, −0.026 % at 0.5 and 0.8 s; outer control:
+  −0.072 %, −0.015 %, −0.008 %, −0.007 %: a steady skid of a few 1e-4 from the spin moment of the
+  non-controlling race, whose component along the rolling axis is ∝ sin(alpha_i − alpha_o); drag
+  is off);
+* bad option values are refused, naming the field.
+"""
+import math
+
+import numpy as np
+import pytest
+
+from coupling import validate as V
+from mesh.validation import InputError
+from multibody import dynamics as D
+from multibody import integrator as I
+from multibody import model as M
+from multibody.bearing import PAPER_OIL
+from multibody.model import build_model
+
+CASE = {"axial_load": 2000.0, "radial_load": 0.0, "speed_rpm": 4000.0}
+# light load: the ring reaction of the gyroscopic friction is left off (multibody.dynamics docstring:
+# it destabilises race control at light load); tests/test_dynamic_vs_quasi_static.py checks it on
+OPTS = {"drag": False, "gravity": 0.0, "attitude_ring_reaction": False}
+TOL_BETA_DEG = 0.02
+T_RUN = 0.3
+TOL_CAGE_SPEED = 5e-4
+
+
+def _model(attitude):
+    return V.build_validation_model(V.VALIDATION_BEARING, V.validation_oil(None, None),
+                                    {**OPTS, "ball_attitude": attitude}, traction_law="origin")
+
+
+def _rhs(model, y, sp, ld, imp):
+    dy = np.zeros_like(y)
+    work = D.new_work(model)
+    D.rhs(0.0, y, dy, model.p, model.flags, model.hertz_table, model.traction_table, sp, ld, imp, work, model.cage)
+    return dy, work
+
+
+def _normals(work, j):
+    """Outer normal and the normal of the more loaded inner half of ball j, (n_x, n_r)."""
+    wc = lambda c, col: work[j, c * M.N_WC + col]
+    n_o = np.array([wc(0, M.WC_SIN), wc(0, M.WC_COS)])
+    c = 1 if wc(1, M.WC_Q) >= wc(2, M.WC_Q) else 2
+    n_i = -np.array([wc(c, M.WC_SIN), wc(c, M.WC_COS)])
+    return n_o, n_i
+
+
+@pytest.mark.parametrize("attitude", ["inner", "outer"])
+def test_constrained_equations(attitude):
+    free = _model("free")
+    ctl = _model(attitude)
+    omega, y, sp, ld, imp = V.steady_case_start(free, CASE)
+    # perturb the ball attitudes so that the constraints are violated
+    rng = np.random.default_rng(1)
+    for j in range(free.n_balls):
+        y[9 * j + 7] += rng.uniform(-30, 30)
+        y[9 * j + 8] += rng.uniform(-30, 30)
+    dy_f, work = _rhs(free, y, sp, ld, imp)
+    dy_c, _ = _rhs(ctl, y, sp, ld, imp)
+    k = ctl.p[M.P_ATT_RATE]
+    for j in range(free.n_balls):
+        o = 9 * j
+        n_o, n_i = _normals(work, j)
+        n, w_race = (n_i, omega) if attitude == "inner" else (n_o, 0.0)
+        u = np.array([-n[1], n[0]])
+        w = y[o + 6:o + 9]
+        # free ball: (dw_x, dw_r − psi'·w_t) = M_(x,r)/I; constrained: same projection on u
+        psid = y[o + 5]
+        acc_free = np.array([dy_f[o + 6], dy_f[o + 7] - psid * w[2]])
+        acc_ctl = np.array([dy_c[o + 6], dy_c[o + 7] - psid * w[2]])
+        scale = np.abs(acc_free).max() + 1.0
+        assert acc_ctl @ u == pytest.approx(acc_free @ u, abs=1e-9 * scale)
+        sigma = (w[0] - w_race) * n[0] + w[1] * n[1]
+        assert dy_c[o + 6] * n[0] + dy_c[o + 7] * n[1] == pytest.approx(-k * sigma, rel=1e-9, abs=1e-9)
+        assert dy_c[o + 8] == pytest.approx(-k * w[2], rel=1e-12, abs=1e-12)
+        # the translational equations are untouched (the constraint moments are pure couples)
+        assert np.array_equal(dy_c[o:o + 6], dy_f[o:o + 6])
+
+
+@pytest.mark.parametrize("attitude", ["inner", "outer"])
+def test_spin_axis_settles_on_the_controlling_race(attitude):
+    model = _model(attitude)
+    omega, y, sp, ld, imp = V.steady_case_start(model, CASE)
+    ws = I.Workspace(model)
+    y, t, h, _, _ = I.advance(model, y, 0.0, T_RUN, sp, ld, imp, 1e-5, 1e-6, ws)
+    _, work = _rhs(model, y, sp, ld, imp)
+    for j in range(model.n_balls):
+        o = 9 * j
+        n_o, n_i = _normals(work, j)
+        n = n_i if attitude == "inner" else n_o
+        alpha = math.atan2(abs(n[0]), abs(n[1]))
+        g = model.p[M.P_DW] / model.p[M.P_DM]
+        # Jones/Harris race control: tan beta = sin a/(cos a + D/dm) (outer), /(cos a − D/dm) (inner)
+        expected = math.atan(math.sin(alpha) / (math.cos(alpha) + (g if attitude == "outer" else -g)))
+        w_x_rel = y[o + 6] - y[o + 5]                    # spin relative to the orbiting frame
+        w_r = y[o + 7]
+        # the ball rolls backwards (w_x_rel < 0); its axis tilts by beta towards the contact line
+        beta = math.atan2(abs(w_r), abs(w_x_rel))
+        assert math.degrees(abs(beta - expected)) < TOL_BETA_DEG
+        assert abs(y[o + 8]) < 1e-6 * abs(w_x_rel)
+    out = D.evaluate_outputs(model, t, y, sp, ld, imp)
+    Q, ang = out["contact_load"], out["contact_angle"]
+    zi = np.arange(model.n_balls)
+    a_i = np.abs(ang[zi, np.where(Q[:, 1] >= Q[:, 2], 1, 2)]).mean()
+    ratio, _ = V.race_control_kinematics(float(np.abs(ang[:, 0]).mean()), float(a_i), attitude,
+                                         model.p[M.P_DW], model.p[M.P_DM])
+    assert out["cage_speed"] / omega == pytest.approx(ratio, rel=TOL_CAGE_SPEED)
+
+
+def test_bad_attitude_options_are_refused():
+    bearing = V.VALIDATION_BEARING
+    with pytest.raises(InputError, match="ball_attitude"):
+        build_model(bearing, PAPER_OIL, {"ball_attitude": "sideways"})
+    with pytest.raises(InputError, match="attitude_rate"):
+        build_model(bearing, PAPER_OIL, {"ball_attitude": "inner", "attitude_rate": 0.0})
