@@ -305,9 +305,14 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
         alt[f"slip_pct_{name}"] = 100.0 * (nm_a - nc) / nm_a
     # the pure-rolling cage speeds of the same contact angles (`pure_rolling_cage_speed_ratio`):
     # free ball (spin axis parallel to the bearing axis, beta = 0) and no spin at the inner contact
+    # (the key "inner_control" is beta = alpha_i, the spin axis normal to the inner contact line in
+    # the cage frame), and Jones's race control, no spin relative to the race (`race_control_kinematics`)
     for name, beta in (("beta0", 0.0), ("inner_control", a_in[-1])):
         ratio = pure_rolling_cage_speed_ratio(a_out[-1], a_in[-1], beta, bearing.ball_diameter, bearing.pitch_diameter)
         alt[f"slip_pct_pure_rolling_{name}"] = 100.0 * (nm - ratio * omega) / nm
+    for race in ("outer", "inner"):
+        ratio, _ = race_control_kinematics(a_out[-1], a_in[-1], race, bearing.ball_diameter, bearing.pitch_diameter)
+        alt[f"slip_pct_{race}_race_control"] = 100.0 * (nm - ratio * omega) / nm
     row = dict(case)
     row.update(alt)
     row.update(slip_pct=100.0 * slip, cage_speed=nc, nominal_cage_speed=nm, contact_angle_deg=math.degrees(alpha),
