@@ -202,6 +202,28 @@ def _hertz_lookup(htab, kind, cos_a):
 
 
 @njit(cache=True)
+def control_race(attitude, q_o, a_o, nxo, nro, q_i, a_i, nxi, nri):
+    """Race that controls a ball's attitude (module docstring, "Ball attitude"): 0 outer, 1 inner,
+    −1 free (attitude 0, or the controlling race unloaded). attitude 1 outer, 2 inner, 3 Jones:
+    the race with the larger spin-friction capacity Q·a·E(k) controls, the outer one entering with
+    cos(alpha_o − alpha_i) = −n_o·n_i (E(k) ratio taken as 1). q, a load and semi-major axis, n the
+    contact normal (n_x, n_r) of the outer and of the more loaded inner contact."""
+    if attitude == 1:
+        return 0 if q_o > 0.0 else -1
+    if attitude == 2:
+        return 1 if q_i > 0.0 else -1
+    if attitude == 3:
+        if q_o > 0.0 and q_i > 0.0:
+            cos_oi = -(nxo * nxi + nro * nri)
+            return 0 if q_o * a_o * cos_oi >= q_i * a_i else 1
+        if q_o > 0.0:
+            return 0
+        if q_i > 0.0:
+            return 1
+    return -1
+
+
+@njit(cache=True)
 def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
           rv_x, rv_r, rv_t0, ring_speed, ring_rc, p, flags, htab, ttab):
     """One ball–race contact: load, geometry and the forces/moments on the ball.
@@ -887,24 +909,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         else:
             work[j, W_DRAG] = 0.0
         # ---- race-control attitude (module docstring): which race controls
-        ctl = -1
-        att = flags[F_ATTITUDE]
-        if att == 1:
-            if q_ctl_o > 0.0:
-                ctl = 0
-        elif att == 2:
-            if q_ctl_i > 0.0:
-                ctl = 1
-        elif att == 3:
-            if q_ctl_o > 0.0 and q_ctl_i > 0.0:
-                # Jones: the race with the larger spin-friction capacity Q·a·E(k) controls; the
-                # outer one enters with cos(alpha_o − alpha_i) = −n_o·n_i (E(k) ratio taken as 1)
-                cos_oi = -(nxo * nxi + nro * nri)
-                ctl = 0 if q_ctl_o * a_ctl_o * cos_oi >= q_ctl_i * a_ctl_i else 1
-            elif q_ctl_o > 0.0:
-                ctl = 0
-            elif q_ctl_i > 0.0:
-                ctl = 1
+        ctl = control_race(flags[F_ATTITUDE], q_ctl_o, a_ctl_o, nxo, nro, q_ctl_i, a_ctl_i, nxi, nri)
         kr = p[P_ATT_RATE]
         cnx = cnr = w_ring = ux = ur = 0.0
         if ctl >= 0:

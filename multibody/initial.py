@@ -35,7 +35,7 @@ from scipy.optimize import root
 
 from mesh.validation import InputError, require_range
 from multibody import model as M
-from multibody.dynamics import _hertz_lookup, nominal_cage_speed
+from multibody.dynamics import _hertz_lookup, control_race, nominal_cage_speed
 from multibody.geometry import race_contact, ring_point_in_plane
 
 
@@ -52,21 +52,12 @@ def control_contact(model, res) -> int:
     """Contact index (0 outer, 1/2 inner halves) of the race that controls the ball's attitude under
     the model option ball_attitude (multibody.dynamics docstring, "Ball attitude"), −1 for free
     balls or an unloaded controlling race. res: [(Q, ca, sa, nx, nr, x_p, r_p) x 3]."""
-    att = int(model.flags[M.F_ATTITUDE])
     ci = 1 if res[1][0] >= res[2][0] else 2
     qo, qi = res[0][0], res[ci][0]
-    if att == 1:
-        return 0 if qo > 0.0 else -1
-    if att == 2:
-        return ci if qi > 0.0 else -1
-    if att == 3:
-        if qo > 0.0 and qi > 0.0:
-            cos_oi = -(res[0][3] * res[ci][3] + res[0][4] * res[ci][4])
-            ao = _semi_major_axis(model, 0, qo, res[0][1])
-            ai = _semi_major_axis(model, 1, qi, res[ci][1])
-            return 0 if qo * ao * cos_oi >= qi * ai else ci
-        return 0 if qo > 0.0 else (ci if qi > 0.0 else -1)
-    return -1
+    ao = _semi_major_axis(model, 0, qo, res[0][1])
+    ai = _semi_major_axis(model, 1, qi, res[ci][1])
+    c = control_race(int(model.flags[M.F_ATTITUDE]), qo, ao, res[0][3], res[0][4], qi, ai, res[ci][3], res[ci][4])
+    return -1 if c < 0 else (0 if c == 0 else ci)
 
 
 def _ball_forces(model, psi, xb, rb, ring, omega_orbit):

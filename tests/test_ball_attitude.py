@@ -133,3 +133,22 @@ def test_bad_attitude_options_are_refused():
         build_model(bearing, PAPER_OIL, {"ball_attitude": "sideways"})
     with pytest.raises(InputError, match="attitude_rate"):
         build_model(bearing, PAPER_OIL, {"ball_attitude": "inner", "attitude_rate": 0.0})
+
+
+def test_jones_criterion_picks_the_race_with_the_larger_spin_friction_capacity():
+    """Jones (1960): the outer race controls when Q_o·a_o·cos(alpha_o − alpha_i) >= Q_i·a_i (E(k)
+    ratio 1), with cos(alpha_o − alpha_i) = −n_o·n_i; fixed races 1 (outer) and 2 (inner); an
+    unloaded controlling race leaves the ball free (−1)."""
+    ao, ai = math.radians(20.0), math.radians(36.0)
+    no = (math.sin(ao), math.cos(ao))
+    ni = (-math.sin(ai), -math.cos(ai))
+    c = math.cos(ao - ai)
+    # capacities Q·a: outer 230·1.2e-3·cos(16°) = 0.2653 against inner 1.0e-3·Q_i
+    for q_i, expected in ((250.0, 0), (270.0, 1)):
+        assert D.control_race(3, 230.0, 1.2e-3, *no, q_i, 1.0e-3, *ni) == expected
+        assert (230.0 * 1.2e-3 * c >= q_i * 1.0e-3) == (expected == 0)
+    assert D.control_race(1, 230.0, 1.2e-3, *no, 270.0, 1.0e-3, *ni) == 0
+    assert D.control_race(2, 230.0, 1.2e-3, *no, 250.0, 1.0e-3, *ni) == 1
+    assert D.control_race(0, 230.0, 1.2e-3, *no, 250.0, 1.0e-3, *ni) == -1
+    assert D.control_race(2, 230.0, 1.2e-3, *no, 0.0, 0.0, *ni) == -1
+    assert D.control_race(3, 0.0, 0.0, *no, 250.0, 1.0e-3, *ni) == 1
