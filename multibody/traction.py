@@ -69,7 +69,7 @@ fit's intercept mu(0+) = A + D is a regression residual, not physics: a lubricat
 no traction without sliding, and the EHL traction curve starts linearly from the origin (Johnson &
 Tevaarwerk, Proc. R. Soc. A 356:215, 1977: the linear/viscoelastic region of the traction curve).
 At the slip-rate test's light contacts (80–250 N) the fit extrapolates to A + D < 0, |A|/D up to
-1.4, i.e. mu = 0 (clipped) for every slip below 2–3 % (measured: outer contact of test case 1,
+1.4, i.e. mu = 0 (clipped) for every slip below a few per cent (measured: outer contact of test case 1,
 Q 205 N, UR 18.6 m/s: A/D = −1.42, mu = 0 up to s = 0.035): a dead zone in which neither
 spin nor transverse creep produces any traction. The origin law keeps the fit's B, C, D and sets
 A = −D:
