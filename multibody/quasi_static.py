@@ -323,6 +323,8 @@ class QuasiStaticResult:
     inner_speed             rad/s; control "outer" / "inner"
     residual_ring           max |ring residual| / load scale; residual_ball: max ball residual, N
     converged, iterations
+    diagnostic              why the solve failed (empty when converged), e.g. race control that would
+                            need a friction coefficient above 1 at the controlling race
     """
     psi: np.ndarray
     ball_x: np.ndarray
@@ -345,6 +347,7 @@ class QuasiStaticResult:
     residual_ball: float
     converged: bool
     iterations: int
+    diagnostic: str = ""
 
     @property
     def cage_speed(self) -> float:
@@ -500,12 +503,19 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
             if s > 1:
                 step /= s
             a = 1.0
+            reduced = False
             for _ in range(40):
                 rn = resid(uf + a * step, u_full)
                 if np.max(np.abs(rn)) < nr0 or np.max(np.abs(rn)) < tol:
+                    reduced = True
                     break
                 st.xb[:], st.rb[:] = xb0, rb0
                 a *= 0.5
+            if not reduced:
+                # no step along the Newton direction lowers the residual: more iterations would only
+                # repeat this search (stagnation), so report the state as it is
+                r = resid(uf, u_full)
+                return uf, r, np.max(np.abs(r)) < tol, it + 1
             uf = uf + a * step
             r = rn
         return uf, r, np.max(np.abs(r)) < tol, maxit
@@ -521,9 +531,16 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         [inner_speed * s for s in (0.25, 0.5, 0.75, 1.0)]
     ok = False
     total_it = 0
+    diagnostic = ""
+    # the kinematics are iterated to the precision the ring equilibrium is solved to: with a ring
+    # residual of tol the orbit speeds carry noise of about tol relative, and a tighter test would
+    # chase a 2-cycle at that level (found at light load, 6000 rpm, inner control)
+    kin_tol = max(1e-11, 10.0 * tol)
     for w in speeds:
         if initial is None and w == speeds[0]:
             st.wm[:] = geo.pitch_orbit_speed(w, 0.0, g.ball_diameter, g.pitch_diameter, 0.0)
+        kin_ok = w == 0.0
+        failed_newtons = 0
         for outer_it in range(50):
             wm_old = st.wm.copy()
             mg_old = st.mg.copy()
@@ -537,13 +554,52 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                 break
             dwm = np.max(np.abs(st.wm - wm_old)) / max(abs(w), 1e-30)
             dmg = np.max(np.abs(st.mg - mg_old)) / max(np.max(np.abs(st.mg)), 1e-30)
-            if dwm < 1e-11 and (dmg < 1e-9 or not gyroscopic):
+            if ok and dwm < kin_tol and (dmg < max(1e-9, kin_tol) or not gyroscopic):
+                kin_ok = True
                 break
+            failed_newtons = 0 if ok else failed_newtons + 1
+            if failed_newtons >= 3:
+                diagnostic = _failure_diagnostic(g, st, w, control, lam)
+                break
+        if not kin_ok:
+            if not diagnostic:
+                diagnostic = (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
+                              f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
+                              f"needed {kin_tol:.3g})")
+            ok = False
+            break
     # final consistent evaluation
     st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
     rfin = resid(u[free], u)
     ok = ok and np.max(np.abs(rfin)) < 10 * tol
-    return _result(g, st, u, fext, inner_speed, control, float(np.max(np.abs(rfin))), ok, total_it)
+    if not ok and not diagnostic:
+        diagnostic = f"ring equilibrium not reached: residual {np.max(np.abs(rfin)):.3g} of the load scale (tol {tol:.3g})"
+    return _result(g, st, u, fext, inner_speed, control, float(np.max(np.abs(rfin))), ok, total_it,
+                   diagnostic)
+
+
+def _failure_diagnostic(g, st, inner_speed, control, lam) -> str:
+    """Why the equilibrium under race control fails, in the engineer's terms.
+
+    Race control needs friction at the controlling race to carry the gyroscopic moment,
+    f = lambda·M_g/Dw (module docstring). A friction force larger than the normal load of that contact
+    (coefficient above 1; EHL traction stays below about 0.1) cannot exist: the race cannot control
+    the ball there, and Jones's criterion (multibody.dynamics.control_race) would pick the other race.
+    Otherwise the ring equilibrium itself is reported as not found."""
+    race = 0 if control == "outer" else 1
+    q_race = st.q[:, 0] if race == 0 else st.q[:, 1] + st.q[:, 2]
+    f_race = np.abs(lam[race] * st.mg) / g.ball_diameter
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mu = np.where(q_race > 0.0, f_race / q_race, np.where(f_race > 0.0, np.inf, 0.0))
+    j = int(np.argmax(mu))
+    if mu[j] > 1.0:
+        other = "inner" if control == "outer" else "outer"
+        return (f"{control} race control is not possible at inner-ring speed {inner_speed:.6g} rad/s: "
+                f"ball {j} needs a friction force of {f_race[j]:.3g} N at its {control} contact to carry "
+                f"the gyroscopic moment {abs(st.mg[j]):.3g} N·m, but that contact's normal load is "
+                f"{q_race[j]:.3g} N (friction coefficient {mu[j]:.3g} > 1); try control='{other}'")
+    return (f"ring equilibrium not found at inner-ring speed {inner_speed:.6g} rad/s under {control} race "
+            f"control (Newton stagnated 3 times; largest friction coefficient needed {mu[j]:.3g}, ball {j})")
 
 
 def _initial_guess(g, st, arr, lam, fext, fscale, free):
@@ -586,7 +642,7 @@ def _initial_guess(g, st, arr, lam, fext, fscale, free):
     return u
 
 
-def _result(g, st, u, fext, inner_speed, control, rres, ok, iters) -> QuasiStaticResult:
+def _result(g, st, u, fext, inner_speed, control, rres, ok, iters, diagnostic="") -> QuasiStaticResult:
     z = len(st.psi)
     load = st.q.copy()
     ang = np.zeros((z, 3))
@@ -609,4 +665,5 @@ def _result(g, st, u, fext, inner_speed, control, rres, ok, iters) -> QuasiStati
     fc = g.ball_mass * st.wm ** 2 * st.rb
     return QuasiStaticResult(st.psi.copy(), st.xb.copy(), st.rb.copy(), load, ang, delta, p0, a, b,
                              st.wm.copy(), st.wb.copy(), fc, st.mg.copy(), u.copy(), fext.copy(),
-                             float(inner_speed), control, rres, float(np.max(st.ball_res)), bool(ok), iters)
+                             float(inner_speed), control, rres, float(np.max(st.ball_res)), bool(ok), iters,
+                             diagnostic)

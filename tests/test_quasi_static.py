@@ -229,3 +229,29 @@ def test_bad_input_names_the_field(b218):
         qs.solve_quasi_static(b218, 0.0, fx=1000.0, control="cage")
     with pytest.raises(Exception, match="fx"):
         qs.solve_quasi_static(b218, 0.0, fx=float("nan"))
+
+
+def test_inner_race_control_that_needs_impossible_friction_is_reported():
+    # Paper bearing with its design clearance at slip-test case 4 (Fa 1100 N, Fr 200 N, 8000 rpm): centrifugal
+    # force unloads the inner contacts, so inner-race control would need the inner friction to carry the
+    # gyroscopic moment, f = lambda_i·M_g/Dw (module docstring), with almost no normal load there. Such a state
+    # does not exist; the solver must say so (in the engineer's terms) instead of iterating on.
+    from coupling.validate import design_clearance
+    bear = PAPER_BEARING.with_(radial_clearance=design_clearance(PAPER_BEARING))
+    g = qs.grooves_from_bearing(bear)
+    wi = 8000 * math.pi / 30
+    r = qs.solve_quasi_static(g, wi, fx=1100.0, fz=-200.0, control="inner", friction_share=(1, 1))
+    assert not r.converged
+    assert "inner race control is not possible" in r.diagnostic and "control='outer'" in r.diagnostic
+    # the reported need, recomputed from the outputs: some ball needs a friction coefficient > 1 at its inner contact
+    mu = np.abs(r.gyroscopic_moment) / bear.ball_diameter / np.maximum(r.load[:, 1] + r.load[:, 2], 1e-300)
+    assert mu.max() > 1.0
+    # it gave up after a bounded amount of work (3 stagnated Newton solves per speed step, 4 steps at most)
+    assert r.iterations < 4 * 50 * 3
+    # outer-race control at the same point is a valid equilibrium, and Jones's criterion (Q·a larger at the
+    # outer contact) agrees that the outer race controls the balls here
+    ro = qs.solve_quasi_static(g, wi, fx=1100.0, fz=-200.0, control="outer", friction_share=(1, 1))
+    assert ro.converged and ro.diagnostic == ""
+    qi = ro.load[:, 1] + ro.load[:, 2]
+    ai = np.where(ro.load[:, 1] >= ro.load[:, 2], ro.a[:, 1], ro.a[:, 2])
+    assert np.all(ro.load[:, 0] * ro.a[:, 0] > qi * ai)
