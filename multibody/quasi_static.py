@@ -35,6 +35,8 @@ Ball kinematics (race control, Jones 1959/1960): per ball the orbital speed omeg
 angular velocity (omega_x, omega_r) solve three linear conditions: no rolling slip at the outer
 contact centre, none at the (most loaded) inner contact centre, and no spin about the normal of the
 controlling race: (omega_b − omega_race·e_x)·n = 0 (`geometry.contact_kinematics` defines slip and spin).
+The controlling race is the outer or the inner one for every ball, or chosen per ball by Jones's
+criterion (larger Q·a·E(k) controls; control = "jones").
 At zero speed the kinematics are irrelevant (F_c = M_g = 0).
 
 Inner-ring equilibrium: F_ext + sum_j sum_k∈inner (Q_k·n_k − f_k·tau_k) = 0 as forces in X, Y, Z
@@ -65,7 +67,8 @@ from multibody.hertz import (race_curvature_radii, hertz_stiffness, hertz_point_
 
 OUTER, INNER_LEFT, INNER_RIGHT = 0, 1, 2
 CONTACT_NAMES = ("outer", "inner_left", "inner_right")
-CONTROL = {"outer": 0, "inner": 1}
+CONTROL = {"outer": 0, "inner": 1, "jones": 2}
+JONES_REVISIONS = 20    # outer iterations per speed step in which Jones's choice may still change
 
 
 @dataclass(frozen=True)
@@ -271,7 +274,7 @@ def _solve_all_balls(u, psi, gx, gr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o,
         for k in range(1, 3):
             cx[k], cr[k] = geo.ring_point_in_plane(psi[j], gx[k], gr[k], u[0], u[1], u[2], u[3], u[4])
         x1, r1, res, it = _solve_ball(xb[j], rb[j], cx, cr, cf, active, dw, dm, e_eff, m_w2[j],
-                                      mg[j], lam_o, lam_i, fscale, qq, nn)
+                                      mg[j], lam_o[j], lam_i[j], fscale, qq, nn)
         xb[j] = x1
         rb[j] = r1
         ball_res[j] = res
@@ -286,7 +289,7 @@ def _solve_all_balls(u, psi, gx, gr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o,
             if qq[k] <= 0.0:
                 continue
             nx, nr, ca, sa, delta = nn[k, 0], nn[k, 1], nn[k, 2], nn[k, 3], nn[k, 4]
-            fk = lam_i * mg[j] / dw * qq[k] / qin if qin > 0.0 else 0.0
+            fk = lam_i[j] * mg[j] / dw * qq[k] / qin if qin > 0.0 else 0.0
             fx = qq[k] * nx - fk * ca          # force on the ring, in-plane
             fr = qq[k] * nr + fk * sa
             fy = fr * c
@@ -323,6 +326,7 @@ class QuasiStaticResult:
     inner_speed             rad/s; control "outer" / "inner"
     residual_ring           max |ring residual| / load scale; residual_ball: max ball residual, N
     converged, iterations
+    controlling_race (Z,)   race that controls each ball: 0 outer, 1 inner (all equal unless control="jones")
     diagnostic              why the solve failed (empty when converged), e.g. race control that would
                             need a friction coefficient above 1 at the controlling race
     """
@@ -348,6 +352,7 @@ class QuasiStaticResult:
     converged: bool
     iterations: int
     diagnostic: str = ""
+    controlling_race: np.ndarray | None = None
 
     @property
     def cage_speed(self) -> float:
@@ -389,6 +394,7 @@ class _State:
         self.mg = np.zeros(z)
         self.wm = np.zeros(z)
         self.wb = np.zeros((z, 3))
+        self.ctrl = np.zeros(z, dtype=np.int64)     # controlling race per ball: 0 outer, 1 inner
 
 
 def _ring_residual(u, g, st, arr, lam, fext, fscale):
@@ -399,8 +405,9 @@ def _ring_residual(u, g, st, arr, lam, fext, fscale):
     return fext + rf
 
 
-def _kinematics(g, st, inner_speed, control, u):
-    """Race-control kinematics per ball (module docstring): omega_m, omega_b (x, r)."""
+def _kinematics(g, st, inner_speed, u):
+    """Race-control kinematics per ball (module docstring): omega_m, omega_b (x, r), each ball
+    controlled by the race st.ctrl[j] (0 outer, 1 inner)."""
     dw, dm = g.ball_diameter, g.pitch_diameter
     for j in range(len(st.psi)):
         q = st.q[j]
@@ -421,8 +428,8 @@ def _kinematics(g, st, inner_speed, control, u):
             # v_ball,t = r_b·omega_m + rho·(omega_x·n_r − omega_r·n_x) ; v_race,t = w_ring·r_rel
             A[row] = (st.rb[j], rho * nr, -rho * nx)
             rhs[row] = wr * r_rel
-        kc = 0 if control == "outer" else ki
-        wr = 0.0 if control == "outer" else inner_speed
+        kc = 0 if st.ctrl[j] == 0 else ki
+        wr = 0.0 if st.ctrl[j] == 0 else inner_speed
         nx, nr = st.nrm[j, kc, 0], st.nrm[j, kc, 1]
         A[2] = (0.0, nx, nr)                 # (omega_b − omega_race e_x)·n = 0
         rhs[2] = wr * nx
@@ -440,7 +447,11 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     """Quasi-static equilibrium (module docstring) under loads on the inner ring and inner-ring speed.
 
     fx, fy, fz (N), my, mz (N·m): external load on the inner ring; inner_speed (rad/s, about +X);
-    control: "outer" or "inner" race control; gyroscopic / centrifugal switch those terms;
+    control: "outer" or "inner" race control for every ball, or "jones": each ball controlled by the
+    race Jones's criterion picks at the current loads (`_jones_controlling_race`; the choice may
+    change during the first JONES_REVISIONS iterations of each speed step, then it is held, so a
+    ball on the criterion's boundary cannot make the iteration cycle; the result's
+    `controlling_race` says which race won); gyroscopic / centrifugal switch those terms;
     fix_tilt holds theta_y = theta_z = 0 (no moment equilibrium, as in the textbook examples that
     apply the load "without tilting"); psi0 the azimuth of ball 0; tol the ring residual relative
     to the load scale. `initial` warm-starts from a previous result. friction_share = (lambda_o,
@@ -458,13 +469,12 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     psi = psi0 + 2.0 * math.pi * np.arange(z) / z
     arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
            np.array(g.active, np.bool_))
-    lam = (2.0, 0.0) if control == "outer" else (0.0, 2.0)
     if friction_share is not None:
         lo, li = (float(v) for v in friction_share)
         if not (0.0 <= lo <= 2.0 and 0.0 <= li <= 2.0 and abs(lo + li - 2.0) < 1e-12):
             raise InputError(f"friction_share = {friction_share!r}: needs lambda_o, lambda_i in [0, 2] "
                              "with lambda_o + lambda_i = 2")
-        lam = (lo, li)
+        friction_share = (lo, li)
     fext = np.array([fx, fy, fz, my, mz], float)
     fscale = max(abs(fx), math.hypot(fy, fz), 2.0 * math.hypot(my, mz) / g.pitch_diameter, 1.0)
     if abs(fx) + math.hypot(fy, fz) <= 0.0 and inner_speed == 0.0:
@@ -473,6 +483,10 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     rscale = np.array([1, 1, 1, 2 / g.pitch_diameter, 2 / g.pitch_diameter]) / fscale
     free = np.array([0, 1, 2] if fix_tilt else [0, 1, 2, 3, 4])
     st = _State(g, psi)
+    # Jones's choice starts every ball on the outer race and is revised from the loads (below)
+    st.ctrl[:] = 1 if control == "inner" else 0
+    lam = np.zeros((2, z))          # (lambda_o, lambda_i) per ball, updated in place
+    _set_friction_shares(lam, st.ctrl, friction_share)
 
     def resid(uf, u_full):
         u_full[free] = uf
@@ -525,6 +539,9 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         u[:] = initial.ring_displacement
         st.xb[:], st.rb[:] = initial.ball_x, initial.ball_r
         st.wm[:], st.wb[:] = initial.orbit_speed, initial.ball_omega
+        if control == "jones" and initial.controlling_race is not None:
+            st.ctrl[:] = initial.controlling_race
+            _set_friction_shares(lam, st.ctrl, friction_share)
     else:
         u = _initial_guess(g, st, arr, lam, fext, fscale, free)
     speeds = [inner_speed] if (initial is not None or inner_speed == 0.0) else \
@@ -548,13 +565,19 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
             uf, r, ok, it = newton(u, max_iter)
             total_it += it
             u[free] = uf
-            _kinematics(g, st, w, control, u)
+            changed = False
+            if control == "jones" and w != 0.0 and outer_it < JONES_REVISIONS:
+                new = _jones_controlling_race(g, st)
+                changed = bool(np.any(new != st.ctrl))
+                st.ctrl[:] = new
+                _set_friction_shares(lam, st.ctrl, friction_share)
+            _kinematics(g, st, w, u)
             st.mg[:] = g.ball_inertia * st.wm * st.wb[:, 1] if gyroscopic else 0.0
             if w == 0.0:
                 break
             dwm = np.max(np.abs(st.wm - wm_old)) / max(abs(w), 1e-30)
             dmg = np.max(np.abs(st.mg - mg_old)) / max(np.max(np.abs(st.mg)), 1e-30)
-            if ok and dwm < kin_tol and (dmg < max(1e-9, kin_tol) or not gyroscopic):
+            if ok and not changed and dwm < kin_tol and (dmg < max(1e-9, kin_tol) or not gyroscopic):
                 kin_ok = True
                 break
             failed_newtons = 0 if ok else failed_newtons + 1
@@ -578,6 +601,40 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                    diagnostic)
 
 
+def _set_friction_shares(lam, ctrl, friction_share):
+    """lam[:, j] = (lambda_o, lambda_i) of ball j: friction_share for every ball, or, when None, all
+    of the gyroscopic friction on the ball's controlling race (2, 0) / (0, 2) (module docstring)."""
+    if friction_share is not None:
+        lam[0, :], lam[1, :] = friction_share
+    else:
+        lam[0, :] = np.where(ctrl == 0, 2.0, 0.0)
+        lam[1, :] = 2.0 - lam[0, :]
+
+
+def _jones_controlling_race(g, st) -> np.ndarray:
+    """Jones's criterion per ball (J. Basic Eng. 82 (1960) 309; Harris & Kotzalas Vol. 2, ch. 2): the
+    race whose contact can resist the larger spinning moment, Q·a·E(k), controls the ball; the outer
+    contact enters with cos(alpha_o − alpha_i). The same rule as the dynamics' ball_attitude =
+    "jones" (multibody.dynamics.control_race, E(k) ratio taken as 1); a from Hertz at the current
+    loads (multibody.hertz.hertz_point_contact). Returns 0 (outer) / 1 (inner) per ball."""
+    from multibody.dynamics import control_race
+    dw, dm = g.ball_diameter, g.pitch_diameter
+    out = st.ctrl.copy()
+    for j in range(len(st.psi)):
+        ki = 1 if st.q[j, 1] >= st.q[j, 2] else 2
+        a = [0.0, 0.0]
+        for n, k in enumerate((0, ki)):
+            q = st.q[j, k]
+            if q > 0.0:
+                rx, ry = race_curvature_radii(dw, dm, g.groove_f[k], math.acos(min(1.0, abs(st.nrm[j, k, 2]))), k > 0)
+                a[n] = hertz_point_contact(rx, ry, g.effective_modulus, q)[0]
+        c = control_race(3, st.q[j, 0], a[0], st.nrm[j, 0, 0], st.nrm[j, 0, 1],
+                         st.q[j, ki], a[1], st.nrm[j, ki, 0], st.nrm[j, ki, 1])
+        if c >= 0:
+            out[j] = c
+    return out
+
+
 def _failure_diagnostic(g, st, inner_speed, control, lam) -> str:
     """Why the equilibrium under race control fails, in the engineer's terms.
 
@@ -586,18 +643,19 @@ def _failure_diagnostic(g, st, inner_speed, control, lam) -> str:
     (coefficient above 1; EHL traction stays below about 0.1) cannot exist: the race cannot control
     the ball there, and Jones's criterion (multibody.dynamics.control_race) would pick the other race.
     Otherwise the ring equilibrium itself is reported as not found."""
-    race = 0 if control == "outer" else 1
-    q_race = st.q[:, 0] if race == 0 else st.q[:, 1] + st.q[:, 2]
-    f_race = np.abs(lam[race] * st.mg) / g.ball_diameter
+    q_race = np.where(st.ctrl == 0, st.q[:, 0], st.q[:, 1] + st.q[:, 2])
+    f_race = np.abs(np.where(st.ctrl == 0, lam[0], lam[1]) * st.mg) / g.ball_diameter
     with np.errstate(divide="ignore", invalid="ignore"):
         mu = np.where(q_race > 0.0, f_race / q_race, np.where(f_race > 0.0, np.inf, 0.0))
     j = int(np.argmax(mu))
     if mu[j] > 1.0:
-        other = "inner" if control == "outer" else "outer"
-        return (f"{control} race control is not possible at inner-ring speed {inner_speed:.6g} rad/s: "
-                f"ball {j} needs a friction force of {f_race[j]:.3g} N at its {control} contact to carry "
+        race = "outer" if st.ctrl[j] == 0 else "inner"
+        other = "inner" if race == "outer" else "outer"
+        hint = "" if control == "jones" else f"; try control='{other}' or 'jones' (Jones's criterion per ball)"
+        return (f"{race} race control is not possible at inner-ring speed {inner_speed:.6g} rad/s: "
+                f"ball {j} needs a friction force of {f_race[j]:.3g} N at its {race} contact to carry "
                 f"the gyroscopic moment {abs(st.mg[j]):.3g} N·m, but that contact's normal load is "
-                f"{q_race[j]:.3g} N (friction coefficient {mu[j]:.3g} > 1); try control='{other}'")
+                f"{q_race[j]:.3g} N (friction coefficient {mu[j]:.3g} > 1){hint}")
     return (f"ring equilibrium not found at inner-ring speed {inner_speed:.6g} rad/s under {control} race "
             f"control (Newton stagnated 3 times; largest friction coefficient needed {mu[j]:.3g}, ball {j})")
 
@@ -666,4 +724,4 @@ def _result(g, st, u, fext, inner_speed, control, rres, ok, iters, diagnostic=""
     return QuasiStaticResult(st.psi.copy(), st.xb.copy(), st.rb.copy(), load, ang, delta, p0, a, b,
                              st.wm.copy(), st.wb.copy(), fc, st.mg.copy(), u.copy(), fext.copy(),
                              float(inner_speed), control, rres, float(np.max(st.ball_res)), bool(ok), iters,
-                             diagnostic)
+                             diagnostic, st.ctrl.copy())

@@ -255,3 +255,49 @@ def test_inner_race_control_that_needs_impossible_friction_is_reported():
     qi = ro.load[:, 1] + ro.load[:, 2]
     ai = np.where(ro.load[:, 1] >= ro.load[:, 2], ro.a[:, 1], ro.a[:, 2])
     assert np.all(ro.load[:, 0] * ro.a[:, 0] > qi * ai)
+
+
+def _jones_prefers_outer(r):
+    """Jones's criterion from the outputs (Harris & Kotzalas Vol. 2 ch. 2, E(k) ratio taken as 1):
+    Q_o·a_o·cos(a_o − a_i) >= Q_i·a_i, and its relative margin."""
+    lhs = r.load[:, 0] * r.a[:, 0] * np.cos(r.contact_angle[:, 0] - r.contact_angle[:, 1])
+    rhs = r.load[:, 1] * r.a[:, 1]
+    return lhs >= rhs, np.abs(lhs - rhs) / np.maximum(lhs, rhs)
+
+
+def test_jones_criterion_picks_the_race_per_ball_and_the_equilibrium_carries_its_friction(b218):
+    # 218 bearing, 1000 rpm, Fa 4450 N with Fr 8000 N: the loads vary round the bearing enough for Jones's choice
+    # to differ between balls. friction_share None puts all the gyroscopic friction on each ball's own race.
+    wi = 1000 * math.pi / 30
+    r = qs.solve_quasi_static(b218, wi, fx=4450.0, fz=-8000.0, fix_tilt=True, control="jones")
+    assert r.converged and r.diagnostic == ""
+    loaded = (r.load[:, 0] > 0) & (r.load[:, 1] > 0)
+    ctrl = r.controlling_race
+    assert np.any(ctrl[loaded] == 0) and np.any(ctrl[loaded] == 1)
+    outer, margin = _jones_prefers_outer(r)
+    clear = loaded & (margin > 1e-6)
+    assert np.array_equal(ctrl[clear] == 0, outer[clear])
+    # each ball's equilibrium with f_o = -2 M_g/Dw (outer control) or f_i = +2 M_g/Dw (inner control), as in
+    # test_high_speed_outer_race_control_kinematics_and_balance: 1e-6 of Q_o (the solver's ball tolerance is 1e-11)
+    mg = r.gyroscopic_moment
+    fo = np.where(ctrl == 0, -2 * mg / DW, 0.0)
+    fi = np.where(ctrl == 1, 2 * mg / DW, 0.0)
+    ao, ai = r.contact_angle[:, 0], r.contact_angle[:, 1]
+    qo, qi, fc = r.load[:, 0], r.load[:, 1], r.centrifugal_force
+    j = loaded
+    assert np.all(np.abs(-qo * np.sin(ao) + fo * np.cos(ao) + qi * np.sin(ai) + fi * np.cos(ai))[j] < 1e-6 * qo[j])
+    assert np.all(np.abs(-qo * np.cos(ao) - fo * np.sin(ao) + qi * np.cos(ai) - fi * np.sin(ai) + fc)[j] < 1e-6 * qo[j])
+    # axial equilibrium of the ring from the outputs, the inner friction included
+    assert np.sum(qi * np.sin(ai) + fi * np.cos(ai)) == pytest.approx(4450.0, rel=1e-7)
+
+
+def test_jones_equals_outer_control_where_the_outer_race_wins_everywhere(b218):
+    # 8000 rpm, pure thrust: centrifugal force loads the outer contacts, every ball is outer-controlled, and the
+    # solution is the outer-race-control one
+    wi = 8000 * math.pi / 30
+    rj = qs.solve_quasi_static(b218, wi, fx=4450.0, fix_tilt=True, control="jones")
+    ro = qs.solve_quasi_static(b218, wi, fx=4450.0, fix_tilt=True, control="outer")
+    assert rj.converged and ro.converged
+    assert np.all(rj.controlling_race == 0) and np.all(_jones_prefers_outer(rj)[0])
+    np.testing.assert_allclose(rj.load, ro.load, rtol=1e-9)
+    np.testing.assert_allclose(rj.orbit_speed, ro.orbit_speed, rtol=1e-12)
