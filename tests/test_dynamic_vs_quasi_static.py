@@ -21,6 +21,9 @@ ones within 1 %.
   pure-rolling orbit of the quasi-static solution because drag makes the balls skid, which the
   quasi-static model does not have). With friction_share = None (all the gyroscopic friction at
   the controlling race) the outer angle differs by 6–7 %: the split matters, not the control.
+  With "jones" on both sides each picks the race per ball by Jones's criterion from its own loads
+  (multibody.dynamics.control_race; quasi_static control="jones"); at this case both pick the outer
+  race for every ball.
 """
 import math
 
@@ -89,7 +92,7 @@ def test_full_model_loads_match_jones_quasi_static():
     assert np.all(np.abs(ad / aq - 1.0) < 5e-2)
 
 
-@pytest.mark.parametrize("control", ["inner", "outer"])
+@pytest.mark.parametrize("control", ["inner", "outer", "jones"])
 def test_race_control_full_model_matches_jones_quasi_static(control):
     from multibody.quasi_static import solve_quasi_static, grooves_from_bearing
     m, w, qd, ad, om = _dynamic_means({"ball_attitude": control}, duration=0.05)

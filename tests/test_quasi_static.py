@@ -301,3 +301,28 @@ def test_jones_equals_outer_control_where_the_outer_race_wins_everywhere(b218):
     assert np.all(rj.controlling_race == 0) and np.all(_jones_prefers_outer(rj)[0])
     np.testing.assert_allclose(rj.load, ro.load, rtol=1e-9)
     np.testing.assert_allclose(rj.orbit_speed, ro.orbit_speed, rtol=1e-12)
+
+
+def test_initial_state_equilibrium_equals_this_solver():
+    # multibody.initial.quasi_static (the dynamics' own start: scipy hybrid Powell on the ring, its own ball Newton,
+    # the dynamics' Hertz tables) and this solver are separate assemblies of the same frictionless equations.
+    # Paper case at rest, 55 kN / 4 kN: they must agree to their solver tolerances (measured 2e-9 on the loads).
+    from multibody.bearing import PAPER_OIL
+    from multibody.model import build_model
+    from multibody.initial import quasi_static as initial_quasi_static
+    g = qs.grooves_from_bearing(PAPER_BEARING)
+    m = build_model(PAPER_BEARING, PAPER_OIL, {})
+    r = qs.solve_quasi_static(g, 0.0, fx=55e3, fz=-4e3)
+    a = initial_quasi_static(m, 0.0, (55e3, 0.0, -4e3))
+    loaded = r.load > 0
+    np.testing.assert_allclose(a["contact_load"], r.load, rtol=0, atol=1e-6 * r.load.max())
+    np.testing.assert_allclose(a["contact_angle"][loaded], r.contact_angle[loaded], atol=1e-7)
+    np.testing.assert_allclose(np.array(a["ring"])[:3], r.ring_displacement[:3], atol=1e-11)
+    # at 14,000 rpm (gyroscopic moment off here, not modelled there): the start uses one orbit speed for all
+    # balls, this solver each ball's race-control orbit (spread 0.6 % here), so the centrifugal forces and the
+    # loads differ by that order; 1 % of the largest load
+    w = 14000 * math.pi / 30
+    r = qs.solve_quasi_static(g, w, fx=55e3, fz=-4e3, gyroscopic=False)
+    assert np.ptp(r.orbit_speed) / r.cage_speed < 0.01
+    a = initial_quasi_static(m, w, (55e3, 0.0, -4e3), omega_orbit=r.cage_speed)
+    np.testing.assert_allclose(a["contact_load"], r.load, rtol=0, atol=1e-2 * r.load.max())
