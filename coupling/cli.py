@@ -19,6 +19,7 @@ COMMAND_MODULES = (
     "fem_cage.cli",        # modes, mesh-study, calibrate-cage
     "fem_cage.reduce_cli",  # reduce
     "coupling.run_cli",    # run, validate
+    "multibody.cli",       # quasi-static
     "coupling.report",     # report
     "coupling.demo",       # demo
 )

@@ -1,9 +1,43 @@
 import subprocess
 import sys
 
+import pytest
+
 
 def test_cli_help_lists_commands_without_loading_fe_stack():
     code = ("import sys; from coupling.cli import build_parser; build_parser(); "
             "print('dolfinx' in sys.modules, 'gmsh' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False"]
+
+
+def test_quasi_static_command_writes_an_equilibrium(tmp_path):
+    # paper steady scene (55 kN / 4 kN, 14,000 rpm), outer race control with all the gyroscopic friction on the
+    # outer race: the inner contacts carry no friction, so the ring's axial balance from the written loads and
+    # angles is Fa = sum Q·sin(alpha) over the inner contacts (signed angles; multibody.quasi_static docstring)
+    import json
+    import math
+    import numpy as np
+    from coupling.cli import main
+    out = tmp_path / "qs.json"
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--json", str(out)]) == 0
+    d = json.loads(out.read_text())
+    assert d["converged"] and d["diagnostic"] == ""
+    assert d["inputs"]["inner_speed"] == pytest.approx(14000 * math.pi / 30, rel=1e-12)
+    q, a = np.array(d["load"]), np.array(d["contact_angle"])
+    assert np.sum(q[:, 1:] * np.sin(a[:, 1:])) == pytest.approx(55e3, rel=1e-7)
+
+
+def test_quasi_static_command_takes_the_load_of_the_instant(tmp_path, capsys):
+    # paper unsteady scene: 4 kN radial plus a 50 kN half-sine radial impact centred in the uniform phase
+    # (t = 0.3 s, the scene's own comment): the solve sees 54 kN there, 4 kN before the impact starts
+    import json
+    import math
+    from coupling.cli import main
+    for t, fr in ((0.3, 54e3), (0.0, 4e3)):
+        out = tmp_path / f"qs{t}.json"
+        assert main(["quasi-static", "scenes/paper_unsteady_rigid.toml", "--time", str(t), "--json", str(out)]) == 0
+        fx, fy, fz = json.loads(out.read_text())["inputs"]["load"]
+        assert math.hypot(fy, fz) == pytest.approx(fr, rel=1e-12) and fx == pytest.approx(55e3)
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--time", "5"]) == 2
+    assert "--time = 5" in capsys.readouterr().err

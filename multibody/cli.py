@@ -1,0 +1,116 @@
+"""`flexbearing quasi-static`: the Jones–Harris equilibrium of a scene's bearing at one instant.
+
+    flexbearing quasi-static SCENE.toml [--time T] [--control outer|inner|jones]
+                                        [--friction-share LO,LI] [--no-gyroscopic] [--balls] [--json FILE]
+
+Reads the scene (validated as for `run`), takes the inner-ring speed and the load on the inner
+ring at time T (s, default 0; impacts active at T included), and solves `multibody.quasi_static`
+for the bearing of the scene (5-DOF ring: tilts free). Prints the per-contact extremes (load,
+Hertz pressure, contact angle) and the cage speed; `--balls` adds one line per ball; `--json`
+writes the whole result in SI. What the quasi-static model leaves out (traction, drag, the cage,
+gravity) is the dynamics' business: use `flexbearing run` for those. Exit status 0 when the
+equilibrium was found, 1 with the solver's diagnostic when not, 2 for invalid input.
+"""
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+from mesh.validation import InputError, require_range
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("quasi-static", help="Jones-Harris quasi-static equilibrium of a scene's bearing",
+                              description=__doc__.splitlines()[0])
+    p.add_argument("scene", help="scene file (TOML), e.g. scenes/paper_steady_rigid.toml")
+    p.add_argument("--time", type=float, default=0.0,
+                   help="instant of the scene's speed and load profiles, s (default 0)")
+    p.add_argument("--control", default="outer", choices=("outer", "inner", "jones"),
+                   help="race that controls the balls: outer, inner, or per ball by Jones's criterion")
+    p.add_argument("--friction-share", default=None, metavar="LO,LI",
+                   help="share of the gyroscopic friction between the races, lambda_o + lambda_i = 2 "
+                        "(default: all on the controlling race; 1,1 = the dynamics' race-control couple)")
+    p.add_argument("--no-gyroscopic", action="store_true", help="leave the gyroscopic moment out")
+    p.add_argument("--balls", action="store_true", help="print one line per ball")
+    p.add_argument("--json", metavar="FILE", help="also write the result (SI units) as JSON")
+    p.set_defaults(func=cmd_quasi_static)
+
+
+def _friction_share(text):
+    if text is None:
+        return None
+    try:
+        lo, li = (float(v) for v in str(text).split(","))
+    except ValueError:
+        raise InputError(f"--friction-share = {text!r}: give two numbers LO,LI with LO + LI = 2, e.g. 1,1") from None
+    return lo, li
+
+
+def solve_scene(scene, time: float = 0.0, control: str = "outer", friction_share=None, gyroscopic: bool = True):
+    """(result, inputs) of multibody.quasi_static for `scene` at `time`: inner-ring speed and
+    load (table plus active impacts) from the scene's profiles (multibody.profiles)."""
+    import numpy as np
+    from multibody.profiles import load_at, speed_at
+    from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
+
+    require_range("--time", time, 0.0, scene.duration, unit="s")
+    omega = float(speed_at(time, scene.speed_table))
+    force = np.zeros(3)
+    load_at(time, scene.load_table, scene.impacts, force)
+    result = solve_quasi_static(grooves_from_bearing(scene.bearing), omega, fx=force[0], fy=force[1], fz=force[2],
+                                control=control, friction_share=friction_share, gyroscopic=gyroscopic)
+    inputs = dict(scene=scene.name, time=time, inner_speed=omega, load=force.tolist(), control=control,
+                  friction_share=friction_share, gyroscopic=gyroscopic)
+    return result, inputs
+
+
+def ball_lines(result) -> list[str]:
+    """One line per ball: azimuth, loads and angles of the three contacts, orbit speed, controlling race."""
+    lines = [" ball  psi deg |  Q outer N  a_o deg | Q in-left N  a_il deg | Q in-right N  a_ir deg | orbit rpm  race"]
+    for j in range(len(result.psi)):
+        q, a = result.load[j], [math.degrees(v) for v in result.contact_angle[j]]
+        race = "outer" if result.controlling_race is None or result.controlling_race[j] == 0 else "inner"
+        lines.append(f"{j:5d} {math.degrees(result.psi[j]):8.1f} | {q[0]:10.1f} {a[0]:8.2f} | {q[1]:11.1f} {a[1]:9.2f} | "
+                     f"{q[2]:12.1f} {a[2]:9.2f} | {result.orbit_speed[j] * 30 / math.pi:9.1f}  {race}")
+    return lines
+
+
+def _json_ready(value):
+    import numpy as np
+    if isinstance(value, dict):
+        return {k: _json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_ready(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _json_ready(value.tolist())
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None                     # e.g. the approach of a groove the bearing does not have
+    return value
+
+
+def cmd_quasi_static(args) -> int:
+    from coupling.scene import load_scene
+
+    scene = load_scene(args.scene)                      # refuses bad scenes before any work
+    result, inputs = solve_scene(scene, args.time, args.control, _friction_share(args.friction_share),
+                                 not args.no_gyroscopic)
+    fx, fy, fz = inputs["load"]
+    print(f"{scene.name} at t = {args.time:g} s: inner ring {inputs['inner_speed'] * 30 / math.pi:.1f} rpm, "
+          f"Fa = {fx:.1f} N, Fr = {math.hypot(fy, fz):.1f} N; {args.control} race control")
+    print(result.summary())
+    if args.balls:
+        print("\n".join(ball_lines(result)))
+    if args.json:
+        out = Path(args.json)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        data = dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **result.to_dict())
+        out.write_text(json.dumps(_json_ready(data), indent=1, allow_nan=False))
+        print(f"json: {out}")
+    if not result.converged:
+        print(f"flexbearing quasi-static: no equilibrium: {result.diagnostic}", file=sys.stderr)
+        return 1
+    return 0
