@@ -1,13 +1,16 @@
 """`flexbearing quasi-static`: the Jones–Harris equilibrium of a scene's bearing at one instant.
 
     flexbearing quasi-static SCENE.toml [--time T] [--control outer|inner|jones]
-                                        [--friction-share LO,LI] [--no-gyroscopic] [--balls] [--json FILE]
+                                        [--friction-share LO,LI] [--no-gyroscopic] [--balls]
+                                        [--stiffness updated|frozen] [--json FILE]
 
 Reads the scene (validated as for `run`), takes the inner-ring speed and the load on the inner
 ring at time T (s, default 0; impacts active at T included), and solves `multibody.quasi_static`
 for the bearing of the scene (5-DOF ring: tilts free). Prints the per-contact extremes (load,
-Hertz pressure, contact angle) and the cage speed; `--balls` adds one line per ball; `--json`
-writes the whole result in SI. What the quasi-static model leaves out (traction, drag, the cage,
+Hertz pressure, contact angle) and the cage speed; `--balls` adds one line per ball;
+`--stiffness` the 5×5 bearing stiffness matrix at that point (`multibody.quasi_static.
+bearing_stiffness`: "updated" = tangent of the quasi-static curve, "frozen" = ball kinematics held);
+`--json` writes the whole result in SI. What the quasi-static model leaves out (traction, drag, the cage,
 gravity) is the dynamics' business: use `flexbearing run` for those. Exit status 0 when the
 equilibrium was found, 1 with the solver's diagnostic when not, 2 for invalid input.
 """
@@ -34,6 +37,8 @@ def register(subparsers) -> None:
                         "(default: all on the controlling race; 1,1 = the dynamics' race-control couple)")
     p.add_argument("--no-gyroscopic", action="store_true", help="leave the gyroscopic moment out")
     p.add_argument("--balls", action="store_true", help="print one line per ball")
+    p.add_argument("--stiffness", choices=("updated", "frozen"), default=None,
+                   help="also compute the 5x5 stiffness matrix (x, y, z, theta_y, theta_z), SI")
     p.add_argument("--json", metavar="FILE", help="also write the result (SI units) as JSON")
     p.set_defaults(func=cmd_quasi_static)
 
@@ -104,10 +109,20 @@ def cmd_quasi_static(args) -> int:
     print(result.summary())
     if args.balls:
         print("\n".join(ball_lines(result)))
+    stiffness = None
+    if args.stiffness and result.converged:
+        from multibody.quasi_static import bearing_stiffness, grooves_from_bearing
+        stiffness = bearing_stiffness(grooves_from_bearing(scene.bearing), result, kinematics=args.stiffness)
+        print(f"stiffness ({args.stiffness} kinematics), rows/columns x, y, z [m], theta_y, theta_z [rad]; "
+              f"N/m, N/rad, N·m/m, N·m/rad:")
+        for row in stiffness:
+            print("  " + " ".join(f"{v:11.4e}" for v in row))
     if args.json:
         out = Path(args.json)
         out.parent.mkdir(parents=True, exist_ok=True)
         data = dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **result.to_dict())
+        if stiffness is not None:
+            data.update(stiffness=stiffness, stiffness_kinematics=args.stiffness)
         out.write_text(json.dumps(_json_ready(data), indent=1, allow_nan=False))
         print(f"json: {out}")
     if not result.converged:

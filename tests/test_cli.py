@@ -20,9 +20,11 @@ def test_quasi_static_command_writes_an_equilibrium(tmp_path):
     import numpy as np
     from coupling.cli import main
     out = tmp_path / "qs.json"
-    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--json", str(out)]) == 0
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--stiffness", "updated", "--json", str(out)]) == 0
     d = json.loads(out.read_text())
     assert d["converged"] and d["diagnostic"] == ""
+    k = np.array(d["stiffness"])
+    assert k.shape == (5, 5) and np.all(np.diag(k) > 0) and d["stiffness_kinematics"] == "updated"
     assert d["inputs"]["inner_speed"] == pytest.approx(14000 * math.pi / 30, rel=1e-12)
     q, a = np.array(d["load"]), np.array(d["contact_angle"])
     assert np.sum(q[:, 1:] * np.sin(a[:, 1:])) == pytest.approx(55e3, rel=1e-7)
