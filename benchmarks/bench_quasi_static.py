@@ -2,7 +2,10 @@
 
 14,000 rpm, Fa = 55 kN (+X), Fr = 4 kN (−Z), paper bearing (Pd = 0, assumed alphaD = 30°), free tilts.
 For each ring tolerance: wall time and the error of the maximum outer/inner contact loads and
-contact angles against a tol = 1e-12 solution. Also prints the paper-case table (MPa, degrees).
+contact angles against a tol = 1e-12 solution. Then the bearing stiffness (multibody.quasi_static.
+bearing_stiffness, kinematics updated) against its difference step: wall time and the error of
+the diagonal against a Richardson extrapolation of steps 1e-7/5e-8 m (1e-6/5e-7 rad). Also prints
+the paper-case table (MPa, degrees).
 
     .venv/bin/python benchmarks/bench_quasi_static.py [--quiet]
 """
@@ -32,6 +35,17 @@ def main():
         eq = np.max(np.abs(r.load - ref.load)) / ref.load.max()
         ea = np.max(np.abs(r.contact_angle - ref.contact_angle))
         print(f"{tol:7.0e}  {dt:7.3f}  {eq:12.2e}  {ea:12.2e}")
+    ref_r, _ = run(1e-12, control="jones")
+    g = qs.grooves_from_bearing(PAPER_BEARING)
+    k1 = qs.bearing_stiffness(g, ref_r, step=(1e-7, 1e-6))
+    k2 = qs.bearing_stiffness(g, ref_r, step=(5e-8, 5e-7))
+    k_ref = np.diag((4.0 * k2 - k1) / 3.0)
+    print("\nstiffness step_m   step_rad  time_s   max_rel_err_diag")
+    for hs in (1e-6, 1e-7, 1e-8, 1e-9, 1e-10):
+        t = time.perf_counter()
+        k = qs.bearing_stiffness(g, ref_r, step=(hs, 10 * hs))
+        dt = time.perf_counter() - t
+        print(f"          {hs:7.0e}  {10 * hs:7.0e}  {dt:6.3f}  {np.max(np.abs(np.diag(k) / k_ref - 1)):12.2e}")
     if "--quiet" not in sys.argv:
         for label, kw in (("outer-race control", {}), ("inner-race control", {"control": "inner"}),
                           ("no gyroscopic moment", {"gyroscopic": False}),
