@@ -323,7 +323,7 @@ class QuasiStaticResult:
     centrifugal_force (Z,)  F_c, N;  gyroscopic_moment (Z,) M_g about e_t, N·m
     ring_displacement (5,)  inner ring (x, y, z, theta_y, theta_z), m and rad
     applied_load (5,)       (Fx, Fy, Fz, My, Mz) on the inner ring, N and N·m
-    inner_speed             rad/s; control "outer" / "inner"
+    inner_speed             rad/s; control "outer" / "inner" / "jones"
     residual_ring           max |ring residual| / load scale; residual_ball: max ball residual, N
     converged, iterations
     controlling_race (Z,)   race that controls each ball: 0 outer, 1 inner (all equal unless control="jones")
@@ -747,20 +747,19 @@ def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: s
     "frozen" holds the kinematics at the operating point: the stiffness for vibrations faster than
     the balls' orbit can follow. At speed the two differ because the centrifugal force changes with
     the orbit speed, which moves with the contact angles: measured 7–34 % on the translational
-    diagonal of the 218 bearing at 10,000 rpm, Fa 4450 N, Fr 0–2000 N. Central differences with steps step[0] (m) for x, y, z and
-    step[1] (rad) for the tilts; truncation error of order step².
+    diagonal of the 218 bearing at 10,000 rpm, Fa 4450 N, Fr 0–2000 N. Central differences with
+    steps step[0] (m) for x, y, z and step[1] (rad) for the tilts; truncation error of order step²
+    (benchmarks/bench_quasi_static.py: 4e-6 on the diagonal at the default steps, 28 ms).
 
     Checks (tests/test_quasi_static.py): the axial and radial terms against the two-force-member
     formulas of a preloaded bearing, K_xx also against the derivative of Jones's thrust equation,
     symmetry at rest (the contact forces derive from a potential there)."""
+    if kinematics not in ("frozen", "updated"):
+        raise InputError(f"kinematics = {kinematics!r} must be 'frozen' or 'updated'")
     g = grooves
     z = g.n_balls
     st = _State(g, np.array(result.psi, float))
     xb0, rb0 = np.array(result.ball_x, float), np.array(result.ball_r, float)
-    st.wm[:] = result.orbit_speed
-    st.wb[:] = result.ball_omega
-    st.mg[:] = result.gyroscopic_moment
-    st.m_w2[:] = g.ball_mass * st.wm ** 2 if np.any(result.centrifugal_force != 0.0) else 0.0
     if result.controlling_race is not None:
         st.ctrl[:] = result.controlling_race
     else:
@@ -769,8 +768,6 @@ def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: s
     _set_friction_shares(lam, st.ctrl, result.friction_share)
     arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
            np.array(g.active, np.bool_))
-    if kinematics not in ("frozen", "updated"):
-        raise InputError(f"kinematics = {kinematics!r} must be 'frozen' or 'updated'")
     fscale = max(abs(result.applied_load[0]), math.hypot(result.applied_load[1], result.applied_load[2]), 1.0)
     zero = np.zeros(5)
     centrifugal = bool(np.any(result.centrifugal_force != 0.0))
