@@ -50,6 +50,10 @@ def register(subparsers) -> None:
     s.add_argument("--t-max", type=float, default=None,
                    help="longest simulated time per case, s (default: coupling.validate's, 15 s: the "
                         "light-load high-speed cases need 4-15 s to settle)")
+    s.add_argument("--start", default=None, choices=("quasi_static", "steady"),
+                   help="initial state of each case: pure rolling at the quasi-static equilibrium (default) or the "
+                        "steady thrust state (multibody.steady), which spares the light-load high-speed cases "
+                        "their seconds of settling")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
@@ -136,6 +140,8 @@ def cmd_validate_slip_rate(args) -> int:
             import coupling.validate as val
             cases = parse_cases(args.cases, len(val.slip_rate_cases()))
             kw = {} if getattr(args, "t_max", None) is None else {"t_max": args.t_max}
+            if getattr(args, "start", None) is not None:
+                kw["start"] = args.start
             raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, **kw)
             rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
                      "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],

@@ -78,7 +78,7 @@ from dataclasses import replace
 import numpy as np
 
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.model import build_model
+from multibody.model import build_model, P_GRAV
 from multibody import traction as TR
 from multibody.initial import initial_state
 from multibody import dynamics as D
@@ -250,10 +250,29 @@ def steady_case_start(model, case: dict):
 def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dict | None = None,
                   tol: float = 1e-5, window: float = 0.05, t_min: float = 1.0, t_max: float = 2.0,
                   settle_rel: float = 2e-4, sample_dt: float = 1e-3, progress=None,
-                  traction_law: str | None = None, traction_scale: float = 1.0) -> dict:
-    """Run one steady case to a settled cage speed (module docstring); returns its result row."""
+                  traction_law: str | None = None, traction_scale: float = 1.0, start: str = "quasi_static") -> dict:
+    """Run one steady case to a settled cage speed (module docstring); returns its result row.
+
+    start: "quasi_static" (pure rolling at the quasi-static equilibrium, `steady_case_start`) or
+    "steady": the steady running state of the same bearing under the axial load alone without
+    gravity (multibody.steady: the fixed point of the dynamics, skid included), then the radial
+    load and gravity act from t = 0. Where that fixed point does not exist (the traction fit's dead
+    zone) the quasi-static start is used; the row's "start" says which one ran."""
+    if start not in ("quasi_static", "steady"):
+        from mesh.validation import InputError
+        raise InputError(f"start = {start!r} is not known; allowed: 'quasi_static', 'steady'")
     model = build_validation_model(bearing, oil, options, traction_law, traction_scale)
     omega, y, sp, ld, imp = steady_case_start(model, case)
+    started = "quasi_static"
+    if start == "steady":
+        from multibody.steady import steady_thrust_state
+        p0 = model.p.copy()
+        p0[P_GRAV] = 0.0
+        y_s, info = steady_thrust_state(model._replace(p=p0), omega, case["axial_load"])
+        if info["converged"]:
+            y, started = y_s, "steady"
+        else:
+            started = "quasi_static (no steady thrust state)"
     ws = I.Workspace(model)
     t, h = 0.0, 1e-6
     n_steps = n_rej = 0
@@ -323,7 +342,7 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
                wall_s=time.perf_counter() - wall0, oil_temperature_c=oil.temperature_c,
                radial_clearance=bearing.radial_clearance,
                traction_law=VALIDATION_TRACTION_LAW if traction_law is None else traction_law,
-               traction_scale=traction_scale, window_means=means)
+               traction_scale=traction_scale, window_means=means, start=started)
     return row
 
 
@@ -455,6 +474,9 @@ def main(argv=None) -> None:
                          "here: it destabilises race control at the test's light loads, multibody.dynamics docstring)")
     ap.add_argument("--traction-scale", type=float, default=1.0,
                     help="diagnostic only: multiply the traction curve (1 = the law itself)")
+    ap.add_argument("--start", default="quasi_static", choices=["quasi_static", "steady"],
+                    help="initial state: pure rolling at the quasi-static equilibrium, or the steady thrust state "
+                         "(multibody.steady; skips the long settling of the light-load high-speed cases)")
     ap.add_argument("--json", default=None)
     ap.add_argument("--out-dir", default=None, help="write slip_rate.md/.json there")
     ap.add_argument("--quiet", action="store_true")
@@ -470,7 +492,7 @@ def main(argv=None) -> None:
     rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
                                     options=options,
                                     quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale, t_min=a.t_min,
-                                    oil_air_scaling=a.oil_air_scaling)
+                                    oil_air_scaling=a.oil_air_scaling, start=a.start)
     print(format_table(rows))
     if a.json:
         with open(a.json, "w") as f:
