@@ -1,6 +1,6 @@
 """`flexbearing quasi-static`: the Jones–Harris equilibrium of a scene's bearing at one instant.
 
-    flexbearing quasi-static SCENE.toml [--time T] [--control outer|inner|jones]
+    flexbearing quasi-static SCENE.toml [--time T] [--control outer|inner|jones|friction]
                                         [--friction-share LO,LI] [--no-gyroscopic] [--balls]
                                         [--stiffness updated|frozen] [--json FILE]
 
@@ -10,7 +10,11 @@ for the bearing of the scene (5-DOF ring: tilts free). Prints the per-contact ex
 Hertz pressure, contact angle) and the cage speed; `--balls` adds one line per ball;
 `--stiffness` the 5×5 bearing stiffness matrix at that point (`multibody.quasi_static.
 bearing_stiffness`: "updated" = tangent of the quasi-static curve, "frozen" = ball kinematics held);
-`--json` writes the whole result in SI. What the quasi-static model leaves out (traction, drag, the cage,
+`--json` writes the whole result in SI. `--control friction` replaces the race-control hypothesis
+by the ball spin that the traction sets: the steady running state of `multibody.steady` (the
+fixed point of the dynamics with the scene's oil, drag, pocket and land models, rigid cage), which
+exists for a pure axial load without gravity; it reports the cage speed, slip and ball spin
+beside the contact table. What the quasi-static model leaves out (traction, drag, the cage,
 gravity) is the dynamics' business: use `flexbearing run` for those. Exit status 0 when the
 equilibrium was found, 1 with the solver's diagnostic when not, 2 for invalid input.
 """
@@ -30,8 +34,9 @@ def register(subparsers) -> None:
     p.add_argument("scene", help="scene file (TOML), e.g. scenes/paper_steady_rigid.toml")
     p.add_argument("--time", type=float, default=0.0,
                    help="instant of the scene's speed and load profiles, s (default 0)")
-    p.add_argument("--control", default="outer", choices=("outer", "inner", "jones"),
-                   help="race that controls the balls: outer, inner, or per ball by Jones's criterion")
+    p.add_argument("--control", default="outer", choices=("outer", "inner", "jones", "friction"),
+                   help="race that controls the balls: outer, inner, or per ball by Jones's criterion; or "
+                        "friction: ball spin from the traction (steady thrust state, pure axial load only)")
     p.add_argument("--friction-share", default=None, metavar="LO,LI",
                    help="share of the gyroscopic friction between the races, lambda_o + lambda_i = 2 "
                         "(default: all on the controlling race; 1,1 = the dynamics' race-control couple)")
@@ -97,10 +102,37 @@ def _json_ready(value):
     return value
 
 
+def steady_scene(scene, time: float = 0.0):
+    """(y, info, outputs, inputs): multibody.steady's steady thrust state of `scene` at `time`
+    (rigid cage, the scene's model options); the load at `time` must be purely axial."""
+    import numpy as np
+    from multibody import dynamics as D
+    from multibody.model import build_model
+    from multibody.profiles import load_at, speed_at
+    from multibody.steady import steady_thrust_state
+
+    require_range("--time", time, 0.0, scene.duration, unit="s")
+    omega = float(speed_at(time, scene.speed_table))
+    force = np.zeros(3)
+    load_at(time, scene.load_table, scene.impacts, force)
+    fr = math.hypot(force[1], force[2])
+    if fr != 0.0:
+        raise InputError(f"--control friction: the steady thrust state needs a pure axial load; the scene has a "
+                         f"radial load of {fr:.6g} N at t = {time:g} s (allowed: 0)")
+    model = build_model(scene.bearing, scene.oil, scene.model_options)
+    y, info = steady_thrust_state(model, omega, float(force[0]))
+    out = D.evaluate_outputs(model, 0.0, y, np.array([[0.0, omega]]), np.array([[0.0, force[0], 0.0, 0.0]]),
+                             np.zeros((0, 6)))
+    inputs = dict(scene=scene.name, time=time, inner_speed=omega, load=force.tolist(), control="friction")
+    return y, info, out, inputs
+
+
 def cmd_quasi_static(args) -> int:
     from coupling.scene import load_scene
 
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
+    if args.control == "friction":
+        return _cmd_friction(scene, args)
     result, inputs = solve_scene(scene, args.time, args.control, _friction_share(args.friction_share),
                                  not args.no_gyroscopic)
     fx, fy, fz = inputs["load"]
@@ -127,5 +159,31 @@ def cmd_quasi_static(args) -> int:
         print(f"json: {out}")
     if not result.converged:
         print(f"flexbearing quasi-static: no equilibrium: {result.diagnostic}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _cmd_friction(scene, args) -> int:
+    """--control friction: print and write the steady thrust state (module docstring)."""
+    import numpy as np
+    y, info, out, inputs = steady_scene(scene, args.time)
+    print(f"{scene.name} at t = {args.time:g} s: inner ring {inputs['inner_speed'] * 30 / math.pi:.1f} rpm, "
+          f"Fa = {inputs['load'][0]:.1f} N; ball spin from the traction (steady thrust state)")
+    print(f"cage speed {info['cage_speed'] * 30 / math.pi:.2f} rpm, slip {100 * info['slip_rate']:.3f} %, "
+          f"ball angular velocity (x, r, t) = ({info['ball_w_x']:.1f}, {info['ball_w_r']:.1f}, "
+          f"{info['ball_w_t']:.1f}) rad/s; converged={info['converged']} (residual {info['residual']:.2e})")
+    q, ang, p0 = out["contact_load"], out["contact_angle"], out["contact_stress"]
+    for k, name in enumerate(("outer", "inner_left", "inner_right")):
+        print(f"{name:12s}: Q {q[0, k]:9.1f} N  p0 {p0[0, k] / 1e6:7.1f} MPa  alpha {math.degrees(ang[0, k]):6.2f} deg")
+    if args.json:
+        out_path = Path(args.json)
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+        data = dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **info,
+                    contact_load=q[0], contact_angle=ang[0], contact_stress=p0[0], state=y)
+        out_path.write_text(json.dumps(_json_ready(data), indent=1, allow_nan=False))
+        print(f"json: {out_path}")
+    if not info["converged"]:
+        print("flexbearing quasi-static: no steady thrust state (the traction cannot balance the drag at any "
+              "skid, or is flat there: multibody.steady docstring); run the dynamics instead", file=sys.stderr)
         return 1
     return 0

@@ -43,3 +43,24 @@ def test_quasi_static_command_takes_the_load_of_the_instant(tmp_path, capsys):
         assert math.hypot(fy, fz) == pytest.approx(fr, rel=1e-12) and fx == pytest.approx(55e3)
     assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--time", "5"]) == 2
     assert "--time = 5" in capsys.readouterr().err
+
+
+def test_quasi_static_friction_control_is_the_steady_thrust_state(tmp_path, capsys):
+    # --control friction runs multibody.steady on the scene (rigid cage, the scene's oil): the paper's steady scene
+    # with its radial load removed gives the state of tests/test_steady.py; with the radial load it is refused
+    import json
+    import math
+    from coupling.cli import main
+    from multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from multibody.model import build_model
+    from multibody.steady import steady_thrust_state
+    text = open("scenes/paper_steady_rigid.toml").read().replace("radial_load = 4e3", "radial_load = 0.0")
+    scene = tmp_path / "thrust.toml"
+    scene.write_text(text)
+    out = tmp_path / "fr.json"
+    assert main(["quasi-static", str(scene), "--control", "friction", "--json", str(out)]) == 0
+    d = json.loads(out.read_text())
+    _, info = steady_thrust_state(build_model(PAPER_BEARING, PAPER_OIL, {}), 14000 * math.pi / 30, 55e3)
+    assert d["converged"] and d["slip_rate"] == pytest.approx(info["slip_rate"], rel=1e-9, abs=1e-12)
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--control", "friction"]) == 2
+    assert "radial load of 4000 N" in capsys.readouterr().err
