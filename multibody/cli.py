@@ -58,17 +58,23 @@ def _friction_share(text):
     return lo, li
 
 
-def solve_scene(scene, time: float = 0.0, control: str = "outer", friction_share=None, gyroscopic: bool = True):
-    """(result, inputs) of multibody.quasi_static for `scene` at `time`: inner-ring speed and
-    load (table plus active impacts) from the scene's profiles (multibody.profiles)."""
+def scene_instant(scene, time: float):
+    """(omega rad/s, force (Fx, Fy, Fz) N) of `scene` at `time`: the speed and the load (table
+    plus the impacts active then) from the scene's profiles (multibody.profiles)."""
     import numpy as np
     from multibody.profiles import load_at, speed_at
-    from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
 
     require_range("--time", time, 0.0, scene.duration, unit="s")
-    omega = float(speed_at(time, scene.speed_table))
     force = np.zeros(3)
     load_at(time, scene.load_table, scene.impacts, force)
+    return float(speed_at(time, scene.speed_table)), force
+
+
+def solve_scene(scene, time: float = 0.0, control: str = "outer", friction_share=None, gyroscopic: bool = True):
+    """(result, inputs) of multibody.quasi_static for `scene` at `time` (`scene_instant`)."""
+    from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
+
+    omega, force = scene_instant(scene, time)
     result = solve_quasi_static(grooves_from_bearing(scene.bearing), omega, fx=force[0], fy=force[1], fz=force[2],
                                 control=control, friction_share=friction_share, gyroscopic=gyroscopic)
     inputs = dict(scene=scene.name, time=time, inner_speed=omega, load=force.tolist(), control=control,
@@ -108,13 +114,9 @@ def steady_scene(scene, time: float = 0.0):
     import numpy as np
     from multibody import dynamics as D
     from multibody.model import build_model
-    from multibody.profiles import load_at, speed_at
     from multibody.steady import steady_thrust_state
 
-    require_range("--time", time, 0.0, scene.duration, unit="s")
-    omega = float(speed_at(time, scene.speed_table))
-    force = np.zeros(3)
-    load_at(time, scene.load_table, scene.impacts, force)
+    omega, force = scene_instant(scene, time)
     fr = math.hypot(force[1], force[2])
     if fr != 0.0:
         raise InputError(f"--control friction: the steady thrust state needs a pure axial load; the scene has a "
@@ -165,7 +167,6 @@ def cmd_quasi_static(args) -> int:
 
 def _cmd_friction(scene, args) -> int:
     """--control friction: print and write the steady thrust state (module docstring)."""
-    import numpy as np
     y, info, out, inputs = steady_scene(scene, args.time)
     print(f"{scene.name} at t = {args.time:g} s: inner ring {inputs['inner_speed'] * 30 / math.pi:.1f} rpm, "
           f"Fa = {inputs['load'][0]:.1f} N; ball spin from the traction (steady thrust state)")
