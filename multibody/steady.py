@@ -27,7 +27,12 @@ Limits: a fixed point exists only where the traction can balance the drag at som
 traction law is flat over the slips involved (the 4106 fit's dead zone at light loads,
 multibody.traction "Origin law") the equations are singular and no root is found — `converged`
 is False and the dynamics must be integrated instead. Measured on the slip-rate cases (validation
-oil state, Fr and gravity left out): roots in 20–30 ms at 8000–12,000 rpm, none at 4000–6000 rpm.
+oil state, Fr and gravity left out; benchmarks/bench_steady.py): roots for cases 4, 5, 6, 10, 11,
+14, 15, none for 1–3, 7–9, 12, 13; 0.3–0.5 s each, most of it the quasi-static start (the root
+search itself 20–40 ms). The fixed point has a centred cage. Whether the dynamics stay there is a
+separate question: with the weight on (the slip validation) they settle within 0.3 points of it
+(cases 5, 6); without it, at light load, the outer-ring-guided cage whirls out to its rim
+(tests/test_cage_whirl.py) and the skid changes (case 4, 15 s: cage 198 against 267 rad/s).
 """
 from __future__ import annotations
 
