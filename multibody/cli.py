@@ -108,11 +108,17 @@ def _json_ready(value):
     return value
 
 
+def write_json(path, data) -> None:
+    """`data` as strict JSON (SI; non-finite values as null, `_json_ready`), folders created."""
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(_json_ready(data), indent=1, allow_nan=False))
+    print(f"json: {out}")
+
+
 def steady_scene(scene, time: float = 0.0):
     """(y, info, outputs, inputs): multibody.steady's steady thrust state of `scene` at `time`
     (rigid cage, the scene's model options); the load at `time` must be purely axial."""
-    import numpy as np
-    from multibody import dynamics as D
     from multibody.model import build_model
     from multibody.steady import steady_thrust_state
 
@@ -123,8 +129,7 @@ def steady_scene(scene, time: float = 0.0):
                          f"radial load of {fr:.6g} N at t = {time:g} s (allowed: 0)")
     model = build_model(scene.bearing, scene.oil, scene.model_options)
     y, info = steady_thrust_state(model, omega, float(force[0]))
-    out = D.evaluate_outputs(model, 0.0, y, np.array([[0.0, omega]]), np.array([[0.0, force[0], 0.0, 0.0]]),
-                             np.zeros((0, 6)))
+    out = info.pop("outputs")
     inputs = dict(scene=scene.name, time=time, inner_speed=omega, load=force.tolist(), control="friction")
     return y, info, out, inputs
 
@@ -152,13 +157,10 @@ def cmd_quasi_static(args) -> int:
         for row in stiffness:
             print("  " + " ".join(f"{v:11.4e}" for v in row))
     if args.json:
-        out = Path(args.json)
-        out.parent.mkdir(parents=True, exist_ok=True)
         data = dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **result.to_dict())
         if stiffness is not None:
             data.update(stiffness=stiffness, stiffness_kinematics=args.stiffness)
-        out.write_text(json.dumps(_json_ready(data), indent=1, allow_nan=False))
-        print(f"json: {out}")
+        write_json(args.json, data)
     if not result.converged:
         print(f"flexbearing quasi-static: no equilibrium: {result.diagnostic}", file=sys.stderr)
         return 1
@@ -177,12 +179,8 @@ def _cmd_friction(scene, args) -> int:
     for k, name in enumerate(("outer", "inner_left", "inner_right")):
         print(f"{name:12s}: Q {q[0, k]:9.1f} N  p0 {p0[0, k] / 1e6:7.1f} MPa  alpha {math.degrees(ang[0, k]):6.2f} deg")
     if args.json:
-        out_path = Path(args.json)
-        out_path.parent.mkdir(parents=True, exist_ok=True)
-        data = dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **info,
-                    contact_load=q[0], contact_angle=ang[0], contact_stress=p0[0], state=y)
-        out_path.write_text(json.dumps(_json_ready(data), indent=1, allow_nan=False))
-        print(f"json: {out_path}")
+        write_json(args.json, dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **info,
+                                   contact_load=q[0], contact_angle=ang[0], contact_stress=p0[0], state=y))
     if not info["converged"]:
         print("flexbearing quasi-static: no steady thrust state (the traction cannot balance the drag at any "
               "skid, or is flat there: multibody.steady docstring); run the dynamics instead", file=sys.stderr)

@@ -620,7 +620,6 @@ def _jones_controlling_race(g, st) -> np.ndarray:
     "jones" (multibody.dynamics.control_race, E(k) ratio taken as 1); a from Hertz at the current
     loads (multibody.hertz.hertz_point_contact). Returns 0 (outer) / 1 (inner) per ball."""
     from multibody.dynamics import control_race
-    dw, dm = g.ball_diameter, g.pitch_diameter
     out = st.ctrl.copy()
     for j in range(len(st.psi)):
         ki = 1 if st.q[j, 1] >= st.q[j, 2] else 2
@@ -628,8 +627,7 @@ def _jones_controlling_race(g, st) -> np.ndarray:
         for n, k in enumerate((0, ki)):
             q = st.q[j, k]
             if q > 0.0:
-                rx, ry = race_curvature_radii(dw, dm, g.groove_f[k], math.acos(min(1.0, abs(st.nrm[j, k, 2]))), k > 0)
-                a[n] = hertz_point_contact(rx, ry, g.effective_modulus, q)[0]
+                a[n] = _hertz_ellipse(g, k, st.nrm[j, k, 2], q)[0]
         c = control_race(3, st.q[j, 0], a[0], st.nrm[j, 0, 0], st.nrm[j, 0, 1],
                          st.q[j, ki], a[1], st.nrm[j, ki, 0], st.nrm[j, ki, 1])
         if c >= 0:
@@ -702,6 +700,14 @@ def _initial_guess(g, st, arr, lam, fext, fscale, free):
     return u
 
 
+def _hertz_ellipse(g, k, cos_alpha, q):
+    """(a, b, p0, delta) of contact k (0 outer, 1/2 inner) at |cos(contact angle)| cos_alpha and load q
+    (multibody.hertz.hertz_point_contact with the groove's curvature radii)."""
+    rx, ry = race_curvature_radii(g.ball_diameter, g.pitch_diameter, g.groove_f[k],
+                                  math.acos(min(1.0, abs(cos_alpha))), k > 0)
+    return hertz_point_contact(rx, ry, g.effective_modulus, q)
+
+
 def _result(g, st, u, fext, inner_speed, control, rres, ok, iters, diagnostic="",
             friction_share=None) -> QuasiStaticResult:
     z = len(st.psi)
@@ -720,9 +726,7 @@ def _result(g, st, u, fext, inner_speed, control, rres, ok, iters, diagnostic=""
             delta[j, k] = dl
             if load[j, k] > 0:
                 ang[j, k] = math.atan2(sa, ca)
-                rx, ry = race_curvature_radii(g.ball_diameter, g.pitch_diameter, g.groove_f[k],
-                                              math.acos(min(1.0, ca)), k > 0)
-                a[j, k], b[j, k], p0[j, k], _ = hertz_point_contact(rx, ry, g.effective_modulus, load[j, k])
+                a[j, k], b[j, k], p0[j, k], _ = _hertz_ellipse(g, k, ca, load[j, k])
     fc = g.ball_mass * st.wm ** 2 * st.rb
     return QuasiStaticResult(st.psi.copy(), st.xb.copy(), st.rb.copy(), load, ang, delta, p0, a, b,
                              st.wm.copy(), st.wb.copy(), fc, st.mg.copy(), u.copy(), fext.copy(),

@@ -55,8 +55,9 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
     axial load axial_load (N, along +X), as a full state vector of `model` (multibody.model layout,
     ball j at azimuth 2·pi·j/Z + pocket_offset, cage angle 0). info: converged, residual (max scaled
     residual, N per ball), cage_speed (rad/s), slip_rate ((nm − nc)/nm, nm at the mean loaded
-    contact angle, the paper's definition), the unknowns by name, nfev. tol: residual tolerance
-    relative to the axial load per ball."""
+    contact angle, the paper's definition), the unknowns by name, nfev, and outputs (the
+    multibody.dynamics.evaluate_outputs dict of y). tol: residual tolerance relative to the axial
+    load per ball."""
     require_range("steady.speed_rad_s", speed_rad_s, 0.0, 1e5, lo_open=True, unit="rad/s")
     require_range("steady.axial_load", abs(axial_load), 0.0, 1e7, lo_open=True, unit="N")
     p = model.p
@@ -111,9 +112,10 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
         sol = root(residual, sol.x, method="lm", options=dict(xtol=1e-14, ftol=1e-14))
         nfev += sol.nfev
     y = state(sol.x)
-    res = float(np.max(np.abs(residual(sol.x))))
+    res = float(np.max(np.abs(sol.fun)))
     out = D.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
     info = dict(converged=bool(res <= tol), residual=res, cage_speed=float(y[c0 + 9]),
                 slip_rate=float(out["slip_rate"]), nfev=int(nfev))
     info.update(zip(UNKNOWNS, (u0 + sol.x * scale_u).tolist()))
+    info["outputs"] = out
     return y, info
