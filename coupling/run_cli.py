@@ -1,7 +1,7 @@
 """`flexbearing run` and `flexbearing validate`.
 
     flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--quiet]
-    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--quiet]
+    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--quiet]
 
 `run` validates the scene before anything else, streams the results to RUN.h5 (default
 out/<scene name>.h5) and writes RUN.summary.json beside it. Ctrl-C keeps what was computed and a
@@ -11,6 +11,7 @@ paper's Tables 4/5 (coupling.validate) and prints our slip rate beside the test'
 from __future__ import annotations
 
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -54,6 +55,9 @@ def register(subparsers) -> None:
                    help="initial state of each case: pure rolling at the quasi-static equilibrium (default) or the "
                         "steady thrust state (multibody.steady), which spares the light-load high-speed cases "
                         "their seconds of settling")
+    s.add_argument("--workers", type=int, default=None,
+                   help="cases run at once in separate processes (default: the number of CPUs; "
+                        "coupling.validate's procedure only)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
@@ -142,6 +146,8 @@ def cmd_validate_slip_rate(args) -> int:
             kw = {} if getattr(args, "t_max", None) is None else {"t_max": args.t_max}
             if getattr(args, "start", None) is not None:
                 kw["start"] = args.start
+            workers = getattr(args, "workers", None)
+            kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
             raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, **kw)
             rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
                      "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],

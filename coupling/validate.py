@@ -72,6 +72,7 @@ seconds (cage inertia against a small net torque): values at t_max are not stead
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import replace
 
@@ -363,12 +364,17 @@ def summarise(rows: list[dict]) -> dict:
 def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: float | None = None,
                              oil_air_fraction: float | None = None, bearing=None, oil=PAPER_OIL,
                              options: dict | None = None, tol: float = 1e-5, t_max: float = 15.0,
-                             quiet: bool = False, oil_air_scaling: str | None = None, **kw) -> list[dict]:
+                             quiet: bool = False, oil_air_scaling: str | None = None, workers: int = 1,
+                             **kw) -> list[dict]:
     """Run the steady slip-rate cases (all 15 by default); returns the rows (see `run_slip_case`).
 
     `summarise(rows)` gives the mean/max errors. oil_temperature_c, oil_air_fraction: the oil state
     of every case (defaults: VALIDATION_OIL_TEMPERATURE_C, VALIDATION_OIL_AIR_FRACTION, the values
     calibrated on cases 1–8, module docstring); bearing: VALIDATION_BEARING (design clearance).
+    workers: cases run at once in separate processes (the cases are independent; each row is the
+    same whatever the number, since a case is one deterministic integration). The fastest cases
+    are started last (highest speed first: the light-load high-speed cases settle slowest), so that
+    the processes finish together. Rows come back in case order.
     """
     if bearing is None:
         bearing = VALIDATION_BEARING
@@ -378,26 +384,58 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
         oil_air_fraction = VALIDATION_OIL_AIR_FRACTION
     oil = validation_oil(oil_temperature_c, oil_air_fraction, oil)
     sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
-    rows = []
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        from mesh.validation import InputError
+        raise InputError(f"workers = {workers!r} is not allowed; allowed: an integer >= 1")
     bar = None
     if not quiet:
         from tqdm import tqdm
         bar = tqdm(total=len(sel), desc="slip-rate cases", unit="case")
     if oil_air_scaling is None:
         oil_air_scaling = VALIDATION_OIL_AIR_SCALING
-    for c in sel:
-        oil_c = replace(oil, oil_air_fraction=case_oil_air_fraction(oil.oil_air_fraction, c["speed_rpm"],
-                                                                    oil_air_scaling)).validate()
-        row = run_slip_case(c, bearing, oil_c, options, tol=tol, t_max=t_max, **kw)
-        row["oil_air_fraction"] = oil_c.oil_air_fraction
-        row["oil_air_scaling"] = oil_air_scaling
-        rows.append(row)
+    args = (bearing, oil, options, tol, t_max, oil_air_scaling, kw)
+    done = {}
+
+    def report(row):
+        done[row["case"]] = row
         if bar is not None:
-            bar.set_postfix_str(f"case {c['case']}: S={row['slip_pct']:.2f}% (test {c['test_slip_pct']}%)")
+            bar.set_postfix_str(f"case {row['case']}: S={row['slip_pct']:.2f}% (test {row['test_slip_pct']}%)")
             bar.update(1)
-    if bar is not None:
-        bar.close()
-    return rows
+
+    try:
+        if workers == 1 or len(sel) < 2:
+            for c in sel:
+                report(_run_validation_case(c, *args))
+        else:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor, as_completed
+            # fork (Linux): the workers inherit the compiled kernels, and a user's script needs no
+            # `if __name__ == "__main__"` guard as it would with spawn; nothing here holds threads or MPI
+            with ProcessPoolExecutor(max_workers=min(workers, len(sel)),
+                                     mp_context=multiprocessing.get_context("fork")) as pool:
+                futures = [pool.submit(_run_validation_case, c, *args)
+                           for c in sorted(sel, key=lambda c: -c["speed_rpm"])]
+                try:
+                    for f in as_completed(futures):
+                        report(f.result())
+                except BaseException:
+                    pool.shutdown(wait=False, cancel_futures=True)
+                    raise
+    finally:
+        if bar is not None:
+            bar.close()
+    return [done[c["case"]] for c in sel]
+
+
+def _run_validation_case(c, bearing, oil, options, tol, t_max, oil_air_scaling, kw) -> dict:
+    """One case of `run_slip_rate_validation` at its speed's oil fraction (a top-level function so
+    that worker processes can run it)."""
+    oil_c = replace(oil, oil_air_fraction=case_oil_air_fraction(oil.oil_air_fraction, c["speed_rpm"],
+                                                                oil_air_scaling)).validate()
+    row = run_slip_case(c, bearing, oil_c, options, tol=tol, t_max=t_max, **kw)
+    row["oil_air_fraction"] = oil_c.oil_air_fraction
+    row["oil_air_scaling"] = oil_air_scaling
+    return row
 
 
 def calibrate(temperatures_c, oil_air_fractions, t_max: float = 1.0, quiet: bool = True, **kw) -> list[dict]:
@@ -477,6 +515,8 @@ def main(argv=None) -> None:
     ap.add_argument("--start", default="quasi_static", choices=["quasi_static", "steady"],
                     help="initial state: pure rolling at the quasi-static equilibrium, or the steady thrust state "
                          "(multibody.steady; skips the long settling of the light-load high-speed cases)")
+    ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                    help="cases run at once in separate processes (default: the number of CPUs)")
     ap.add_argument("--json", default=None)
     ap.add_argument("--out-dir", default=None, help="write slip_rate.md/.json there")
     ap.add_argument("--quiet", action="store_true")
@@ -492,7 +532,7 @@ def main(argv=None) -> None:
     rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
                                     options=options,
                                     quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale, t_min=a.t_min,
-                                    oil_air_scaling=a.oil_air_scaling, start=a.start)
+                                    oil_air_scaling=a.oil_air_scaling, start=a.start, workers=a.workers)
     print(format_table(rows))
     if a.json:
         with open(a.json, "w") as f:

@@ -104,3 +104,18 @@ def test_steady_start_of_the_light_load_high_speed_cases():
     assert row1["start"] == "quasi_static (no steady thrust state)"
     with pytest.raises(InputError, match="start"):
         V.run_slip_case(case1, V.VALIDATION_BEARING, V.validation_oil(), t_max=0.05, start="rest")
+
+
+def test_cases_in_parallel_give_the_same_rows_in_case_order():
+    """workers=2 runs the cases in two processes: each row is one deterministic integration, so the
+    rows must equal the serial ones bit for bit, and come back in case order (they are started
+    highest speed first). 0.1 s of cases 7 and 1; a bad worker count is refused with its name."""
+    from mesh.validation import InputError
+    kw = dict(cases=[7, 1], quiet=True, t_max=0.1, t_min=0.05)
+    serial = V.run_slip_rate_validation(**kw)
+    parallel = V.run_slip_rate_validation(workers=2, **kw)
+    assert [r["case"] for r in parallel] == [1, 7]
+    for a, b in zip(serial, parallel):
+        assert a["slip_pct"] == b["slip_pct"] and a["steps"] == b["steps"] and a["window_means"] == b["window_means"]
+    with pytest.raises(InputError, match="workers"):
+        V.run_slip_rate_validation(workers=0, **kw)
