@@ -1,6 +1,6 @@
 """`flexbearing quasi-static`: the Jones–Harris equilibrium of a scene's bearing at one instant.
 
-    flexbearing quasi-static SCENE.toml [--time T] [--control outer|inner|jones|friction]
+    flexbearing quasi-static SCENE.toml [--time T | --times T0:T1:N] [--control outer|inner|jones|friction]
                                         [--friction-share LO,LI] [--no-gyroscopic] [--balls]
                                         [--stiffness updated|frozen] [--json FILE]
 
@@ -14,7 +14,12 @@ bearing_stiffness`: "updated" = tangent of the quasi-static curve, "frozen" = ba
 by the ball spin that the traction sets: the steady running state of `multibody.steady` (the
 fixed point of the dynamics with the scene's oil, drag, pocket and land models, rigid cage), which
 exists for a pure axial load without gravity; it reports the cage speed, slip and ball spin
-beside the contact table. What the quasi-static model leaves out (traction, drag, the cage,
+beside the contact table. `--times T0:T1:N` solves at N instants from T0 to T1 (s) along the
+scene's speed and load profiles, each warm-started from the previous one (a cold solve where the
+warm one fails), and prints one row per instant: the quasi-static history of the operating
+profile (contact loads, Hertz pressures and angles through a speed ramp or an impact, and with
+`--stiffness` the bearing stiffness along it for a rotor-dynamic model), the reference against
+which the dynamic run's amplification is read. What the quasi-static model leaves out (traction, drag, the cage,
 gravity) is the dynamics' business: use `flexbearing run` for those. Exit status 0 when the
 equilibrium was found, 1 with the solver's diagnostic when not, 2 for invalid input.
 """
@@ -34,6 +39,8 @@ def register(subparsers) -> None:
     p.add_argument("scene", help="scene file (TOML), e.g. scenes/paper_steady_rigid.toml")
     p.add_argument("--time", type=float, default=0.0,
                    help="instant of the scene's speed and load profiles, s (default 0)")
+    p.add_argument("--times", default=None, metavar="T0:T1:N",
+                   help="N instants from T0 to T1 (s) along the profiles, one row each (replaces --time)")
     p.add_argument("--control", default="outer", choices=("outer", "inner", "jones", "friction"),
                    help="race that controls the balls: outer, inner, or per ball by Jones's criterion; or "
                         "friction: ball spin from the traction (steady thrust state, pure axial load only)")
@@ -70,16 +77,89 @@ def scene_instant(scene, time: float):
     return float(speed_at(time, scene.speed_table)), force
 
 
-def solve_scene(scene, time: float = 0.0, control: str = "outer", friction_share=None, gyroscopic: bool = True):
-    """(result, inputs) of multibody.quasi_static for `scene` at `time` (`scene_instant`)."""
+def solve_scene(scene, time: float = 0.0, control: str = "outer", friction_share=None, gyroscopic: bool = True,
+                initial=None):
+    """(result, inputs) of multibody.quasi_static for `scene` at `time` (`scene_instant`); `initial`:
+    a previous result to start from (when it does not converge, the solve is repeated cold)."""
     from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
 
     omega, force = scene_instant(scene, time)
-    result = solve_quasi_static(grooves_from_bearing(scene.bearing), omega, fx=force[0], fy=force[1], fz=force[2],
-                                control=control, friction_share=friction_share, gyroscopic=gyroscopic)
+    solve = lambda start: solve_quasi_static(grooves_from_bearing(scene.bearing), omega, fx=force[0], fy=force[1],
+                                             fz=force[2], control=control, friction_share=friction_share,
+                                             gyroscopic=gyroscopic, initial=start)
+    result = solve(initial)
+    if initial is not None and not result.converged:
+        result = solve(None)
     inputs = dict(scene=scene.name, time=time, inner_speed=omega, load=force.tolist(), control=control,
                   friction_share=friction_share, gyroscopic=gyroscopic)
     return result, inputs
+
+
+def parse_times(text: str, duration: float):
+    """The instants of `--times T0:T1:N` (s): N >= 2 points from T0 to T1 within [0, duration]."""
+    import numpy as np
+    try:
+        t0, t1, n = str(text).split(":")
+        t0, t1 = float(t0), float(t1)
+        if float(n) != int(float(n)):
+            raise ValueError
+        n = int(float(n))
+    except ValueError:
+        raise InputError(f"--times = {text!r}: give T0:T1:N, start and end in s and a whole number of "
+                         "instants, e.g. 0:0.6:13") from None
+    require_range("--times T0", t0, 0.0, duration, unit="s")
+    require_range("--times T1", t1, t0, duration, unit="s")
+    require_range("--times N", n, 2, 10000)
+    return np.linspace(t0, t1, n)
+
+
+def sweep_scene(scene, times, control: str = "outer", friction_share=None, gyroscopic: bool = True,
+                stiffness: str | None = None) -> list[dict]:
+    """Quasi-static equilibrium of `scene` at each of `times` (s), each solve warm-started from the
+    previous one (`solve_scene`). One dict per instant, SI: time, inner_speed, load (3,),
+    cage_speed, converged, diagnostic, and per contact (outer, inner_left, inner_right) the
+    largest ball load, the largest Hertz pressure and the contact angle of the most loaded ball;
+    `stiffness` ("updated" | "frozen"): also the 5×5 bearing stiffness (`bearing_stiffness`)."""
+    import numpy as np
+    from multibody.quasi_static import bearing_stiffness, grooves_from_bearing
+
+    grooves = grooves_from_bearing(scene.bearing)
+    rows, previous = [], None
+    for t in times:
+        r, inputs = solve_scene(scene, float(t), control, friction_share, gyroscopic, initial=previous)
+        most = np.argmax(r.load, axis=0)
+        row = dict(time=float(t), inner_speed=inputs["inner_speed"], load=inputs["load"], cage_speed=r.cage_speed,
+                   converged=bool(r.converged), diagnostic=r.diagnostic, max_load=r.load.max(axis=0),
+                   max_p0=r.p0.max(axis=0), angle_at_max_load=r.contact_angle[most, np.arange(3)])
+        if stiffness and r.converged:
+            row["stiffness"] = bearing_stiffness(grooves, r, kinematics=stiffness)
+        rows.append(row)
+        previous = r if r.converged else None
+    return rows
+
+
+def sweep_lines(rows) -> list[str]:
+    """The printed table of `sweep_scene` (rpm, kN, MPa, degrees; stiffness diagonal in N/m, N·m/rad)."""
+    head = ("    t s      rpm   Fa kN   Fr kN | Qo max N  p0o MPa  a_o deg | Qi max N  p0i MPa  a_i deg |"
+            " cage rpm")
+    stiff = any("stiffness" in r for r in rows)
+    if stiff:
+        head += " | Kxx N/m    Kyy N/m    Kzz N/m    Kty N.m/rad"
+    lines = [head]
+    for r in rows:
+        fx, fy, fz = r["load"]
+        k = 1 if r["max_load"][1] >= r["max_load"][2] else 2          # the loaded inner half
+        line = (f"{r['time']:7.4f} {r['inner_speed'] * 30 / math.pi:8.1f} {fx / 1e3:7.2f} {math.hypot(fy, fz) / 1e3:7.2f} | "
+                f"{r['max_load'][0]:8.1f} {r['max_p0'][0] / 1e6:8.1f} {math.degrees(r['angle_at_max_load'][0]):8.2f} | "
+                f"{r['max_load'][k]:8.1f} {r['max_p0'][k] / 1e6:8.1f} {math.degrees(abs(r['angle_at_max_load'][k])):8.2f} | "
+                f"{r['cage_speed'] * 30 / math.pi:8.1f}")
+        if "stiffness" in r:
+            d = r["stiffness"].diagonal()
+            line += f" | {d[0]:10.4e} {d[1]:10.4e} {d[2]:10.4e} {d[3]:10.4e}"
+        if not r["converged"]:
+            line += f"  NOT CONVERGED: {r['diagnostic']}"
+        lines.append(line)
+    return lines
 
 
 def ball_lines(result) -> list[str]:
@@ -140,6 +220,8 @@ def cmd_quasi_static(args) -> int:
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
     if args.control == "friction":
         return _cmd_friction(scene, args)
+    if args.times is not None:
+        return _cmd_sweep(scene, args)
     result, inputs = solve_scene(scene, args.time, args.control, _friction_share(args.friction_share),
                                  not args.no_gyroscopic)
     fx, fy, fz = inputs["load"]
@@ -163,6 +245,30 @@ def cmd_quasi_static(args) -> int:
         write_json(args.json, data)
     if not result.converged:
         print(f"flexbearing quasi-static: no equilibrium: {result.diagnostic}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _cmd_sweep(scene, args) -> int:
+    """--times: one row per instant (`sweep_scene`)."""
+    import time as _time
+    times = parse_times(args.times, scene.duration)
+    wall = _time.perf_counter()
+    rows = sweep_scene(scene, times, args.control, _friction_share(args.friction_share), not args.no_gyroscopic,
+                       args.stiffness)
+    wall = _time.perf_counter() - wall
+    print(f"{scene.name}: {len(rows)} instants from {times[0]:g} to {times[-1]:g} s; {args.control} race control; "
+          f"{wall:.2f} s")
+    print("\n".join(sweep_lines(rows)))
+    if args.json:
+        write_json(args.json, dict(inputs=dict(scene=scene.name, times=times, control=args.control,
+                                               friction_share=_friction_share(args.friction_share),
+                                               gyroscopic=not args.no_gyroscopic, stiffness=args.stiffness),
+                                   units="SI (N, m, rad, rad/s, Pa)", contacts=["outer", "inner_left", "inner_right"],
+                                   rows=rows, wall_s=wall))
+    failed = [r["time"] for r in rows if not r["converged"]]
+    if failed:
+        print(f"flexbearing quasi-static: no equilibrium at t = {failed} s", file=sys.stderr)
         return 1
     return 0
 
