@@ -703,6 +703,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     out_dir.mkdir(parents=True, exist_ok=True)
     rows = phase_table(path, settle=settle)
     cmp_rows = phase_table(cmp_path, settle=settle) if cmp_path else None
+    amplification = _impact_amplification(path)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"report: plots of {path.name} -> {out_dir}")
     plots = write_plots(path, out_dir, compare=cmp_path)
@@ -752,6 +753,16 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                  if r.get(f"{k}_t_peak") is not None]
         if peaks:
             md += ["Instants of maximum von Mises stress: " + "; ".join(f"{lab}: {tp:g} s" for lab, tp in peaks), ""]
+    if amplification:
+        md += ["## Contact stress at the impacts against the quasi-static equilibrium", "",
+               _amplification_table(amplification), "",
+               "Quasi-static: multibody.quasi_static at the pulse's peak instant (speed and load of that instant, a "
+               "ball on the load line, Jones's race control); run: the worst ball's peak from the start of the pulse to "
+               "5 T_n after its end (a short pulse's largest response comes after it). Amplification = run / "
+               "quasi-static (coupling.amplification). One-DOF estimate: the inner ring's mass on the bearing's radial "
+               "stiffness along the load (ball kinematics frozen), natural period T_n, and the undamped shock spectrum "
+               "of a half-sine pulse of duration t_d; near 1 when t_d >> T_n: the pulse is then quasi-static for the "
+               "contacts, and the stress it adds is the static response to the larger load.", ""]
     if cmp_rows and len(cmp_rows) > 2:
         md += [f"## {cmp_name}: per phase", "", _markdown_table([(_col_name(r), r) for r in cmp_rows], keys), ""]
     md += ["## Plots", ""] + [f"![{p.stem}]({p.name})" for p in plots] + [""]
@@ -761,8 +772,46 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     js = out_dir / "report.json"
     js.write_text(json.dumps({"run": str(path), "scene": name, "status": status, "units": {
         q.key: q.unit for q in QUANTITIES}, "phases": rows, "compare": str(cmp_path) if cmp_path else None,
-        "compare_phases": cmp_rows}, indent=1, allow_nan=False, default=float) + "\n")
+        "compare_phases": cmp_rows, "impact_amplification": amplification}, indent=1, allow_nan=False,
+        default=float) + "\n")
     return {"report": report, "json": js, "plots": plots, "xdmf": xdmf}
+
+
+def _impact_amplification(path) -> list[dict]:
+    """coupling.amplification.impact_amplification for the run's impacts ([] without impacts, contact
+    stresses or a readable scene, or where the quasi-static solve itself refuses the instant)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        scene = run_scene(f)
+        if scene is None or len(scene.impacts) == 0:
+            return []
+        t = f["outputs/time"][...]
+        arrays = quantity_arrays(f["outputs"])
+    if "outer_contact_stress" not in arrays:
+        return []
+    from coupling.amplification import impact_amplification
+    try:
+        return impact_amplification(scene, t, arrays)
+    except InputError:
+        return []
+
+
+def _amplification_table(items) -> str:
+    lines = ["| impact | Fr at peak (kN) | outer p0 quasi-static (MPa) | outer p0 run (MPa) | amplification | "
+             "inner p0 quasi-static (MPa) | inner p0 run (MPa) | amplification | t_d/T_n | one-DOF estimate |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for a in items:
+        cells = [a["label"], f"{math.hypot(a['load'][1], a['load'][2]) / 1e3:.1f}"]
+        for key in ("outer_contact_stress", "inner_contact_stress"):
+            cells += [f"{a[f'quasi_static_{key}'] / 1e6:,.0f}",
+                      f"{a[f'dynamic_{key}'] / 1e6:,.0f}" if f"dynamic_{key}" in a else "–",
+                      f"{a[f'{key}_amplification']:.4f}" if f"{key}_amplification" in a else "–"]
+        cells += [f"{a['duration_over_period']:.3g}" if "duration_over_period" in a else "–",
+                  f"{a['one_dof_amplification']:.4f}" if "one_dof_amplification" in a else "–"]
+        if not a["converged"]:
+            cells[0] += " (quasi-static not converged)"
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
 
 
 def print_table(rows: list[dict], file=sys.stdout) -> None:

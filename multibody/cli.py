@@ -78,15 +78,16 @@ def scene_instant(scene, time: float):
 
 
 def solve_scene(scene, time: float = 0.0, control: str = "outer", friction_share=None, gyroscopic: bool = True,
-                initial=None):
+                initial=None, psi0: float = 0.0):
     """(result, inputs) of multibody.quasi_static for `scene` at `time` (`scene_instant`); `initial`:
-    a previous result to start from (when it does not converge, the solve is repeated cold)."""
+    a previous result to start from (when it does not converge, the solve is repeated cold); psi0:
+    azimuth of ball 0 (rad, from +Y towards +Z)."""
     from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
 
     omega, force = scene_instant(scene, time)
     solve = lambda start: solve_quasi_static(grooves_from_bearing(scene.bearing), omega, fx=force[0], fy=force[1],
                                              fz=force[2], control=control, friction_share=friction_share,
-                                             gyroscopic=gyroscopic, initial=start)
+                                             gyroscopic=gyroscopic, initial=start, psi0=psi0)
     result = solve(initial)
     if initial is not None and not result.converged:
         result = solve(None)
