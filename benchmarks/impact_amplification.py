@@ -62,9 +62,12 @@ def main(argv=None) -> None:
              "Paper steady case (14,000 rpm, 55 kN axial, 4 kN radial, rigid cage) plus one 50 kN radial half-sine "
              "pulse of duration t_d. Amplification = the run's worst-ball Hertz pressure from the pulse's start to 5 T_n "
              "after its end / the quasi-static equilibrium at the pulse's peak. T_n: the inner ring's mass "
-             f"({rows[0]['ring_mass']:.3f} kg) on the bearing's radial stiffness at the peak load (kinematics frozen), a "
-             "lower bound of the period (the balls' mass and the softer contacts below the peak load are left out); "
-             "one-DOF: the undamped shock spectrum of the displacement at that period.", "",
+             f"({rows[0]['ring_mass']:.3f} kg) on the bearing's secant radial stiffness from the load before the pulse "
+             f"to its peak ({rows[0]['radial_stiffness']:.3g} N/m; the Hertz contacts stiffen under load); one-DOF: the "
+             "undamped shock spectrum of the displacement at that period, an estimate (the balls' mass and the "
+             "ring's axial and tilt motions are left out). The contact stress amplifies less than the displacement: "
+             "p0 grows as Q^(1/3) and most of the contact load is the axial preload; its maximum lies where the "
+             "one-DOF spectrum has its own (t_d/T_n ~ 0.7-1.4).", "",
              "| t_d (ms) | t_d/T_n | one-DOF estimate | outer p0 quasi-static (MPa) | outer amplification | "
              "inner p0 quasi-static (MPa) | inner amplification | run wall (s) |",
              "|---:|---:|---:|---:|---:|---:|---:|---:|"]

@@ -759,9 +759,10 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                "Quasi-static: multibody.quasi_static at the pulse's peak instant (speed and load of that instant, a "
                "ball on the load line, Jones's race control); run: the worst ball's peak from the start of the pulse to "
                "5 T_n after its end (a short pulse's largest response comes after it). Amplification = run / "
-               "quasi-static (coupling.amplification). One-DOF estimate: the inner ring's mass on the bearing's radial "
-               "stiffness along the load (ball kinematics frozen), natural period T_n, and the undamped shock spectrum "
-               "of a half-sine pulse of duration t_d; near 1 when t_d >> T_n: the pulse is then quasi-static for the "
+               "quasi-static (coupling.amplification). One-DOF estimate: the inner ring's mass on the bearing's secant "
+               "radial stiffness from the load before the pulse to its peak, natural period T_n, and the undamped "
+               "shock spectrum of the displacement under a half-sine pulse of duration t_d (the contact stress "
+               "amplifies less: p0 grows as Q^(1/3)); near 1 when t_d >> T_n: the pulse is then quasi-static for the "
                "contacts, and the stress it adds is the static response to the larger load.", ""]
     if cmp_rows and len(cmp_rows) > 2:
         md += [f"## {cmp_name}: per phase", "", _markdown_table([(_col_name(r), r) for r in cmp_rows], keys), ""]

@@ -58,13 +58,13 @@ def _amplification(tmp_path, td, duration, t_center):
 
 def test_a_long_impact_is_quasi_static_for_the_contacts(tmp_path):
     # The paper's 20 ms, 50 kN radial pulse at 14,000 rpm (55 kN axial, 4 kN radial). The ring's radial natural
-    # period on the bearing is ~0.15 ms (ring mass 0.94 kg on 1.6e9 N/m), so t_d/T_n ~ 130 and the one-DOF
-    # shock spectrum gives 1.004. The run's worst-ball peak must equal the quasi-static equilibrium at the pulse's
+    # period on the bearing is ~0.22 ms (ring mass 0.94 kg on the secant stiffness 7.7e8 N/m from 4 to 54 kN), so
+    # t_d/T_n ~ 90 and the one-DOF shock spectrum gives 1.006. The run's worst-ball peak must equal the quasi-static equilibrium at the pulse's
     # peak: measured 1.002 (outer), 1.001 (inner). Tolerance [0.995, 1.01]: a ball passes the load line within
     # ±0.24 ms of the peak (20 balls at the cage's ~6300 rpm), where the pulse is within 0.1 % of its peak, plus
     # the small dynamic overshoot of the one-DOF estimate.
     a = _amplification(tmp_path, 0.02, 0.05, 0.03)
-    assert 100 < a["duration_over_period"] < 200
+    assert 50 < a["duration_over_period"] < 200
     assert a["one_dof_amplification"] == pytest.approx(1.0, abs=0.01)
     for key in ("outer_contact_stress", "inner_contact_stress"):
         assert 0.995 < a[f"{key}_amplification"] < 1.01
@@ -72,10 +72,10 @@ def test_a_long_impact_is_quasi_static_for_the_contacts(tmp_path):
 
 
 def test_a_short_impact_amplifies_the_contact_stress(tmp_path):
-    # A 0.3 ms pulse (t_d/T_n ~ 2 with the ring-only period): the ring overshoots the static position, so the
-    # worst contact stress exceeds the quasi-static one (measured 1.09 outer, 1.05 inner), unlike the 20 ms pulse.
-    # The one-DOF estimate (1.28 for the displacement) is not the stress ratio: p0 grows as Q^(1/3) and most of the
-    # contact load is the 55 kN axial preload, so only a lower bound of 3 % is asserted.
+    # A 0.3 ms pulse (t_d/T_n ~ 1.4): the ring overshoots the static position, so the worst contact stress
+    # exceeds the quasi-static one (measured 1.09 outer, 1.05 inner), unlike the 20 ms pulse. The one-DOF estimate
+    # (1.57, for the displacement) is not the stress ratio: p0 grows as Q^(1/3) and most of the contact load is the
+    # 55 kN axial preload, so only a lower bound of 3 % is asserted.
     a = _amplification(tmp_path, 0.0003, 0.012, 0.01)
     assert a["outer_contact_stress_amplification"] > 1.03
     assert a["inner_contact_stress_amplification"] > 1.03
