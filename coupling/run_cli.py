@@ -148,17 +148,30 @@ def cmd_validate_slip_rate(args) -> int:
                 kw["start"] = args.start
             workers = getattr(args, "workers", None)
             kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
-            raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, **kw)
-            rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
-                     "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],
-                     "slip_ours": r["slip_pct"] / 100.0, "slip_test": r["test_slip_pct"] / 100.0,
-                     "slip_paper": r["paper_slip_pct"] / 100.0, "settled": r.get("settled"),
-                     "t_end_s": r.get("t_end"), "wall_time_s": r.get("wall_s"), "n_steps": r.get("steps"),
-                     "oil_temperature_c": r.get("oil_temperature_c")} for r in raw]
-            table = print_slip_rate_table(rows)
-            if hasattr(val, "summarise"):
+            def table_of(raw, file):
+                rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
+                         "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],
+                         "slip_ours": r["slip_pct"] / 100.0, "slip_test": r["test_slip_pct"] / 100.0,
+                         "slip_paper": r["paper_slip_pct"] / 100.0, "settled": r.get("settled"),
+                         "t_end_s": r.get("t_end"), "wall_time_s": r.get("wall_s"), "n_steps": r.get("steps"),
+                         "oil_temperature_c": r.get("oil_temperature_c")} for r in raw]
+                table = print_slip_rate_table(rows, file=file)
                 table["summary_by_group"] = val.summarise(raw)
-            return _write_json(table, args.json)
+                return table
+
+            def stream(raw):                   # every finished case is on disk at once
+                if args.json:
+                    import io
+                    _write_json({**table_of(raw, io.StringIO()), "complete": False}, args.json, quiet=True)
+
+            try:
+                raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, on_row=stream, **kw)
+            except val.ValidationInterrupted as exc:
+                table_of(exc.rows, sys.stdout)
+                print(f"flexbearing validate: {exc}" + (f"; the finished cases are in {args.json}" if args.json else ""),
+                      file=sys.stderr)
+                return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
+            return _write_json({**table_of(raw, sys.stdout), "complete": True}, args.json)
         args.case_set = str(DEFAULT_CASE_SET)
     case_set = load_case_set(args.case_set)
     cases = parse_cases(args.cases, max(c["id"] for c in case_set.cases))
@@ -171,11 +184,15 @@ def cmd_validate_slip_rate(args) -> int:
     return _write_json(print_slip_rate_table(rows), args.json)
 
 
-def _write_json(table: dict, path) -> int:
+def _write_json(table: dict, path, quiet: bool = False) -> int:
     if path:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        Path(path).write_text(json.dumps(table, indent=2, default=float) + "\n")
-        print(f"written: {path}")
+        out = Path(path)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = out.with_name(out.name + ".part")
+        tmp.write_text(json.dumps(table, indent=2, default=float) + "\n")
+        os.replace(tmp, out)                     # a reader never sees half a file
+        if not quiet:
+            print(f"written: {path}")
     return 0
 
 

@@ -73,6 +73,7 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 import time
 from dataclasses import replace
 
@@ -365,7 +366,7 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
                              oil_air_fraction: float | None = None, bearing=None, oil=PAPER_OIL,
                              options: dict | None = None, tol: float = 1e-5, t_max: float = 15.0,
                              quiet: bool = False, oil_air_scaling: str | None = None, workers: int = 1,
-                             **kw) -> list[dict]:
+                             on_row=None, **kw) -> list[dict]:
     """Run the steady slip-rate cases (all 15 by default); returns the rows (see `run_slip_case`).
 
     `summarise(rows)` gives the mean/max errors. oil_temperature_c, oil_air_fraction: the oil state
@@ -375,6 +376,9 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
     same whatever the number, since a case is one deterministic integration). The fastest cases
     are started last (highest speed first: the light-load high-speed cases settle slowest), so that
     the processes finish together. Rows come back in case order.
+    on_row: called with the rows done so far (case order) each time a case finishes, e.g. to write
+    them out as they come. A Ctrl-C or an error in a case stops the validation with
+    `ValidationInterrupted`, which carries the finished rows (nothing computed is lost).
     """
     if bearing is None:
         bearing = VALIDATION_BEARING
@@ -396,11 +400,16 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
     args = (bearing, oil, options, tol, t_max, oil_air_scaling, kw)
     done = {}
 
+    def in_case_order():
+        return [done[c["case"]] for c in sel if c["case"] in done]
+
     def report(row):
         done[row["case"]] = row
         if bar is not None:
             bar.set_postfix_str(f"case {row['case']}: S={row['slip_pct']:.2f}% (test {row['test_slip_pct']}%)")
             bar.update(1)
+        if on_row is not None:
+            on_row(in_case_order())
 
     try:
         if workers == 1 or len(sel) < 2:
@@ -421,10 +430,24 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
                 except BaseException:
                     pool.shutdown(wait=False, cancel_futures=True)
                     raise
+    except (KeyboardInterrupt, Exception) as exc:
+        missing = [c["case"] for c in sel if c["case"] not in done]
+        why = "Ctrl-C" if isinstance(exc, KeyboardInterrupt) else f"{type(exc).__name__}: {exc}"
+        raise ValidationInterrupted(f"slip-rate validation stopped ({why}); cases not finished: {missing}",
+                                    in_case_order(), missing, exc) from exc
     finally:
         if bar is not None:
             bar.close()
-    return [done[c["case"]] for c in sel]
+    return in_case_order()
+
+
+class ValidationInterrupted(Exception):
+    """`run_slip_rate_validation` stopped early: `rows` holds the finished cases (case order),
+    `missing` the case numbers that did not finish, `cause` the Ctrl-C or the error."""
+
+    def __init__(self, message: str, rows: list[dict], missing: list[int], cause: BaseException):
+        super().__init__(message)
+        self.rows, self.missing, self.cause = rows, missing, cause
 
 
 def _run_validation_case(c, bearing, oil, options, tol, t_max, oil_air_scaling, kw) -> dict:
@@ -529,14 +552,25 @@ def main(argv=None) -> None:
     if a.ball_attitude is not None:
         options["ball_attitude"] = a.ball_attitude
     options["attitude_ring_reaction"] = a.attitude_ring_reaction == "on"
-    rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
-                                    options=options,
-                                    quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale, t_min=a.t_min,
-                                    oil_air_scaling=a.oil_air_scaling, start=a.start, workers=a.workers)
+    def write_json(rows, complete):
+        if a.json:
+            tmp = f"{a.json}.part"
+            with open(tmp, "w") as f:
+                json.dump({"rows": rows, "summary": summarise(rows), "complete": complete}, f, indent=2, default=float)
+            os.replace(tmp, a.json)          # a reader never sees half a file
+
+    try:
+        rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
+                                        options=options,
+                                        quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale,
+                                        t_min=a.t_min, oil_air_scaling=a.oil_air_scaling, start=a.start,
+                                        workers=a.workers, on_row=lambda rows: write_json(rows, False))
+    except ValidationInterrupted as exc:
+        print(format_table(exc.rows))
+        print(exc, file=sys.stderr)
+        raise SystemExit(130 if isinstance(exc.cause, KeyboardInterrupt) else 1)
     print(format_table(rows))
-    if a.json:
-        with open(a.json, "w") as f:
-            json.dump({"rows": rows, "summary": summarise(rows)}, f, indent=2, default=float)
+    write_json(rows, True)
     if a.out_dir:
         write_report(rows, a.out_dir)
 

@@ -119,3 +119,33 @@ def test_cases_in_parallel_give_the_same_rows_in_case_order():
         assert a["slip_pct"] == b["slip_pct"] and a["steps"] == b["steps"] and a["window_means"] == b["window_means"]
     with pytest.raises(InputError, match="workers"):
         V.run_slip_rate_validation(workers=0, **kw)
+
+
+def test_an_interrupted_validation_keeps_the_finished_cases(tmp_path, monkeypatch, capsys):
+    """Ctrl-C during case 7 (after case 1 finished): `flexbearing validate slip-rate --json F` has already
+    written case 1 to F (complete: false), prints it, and exits with 130; the Python API raises
+    ValidationInterrupted carrying the same row and the missing case."""
+    import json
+    from coupling.cli import main
+    real = V.run_slip_case
+
+    def ctrl_c_on_case_7(case, *a, **k):
+        if case["case"] == 7:
+            raise KeyboardInterrupt
+        return real(case, *a, **k)
+
+    monkeypatch.setattr(V, "run_slip_case", ctrl_c_on_case_7)
+    out = tmp_path / "slip.json"
+    assert main(["validate", "slip-rate", "--cases", "1,7", "--t-max", "0.1", "--workers", "1", "--quiet",
+                 "--json", str(out)]) == 130
+    d = json.loads(out.read_text())
+    assert d["complete"] is False and [c["case"] for c in d["cases"]] == [1]
+    assert "cases not finished: [7]" in capsys.readouterr().err
+    with pytest.raises(V.ValidationInterrupted) as info:
+        V.run_slip_rate_validation(cases=[1, 7], quiet=True, t_max=0.1)
+    assert [r["case"] for r in info.value.rows] == [1] and info.value.missing == [7]
+    assert isinstance(info.value.cause, KeyboardInterrupt)
+    monkeypatch.setattr(V, "run_slip_case", real)
+    assert main(["validate", "slip-rate", "--cases", "1,7", "--t-max", "0.1", "--quiet", "--json", str(out)]) == 0
+    d = json.loads(out.read_text())
+    assert d["complete"] is True and [c["case"] for c in d["cases"]] == [1, 7]
