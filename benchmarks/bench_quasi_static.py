@@ -46,6 +46,7 @@ def main():
         k = qs.bearing_stiffness(g, ref_r, step=(hs, 10 * hs))
         dt = time.perf_counter() - t
         print(f"          {hs:7.0e}  {10 * hs:7.0e}  {dt:6.3f}  {np.max(np.abs(np.diag(k) / k_ref - 1)):12.2e}")
+    sweep()
     if "--quiet" not in sys.argv:
         for label, kw in (("outer-race control", {}), ("inner-race control", {"control": "inner"}),
                           ("no gyroscopic moment", {"gyroscopic": False}),
@@ -57,6 +58,25 @@ def main():
                 r, _ = run(1e-10, **kw)
             print(f"\n== paper steady case, {label} ==")
             print(r.summary())
+
+
+def sweep():
+    """The profile of scenes/paper_unsteady_rigid.toml at 61 instants (multibody.cli.sweep_scene): each
+    solve warm-started from the previous one, against cold solves; the largest difference of the
+    contact loads (relative to the largest load) between the two."""
+    from coupling.scene import load_scene
+    from multibody.cli import solve_scene, sweep_scene
+    scene = load_scene("scenes/paper_unsteady_rigid.toml")
+    times = np.linspace(0.0, 0.6, 61)
+    t = time.perf_counter()
+    rows = sweep_scene(scene, times)
+    warm = time.perf_counter() - t
+    t = time.perf_counter()
+    cold = [solve_scene(scene, float(x))[0] for x in times]
+    cold_s = time.perf_counter() - t
+    diff = max(np.max(np.abs(r["max_load"] - c.load.max(axis=0))) / c.load.max() for r, c in zip(rows, cold))
+    print(f"\nprofile sweep, paper_unsteady_rigid, 61 instants: warm-started {warm:.3f} s, cold {cold_s:.3f} s, "
+          f"max load difference {diff:.1e}")
 
 
 if __name__ == "__main__":
