@@ -2,7 +2,7 @@
 
 For a load pulse the dynamic amplification factor is
 
-    DAF = (largest dynamic response in the pulse window) / (static response to the pulse's peak load)
+    DAF = (largest dynamic response to the pulse) / (static response to the pulse's peak load)
 
 (Biggs, Introduction to Structural Dynamics, 1964, ch. 2; Clough & Penzien, Dynamics of Structures,
 ch. 6). For an undamped oscillator of natural period T_n under a half-sine pulse of duration t_d,
@@ -15,8 +15,7 @@ the speed and load of that instant (multibody.cli.solve_scene) and a ball on the
 (psi0 = the azimuth of the radial load: during the window balls pass that place, so the run's
 worst ball is compared with the equilibrium's worst ball). The dynamic response is the run's peak
 Hertz pressure from the start of the pulse to a few natural periods after it (a short pulse's
-largest response comes after it, in free vibration). The quasi-static
-model has no cage, traction or ball inertia beyond the centrifugal force and gyroscopic moment, so
+largest response comes after it, in free vibration). The quasi-static model has no cage, traction or ball inertia beyond the centrifugal force and gyroscopic moment, so
 pocket and guiding forces have no static counterpart and are not compared.
 """
 from __future__ import annotations
