@@ -219,10 +219,13 @@ def cmd_quasi_static(args) -> int:
     from coupling.scene import load_scene
 
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
+    if args.times is not None:
+        for flag, given in (("--control friction", args.control == "friction"), ("--balls", args.balls)):
+            if given:
+                raise InputError(f"--times cannot be combined with {flag} (one instant only: use --time T)")
+        return _cmd_sweep(scene, args)
     if args.control == "friction":
         return _cmd_friction(scene, args)
-    if args.times is not None:
-        return _cmd_sweep(scene, args)
     result, inputs = solve_scene(scene, args.time, args.control, _friction_share(args.friction_share),
                                  not args.no_gyroscopic)
     fx, fy, fz = inputs["load"]

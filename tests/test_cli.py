@@ -74,6 +74,9 @@ def test_quasi_static_sweep_follows_the_profile(tmp_path, capsys):
                        ("0:0.6", "--times")):
         assert main(["quasi-static", "scenes/paper_unsteady_rigid.toml", "--times", bad]) == 2
         assert field in capsys.readouterr().err
+    for extra in (["--control", "friction"], ["--balls"]):
+        assert main(["quasi-static", "scenes/paper_unsteady_rigid.toml", "--times", "0:0.6:3"] + extra) == 2
+        assert "--times cannot be combined" in capsys.readouterr().err
 
 
 def test_quasi_static_friction_control_is_the_steady_thrust_state(tmp_path, capsys):
