@@ -1,0 +1,97 @@
+"""Small vibrations of the inner ring and the balls about a quasi-static equilibrium at rest.
+
+The linear model is assembled from a `multibody.quasi_static` result, independently of the
+dynamics' equations. Each loaded ball–groove contact is a tensioned spring between the ball centre
+b and the groove's curvature centre g in the ball's azimuthal plane (the approach is
+delta = |b − g| − (f − 0.5)·Dw, the Hertz force Q = K·delta^1.5 pulls b towards g):
+
+    K_e = k_n·n nᵀ + (Q/d)·(I − n nᵀ),   n = (b − g)/d,  d = |b − g|,  k_n = dQ/d(delta) = 1.5·Q/delta
+
+(the Hertz tangent stiffness, Harris & Kotzalas, Rolling Bearing Analysis 5th ed. Vol. 1 ch. 6,
+with K held at the current contact angle; plus the geometric stiffness of a member under tension Q,
+Przemieniecki, Theory of Matrix Structural Analysis, 1968, ch. 15 / Bathe, Finite Element
+Procedures, §6.3: turning the contact line by a transverse displacement u_t turns Q through
+u_t/d). The relative displacement b − g is B·q: the ball's own (x, r), minus the inner groove
+centre's motion under the ring's 5 DOF u = (x, y, z, theta_y, theta_z) projected into the plane
+(`multibody.geometry.ring_point_in_plane`, linear in u); the outer groove is fixed. The balls'
+tangential (orbit) motion does not change any approach (the grooves are tori) and is left out, as
+are their rotations (no friction in this model). Then
+
+    K = sum_contacts Bᵀ K_e B,   M = diag(m_ring ×3, I_d ×2, m_ball ×2Z),   K phi = w² M phi,
+
+with 5 + 2Z DOFs (ring first, then each ball's x, r). Statically condensing the balls (Guyan
+1965) gives the 5×5 bearing stiffness with the ball kinematics frozen
+(`quasi_static.bearing_stiffness(kinematics="frozen")`, within 2e-4 on the translations: that one
+also follows the change of K with the contact angle). At rest only: at speed the centrifugal
+and gyroscopic terms and the orbiting balls make the system time-varying.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from multibody.geometry import ring_point_in_plane
+
+RING_DOFS = ("x", "y", "z", "theta_y", "theta_z")
+
+
+def linear_model(grooves, result, ring_mass: float, ring_diametral_inertia: float) -> tuple[np.ndarray, np.ndarray]:
+    """(K, M), (5 + 2Z) square, SI: stiffness and mass of the ring (x, y, z, theta_y, theta_z) and
+    the balls (x, r each, ball j at rows 5 + 2j, 6 + 2j) about the equilibrium `result`
+    (multibody.quasi_static.solve_quasi_static at zero speed; module docstring)."""
+    g, r = grooves, result
+    z = g.n_balls
+    n = 5 + 2 * z
+    K = np.zeros((n, n))
+    M = np.zeros((n, n))
+    M[0, 0] = M[1, 1] = M[2, 2] = ring_mass
+    M[3, 3] = M[4, 4] = ring_diametral_inertia
+    u = r.ring_displacement
+    for j in range(z):
+        psi = r.psi[j]
+        M[5 + 2 * j, 5 + 2 * j] = M[6 + 2 * j, 6 + 2 * j] = g.ball_mass
+        c, s = math.cos(psi), math.sin(psi)
+        for k in range(3):
+            q = r.load[j, k]
+            if not g.active[k] or q <= 0.0:
+                continue
+            x0, r0 = g.groove_x[k], g.groove_r[k]
+            B = np.zeros((2, n))
+            B[0, 5 + 2 * j] = B[1, 6 + 2 * j] = 1.0
+            if k == 0:
+                gx, gr = x0, r0                          # outer ring fixed
+            else:
+                gx, gr = ring_point_in_plane(psi, x0, r0, *u)
+                # x = x0 + ux + r0·th, r = r0 + uy·c + uz·s − x0·th, th = theta_y·s − theta_z·c
+                B[0, 0] -= 1.0
+                B[0, 3] -= r0 * s
+                B[0, 4] += r0 * c
+                B[1, 1] -= c
+                B[1, 2] -= s
+                B[1, 3] += x0 * s
+                B[1, 4] -= x0 * c
+            dvec = np.array([r.ball_x[j] - gx, r.ball_r[j] - gr])
+            d = float(np.linalg.norm(dvec))
+            e = dvec / d
+            delta = d - (g.groove_f[k] - 0.5) * g.ball_diameter
+            k_n = 1.5 * q / delta
+            ke = k_n * np.outer(e, e) + (q / d) * (np.eye(2) - np.outer(e, e))
+            K += B.T @ ke @ B
+    return K, M
+
+
+def condensed_stiffness(K: np.ndarray) -> np.ndarray:
+    """The ring's 5×5 stiffness with the balls condensed out (Guyan): K_rr − K_rb K_bb⁻¹ K_br."""
+    return K[:5, :5] - K[:5, 5:] @ np.linalg.solve(K[5:, 5:], K[5:, :5])
+
+
+def natural_modes(K: np.ndarray, M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(frequencies Hz ascending, mass-normalised mode shapes (columns), ring participation (5, n)):
+    the ring participation of mode i in DOF a is |phi_ai|·sqrt(M_aa), the share of that DOF in
+    the mode's unit modal mass (the squares over all DOFs sum to 1)."""
+    from scipy.linalg import eigh
+    w2, phi = eigh(K, M)
+    freq = np.sqrt(np.clip(w2, 0.0, None)) / (2.0 * math.pi)
+    part = np.abs(phi[:5, :]) * np.sqrt(np.diag(M)[:5, None])
+    return freq, phi, part
