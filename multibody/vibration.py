@@ -22,8 +22,24 @@ are their rotations (no friction in this model). Then
 with 5 + 2Z DOFs (ring first, then each ball's x, r). Statically condensing the balls (Guyan
 1965) gives the 5×5 bearing stiffness with the ball kinematics frozen
 (`quasi_static.bearing_stiffness(kinematics="frozen")`, within 2e-4 on the translations: that one
-also follows the change of K with the contact angle). At rest only: at speed the centrifugal
-and gyroscopic terms and the orbiting balls make the system time-varying.
+also follows the change of K with the contact angle).
+
+At speed (`lines_at_speed`) the balls orbit at Omega and the ring spins at Omega_i. Under a purely
+axial load every ball is alike, so in the frame orbiting with the balls the system is
+time-invariant, and K above (from the equilibrium at speed, frictionless: gyroscopic=False, as
+the dynamics without traction) holds there. The ring's coordinates written in that frame add
+(Meirovitch, Methods of Analytical Dynamics, 1970, ch. 4; J = [[0, −1], [1, 0]] acting on (y, z)
+and on (theta_y, theta_z)):
+
+    translations   M q'' + 2·m·Omega·J q' + (K − m·Omega²) q
+    tilts          I_d th'' + (2·I_d·Omega − I_p·Omega_i)·J th' + (K + (I_p·Omega_i·Omega − I_d·Omega²)) th
+
+(the last from the ring's own gyroscopic moment I_p·Omega_i, `multibody.dynamics`). The balls'
+Coriolis and centrifugal terms (about 3·m_b·Omega², 3e4 N/m at 10,000 rpm, against contact
+stiffnesses of 1e8) are left out. A mode of frequency w in the orbiting frame shows in the fixed
+frame at w + Omega (its forward-circular part in (y, z)), |w − Omega| (backward) and w (axial).
+With a radial load the balls differ around the orbit and the system is time-periodic: only the
+frequencies at rest (`natural_modes`) then apply.
 """
 from __future__ import annotations
 
@@ -95,3 +111,34 @@ def natural_modes(K: np.ndarray, M: np.ndarray) -> tuple[np.ndarray, np.ndarray,
     freq = np.sqrt(np.clip(w2, 0.0, None)) / (2.0 * math.pi)
     part = np.abs(phi[:5, :]) * np.sqrt(np.diag(M)[:5, None])
     return freq, phi, part
+
+
+def lines_at_speed(K: np.ndarray, M: np.ndarray, ring_mass: float, ring_diametral_inertia: float,
+                   ring_polar_inertia: float, ring_speed: float, orbit_speed: float,
+                   min_weight: float = 1e-3) -> list[tuple[float, float, str]]:
+    """The frequencies (Hz) at which the ring moves in the fixed frame, from the modes in the frame
+    orbiting with the balls (module docstring): (frequency, weight, kind) with kind "axial" (ring
+    x), "forward" or "backward" (circular parts of the ring's (y, z)); weight = that part's share of
+    the mode's unit displacement vector. Sorted by frequency; parts below min_weight left out.
+    K, M from `linear_model` at the equilibrium at speed (pure axial load); speeds in rad/s."""
+    n = K.shape[0]
+    J = np.array([[0.0, -1.0], [1.0, 0.0]])
+    C = np.zeros((n, n))
+    Kr = K.copy()
+    w_o, w_i = orbit_speed, ring_speed
+    C[1:3, 1:3] = 2.0 * ring_mass * w_o * J
+    Kr[1:3, 1:3] -= ring_mass * w_o ** 2 * np.eye(2)
+    C[3:5, 3:5] = (2.0 * ring_diametral_inertia * w_o - ring_polar_inertia * w_i) * J
+    Kr[3:5, 3:5] += (ring_polar_inertia * w_i * w_o - ring_diametral_inertia * w_o ** 2) * np.eye(2)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, Kr), -np.linalg.solve(M, C)]])
+    lam, V = np.linalg.eig(A)
+    lines = []
+    for k in np.flatnonzero(lam.imag > 0.0):
+        w = lam[k].imag
+        v = V[:n, k] / np.linalg.norm(V[:n, k])
+        forward, backward = abs(v[1] + 1j * v[2]) / 2.0, abs(v[1] - 1j * v[2]) / 2.0
+        for f, weight, kind in ((w, abs(v[0]), "axial"), (w + w_o, forward, "forward"),
+                                (abs(w - w_o), backward, "backward")):
+            if weight >= min_weight:
+                lines.append((f / (2.0 * math.pi), float(weight), kind))
+    return sorted(lines)
