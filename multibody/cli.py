@@ -2,7 +2,7 @@
 
     flexbearing quasi-static SCENE.toml [--time T | --times T0:T1:N] [--control outer|inner|jones|friction]
                                         [--friction-share LO,LI] [--no-gyroscopic] [--balls]
-                                        [--stiffness updated|frozen] [--json FILE]
+                                        [--stiffness updated|frozen] [--modes N] [--json FILE]
 
 Reads the scene (validated as for `run`), takes the inner-ring speed and the load on the inner
 ring at time T (s, default 0; impacts active at T included), and solves `multibody.quasi_static`
@@ -19,7 +19,11 @@ scene's speed and load profiles, each warm-started from the previous one (a cold
 warm one fails), and prints one row per instant: the quasi-static history of the operating
 profile (contact loads, Hertz pressures and angles through a speed ramp or an impact, and with
 `--stiffness` the bearing stiffness along it for a rotor-dynamic model), the reference against
-which the dynamic run's amplification is read. What the quasi-static model leaves out (traction, drag, the cage,
+which the dynamic run's amplification is read. `--modes N` adds the N lowest natural frequencies
+of the ring on its balls about that equilibrium (`multibody.vibration`): the modes with the ring's
+participation at rest, the fixed-frame forward/backward/axial lines at speed under a purely axial
+load; at speed with a radial load the system is time-periodic and the option is refused.
+What the quasi-static model leaves out (traction, drag, the cage,
 gravity) is the dynamics' business: use `flexbearing run` for those. Exit status 0 when the
 equilibrium was found, 1 with the solver's diagnostic when not, 2 for invalid input.
 """
@@ -51,6 +55,9 @@ def register(subparsers) -> None:
     p.add_argument("--balls", action="store_true", help="print one line per ball")
     p.add_argument("--stiffness", choices=("updated", "frozen"), default=None,
                    help="also compute the 5x5 stiffness matrix (x, y, z, theta_y, theta_z), SI")
+    p.add_argument("--modes", type=int, default=None, metavar="N",
+                   help="also the N lowest natural frequencies of the ring on its balls (at rest, or at speed "
+                        "under a purely axial load)")
     p.add_argument("--json", metavar="FILE", help="also write the result (SI units) as JSON")
     p.set_defaults(func=cmd_quasi_static)
 
@@ -220,12 +227,15 @@ def cmd_quasi_static(args) -> int:
 
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
     if args.times is not None:
-        for flag, given in (("--control friction", args.control == "friction"), ("--balls", args.balls)):
+        for flag, given in (("--control friction", args.control == "friction"), ("--balls", args.balls),
+                            ("--modes", args.modes is not None)):
             if given:
                 raise InputError(f"--times cannot be combined with {flag} (one instant only: use --time T)")
         return _cmd_sweep(scene, args)
     if args.control == "friction":
         return _cmd_friction(scene, args)
+    if args.modes is not None:
+        _check_modes_instant(scene, args.time, args.modes)      # before any work
     result, inputs = solve_scene(scene, args.time, args.control, _friction_share(args.friction_share),
                                  not args.no_gyroscopic)
     fx, fy, fz = inputs["load"]
@@ -242,15 +252,71 @@ def cmd_quasi_static(args) -> int:
               f"N/m, N/rad, N·m/m, N·m/rad:")
         for row in stiffness:
             print("  " + " ".join(f"{v:11.4e}" for v in row))
+    modes = None
+    if args.modes is not None and result.converged:
+        modes = scene_modes(scene, result, inputs, args.modes)
+        print("\n".join(modes_lines(modes)))
     if args.json:
         data = dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **result.to_dict())
         if stiffness is not None:
             data.update(stiffness=stiffness, stiffness_kinematics=args.stiffness)
+        if modes is not None:
+            data["modes"] = modes
         write_json(args.json, data)
     if not result.converged:
         print(f"flexbearing quasi-static: no equilibrium: {result.diagnostic}", file=sys.stderr)
         return 1
     return 0
+
+
+def scene_modes(scene, result, inputs, n_modes: int) -> dict:
+    """The `n_modes` lowest natural frequencies of the ring on its balls about `result`
+    (multibody.vibration; ring mass and inertias of the scene's model): at rest {"kind": "at rest",
+    "frequency" (Hz), "participation" (n, 5: ring x, y, z, theta_y, theta_z)}; at speed under a
+    purely axial load {"kind": "orbiting frame", "frequency", "weight", "line"} (fixed-frame lines).
+    At speed with a radial load the system is time-periodic: refused (InputError)."""
+    import numpy as np
+    from multibody.model import P_IID, P_IIP, P_MI, build_model
+    from multibody.quasi_static import grooves_from_bearing
+    from multibody.vibration import linear_model, lines_at_speed, natural_modes
+
+    _check_modes_instant(scene, inputs["time"], n_modes)
+    p = build_model(scene.bearing, scene.oil, scene.model_options).p
+    K, M = linear_model(grooves_from_bearing(scene.bearing), result, p[P_MI], p[P_IID])
+    speed = inputs["inner_speed"]
+    if speed == 0.0:
+        freq, _, part = natural_modes(K, M)
+        keep = freq > 1e-6 * freq.max()                   # the balls' free orbit directions have no stiffness
+        return {"kind": "at rest", "frequency": freq[keep][:n_modes], "participation": part[:, keep][:, :n_modes].T}
+    lines = lines_at_speed(K, M, p[P_MI], p[P_IID], p[P_IIP], speed, float(np.mean(result.orbit_speed)),
+                           min_weight=1e-2)
+    lines = [ln for ln in lines if ln[0] > 1.0][:n_modes]
+    return {"kind": "orbiting frame", "frequency": [ln[0] for ln in lines], "weight": [ln[1] for ln in lines],
+            "line": [ln[2] for ln in lines]}
+
+
+def _check_modes_instant(scene, time: float, n_modes: int) -> None:
+    """--modes: N in range; at speed the load must be purely axial (`scene_modes`)."""
+    require_range("--modes", n_modes, 1, 1000)
+    speed, force = scene_instant(scene, time)
+    fr = math.hypot(force[1], force[2])
+    if speed != 0.0 and fr > 0.0:
+        raise InputError(f"--modes at speed needs a purely axial load: the radial load of {fr:.6g} N at t = {time:g} s "
+                         "makes the balls differ around the orbit (a time-periodic system); take an instant at rest "
+                         "(speed 0) or a scene without radial load")
+
+
+def modes_lines(modes) -> list[str]:
+    """The printed table of `scene_modes`."""
+    if modes["kind"] == "at rest":
+        out = ["natural frequencies at rest (ring participation x, y, z, theta_y, theta_z):"]
+        for f, part in zip(modes["frequency"], modes["participation"]):
+            out.append(f"  {f:10.1f} Hz   " + " ".join(f"{v:5.2f}" for v in part))
+        return out
+    out = ["ring lines in the fixed frame at speed (modes of the frame orbiting with the balls; weight, kind):"]
+    for f, w, kind in zip(modes["frequency"], modes["weight"], modes["line"]):
+        out.append(f"  {f:10.1f} Hz   {w:5.3f}  {kind}")
+    return out
 
 
 def _cmd_sweep(scene, args) -> int:

@@ -79,6 +79,27 @@ def test_quasi_static_sweep_follows_the_profile(tmp_path, capsys):
         assert "--times cannot be combined" in capsys.readouterr().err
 
 
+def test_quasi_static_modes(tmp_path, capsys):
+    # --modes: at rest the natural frequencies of multibody.vibration about the scene's equilibrium (the paper
+    # case: 2090 Hz radial-tilt, 4028 Hz axial, 7326 Hz; tests/test_vibration.py strikes the dynamics there);
+    # at speed with the paper's radial load refused before any solve (time-periodic system), naming the load
+    import json
+    from coupling.cli import main
+    rest = tmp_path / "rest.toml"
+    rest.write_text(open("scenes/paper_steady_rigid.toml").read().replace("rpm = 14000", "rpm = 0"))
+    out = tmp_path / "modes.json"
+    assert main(["quasi-static", str(rest), "--modes", "6", "--json", str(out)]) == 0
+    modes = json.loads(out.read_text())["modes"]
+    assert modes["kind"] == "at rest" and len(modes["frequency"]) == 6
+    f = modes["frequency"]
+    for expect in (2089.9, 4028.4, 7326.0):
+        assert min(abs(v / expect - 1) for v in f) < 1e-4
+    capsys.readouterr()
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--modes", "4"]) == 2
+    captured = capsys.readouterr()
+    assert "radial load of 4000 N" in captured.err and "Qmax" not in captured.out
+
+
 def test_quasi_static_friction_control_is_the_steady_thrust_state(tmp_path, capsys):
     # --control friction runs multibody.steady on the scene (rigid cage, the scene's oil): the paper's steady scene
     # with its radial load removed gives the state of tests/test_steady.py; with the radial load it is refused
