@@ -70,14 +70,15 @@ def test_condensed_balls_give_the_frozen_bearing_stiffness(paper_at_rest):
     np.testing.assert_allclose(kc[3:], kf[3:], rtol=3e-3)
 
 
-def _spectral_peaks(signal, n_peaks, dt):
-    """Frequencies (Hz) of the n largest peaks of a Hann-windowed, 16x zero-padded spectrum, each refined by
-    a parabola through the log magnitudes of its three bins."""
+def _spectral_peaks(signal, n_peaks, dt, f_min=500.0):
+    """Frequencies (Hz) of the n largest peaks above f_min of a Hann-windowed, 16x zero-padded spectrum, each
+    refined by a parabola through the log magnitudes of its three bins. Below f_min lie the slow motions the
+    linear model leaves out (the balls' orbit within the pockets, the cage: tens of Hz)."""
     s = signal - signal.mean()
     pad = 16 * len(s)
     mag = np.log(np.abs(np.fft.rfft(s * np.hanning(len(s)), pad)) + 1e-300)
     df = 1.0 / (pad * dt)
-    loc = [i for i in range(1, len(mag) - 1) if mag[i] > mag[i - 1] and mag[i] >= mag[i + 1]]
+    loc = [i for i in range(max(1, int(f_min / df)), len(mag) - 1) if mag[i] > mag[i - 1] and mag[i] >= mag[i + 1]]
     out = []
     for i in sorted(loc, key=lambda i: -mag[i])[:n_peaks]:
         a, b, c = mag[i - 1], mag[i], mag[i + 1]
@@ -103,17 +104,20 @@ def _struck_ring(model, speed, radial_load, n, dt=1e-6):
 
 
 @pytest.mark.slow
-def test_the_struck_ring_at_speed_rings_at_the_orbiting_frame_lines():
-    # 10,000 rpm, 55 kN axial only (every ball alike), dissipation off; 60 ms of ring motion (bins of 17 Hz,
-    # 1 Hz after padding) resolve the forward/backward pairs, 67 Hz apart at 7 kHz. The four strongest peaks of the
-    # ring's z motion must each sit on a forward or backward line of the orbiting-frame model (1994 / 2166 /
-    # 7039 / 7106 Hz), the strongest of its x motion on the axial line (3902 Hz). Measured within 0.15 %;
-    # tolerance 0.3 %. (The fixed-frame model with the ring's gyroscopics alone gives 2023 / 2135 / 7058 / 7086.)
+@pytest.mark.parametrize("rpm", [10000, 14000])
+def test_the_struck_ring_at_speed_rings_at_the_orbiting_frame_lines(rpm):
+    # 55 kN axial only (every ball alike), dissipation off; 60 ms of ring motion (bins of 17 Hz, 1 Hz after
+    # padding) resolve the forward/backward pairs, 67 Hz apart at 7 kHz. The four strongest peaks of the ring's z
+    # motion must each sit on a forward or backward line of the orbiting-frame model, the strongest of its x motion
+    # on an axial line. 10,000 rpm (three contacts per ball): 1997 / 2168 / 7047 / 7114 Hz against 1994 / 2166 /
+    # 7039 / 7106, axial 3905 against 3902 (the fixed-frame model with the ring's gyroscopics alone gives 2023 /
+    # 2135 / 7058 / 7086). 14,000 rpm (the third contact unloaded): 1612 / 1847 / 4055 / 4222 against 1611 / 1847
+    # / 4049 / 4217, axial 3367 against 3361. Measured within 0.2 %; tolerance 0.3 %.
     from multibody.bearing import PAPER_BEARING, PAPER_OIL
     from multibody.model import P_IID, P_IIP, P_MI, build_model
     model = build_model(PAPER_BEARING, PAPER_OIL, dict(traction=False, drag=False, rolling_resistance=False,
                                                        damping=False))
-    speed = 10000 * math.pi / 30
+    speed = rpm * math.pi / 30
     g = qs.grooves_from_bearing(PAPER_BEARING)
     r = qs.solve_quasi_static(g, speed, fx=55e3, gyroscopic=False, tol=1e-12)
     K, M = linear_model(g, r, model.p[P_MI], model.p[P_IID])
