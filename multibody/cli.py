@@ -22,8 +22,9 @@ profile (contact loads, Hertz pressures and angles through a speed ramp or an im
 which the dynamic run's amplification is read. `--modes N` adds the N lowest natural frequencies
 of the ring on its balls about that equilibrium (`multibody.vibration`): the modes with the ring's
 participation at rest, the fixed-frame forward/backward/axial lines at speed under a purely axial
-load; at speed with a radial load the system is time-periodic and the option is refused.
-What the quasi-static model leaves out (traction, drag, the cage,
+load (about the equilibrium of the chosen --control; `--no-gyroscopic` gives the frictionless one
+that tests/test_vibration.py checks against the struck dynamic model); at speed with a radial
+load the system is time-periodic and the option is refused. What the quasi-static model leaves out (traction, drag, the cage,
 gravity) is the dynamics' business: use `flexbearing run` for those. Exit status 0 when the
 equilibrium was found, 1 with the solver's diagnostic when not, 2 for invalid input.
 """
