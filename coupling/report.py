@@ -258,13 +258,22 @@ def phase_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> li
     <key>_mean and the time of the peak <key>_t_peak (module doc for the definitions).
     settle [s]: samples with t < settle (the start-up transient from the quasi-static initial
     state) are left out of every window."""
+    return _phase_rows(*_read_run(_check_run(run_h5)), include_impacts, settle)
+
+
+def _read_run(path):
+    """(t, quantity arrays, scene or None, sample interval) of a checked run file, read once."""
     import h5py
-    path = _check_run(run_h5)
     with h5py.File(path, "r") as f:
         t = f["outputs/time"][...]
         arrays = quantity_arrays(f["outputs"])
         scene = run_scene(f)
         dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+    return t, arrays, scene, dt
+
+
+def _phase_rows(t, arrays, scene, dt, include_impacts: bool, settle: float) -> list[dict]:
+    """`phase_table` of data already read (`_read_run`)."""
     if len(t) == 0:
         return []
     t_end = float(t[-1])
@@ -701,9 +710,10 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     cmp_path = _check_run(compare) if compare is not None else None
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    rows = phase_table(path, settle=settle)
+    run = _read_run(path)
+    rows = _phase_rows(*run, True, settle)
     cmp_rows = phase_table(cmp_path, settle=settle) if cmp_path else None
-    amplification = _impact_amplification(path)
+    amplification = _impact_amplification(*run)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"report: plots of {path.name} -> {out_dir}")
     plots = write_plots(path, out_dir, compare=cmp_path)
@@ -778,17 +788,10 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     return {"report": report, "json": js, "plots": plots, "xdmf": xdmf}
 
 
-def _impact_amplification(path) -> list[dict]:
-    """coupling.amplification.impact_amplification for the run's impacts ([] without impacts, contact
-    stresses or a readable scene, or where the quasi-static solve itself refuses the instant)."""
-    import h5py
-    with h5py.File(path, "r") as f:
-        scene = run_scene(f)
-        if scene is None or len(scene.impacts) == 0:
-            return []
-        t = f["outputs/time"][...]
-        arrays = quantity_arrays(f["outputs"])
-    if "outer_contact_stress" not in arrays:
+def _impact_amplification(t, arrays, scene, dt) -> list[dict]:
+    """coupling.amplification.impact_amplification for the run's impacts (data of `_read_run`; [] without
+    impacts, contact stresses or a readable scene, or where the quasi-static solve refuses the instant)."""
+    if scene is None or len(scene.impacts) == 0 or "outer_contact_stress" not in arrays:
         return []
     from coupling.amplification import impact_amplification
     try:

@@ -67,7 +67,6 @@ def linear_model(grooves, result, ring_mass: float, ring_diametral_inertia: floa
     for j in range(z):
         psi = r.psi[j]
         M[5 + 2 * j, 5 + 2 * j] = M[6 + 2 * j, 6 + 2 * j] = g.ball_mass
-        c, s = math.cos(psi), math.sin(psi)
         for k in range(3):
             q = r.load[j, k]
             if not g.active[k] or q <= 0.0:
@@ -79,14 +78,12 @@ def linear_model(grooves, result, ring_mass: float, ring_diametral_inertia: floa
                 gx, gr = x0, r0                          # outer ring fixed
             else:
                 gx, gr = ring_point_in_plane(psi, x0, r0, *u)
-                # x = x0 + ux + r0·th, r = r0 + uy·c + uz·s − x0·th, th = theta_y·s − theta_z·c
-                B[0, 0] -= 1.0
-                B[0, 3] -= r0 * s
-                B[0, 4] += r0 * c
-                B[1, 1] -= c
-                B[1, 2] -= s
-                B[1, 3] += x0 * s
-                B[1, 4] -= x0 * c
+                # ring_point_in_plane is linear in the ring's 5 DOF: its columns are the moves under unit DOFs
+                base = ring_point_in_plane(psi, x0, r0, 0.0, 0.0, 0.0, 0.0, 0.0)
+                for a, unit in enumerate(np.eye(5)):
+                    moved = ring_point_in_plane(psi, x0, r0, *unit)
+                    B[0, a] -= moved[0] - base[0]
+                    B[1, a] -= moved[1] - base[1]
             dvec = np.array([r.ball_x[j] - gx, r.ball_r[j] - gr])
             d = float(np.linalg.norm(dvec))
             e = dvec / d
