@@ -34,6 +34,12 @@ worst ball. Bearing-level quantities (guiding force, von Mises, slip) have one c
 windows are [t_start, t_end) (the last one closed); impact windows are [t_start, t_start + T] of
 the load pulse.
 
+Cage motion (runs that record "cage_orbit" and "cage_speed"; coupling.cage_motion): per window
+the eccentricity ratio e/Cg (mean, max), the share of samples on the guide rim, the whirl ratio
+(the cage centre's net whirl angle over the cage's rotation angle) and the velocity dispersion
+std/mean of the centre's speed (Ghaisas, Wassgren & Sadeghi 2004); cage_orbit.png draws the orbit
+in units of the clearance per speed phase, impact samples in red.
+
 The ParaView series (write_von_mises_xdmf) rebuilds the cage's stress field at chosen instants
 from the recorded modal coordinates in the full basis of the reduced cage file
 (fem_cage.reduced_cage):
@@ -272,8 +278,9 @@ def _read_run(path):
     return t, arrays, scene, dt
 
 
-def _phase_rows(t, arrays, scene, dt, include_impacts: bool, settle: float) -> list[dict]:
-    """`phase_table` of data already read (`_read_run`)."""
+def report_windows(t, scene, dt, include_impacts: bool = True, settle: float = 0.0) -> list[tuple[dict, np.ndarray]]:
+    """The report's time windows of a run: (header, sample mask) for the whole run, each phase of
+    the speed profile, then each impact (module doc); samples before `settle` left out of all."""
     if len(t) == 0:
         return []
     t_end = float(t[-1])
@@ -281,8 +288,7 @@ def _phase_rows(t, arrays, scene, dt, include_impacts: bool, settle: float) -> l
         raise InputError(f"settle = {settle:g} s must leave samples to report (allowed range "
                          f"[0, {t_end:g}) s)")
     kept = t >= settle - 1e-6 * dt
-    rows = [{"label": "whole run", "kind": "run", "t_start": max(float(t[0]), settle), "t_end": t_end}]
-    rows[0].update(window_stats(t, arrays, kept))
+    out = [({"label": "whole run", "kind": "run", "t_start": max(float(t[0]), settle), "t_end": t_end}, kept)]
     if scene is not None:
         phases = speed_phases(scene)
         for i, ph in enumerate(phases):
@@ -290,15 +296,122 @@ def _phase_rows(t, arrays, scene, dt, include_impacts: bool, settle: float) -> l
                 break            # an interrupted run: phases it never reached are left out
             mask = window_mask(t, ph["t_start"], ph["t_end"], i == len(phases) - 1, dt) & kept
             if mask.any():
-                rows.append({**ph, "t_start": max(ph["t_start"], settle), **window_stats(t, arrays, mask)})
+                out.append(({**ph, "t_start": max(ph["t_start"], settle)}, mask))
         if include_impacts:
             for imp in impact_windows(scene):
                 if imp["t_start"] > t_end + 1e-6 * dt:
                     continue
                 mask = window_mask(t, imp["t_start"], imp["t_end"], True, dt) & kept
                 if mask.any():
-                    rows.append({**imp, **window_stats(t, arrays, mask)})
+                    out.append((dict(imp), mask))
+    return out
+
+
+def _phase_rows(t, arrays, scene, dt, include_impacts: bool, settle: float) -> list[dict]:
+    """`phase_table` of data already read (`_read_run`)."""
+    return [{**head, **window_stats(t, arrays, mask)}
+            for head, mask in report_windows(t, scene, dt, include_impacts, settle)]
+
+
+def _read_motion(path):
+    """(cage-motion arrays of coupling.cage_motion.motion_arrays or None, scene or None, sample interval)."""
+    import h5py
+    from coupling.cage_motion import motion_arrays
+    with h5py.File(path, "r") as f:
+        motion = motion_arrays(f["outputs"])
+        scene = run_scene(f)
+        t = f["outputs/time"][...]
+        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+    return motion, scene, dt
+
+
+def cage_motion_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
+    """Cage-motion statistics per report window (whole run, phases, impacts; `report_windows`):
+    eps_mean, eps_max, rim_fraction, whirl_ratio, whirl_rate_mean [rad/s], centre_speed_mean [m/s],
+    velocity_dispersion, cage_revolutions (coupling.cage_motion.window_motion). [] when the run did
+    not record the cage orbit (scene output "cage_orbit") and the cage speed."""
+    return _cage_motion_rows(*_read_motion(_check_run(run_h5)), include_impacts, settle)
+
+
+def _cage_motion_rows(motion, scene, dt, include_impacts: bool, settle: float) -> list[dict]:
+    from coupling.cage_motion import window_motion
+    if motion is None:
+        return []
+    m = motion
+    rows = []
+    for head, mask in report_windows(m["t"], scene, dt, include_impacts, settle):
+        rows.append({**head, **window_motion(m["t"][mask], m["centre_yz"][mask], m["cage_speed"][mask],
+                                             eccentricity_ratio=m["eccentricity_ratio"][mask])})
     return rows
+
+
+MOTION_ROWS = (   # (label, key, scale, format) of the cage-motion table
+    ("Eccentricity ratio e/Cg, mean", "eps_mean", 1.0, "{:.3f}"),
+    ("Eccentricity ratio e/Cg, max", "eps_max", 1.0, "{:.3f}"),
+    ("Time on the guide rim (%)", "rim_fraction", 100.0, "{:.1f}"),
+    ("Whirl ratio (whirl revolutions per cage revolution)", "whirl_ratio", 1.0, "{:+.3f}"),
+    ("Cage-centre speed, mean (mm/s)", "centre_speed_mean", 1e3, "{:.3g}"),
+    ("Velocity dispersion std/mean of the centre speed", "velocity_dispersion", 1.0, "{:.3f}"),
+)
+
+
+def _motion_markdown(rows: list[dict]) -> str:
+    head = ["quantity"] + [_col_name(r) for r in rows]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" + "---:|" * len(rows)]
+    for label, key, scale, fmt in MOTION_ROWS:
+        cells = [label] + ["–" if r.get(key) is None else fmt.format(r[key] * scale) for r in rows]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def write_orbit_plot(run_h5, out_dir, settle: float = 0.0) -> Path | None:
+    """cage_orbit.png: the cage centre in units of the guide clearance (the rim is the unit circle),
+    one panel per phase of the speed profile, samples inside impact windows in red; below, the
+    eccentricity ratio against time. None when the run did not record the cage orbit."""
+    from coupling.cage_motion import normalised_orbit
+    path = _check_run(run_h5)
+    motion, scene, dt = _read_motion(path)
+    if motion is None or motion["t"].size == 0:
+        return None
+    t = motion["t"]
+    xy = normalised_orbit(motion["centre_yz"], motion["eccentricity_ratio"])
+    windows = report_windows(t, scene, dt, True, settle)
+    panels = [w for w in windows if w[0]["kind"] not in ("run", "impact")] or windows[:1]
+    in_impact = np.zeros(t.size, dtype=bool)
+    for head, mask in windows:
+        if head["kind"] == "impact":
+            in_impact |= mask
+    plt = _style()
+    n = len(panels)
+    fig = plt.figure(figsize=(max(3.3 * n, 6.0), 5.6), layout="constrained")
+    grid = fig.add_gridspec(2, n, height_ratios=(3.0, 1.3))
+    circle = np.linspace(0.0, 2.0 * np.pi, 361)
+    lim = max(1.05, float(np.nanmax(np.abs(xy))) * 1.05 if xy.size else 1.05)
+    for i, (head, mask) in enumerate(panels):
+        ax = fig.add_subplot(grid[0, i])
+        ax.plot(np.cos(circle), np.sin(circle), color="0.3", lw=0.8, ls="--", label="guide rim (e = Cg)")
+        ax.plot(xy[mask, 0], xy[mask, 1], color="tab:blue", lw=0.5, label="cage centre")
+        hit = mask & in_impact
+        if hit.any():
+            ax.plot(xy[hit, 0], xy[hit, 1], ".", color="tab:red", ms=1.5, label="during an impact")
+        ax.set_aspect("equal")
+        ax.set_xlim(-lim, lim)
+        ax.set_ylim(-lim, lim)
+        ax.set_xlabel("y / Cg")
+        if i == 0:
+            ax.set_ylabel("z / Cg")
+        ax.set_title(_col_name(head), fontsize=8)
+    ax = fig.add_subplot(grid[1, :])
+    ax.plot(t, motion["eccentricity_ratio"], color="tab:blue", lw=0.7)
+    ax.axhline(1.0, color="0.3", lw=0.8, ls="--")
+    ax.set_xlabel("Time (s)")
+    ax.set_ylabel("e / Cg")
+    ax.set_xlim(float(t[0]), float(t[-1]))
+    fig.axes[0].legend(loc="lower left", fontsize=6, framealpha=0.8)
+    out = Path(out_dir) / "cage_orbit.png"
+    fig.savefig(out)
+    plt.close(fig)
+    return out
 
 
 # ---------------------------------------------------------------- plots
@@ -714,9 +827,11 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     rows = _phase_rows(*run, True, settle)
     cmp_rows = phase_table(cmp_path, settle=settle) if cmp_path else None
     amplification = _impact_amplification(*run)
+    motion_rows = _cage_motion_rows(*_read_motion(path), True, settle)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"report: plots of {path.name} -> {out_dir}")
     plots = write_plots(path, out_dir, compare=cmp_path)
+    orbit_png = write_orbit_plot(path, out_dir, settle=settle) if motion_rows else None
     with h5py.File(path, "r") as f:
         name = str(f.attrs.get("scene_name", path.stem))
         status = str(f.attrs.get("status", ""))
@@ -774,8 +889,20 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                "shock spectrum of the displacement under a half-sine pulse of duration t_d (the contact stress "
                "amplifies less: p0 grows as Q^(1/3)); near 1 when t_d >> T_n: the pulse is then quasi-static for the "
                "contacts, and the stress it adds is the static response to the larger load.", ""]
+    if motion_rows:
+        md += ["## Cage motion in the guide clearance", "",
+               _motion_markdown(motion_rows), "",
+               "From the recorded cage centre (its offset from the guide-land centre) and cage speed "
+               "(coupling.cage_motion): e/Cg the eccentricity ratio (1 = on the guide rim); whirl ratio = the "
+               "centre's net whirl angle over the cage's rotation angle in the window (> 0 forward; 1 synchronous "
+               "whirl, 0.5 half-frequency whirl on the land film, near 0 a centre held at one azimuth by a "
+               "static load); velocity dispersion = std/mean of the centre's speed, the stability index of "
+               "Ghaisas, Wassgren & Sadeghi (2004): 0 for a steady circular whirl, of order 1 for the "
+               "irregular, collision-driven motion of an unstable cage. Orbit: `cage_orbit.png`.", ""]
     if cmp_rows and len(cmp_rows) > 2:
         md += [f"## {cmp_name}: per phase", "", _markdown_table([(_col_name(r), r) for r in cmp_rows], keys), ""]
+    if orbit_png is not None:
+        plots = plots + [orbit_png]
     md += ["## Plots", ""] + [f"![{p.stem}]({p.name})" for p in plots] + [""]
     md += ["## Cage von Mises field (ParaView)", "", xdmf_note, ""]
     report = out_dir / "report.md"
@@ -783,7 +910,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     js = out_dir / "report.json"
     js.write_text(json.dumps({"run": str(path), "scene": name, "status": status, "units": {
         q.key: q.unit for q in QUANTITIES}, "phases": rows, "compare": str(cmp_path) if cmp_path else None,
-        "compare_phases": cmp_rows, "impact_amplification": amplification}, indent=1, allow_nan=False,
+        "compare_phases": cmp_rows, "impact_amplification": amplification, "cage_motion": motion_rows}, indent=1, allow_nan=False,
         default=float) + "\n")
     return {"report": report, "json": js, "plots": plots, "xdmf": xdmf}
 

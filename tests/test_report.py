@@ -316,3 +316,62 @@ def test_report_command_end_to_end(tmp_path):
     # printed in MPa: the steady (synthetic_rigid) whole-run mean (200·1.5 + 200·1.8 + 201·1.6)/601 GPa
     assert "| Outer-race contact stress, mean (MPa) | 1,633 |" in md
     assert main(["report", str(tmp_path / "nope.h5"), "--quiet"]) == 2
+
+
+# ---------------------------------------------------------------- cage motion
+
+WHIRL = (300.0, 150.0, -50.0)      # rad/s, whirl rate of the cage centre per phase (synthetic)
+EPS_ORBIT = 0.4                    # eccentricity ratio of the synthetic circular orbit
+CG = 375e-6                        # m, guide clearance of the synthetic cage
+
+
+def _whirl_angle(t):
+    """Piecewise-linear, continuous whirl angle with the rates WHIRL in the three phases."""
+    a = 0.0
+    for (t0, t1), w in zip(PHASES, WHIRL):
+        a += w * (min(max(t, t0), t1) - t0)
+    return a
+
+
+def write_orbit_run(path, n=601):
+    w = ResultsWriter.create(path, loads_scene(SCENE.format(cage="rigid", record='["cage_orbit", "cage_speed"]'),
+                                               "synthetic.toml"))
+    for k in range(n):
+        t = k * DT
+        phi = _whirl_angle(t)
+        w.add_sample(t, {"cage_centre": [0.0, EPS_ORBIT * CG * math.cos(phi), EPS_ORBIT * CG * math.sin(phi)],
+                         "cage_eccentricity_ratio": EPS_ORBIT, "cage_speed": 450.0 + 40 * t})
+    w.write_block()
+    w.set_status("complete")
+    w.close()
+    return path
+
+
+def test_cage_motion_table_per_phase(tmp_path):
+    """Whirl ratio of each window = (whirl angle swept)/(cage angle ∫(450 + 40 t) dt), exact for the
+    piecewise-linear angle and the linear speed (1e-9: rounding); circular orbit: dispersion 0."""
+    rows = report.cage_motion_table(write_orbit_run(tmp_path / "orbit.h5"))
+    assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed", "deceleration", "impact"]
+    t_all = np.arange(601) * DT
+    for r in rows:
+        sel = report.window_mask(t_all, r["t_start"], r["t_end"], r["kind"] in ("run", "deceleration", "impact"), DT)
+        ta, tb = t_all[sel][0], t_all[sel][-1]
+        cage_angle = 450.0 * (tb - ta) + 20.0 * (tb * tb - ta * ta)
+        assert r["whirl_ratio"] == pytest.approx((_whirl_angle(tb) - _whirl_angle(ta)) / cage_angle, rel=1e-9)
+        assert r["eps_mean"] == pytest.approx(EPS_ORBIT, rel=1e-12) and r["rim_fraction"] == 0.0
+    assert rows[3]["whirl_ratio"] < 0.0                                   # backward whirl in phase 3
+    assert rows[1]["velocity_dispersion"] == pytest.approx(0.0, abs=1e-9)  # one rate inside a phase
+    assert rows[0]["velocity_dispersion"] > 0.1                            # three rates over the run
+
+
+def test_report_has_the_cage_motion_section_only_when_recorded(tmp_path):
+    out = report.write_report(write_orbit_run(tmp_path / "orbit.h5"), tmp_path / "rep")
+    md = out["report"].read_text()
+    assert "## Cage motion in the guide clearance" in md
+    assert "| Eccentricity ratio e/Cg, mean | 0.400 |" in md
+    assert _is_nonblank_png(tmp_path / "rep" / "cage_orbit.png")
+    js = json.loads(out["json"].read_text())
+    assert js["cage_motion"][2]["whirl_ratio"] > 0.0 and len(js["cage_motion"]) == 5
+    plain = report.write_report(write_run(tmp_path / "run.h5"), tmp_path / "rep2")
+    assert "Cage motion" not in plain["report"].read_text()
+    assert not (tmp_path / "rep2" / "cage_orbit.png").exists()
