@@ -40,6 +40,12 @@ the eccentricity ratio e/Cg (mean, max), the share of samples on the guide rim, 
 std/mean of the centre's speed (Ghaisas, Wassgren & Sadeghi 2004); cage_orbit.png draws the orbit
 in units of the clearance per speed phase, impact samples in red.
 
+Friction torque and power loss (runs that record "power_loss"; multibody.power_loss): per window
+the mean drive torque of the inner ring (the bearing's friction torque), the mean power each
+dissipative source takes (traction and rolling resistance at the outer and inner races, contact
+damping, pockets, churning, guide land, cage structural damping), the drive and external-load
+power, the rate of change of the mechanical energy and the residual of the energy balance.
+
 The ParaView series (write_von_mises_xdmf) rebuilds the cage's stress field at chosen instants
 from the recorded modal coordinates in the full basis of the reduced cage file
 (fem_cage.reduced_cage):
@@ -361,6 +367,63 @@ def _motion_markdown(rows: list[dict]) -> str:
     for label, key, scale, fmt in MOTION_ROWS:
         cells = [label] + ["–" if r.get(key) is None else fmt.format(r[key] * scale) for r in rows]
         lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _read_power(path):
+    """(t, the recorded power datasets, scene or None, sample interval); data None when the run did
+    not record the scene output "power_loss"."""
+    import h5py
+    from multibody.power_loss import RECORDED
+    names = list(RECORDED.values()) + ["ring_drive_torque", "inner_ring_speed"]
+    optional = ("external_load_power", "mechanical_energy")
+    with h5py.File(path, "r") as f:
+        g = f["outputs"]
+        t = g["time"][...]
+        data = None
+        if all(n in g for n in names):
+            data = {n: g[n][...] for n in names}
+            data.update({n: g[n][...] for n in optional if n in g})
+        scene = run_scene(f)
+        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+    return t, data, scene, dt
+
+
+def power_loss_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
+    """Friction torque and power loss by source per report window (whole run, phases, impacts;
+    `report_windows`), W and N·m (multibody.power_loss.window_power). [] when the run did not record
+    the scene output "power_loss"."""
+    return _power_rows(*_read_power(_check_run(run_h5)), include_impacts, settle)
+
+
+def _power_rows(t, data, scene, dt, include_impacts: bool, settle: float) -> list[dict]:
+    from multibody.power_loss import window_power
+    if data is None:
+        return []
+    return [{**head, **window_power(t[mask], {k: v[mask] for k, v in data.items()})}
+            for head, mask in report_windows(t, scene, dt, include_impacts, settle)]
+
+
+def _power_markdown(rows: list[dict]) -> str:
+    from multibody.power_loss import BREAKDOWN
+    head = ["quantity"] + [_col_name(r) for r in rows]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" + "---:|" * len(rows)]
+
+    def line(label, cells):
+        lines.append("| " + " | ".join([label] + cells) + " |")
+
+    def watts(v):
+        return "–" if v is None else f"{(v if abs(v) >= 0.5 else 0.0):,.0f}"
+
+    line("Friction torque (drive torque of the inner ring), N·m", [f"{r['drive_torque']:.3g}" for r in rows])
+    line("**Power loss, W**", [f"**{watts(r['loss'])}**" for r in rows])
+    for label, key in BREAKDOWN:
+        line(f"&nbsp;&nbsp;{label}, W (%)",
+             [f"{watts(r[key])} ({100.0 * r[key] / r['loss']:.1f})" if r["loss"] else watts(r[key]) for r in rows])
+    line("Drive power T·omega_i, W", [watts(r["drive_power"]) for r in rows])
+    line("External load power F·v_ring, W", [watts(r["load_power"]) for r in rows])
+    line("Rate of change of the mechanical energy, W", [watts(r["energy_rate"]) for r in rows])
+    line("Balance residual (drive + load − loss − energy rate), W", [watts(r["residual"]) for r in rows])
     return "\n".join(lines)
 
 
@@ -828,6 +891,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     cmp_rows = phase_table(cmp_path, settle=settle) if cmp_path else None
     amplification = _impact_amplification(*run)
     motion_rows = _cage_motion_rows(*_read_motion(path), True, settle)
+    power_rows = _power_rows(*_read_power(path), True, settle)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"report: plots of {path.name} -> {out_dir}")
     plots = write_plots(path, out_dir, compare=cmp_path)
@@ -899,6 +963,20 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                "static load); velocity dispersion = std/mean of the centre's speed, the stability index of "
                "Ghaisas, Wassgren & Sadeghi (2004): 0 for a steady circular whirl, of order 1 for the "
                "irregular, collision-driven motion of an unstable cage. Orbit: `cage_orbit.png`.", ""]
+    if power_rows:
+        md += ["## Friction torque and power loss", "",
+               _power_markdown(power_rows), "",
+               "Window means of the power each dissipative force pair of the model dissipates "
+               "(multibody.power_loss): the sliced EHL traction (sliding and spin) and the EHL rolling "
+               "forces of the race contacts, the contact damping, the lubricated pockets, the churning "
+               "drag of the balls, the guide-land film and rim and, for a flexible cage, its modal "
+               "damping. The drive torque is what holds the inner ring at its prescribed speed, the "
+               "bearing's friction torque; in a steady window the drive power equals the loss (the "
+               "work–energy theorem of the model, exact to rounding at single states, "
+               "tests/test_power_loss.py); the residual is the sampling error of the window means "
+               "(and the small non-conservative part of the angle-dependent Hertz constant). The "
+               "oil's viscosity is isothermal (no inlet shear heating), which overestimates the EHL "
+               "rolling resistance at high speed.", ""]
     if cmp_rows and len(cmp_rows) > 2:
         md += [f"## {cmp_name}: per phase", "", _markdown_table([(_col_name(r), r) for r in cmp_rows], keys), ""]
     if orbit_png is not None:
@@ -910,7 +988,8 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     js = out_dir / "report.json"
     js.write_text(json.dumps({"run": str(path), "scene": name, "status": status, "units": {
         q.key: q.unit for q in QUANTITIES}, "phases": rows, "compare": str(cmp_path) if cmp_path else None,
-        "compare_phases": cmp_rows, "impact_amplification": amplification, "cage_motion": motion_rows}, indent=1, allow_nan=False,
+        "compare_phases": cmp_rows, "impact_amplification": amplification, "cage_motion": motion_rows,
+        "power_loss": power_rows}, indent=1, allow_nan=False,
         default=float) + "\n")
     return {"report": report, "json": js, "plots": plots, "xdmf": xdmf}
 

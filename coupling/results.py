@@ -50,7 +50,10 @@ KNOWN_UNITS = {
     "external_load": "N", "ball_axial_position": "m", "ball_radial_position": "m",
     "ball_azimuth": "rad", "ball_axial_velocity": "m/s", "ball_radial_velocity": "m/s",
     "ball_orbit_speed": "rad/s", "ball_angular_velocity": "rad/s", "film_thickness_min": "m",
-    "film_thickness_central": "m", "von_mises_max": "Pa",
+    "film_thickness_central": "m", "von_mises_max": "Pa", "drive_power": "W", "power_loss": "W",
+    "power_loss_traction": "W", "power_loss_rolling": "W", "power_loss_contact_damping": "W",
+    "power_loss_pocket": "W", "power_loss_churning": "W", "power_loss_guide_land": "W",
+    "power_loss_cage_damping": "W", "mechanical_energy": "J", "external_load_power": "W",
 }
 CONTACTS = ("outer", "inner_left", "inner_right")
 # Names of the last axis of vector outputs: the summary gives statistics per column too (e.g. the
@@ -58,7 +61,8 @@ CONTACTS = ("outer", "inner_left", "inner_right")
 KNOWN_COLUMNS = {
     **{k: CONTACTS for k in ("contact_load", "contact_angle", "contact_stress", "approach",
                              "entrainment_speed", "slide_ratio", "film_thickness_min",
-                             "film_thickness_central")},
+                             "film_thickness_central", "power_loss_traction", "power_loss_rolling",
+                             "power_loss_contact_damping")},
     "cage_land_force": ("y", "z"), "cage_centre": ("x", "y", "z"), "inner_ring_position": ("x", "y", "z"),
     "external_load": ("x", "y", "z"), "cage_tilt": ("tilt_y", "tilt_z"), "inner_ring_tilt": ("tilt_y", "tilt_z"),
     "ball_angular_velocity": ("x", "r", "t"),

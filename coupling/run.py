@@ -54,6 +54,10 @@ OUTPUT_GROUPS = {
     "kinematics": ("ball_position", "ball_velocity", "ball_angular_velocity", "ball_orbit_speed",
                    "inner_ring_displacement", "ring_drive_torque", "entrainment_speed", "churning_drag"),
     "cage_orbit": ("cage_centre", "cage_tilt", "cage_eccentricity_ratio"),
+    "power_loss": ("ring_drive_torque", "drive_power", "power_loss", "power_loss_traction",   # W, N·m, J
+                   "power_loss_rolling", "power_loss_contact_damping", "power_loss_pocket",
+                   "power_loss_churning", "power_loss_guide_land", "power_loss_cage_damping",
+                   "mechanical_energy", "external_load_power"),
 }
 ALWAYS_RECORDED = ("inner_ring_speed", "external_load")
 # Vectors whose components have different units are recorded as separate SI datasets:

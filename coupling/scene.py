@@ -82,7 +82,7 @@ RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
 OUTPUTS = ("contact_stress", "ball_loads", "contact_angles", "pocket_force", "guiding_force",
            "cage_speed", "slip", "film_thickness", "von_mises", "kinematics", "cage_orbit",
-           "cage_modes")
+           "cage_modes", "power_loss")
 CAGE_MODELS = ("rigid", "flexible")
 OIL_PRESETS = {"paper": PAPER_OIL, "engine": ENGINE_OIL}
 IMPACT_SHAPES = {"half-sine": HALF_SINE, "rectangular": RECTANGULAR}

@@ -25,10 +25,16 @@ original text; see the report):
 opposing the entrainment velocity on each surface (isothermal; no inlet-heating reduction).
 
 Pressure rolling force F_H on the ball (through its centre): the tangential component of the
-film pressure on the ball surface, −∫p·dz_ball/dx dA = W·x_p/r_bx, with x_p the centre of pressure.
-Integrating the Poiseuille shear by parts over the undeformed gap dh/dx = x/Rx gives
-F_R = W·|x_p|/(2·Rx), hence F_H = 2·(Rx/r_bx)·F_R (r_bx = Dw/2 the ball's own radius in the
-rolling direction). Exact for a rigid gap, an approximation for the EHL contact.
+film pressure on the ball surface. With x along the entrainment and the ball's outward normal
+(x/r_bx, −1) near the contact, F_H = −∫p·x/r_bx dA = −W·x_p/r_bx, x_p < 0 the centre of pressure
+(it lies in the inlet): F_H points ALONG the entrainment. Integrating the Poiseuille shear by parts
+over the undeformed gap dh/dx = x/Rx gives |F_R| = W·|x_p|/(2·Rx), hence F_H = −2·(Rx/r_bx)·F_R
+(r_bx = Dw/2 the ball's own radius in the rolling direction). Exact for a rigid gap, an
+approximation for the EHL contact (tests/test_drag.py: Martin's rigid-cylinder solution, signs
+included). The seed paper's ball equations (§2.5.1) carry F_R and F_H of one contact with
+opposite signs, as here. Together they dissipate: in pure rolling on the fixed outer race the
+pair's power is F_H·v_centre < 0 (multibody.power_loss); with F_H along F_R (this module before
+session 8) it was a power source of the order of the traction losses.
 """
 from __future__ import annotations
 
@@ -84,6 +90,6 @@ def ehl_rolling_resistance(Q, u_entrain, Rx, k, E_eff, eta0, alpha_p):
 
 @njit(cache=True)
 def ehl_pressure_rolling_force(F_R, Rx, ball_radius):
-    """F_H = 2·(Rx/r_bx)·F_R, the pressure rolling force on the ball through its centre, N
-    (same sign as F_R; rigid-gap identity, module docstring)."""
-    return 2.0 * Rx / ball_radius * F_R
+    """F_H = −2·(Rx/r_bx)·F_R, the pressure rolling force on the ball through its centre, N
+    (opposite to F_R, i.e. along the entrainment velocity; rigid-gap identity, module docstring)."""
+    return -2.0 * Rx / ball_radius * F_R

@@ -97,7 +97,12 @@ evaluated at min(eps, eps_max); at e > Cg a rim contact F = K_rim·(e − Cg)^1.
 friction takes over.
 
 Everything runs in `rhs`, compiled with numba, allocation-free: it writes dy/dt into `dydt` and
-the recordable contact quantities into `work` (float64 (Z+1, N_WORK), model.W_* / WR_* columns).
+the recordable contact quantities into `work` (float64 (Z+1, N_WORK), model.W_* / WR_* columns),
+among them the power every dissipative pair dissipates (multibody.power_loss: the work–energy
+theorem of these equations closes to rounding, tests/test_power_loss.py). Every force pair acts on
+both bodies: the inner ring receives the reaction to the traction's spin couple as well, and the
+race velocity at a contact is the ring's rigid-body velocity there (spin of the offset centre and
+tilt rates included).
 """
 from __future__ import annotations
 
@@ -114,7 +119,8 @@ from multibody.model import (
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
-    WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
+    WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING, W_P_POCKET,
+    W_P_CHURNING, WR_P_LAND, WR_P_STRUCTURAL, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
     WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
     WR_STATUS, WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE,
 )
@@ -225,20 +231,36 @@ def control_race(attitude, q_o, a_o, nxo, nro, q_i, a_i, nxi, nri):
 
 @njit(cache=True)
 def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
-          rv_x, rv_r, rv_t0, ring_speed, ring_rc, p, flags, htab, ttab):
+          rv_x, rv_r, rv_t0, ring_speed, ring_rc, g1, g2, cd_x, cd_r, p, flags, htab, ttab):
     """One ball–race contact: load, geometry and the forces/moments on the ball.
 
     kind 0 outer, 1 inner. (xc, rc) groove centre in the ball plane; the race surface velocity at a
-    point of radius r_pt is (rv_x, rv_r, rv_t0 + ring_speed·(r_pt − ring_rc)) (geometry.
-    ring_surface_velocity). Returns (Q, cos_a, sin_a, p0, UR, Rx, Ry, a, slip, delta,
-    Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p) with F, M the force and the moment about the ball centre
-    acting on the ball (the race receives −F at the contact point (x_p, r_p)).
+    point (x_pt, r_pt) of the ball plane is the ring's rigid-body velocity there,
+
+        (rv_x − r_pt·g1,  rv_r + x_pt·g1,  rv_t0 − x_pt·g2 + ring_speed·(r_pt − ring_rc)),
+
+    (geometry.ring_surface_velocity with the tilt rates; `rhs` folds the ring's translation, its
+    centre offset and tilt rates into rv_*, g1, g2). (cd_x, cd_r) = d(xc, rc)/dt, the rate of the
+    groove centre seen in the ball's plane (it follows the ball around an offset or tilted ring),
+    gives the approach rate d(delta)/dt = (v_b − c')·n of the contact damping: the spin of a
+    groove about its own axis does not move it. Returns (Q, cos_a, sin_a, p0, UR, Rx, Ry, a,
+    slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p, Cx, Cr, P_traction, P_rolling, P_damping) with
+    F, M the force and the moment about the ball centre acting on the ball; the race receives −F
+    at the contact point (x_p, r_p) and the couple −(Cx, Cr, 0), the traction's spin moment about
+    the contact normal. P_* is the power the contact dissipates (multibody.power_loss; P_traction
+    and P_damping are never negative):
+
+        P_traction = T_t·du0 − M_n·du1 + T_tau·dv     (Σ over the slices of tau·du, exact for the
+                                                        linear du(y) = du0 + du1·y of the slices)
+        P_rolling  = F_R·du0 − F_H·(v_ball,t − v_race,t)   (F_R at the contact, F_H at the ball
+                                                        centre, −(F_R + F_H) on the race)
+        P_damping  = (Q − Q_el)·d(delta)/dt
     """
     dw = p[P_DW]
     delta, ca, sa = race_contact(xb, rb, xc, rc, f, dw)
     if delta <= 0.0:
         return (0.0, ca, sa, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, delta,
-                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     dx = xb - xc
     dr = rb - rc
     dist = math.sqrt(dx * dx + dr * dr)
@@ -253,14 +275,23 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     rho = 0.5 * dw - 0.5 * delta
     x_p = xb + rho * nx
     r_p = rb + rho * nr
-    # approach rate (ball − race)·n: the race spin moves its surface along e_t, normal to n
-    approach = (vb_x - rv_x) * nx + (vb_r - rv_r) * nr
+    # race surface velocity at the contact point (docstring)
+    vrace_x = rv_x - r_p * g1
+    vrace_r = rv_r + x_p * g1
+    vrace_t = rv_t0 - x_p * g2 + ring_speed * (r_p - ring_rc)
+    # approach rate d(delta)/dt = (v_b − c')·n (docstring)
+    approach = (vb_x - cd_x) * nx + (vb_r - cd_r) * nr
     Q = q_el
     if flags[F_DAMPING]:
         c = 2.0 * p[P_ZETA] * math.sqrt(1.5 * K * sqd * p[P_MB])
         Q = q_el + c * approach
         if Q < 0.0:
             Q = 0.0
+    p_damp = (Q - q_el) * approach
+    p_trac = 0.0
+    p_roll = 0.0
+    cx = 0.0
+    cr = 0.0
     Fx = -Q * nx
     Fr = -Q * nr
     Ft = 0.0
@@ -273,7 +304,6 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     p0 = 1.5 * q_el / (math.pi * a_ax * b_ax)
     # surface speeds in the rolling direction at the contact centre (geometry.contact_kinematics)
     vball_t = vb_t + rho * (w_x * nr - w_r * nx)
-    vrace_t = rv_t0 + ring_speed * (r_p - ring_rc)
     vc = r_p * psid
     ur = 0.5 * ((vball_t - vc) + (vrace_t - vc))
     du0 = vrace_t - vball_t
@@ -285,12 +315,12 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         tx_ = sg * nr
         tr_ = -sg * nx
         # du(y) = race − ball along e_t at p + y·tau: ball adds (w × y·tau)_t = y(w_x·tau_r − w_r·tau_x),
-        # race adds ring_speed·y·tau_r
-        du1 = ring_speed * tr_ - (w_x * tr_ - w_r * tx_)
-        # transverse sliding race − ball at the centre (ball: v_b + w × rho·n, ring: rigid translation)
+        # race adds y·(ring_speed·tau_r − g2·tau_x) (g2: the ring's tilt rate about e_r)
+        du1 = ring_speed * tr_ - g2 * tx_ - (w_x * tr_ - w_r * tx_)
+        # transverse sliding race − ball at the centre (ball: v_b + w × rho·n, ring: rigid-body velocity)
         vball_x = vb_x - rho * w_t * nr
         vball_r = vb_r + rho * w_t * nx
-        dv = (rv_x - vball_x) * tx_ + (rv_r - vball_r) * tr_
+        dv = (vrace_x - vball_x) * tx_ + (vrace_r - vball_r) * tr_
         urr = abs(ur)
         if urr < p[P_UMIN]:
             urr = p[P_UMIN]
@@ -307,17 +337,22 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         Mt += rho * (nx * Ttau * tr_ - nr * Ttau * tx_)
         # spin moment about e_t × tau = (−tau_r, tau_x, 0)·(−1)... e_t × tau = (-(tau_r)*(-1)...)
         # e_t × tau with e_t = (0,0,1): (0·0 − 1·tau_r, 1·tau_x − 0·0, 0) = (−tau_r, tau_x, 0)
-        Mx += -Mn * tr_
-        Mr += Mn * tx_
+        cx = -Mn * tr_
+        cr = Mn * tx_
+        Mx += cx
+        Mr += cr
+        p_trac = Tt * du0 - Mn * du1 + Ttau * dv
     if flags[F_ROLLRES] and flags[F_DRAG]:
         # EHL rolling resistance (multibody.drag): F_R at the contact, opposite to the entrainment
-        # speed, and the pressure rolling force F_H = 2(Rx/r_b)·F_R through the ball centre
+        # speed, and the pressure rolling force F_H = −2(Rx/r_b)·F_R through the ball centre
         f_r = ehl_rolling_resistance(q_el, ur, rx, ell, p[P_EBR], p[P_ETA0], p[P_ALPHA_P])
         f_h = ehl_pressure_rolling_force(f_r, rx, 0.5 * dw)
         Ft += f_r + f_h
         Mx += rho * nr * f_r
         Mr += -rho * nx * f_r
-    return (Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p)
+        p_roll = f_r * du0 - f_h * (vb_t - vrace_t)
+    return (Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p,
+            cx, cr, p_trac, p_roll, p_damp)
 
 
 @njit(cache=True)
@@ -335,8 +370,14 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     the pocket axis Z = |d − (d·a)a|, d = b − p; normal force on the ball −Q(Z)·u, u the unit
     offset, Q = Kc·Z (Z <= Cp), Kc·Cp + Kn·(Z − Cp)^1.5 (+ damping) beyond; with the drag switch
     the hydrodynamic pocket resistances (comment below) and optional Coulomb friction mu_p·Q.
-    Returns (F on ball (3), M on ball about its centre (3), point of action on the cage (3), Q, Z).
-    The cage receives −F at that point.
+    Returns (F on ball (3), M on ball about its centre (3), point of action on the cage (3), Q, Z,
+    P) with P the power the pocket dissipates (multibody.power_loss): with the non-conservative
+    part F_nc = F + Q_el·u of the force (Q_el the spring/Hertz part of Q) and the cage receiving
+    −F and −M − (b − p)×F at its node,
+
+        P = −[F_nc·(v_b − v_p − w_c × (b − p)) + M·(w_b − w_c)].
+
+    The cage receives −F at the point of action.
     """
     dx = bx - px
     dy = by - py
@@ -347,7 +388,7 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     uz = dz - da * az
     zz = math.sqrt(ux * ux + uy * uy + uz * uz)
     if zz < 1e-15:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz, 0.0
     ux /= zz
     uy /= zz
     uz /= zz
@@ -355,10 +396,12 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     kc = p[P_KC]
     if zz <= cp:
         Q = kc * zz
+        q_el = Q
     else:
         pen = zz - cp
         sq = math.sqrt(pen)
         Q = kc * cp + p[P_KN] * pen * sq
+        q_el = Q
         if flags[F_DAMPING]:
             # approach rate along u: (v_b − v_pocket point)·u
             rate = (vbx - vpx) * ux + (vby - vpy) * uy + (vbz - vpz) * uz
@@ -420,7 +463,12 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
             mx += m1
             my += m2
             mz += m3
-    return fx, fy, fz, mx, my, mz, qx, qy, qz, Q, zz
+    # dissipated power (docstring): relative velocity of the ball centre to the cage point there
+    r1, r2, r3 = _cross(wcx, wcy, wcz, dx, dy, dz)
+    pw = ((fx + q_el * ux) * (vbx - vpx - r1) + (fy + q_el * uy) * (vby - vpy - r2)
+          + (fz + q_el * uz) * (vbz - vpz - r3)
+          + mx * (wbx - wcx) + my * (wby - wcy) + mz * (wbz - wcz))
+    return fx, fy, fz, mx, my, mz, qx, qy, qz, Q, zz, -pw
 
 
 @njit(cache=True)
@@ -678,6 +726,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     vxi = y[r0 + 5]
     vyi = y[r0 + 6]
     vzi = y[r0 + 7]
+    tyd = y[r0 + 8]
+    tzd = y[r0 + 9]
     # cage
     xc = y[c0]
     yc = y[c0 + 1]
@@ -730,17 +780,22 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         rpo = 0.0
         xpi = 0.0
         rpi = 0.0
-        # ring translation seen in the ball plane
+        # inner-ring rigid-body velocity seen in the ball plane (geometry.ring_surface_velocity,
+        # folded for _race): translation, the spin of the offset centre, the tilt rates
         ring_rc = yi * cs + zi * sn
-        rv_r = vyi * cs + vzi * sn
-        rv_t = -vyi * sn + vzi * cs
+        g1 = tzd * cs - tyd * sn
+        g2 = tyd * cs + tzd * sn
+        rv_x = vxi + tzd * yi - tyd * zi
+        rv_r_trans = vyi * cs + vzi * sn
+        rv_r = rv_r_trans + omega_i * (zi * cs - yi * sn) - xi * g1
+        rv_t = -vyi * sn + vzi * cs + xi * g2
         for c in range(3):
             ft_lean = 0.0
             if c == 0:
                 xc_g = p[P_XO]
                 rc_g = p[P_RO]
                 res = _race(0, xb, rb, xc_g, rc_g, fo, vbx, vbr, vbt, w_x, w_r, w_t, psid,
-                            0.0, 0.0, 0.0, 0.0, 0.0, p, flags, htab, ttab)
+                            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, p, flags, htab, ttab)
             else:
                 if c == 1:
                     x0 = p[P_XIL]
@@ -749,8 +804,12 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     x0 = p[P_XIR]
                     rr0 = p[P_RIR]
                 xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
+                # groove-centre rate: the ring's own motion and the ball's orbit around it
+                th_rate = (tyd * sn - tzd * cs) + (ty * cs + tz * sn) * psid
+                cd_x = vxi + rr0 * th_rate
+                cd_r = rv_r_trans + (-yi * sn + zi * cs) * psid - x0 * th_rate
                 res = _race(1, xb, rb, xc_g, rc_g, fi, vbx, vbr, vbt, w_x, w_r, w_t, psid,
-                            vxi, rv_r, rv_t, omega_i, ring_rc, p, flags, htab, ttab)
+                            rv_x, rv_r, rv_t, omega_i, ring_rc, g1, g2, cd_x, cd_r, p, flags, htab, ttab)
                 # The groove-centre circle of a displaced (offset, tilted) ring is not centred on
                 # the bearing axis: seen from the ball the contact normal leans out of the ball
                 # plane, F_t = −(Q/r_b)·d(delta)/d(psi) = (Q/r_b)·(n_x·dx_c/dpsi + n_r·dr_c/dpsi),
@@ -790,6 +849,9 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
             work[j, wc + WC_SLIP] = res[8]
             work[j, wc + WC_DELTA] = res[9]
             work[j, wc + WC_FT] = res[12]
+            work[j, wc + WC_P_TRACTION] = res[20]
+            work[j, wc + WC_P_ROLLING] = res[21]
+            work[j, wc + WC_P_DAMPING] = res[22]
             if res[9] > DELTA_MAX_FRAC * dw:
                 _flag(work, zb, STATUS_DEEP_RACE, j, c, res[9])
             if res[0] > 0.0 or res[9] > 0.0:
@@ -832,9 +894,10 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     ly = res[17] * cs - yi
                     lz = res[17] * sn - zi
                     m1, m2, m3 = _cross(lx, ly, lz, gx, gy, gz)
-                    rmx += m1
-                    rmy += m2
-                    rmz += m3
+                    # and the reaction to the traction's spin couple (Cx, Cr) on the ball
+                    rmx += m1 - res[18]
+                    rmy += m2 - res[19] * cs
+                    rmz += m3 - res[19] * sn
         # ---- pocket j: pose of the pocket's interface node (floating frame + modes)
         pos = scr[3]
         vel = scr[4]
@@ -861,6 +924,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         pfx, pfy, pfz = pk[0], pk[1], pk[2]
         work[j, W_POCKET_Q] = pk[9]
         work[j, W_POCKET_Z] = pk[10]
+        work[j, W_P_POCKET] = pk[11]
         if pk[10] > p[P_CP] + DELTA_MAX_FRAC * dw:
             _flag(work, zb, STATUS_DEEP_POCKET, j, 3, pk[10] - p[P_CP])
         # on the ball, to the orbiting frame
@@ -906,8 +970,10 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
             fd = churning_drag(dw, vbt, rho_mix, eta_mix)
             ft += fd
             work[j, W_DRAG] = -fd
+            work[j, W_P_CHURNING] = -fd * vbt
         else:
             work[j, W_DRAG] = 0.0
+            work[j, W_P_CHURNING] = 0.0
         # ---- race-control attitude (module docstring): which race controls
         ctl = control_race(flags[F_ATTITUDE], q_ctl_o, a_ctl_o, nxo, nro, q_ctl_i, a_ctl_i, nxi, nri)
         kr = p[P_ATT_RATE]
@@ -983,6 +1049,27 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     if eps > 2.0:
         _flag(work, zb, STATUS_RIM, -1, 4, eps)
     _cage_body_rhs(y, dydt, c0, m0, cage, lfy, lfz, lmx, p[P_GRAV])
+    # ---- dissipated power of the guide land and of the cage's modal damping
+    # (multibody.power_loss): the land's force, torque and distributed modal loads on the cage,
+    # less the rim's normal force, which is conservative (potential k_rim·(e − Cg)²/2)
+    w_b = scr[1]
+    wx_inertial = A[0, 0] * w_b[0] + A[0, 1] * w_b[1] + A[0, 2] * w_b[2]
+    p_land = lfy * vyc + lfz * vzc + lmx * wx_inertial
+    if frim > 0.0:
+        e_c = math.sqrt(yc * yc + zc * zc)
+        p_land += frim * (yc * vyc + zc * vzc) / e_c
+    land_modes = cage[20]
+    damp = cage[8]
+    n_m = damp.shape[0]
+    zl = cage[19].shape[0] - 1
+    p_struct = 0.0
+    for k in range(n_m):
+        qd_k = y[m0 + n_m + k]
+        p_land += qd_k * (land_modes[0, k] * cage[19][zl, 0] + land_modes[1, k] * cage[19][zl, 1]
+                          + land_modes[2, k] * cage[19][zl, 2])
+        p_struct += damp[k] * qd_k * qd_k
+    work[zb, WR_P_LAND] = -p_land
+    work[zb, WR_P_STRUCTURAL] = p_struct
 
 
 # ---------------------------------------------------------------- energy (conservative runs)
@@ -995,8 +1082,9 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     free run), its kinetic energy is constant and left out.
 
     Hertz: V = (2/5)·K·delta^2.5. Pocket: V = Kc·Z²/2 (Z <= Cp), Kc·Cp²/2 + Kc·Cp·(Z − Cp) +
-    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: K_rim·(e − Cg)²/2. Load: −F·x_ring. Cage: ½·vᵀM(q)v of the
-    floating-frame body, v = (R', w_body, q'), plus the modal strain energy ½·Σ omega_k²·q_k².
+    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: K_rim·(e − Cg)²/2. Load: −F·x_ring. Gravity (along −Z):
+    g·(m_b·Σ z_ball + m_i·z_ring + m_cage·z_cage). Cage: ½·vᵀM(q)v of the floating-frame body,
+    v = (R', w_body, q'), plus the modal strain energy ½·Σ omega_k²·q_k².
     """
     z = int(p[P_Z])
     r0 = 9 * z
@@ -1022,6 +1110,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
         rb = y[o + 1]
         psi = y[o + 2]
         ek += 0.5 * mb * (y[o + 3] ** 2 + y[o + 4] ** 2 + (rb * y[o + 5]) ** 2)
+        ev += mb * p[P_GRAV] * rb * math.sin(psi)
         ek += 0.5 * ib * (y[o + 6] ** 2 + y[o + 7] ** 2 + y[o + 8] ** 2)
         for c in range(3):
             if c == 0:
@@ -1063,6 +1152,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
             ev += 0.5 * kc * cp * cp + kc * cp * (zz - cp) + 0.4 * p[P_KN] * (zz - cp) ** 2.5
     # ring (translation + tilt) and cage
     ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
+    ev += p[P_GRAV] * (p[P_MI] * zi + cage[0][0] * y[c0 + 2])
     ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
     (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
      Qext, A, scr, node_load, land_modes) = cage
@@ -1104,6 +1194,10 @@ OUTPUT_UNITS = {
     "ball_orbit_speed": "rad/s", "contact_angle_outer": "rad", "contact_angle_inner_loaded": "rad",
     "nominal_cage_speed": "rad/s", "slip_rate": "1", "film_thickness_min": "m",
     "film_thickness_central": "m", "inner_ring_displacement": "m, m, m, rad, rad",
+    "drive_power": "W", "power_loss": "W", "power_loss_traction": "W", "power_loss_rolling": "W",
+    "power_loss_contact_damping": "W", "power_loss_pocket": "W", "power_loss_churning": "W",
+    "power_loss_guide_land": "W", "power_loss_cage_damping": "W", "mechanical_energy": "J",
+    "external_load_power": "W",
 }
 
 
@@ -1122,9 +1216,14 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
     cage_rim_force, cage_eccentricity_ratio, cage_speed, cage_centre (x, y, z), inner_ring_speed,
     inner_ring_displacement (x, y, z, tilt_y, tilt_z), ring_drive_torque, ball_position (x, r, psi),
     ball_velocity, ball_angular_velocity (w_x, w_r, w_t), ball_orbit_speed, external_load,
-    nominal_cage_speed, slip_rate, contact_angle_inner_loaded, contact_angle_outer; with film=True
+    nominal_cage_speed, slip_rate, contact_angle_inner_loaded, contact_angle_outer; the power
+    balance (multibody.power_loss): drive_power = ring_drive_torque·omega_i, power_loss (total),
+    power_loss_traction, _rolling, _contact_damping (Z, 3), _pocket, _churning (Z,), _guide_land,
+    _cage_damping, mechanical_energy (kinetic + Hertz, pocket, rim and gravity potentials; without
+    the external load's potential) and external_load_power = F_ext·v_ring; with film=True
     film_thickness_min, film_thickness_central (Hamrock–Dowson, multibody.film).
     """
+    from multibody.power_loss import RECORDED, power_by_source, total_loss
     z = model.n_balls
     work = new_work(model)
     dydt = np.zeros_like(y)
@@ -1167,6 +1266,15 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
         "ball_angular_velocity": balls[:, 6:9].copy(),
         "ball_orbit_speed": balls[:, 5].copy(),
     }
+    sources = power_by_source(work, z)
+    for src, name in RECORDED.items():
+        out[name] = sources[src]
+    out["power_loss"] = total_loss(sources)
+    out["drive_power"] = out["ring_drive_torque"] * out["inner_ring_speed"]
+    f_ext = work[z, M.WR_FX:M.WR_FX + 3]
+    out["external_load_power"] = float(f_ext @ ring[5:8])
+    ek, ev = mechanical_energy(t, y, model.p, model.flags, model.hertz_table, load_table, impacts, model.cage)
+    out["mechanical_energy"] = float(ek + ev + f_ext @ ring[0:3])
     ao, ai = loaded_contact_angles(out["contact_load"], out["contact_angle"])
     out["contact_angle_outer"] = ao
     out["contact_angle_inner_loaded"] = ai

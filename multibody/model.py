@@ -114,8 +114,11 @@ N_HGRID = 201
 
 # ---------------------------------------------------------------- work array (per ball row)
 # work[j, W_*] for ball j; contacts c = 0 outer, 1 inner-left, 2 inner-right at W_C0 + c*N_WC.
-N_WC = 11
-WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT = range(N_WC)
+# WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING: power the contact's traction (sliding and spin),
+# EHL rolling forces and normal damping dissipate, W (multibody.power_loss)
+N_WC = 14
+(WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT,
+ WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING) = range(N_WC)
 W_C0 = 0
 W_POCKET_Q = 3 * N_WC          # pocket normal force magnitude, N
 W_POCKET_Z = W_POCKET_Q + 1    # ball offset from the pocket axis, m
@@ -125,7 +128,9 @@ W_DRAG = W_POCKET_Q + 3        # churning drag, N
 # centre (cage-fixed, m): what a flexible cage maps to its interface node j (Phi^T·F)
 W_PK_FX, W_PK_FY, W_PK_FZ = W_POCKET_Q + 4, W_POCKET_Q + 5, W_POCKET_Q + 6
 W_PK_LY, W_PK_LZ = W_POCKET_Q + 7, W_POCKET_Q + 8
-N_WORK = W_POCKET_Q + 9
+# power the pocket's lubricant (and damping, friction) and the churning drag dissipate, W
+W_P_POCKET, W_P_CHURNING = W_POCKET_Q + 9, W_POCKET_Q + 10
+N_WORK = W_POCKET_Q + 11
 # last row (index Z) holds the cage / ring aggregates
 WR_FX, WR_FY, WR_FZ = 0, 1, 2          # external load on the ring (written by load_at)
 WR_LAND_FY, WR_LAND_FZ, WR_LAND_M = 3, 4, 5  # guide-land force on the cage (N) and torque (N·m)
@@ -135,6 +140,8 @@ WR_EPS = 8                             # cage relative eccentricity e/Cg
 WR_OMEGA_I = 9                         # prescribed inner-ring speed, rad/s
 WR_STATUS = 10                         # > 0: first bad contact flagged (see dynamics)
 WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE = 11, 12, 13
+WR_P_LAND = 14                         # power dissipated by the guide-land film and rim friction, W
+WR_P_STRUCTURAL = 15                   # power dissipated by the cage's modal damping, W
 
 
 class Model(NamedTuple):

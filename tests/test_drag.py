@@ -53,13 +53,22 @@ def test_ehl_rolling_resistance_scalings():
 
 
 def test_pressure_rolling_force_identity_on_rigid_cylinder():
-    # For a rigid cylinder of radius R on a flat (Martin solution, Reynolds outlet), the pressure
-    # force along x on the cylinder, ∫p·x/R dx, is twice the Poiseuille shear ∫(h/2)dp/dx dx:
-    # F_H = 2·(Rx/r_b)·F_R with Rx = r_b = R. Per unit length, eta = u = R = h0 = 1, X = x/sqrt(2).
+    # For a rigid cylinder of radius R on a flat (Martin solution, Reynolds outlet), both surfaces
+    # entraining along +x: the Poiseuille shear on either surface is F_R = −∫(h/2)·dp/dx dx (it
+    # opposes the entrainment), the tangential pressure force on the cylinder (outward normal
+    # (x/R, −1)) is F_H = −∫p·x/R dx. With the inlet pressure at x < 0, F_H points along the
+    # entrainment: F_H = −2·(Rx/r_b)·F_R with Rx = r_b = R. Per unit length, eta = u = R = h0 = 1,
+    # X = x/sqrt(2). (The signs matter: with F_H along F_R the pair would feed energy into the
+    # balls, tests/test_power_loss.py; the paper's ball equations, §2.5.1, also carry F_H and F_R
+    # of one contact with opposite signs.)
     g = MARTIN_OUTLET
     dpdx = lambda X: 12 * (X * X - g * g) / (1 + X * X) ** 3          # dp/dx = 12(h − h_e)/h³
     p = lambda X: quad(lambda t: dpdx(t) * math.sqrt(2), -math.inf, X, epsabs=1e-14)[0]
     poiseuille = quad(lambda X: 0.5 * (1 + X * X) * dpdx(X) * math.sqrt(2), -math.inf, g, epsabs=1e-13)[0]
     pressure = quad(lambda X: p(X) * X * math.sqrt(2) * math.sqrt(2), -math.inf, g, epsabs=1e-12, limit=200)[0]
-    assert abs(pressure) == pytest.approx(2 * abs(poiseuille), rel=1e-6)
-    assert ehl_pressure_rolling_force(-1.5, 0.0097, 0.011) == pytest.approx(-1.5 * 2 * 0.0097 / 0.011, rel=1e-14)
+    f_r = -poiseuille
+    f_h = -pressure
+    assert f_r < 0.0 < f_h
+    assert f_h == pytest.approx(-2 * f_r, rel=1e-6)
+    assert ehl_pressure_rolling_force(f_r, 1.0, 1.0) == pytest.approx(f_h, rel=1e-6)
+    assert ehl_pressure_rolling_force(-1.5, 0.0097, 0.011) == pytest.approx(1.5 * 2 * 0.0097 / 0.011, rel=1e-14)

@@ -109,8 +109,10 @@ def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
     routes to the second moment of mass, ∫rho x xᵀ from the FE vs ½tr(J)I − J, differ in the last
     bits) at a state with cage translation, spin, tilt and their rates. Integrated 2 ms at
     14,000 rpm, 55 kN / 4 kN, the runs agree to the integrator tolerance, not to round-off: the
-    adaptive step control turns last-bit differences into different step sequences; the difference
-    shrinks with the tolerance (asserted: 10x tighter tolerance -> at least 5x smaller)."""
+    adaptive step control can turn last-bit differences into different step sequences; then the
+    difference shrinks with the tolerance (asserted: 10x tighter tolerance -> at least 5x smaller).
+    When both runs take the same steps they agree to round-off (measured since session 8: 8e-13
+    and 8e-12 of the state), which passes as well."""
     from coupling.flexible_cage import flexible_cage_body
     from coupling.floating_frame import rigid_body
     from multibody import dynamics, initial, integrator, model as mb
@@ -148,7 +150,7 @@ def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
             y, t, h, _, _ = integrator.advance(m, y0.copy(), 0.0, 2e-3, sp, ld, imp, tol, 1e-7)
             ys.append(y.copy())
         diffs.append(np.abs(ys[0][:c0] - ys[1][:c0]).max() / np.abs(ys[1][:c0]).max())
-    assert diffs[0] < 1e-4 and diffs[1] < 0.2 * diffs[0]
+    assert diffs[0] < 1e-4 and (max(diffs) < 1e-10 or diffs[1] < 0.2 * diffs[0])
 
 
 def test_flexible_run_interrupted_and_resumed_equals_uninterrupted(paper_reduced_cage, tmp_path):

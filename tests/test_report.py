@@ -375,3 +375,62 @@ def test_report_has_the_cage_motion_section_only_when_recorded(tmp_path):
     plain = report.write_report(write_run(tmp_path / "run.h5"), tmp_path / "rep2")
     assert "Cage motion" not in plain["report"].read_text()
     assert not (tmp_path / "rep2" / "cage_orbit.png").exists()
+
+
+# ---------------------------------------------------------------- friction torque and power loss
+TORQUE = (2.0, 3.0, 2.5)            # N·m per phase; drive power = torque · (1000 + 100 t)
+
+
+def write_power_run(path, n=601):
+    """Every source constant within a phase except the churning, which carries the energy
+    change: loss = drive power − dE/dt exactly, E = 5 + 20 t (J)."""
+    w = ResultsWriter.create(path, loads_scene(SCENE.format(cage="rigid", record='["power_loss"]'),
+                                               "synthetic.toml"))
+    for k in range(n):
+        t = k * DT
+        p = _phase(t)
+        drive = TORQUE[p] * (1000.0 + 100.0 * t)
+        trac = np.zeros((Z, 3))
+        trac[:, 0] = 10.0 * (p + 1)            # outer race, per ball
+        trac[:, 1] = 5.0                       # inner halves
+        fixed = trac.sum() + 30.0              # + 30 W guide land
+        churning = drive - 20.0 - fixed        # the rest, spread over the balls
+        w.add_sample(t, {"ring_drive_torque": TORQUE[p], "inner_ring_speed": 1000.0 + 100.0 * t,
+                         "drive_power": drive, "power_loss": drive - 20.0,
+                         "power_loss_traction": trac, "power_loss_rolling": np.zeros((Z, 3)),
+                         "power_loss_contact_damping": np.zeros((Z, 3)),
+                         "power_loss_pocket": np.zeros(Z), "power_loss_churning": np.full(Z, churning / Z),
+                         "power_loss_guide_land": 30.0, "power_loss_cage_damping": 0.0,
+                         "mechanical_energy": 5.0 + 20.0 * t, "external_load_power": 0.0})
+    w.write_block()
+    w.set_status("complete")
+    w.close()
+    return path
+
+
+def test_power_loss_table_per_phase(tmp_path):
+    """Window means: traction split outer/inner, drive torque, and the sampled energy balance
+    (drive − loss − dE/dt) closes to rounding because the synthetic E grows at exactly the
+    drive − loss of every sample (1e-9: sums of ~200 floating-point terms)."""
+    rows = report.power_loss_table(write_power_run(tmp_path / "power.h5"))
+    assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed", "deceleration", "impact"]
+    for r, p in zip(rows[1:4], range(3)):
+        assert r["drive_torque"] == pytest.approx(TORQUE[p], rel=1e-12)
+        assert r["traction_outer"] == pytest.approx(Z * 10.0 * (p + 1), rel=1e-12)
+        assert r["traction_inner"] == pytest.approx(Z * 5.0, rel=1e-12)
+        assert r["guide_land"] == pytest.approx(30.0, rel=1e-12)
+    for r in rows:
+        assert r["energy_rate"] == pytest.approx(20.0, rel=1e-9)
+        assert r["residual"] == pytest.approx(0.0, abs=1e-9 * r["loss"])
+
+
+def test_report_has_the_power_section_only_when_recorded(tmp_path):
+    out = report.write_report(write_power_run(tmp_path / "power.h5"), tmp_path / "rep")
+    md = out["report"].read_text()
+    assert "## Friction torque and power loss" in md
+    assert "| Friction torque (drive torque of the inner ring), N·m | 2.5 | 2 | 3 | 2.5 | 3 |" in md
+    js = json.loads(out["json"].read_text())
+    assert js["power_loss"][2]["drive_torque"] == pytest.approx(3.0)
+    plain = report.write_report(write_run(tmp_path / "run.h5"), tmp_path / "rep2")
+    assert "Friction torque" not in plain["report"].read_text()
+    assert json.loads(plain["json"].read_text())["power_loss"] == []

@@ -62,10 +62,11 @@ def test_validation_bearing_runs_in_two_point_contact_at_the_shim_angle():
 
 @pytest.mark.slow
 def test_slip_rate_case_1_runs_and_settles():
-    """Case 1 (4000 rpm, 1100/200 N) at the validation oil state settles within 1.5 s of
-    simulated time (Aitken criterion of coupling.validate) and the cage runs below the
+    """Case 1 (4000 rpm, 1100/200 N) at the validation oil state settles within 2.5 s of
+    simulated time (Aitken criterion of coupling.validate; measured 1.65 s since the pressure
+    rolling force's sign was corrected in session 8, 1.0 s before) and the cage runs below the
     inner-ring speed's epicyclic bound (0 < nc < ni/2)."""
-    rows = V.run_slip_rate_validation(cases=[1], quiet=True, t_max=1.5)
+    rows = V.run_slip_rate_validation(cases=[1], quiet=True, t_max=2.5)
     r = rows[0]
     assert r["settled"]
     wi = r["speed_rpm"] * math.pi / 30
