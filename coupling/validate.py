@@ -46,7 +46,10 @@ are the same for every case; cases 9–15 are the check (VALIDATION_*; the calib
 result are in benchmarks/results/slip_rate.md). The cavity oil fraction is either constant or
 X_ref·(4000 rpm/n) (`case_oil_air_fraction`: Parker's 1/n at a constant oil supply); X_ref is the
 calibrated number. Traction: the paper's 4106 fit (default) or the bounded law of
-multibody.traction (`traction_table_for`, option --traction-law bounded).
+multibody.traction (`traction_table_for`, option --traction-law bounded). Session 8 corrected the
+sign of the EHL pressure rolling force (multibody.drag; it had pushed the balls forward at the
+outer race) and recalibrated on cases 1–8: 150 °C, X_ref = 0.002 (the grid and the result, mean
+error 135.7 %, in benchmarks/results/slip_rate.md; the diagnosis below predates it and still holds).
 
 Diagnosis (benchmarks/results/slip_rate.md has the numbers and the commands; benchmarks/bench_slip_rate.py
 prints the budgets). With the paper's 4106 fit the traction curve maxima at the test's contacts are
@@ -576,10 +579,11 @@ def main(argv=None) -> None:
 
 
 # The oil state of the validation (module docstring): calibrated on cases 1–8 only, with gravity on
-# (grid of benchmarks/results/slip_rate.md, 1.5 s runs of cases 1–8): the paper's fit, oil at
-# 140 °C, cavity oil fraction 1 % at 4000 rpm falling as 1/n (0.33 % at 12,000 rpm).
-VALIDATION_OIL_TEMPERATURE_C = 140.0
-VALIDATION_OIL_AIR_FRACTION = 0.01
+# (grids of benchmarks/results/slip_rate.md; session 8, after the pressure rolling force's sign was
+# corrected, on settled runs of up to 15 s): the paper's fit, oil at 150 °C (the upper end of the
+# plausible range; 160 °C ranks better still), cavity oil fraction 0.2 % at 4000 rpm falling as 1/n.
+VALIDATION_OIL_TEMPERATURE_C = 150.0
+VALIDATION_OIL_AIR_FRACTION = 0.002
 VALIDATION_TRACTION_LAW = "fit"
 VALIDATION_OIL_AIR_SCALING = "inverse_speed"
 VALIDATION_GRAVITY = 9.81

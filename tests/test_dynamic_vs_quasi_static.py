@@ -11,15 +11,16 @@ ones within 1 %.
 * With the full model the dynamic balls carry the gyroscopic moment by traction; the Jones
   quasi-static solver of multibody.quasi_static (outer-race control, the geometry engineer's
   independent implementation) assumes where it is carried. Measured (0.05 s): mean outer/inner
-  loads within 0.5 %, outer contact angle 24.5° vs 23.5° (4 %), inner 33.2° vs 33.8° (1.6 %): the
+  loads within 0.4 %, outer contact angle 24.5° vs 23.5° (4.5 %), inner 33.2° vs 33.8° (1.7 %): the
   loads meet 1 %, the angles depend on the race-control hypothesis (slow test, reported).
 * With race-control balls (model option ball_attitude "outer"/"inner", the dynamics' pure
   gyroscopic couple with its inner-ring reaction) the hypotheses are the same as the Jones solver's
   with friction_share (1, 1): full model (traction, drag, damping), 0.05 s, mean loads and
-  contact angles within 1 % (measured: inner control loads +0.34 %/+0.10 %, angles +0.23 %/−0.06 %;
-  outer control loads +0.09 %/+0.17 %, angles +0.32 %/−0.12 %; the cage is 0.4–0.7 % slower than the
-  pure-rolling orbit of the quasi-static solution because drag makes the balls skid, which the
-  quasi-static model does not have). With friction_share = None (all the gyroscopic friction at
+  contact angles within 1 % (measured: inner control loads +0.30 %/+0.17 %, angles +0.32 %/−0.10 %;
+  outer control loads +0.04 %/+0.22 %, angles +0.38 %/−0.15 %; the cage is 0.65–0.93 % slower than
+  the pure-rolling orbit of the quasi-static solution because drag makes the balls skid, which the
+  quasi-static model does not have; 0.4–0.7 % before session 8, when the pressure rolling force
+  still pushed the balls forward at the outer race). With friction_share = None (all the gyroscopic friction at
   the controlling race) the outer angle differs by 6–7 %: the split matters, not the control.
   With "jones" on both sides each picks the race per ball by Jones's criterion from its own loads
   (multibody.dynamics.control_race; quasi_static control="jones"); at this case both pick the outer
