@@ -244,23 +244,25 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     groove centre seen in the ball's plane (it follows the ball around an offset or tilted ring),
     gives the approach rate d(delta)/dt = (v_b − c')·n of the contact damping: the spin of a
     groove about its own axis does not move it. Returns (Q, cos_a, sin_a, p0, UR, Rx, Ry, a,
-    slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p, Cx, Cr, P_traction, P_rolling, P_damping) with
-    F, M the force and the moment about the ball centre acting on the ball; the race receives −F
-    at the contact point (x_p, r_p) and the couple −(Cx, Cr, 0), the traction's spin moment about
-    the contact normal. P_* is the power the contact dissipates (multibody.power_loss; P_traction
+    slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p, Cx, Cr, P_traction, P_rolling, P_damping, F_H)
+    with F, M the force and the moment about the ball centre acting on the ball; the race receives
+    −F at the contact point (x_p, r_p), the couple −(Cx, Cr, 0), the traction's spin moment about
+    the contact normal, and the couple (b − p) × (−F_H·e_t) that puts its share −F_H of the pressure
+    rolling force on the ball's line of action, through the ball centre (every pair then has zero
+    net force and zero net moment, so its power does not depend on the observer's rotation). P_* is the power the contact dissipates (multibody.power_loss; P_traction
     and P_damping are never negative):
 
         P_traction = T_t·du0 − M_n·du1 + T_tau·dv     (Σ over the slices of tau·du, exact for the
                                                         linear du(y) = du0 + du1·y of the slices)
-        P_rolling  = F_R·du0 − F_H·(v_ball,t − v_race,t)   (F_R at the contact, F_H at the ball
-                                                        centre, −(F_R + F_H) on the race)
+        P_rolling  = F_R·du0 − F_H·(v_b,t − v_ring,t(b))   (F_R at the contact, F_H through the
+                                                        ball centre b on both bodies)
         P_damping  = (Q − Q_el)·d(delta)/dt
     """
     dw = p[P_DW]
     delta, ca, sa = race_contact(xb, rb, xc, rc, f, dw)
     if delta <= 0.0:
         return (0.0, ca, sa, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, delta,
-                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     dx = xb - xc
     dr = rb - rc
     dist = math.sqrt(dx * dx + dr * dr)
@@ -350,9 +352,12 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         Ft += f_r + f_h
         Mx += rho * nr * f_r
         Mr += -rho * nx * f_r
-        p_roll = f_r * du0 - f_h * (vb_t - vrace_t)
+        # the race takes −F_H on the same line, through the ball centre (a balanced pair): its
+        # velocity there is the ring's rigid-body velocity at (xb, rb)
+        vring_bt = rv_t0 - xb * g2 + ring_speed * (rb - ring_rc)
+        p_roll = f_r * du0 - f_h * (vb_t - vring_bt)
     return (Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p,
-            cx, cr, p_trac, p_roll, p_damp)
+            cx, cr, p_trac, p_roll, p_damp, f_h)
 
 
 @njit(cache=True)
@@ -894,10 +899,14 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     ly = res[17] * cs - yi
                     lz = res[17] * sn - zi
                     m1, m2, m3 = _cross(lx, ly, lz, gx, gy, gz)
-                    # and the reaction to the traction's spin couple (Cx, Cr) on the ball
-                    rmx += m1 - res[18]
-                    rmy += m2 - res[19] * cs
-                    rmz += m3 - res[19] * sn
+                    # and the reaction to the traction's spin couple (Cx, Cr) on the ball, and
+                    # the couple (b − p) × (−F_H·e_t) that moves the ring's share of the pressure
+                    # rolling force onto the line through the ball centre (_race docstring)
+                    h1, h2, h3 = _cross(xb - res[16], (rb - res[17]) * cs, (rb - res[17]) * sn,
+                                        0.0, res[23] * sn, -res[23] * cs)
+                    rmx += m1 - res[18] + h1
+                    rmy += m2 - res[19] * cs + h2
+                    rmz += m3 - res[19] * sn + h3
         # ---- pocket j: pose of the pocket's interface node (floating frame + modes)
         pos = scr[3]
         vel = scr[4]
