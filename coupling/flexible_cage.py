@@ -246,12 +246,12 @@ def backend(scene):
         return integrator.advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws,
                                   max_steps, method, monitor=mon)
 
-    def evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=False):
+    def evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=False, energy=False):
         """Outputs at the sample (t, y). With stress recorded, von_mises_max is the largest value
         over every integrator step since the previous sample (the compiled monitor), with the
         vertex, the time it occurred and the full modal coordinates of that step; at a sample
         no step led to (the first) it is evaluated at (t, y) itself."""
-        out = dynamics.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film)
+        out = dynamics.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film, energy=energy)
         lay = mb.state_layout(model)
         q = y[lay["modes"]:lay["modes"] + n]
         out["cage_modal_coordinates"] = q.copy()

@@ -10,7 +10,9 @@ The physics comes from a *backend*, a namespace with
     initial_state(model, speed_rad_s, Fa, Fr) -> y0
     advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h) -> (y, t, h, n_steps, n_rejected)
     evaluate_outputs(model, t, y, ...) -> dict[str, array]      (keyword arguments it declares among
-                                         outputs, speed_table, load_table, impacts are passed)
+                                         outputs, speed_table, load_table, impacts, film (True when
+                                         film_thickness is recorded), energy (True when power_loss
+                                         is recorded) are passed)
     OUTPUT_UNITS (optional dict name -> unit)
 `default_backend(scene)` assembles it from multibody.{model, initial, integrator, dynamics} (rigid
 cage) or from coupling.flexible_cage (flexible cage, when that module exists); tests pass a small
@@ -173,7 +175,7 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     speed_table, load_table, impacts = scene.speed_table, scene.load_table, scene.impacts
     eval_kwargs = _accepted_kwargs(backend.evaluate_outputs, {
         "outputs": tuple(scene.outputs), "speed_table": speed_table, "load_table": load_table,
-        "impacts": impacts, "film": "film_thickness" in scene.outputs})
+        "impacts": impacts, "film": "film_thickness" in scene.outputs, "energy": "power_loss" in scene.outputs})
     selects_itself = "outputs" in eval_kwargs
     adv_kwargs = _accepted_kwargs(backend.advance, {"max_step": scene.max_step}) if scene.max_step else {}
     # The integrator's workspace carries FSAL state (the derivative at the end of the last step).

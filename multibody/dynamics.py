@@ -124,7 +124,7 @@ from multibody.model import (
     WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
     WR_STATUS, WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE,
 )
-from multibody.geometry import race_contact, ring_point_in_plane
+from multibody.geometry import race_contact, ring_point_in_plane, ring_velocity_at, ring_velocity_in_plane
 from multibody.profiles import load_at, speed_at
 from multibody.guide_land import guide_land_force
 from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
@@ -234,13 +234,10 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
           rv_x, rv_r, rv_t0, ring_speed, ring_rc, g1, g2, cd_x, cd_r, p, flags, htab, ttab):
     """One ball–race contact: load, geometry and the forces/moments on the ball.
 
-    kind 0 outer, 1 inner. (xc, rc) groove centre in the ball plane; the race surface velocity at a
-    point (x_pt, r_pt) of the ball plane is the ring's rigid-body velocity there,
-
-        (rv_x − r_pt·g1,  rv_r + x_pt·g1,  rv_t0 − x_pt·g2 + ring_speed·(r_pt − ring_rc)),
-
-    (geometry.ring_surface_velocity with the tilt rates; `rhs` folds the ring's translation, its
-    centre offset and tilt rates into rv_*, g1, g2). (cd_x, cd_r) = d(xc, rc)/dt, the rate of the
+    kind 0 outer, 1 inner. (xc, rc) groove centre in the ball plane; (rv_x, rv_r, rv_t0, g1, g2,
+    ring_rc) and ring_speed give the race's rigid-body velocity at any point of the ball plane
+    (geometry.ring_velocity_in_plane: translation, spin of the offset centre, tilt rates; all zero
+    for the fixed outer ring). (cd_x, cd_r) = d(xc, rc)/dt, the rate of the
     groove centre seen in the ball's plane (it follows the ball around an offset or tilted ring),
     gives the approach rate d(delta)/dt = (v_b − c')·n of the contact damping: the spin of a
     groove about its own axis does not move it. Returns (Q, cos_a, sin_a, p0, UR, Rx, Ry, a,
@@ -278,9 +275,7 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     x_p = xb + rho * nx
     r_p = rb + rho * nr
     # race surface velocity at the contact point (docstring)
-    vrace_x = rv_x - r_p * g1
-    vrace_r = rv_r + x_p * g1
-    vrace_t = rv_t0 - x_p * g2 + ring_speed * (r_p - ring_rc)
+    vrace_x, vrace_r, vrace_t = ring_velocity_at(rv_x, rv_r, rv_t0, g1, g2, ring_rc, ring_speed, x_p, r_p)
     # approach rate d(delta)/dt = (v_b − c')·n (docstring)
     approach = (vb_x - cd_x) * nx + (vb_r - cd_r) * nr
     Q = q_el
@@ -354,7 +349,7 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         Mr += -rho * nx * f_r
         # the race takes −F_H on the same line, through the ball centre (a balanced pair): its
         # velocity there is the ring's rigid-body velocity at (xb, rb)
-        vring_bt = rv_t0 - xb * g2 + ring_speed * (rb - ring_rc)
+        vring_bt = ring_velocity_at(rv_x, rv_r, rv_t0, g1, g2, ring_rc, ring_speed, xb, rb)[2]
         p_roll = f_r * du0 - f_h * (vb_t - vring_bt)
     return (Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p,
             cx, cr, p_trac, p_roll, p_damp, f_h)
@@ -785,15 +780,11 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         rpo = 0.0
         xpi = 0.0
         rpi = 0.0
-        # inner-ring rigid-body velocity seen in the ball plane (geometry.ring_surface_velocity,
-        # folded for _race): translation, the spin of the offset centre, the tilt rates
-        ring_rc = yi * cs + zi * sn
-        g1 = tzd * cs - tyd * sn
-        g2 = tyd * cs + tzd * sn
-        rv_x = vxi + tzd * yi - tyd * zi
+        # inner-ring rigid-body velocity field over the ball plane: translation, the spin of the
+        # offset centre, the tilt rates
+        rv_x, rv_r, rv_t, g1, g2, ring_rc = ring_velocity_in_plane(psi, omega_i, xi, yi, zi, vxi, vyi, vzi,
+                                                                   tyd, tzd)
         rv_r_trans = vyi * cs + vzi * sn
-        rv_r = rv_r_trans + omega_i * (zi * cs - yi * sn) - xi * g1
-        rv_t = -vyi * sn + vzi * cs + xi * g2
         for c in range(3):
             ft_lean = 0.0
             if c == 0:
@@ -1215,7 +1206,7 @@ def new_work(model) -> np.ndarray:
 
 
 def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, load_table: np.ndarray,
-                     impacts: np.ndarray, film: bool = False) -> dict:
+                     impacts: np.ndarray, film: bool = False, energy: bool = False) -> dict:
     """Recordable quantities at (t, y), SI (SPEC §6). Per ball arrays have shape (Z,), per contact
     (Z, 3) in the order outer, inner-left, inner-right.
 
@@ -1228,8 +1219,9 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
     nominal_cage_speed, slip_rate, contact_angle_inner_loaded, contact_angle_outer; the power
     balance (multibody.power_loss): drive_power = ring_drive_torque·omega_i, power_loss (total),
     power_loss_traction, _rolling, _contact_damping (Z, 3), _pocket, _churning (Z,), _guide_land,
-    _cage_damping, mechanical_energy (kinetic + Hertz, pocket, rim and gravity potentials; without
-    the external load's potential) and external_load_power = F_ext·v_ring; with film=True
+    _cage_damping; with energy=True also mechanical_energy (kinetic + Hertz, pocket, rim and gravity
+    potentials; without the external load's potential) and external_load_power = F_ext·v_ring,
+    which the balance of a recorded window needs (one more pass over the contacts); with film=True
     film_thickness_min, film_thickness_central (Hamrock–Dowson, multibody.film).
     """
     from multibody.power_loss import RECORDED, power_by_source, total_loss
@@ -1280,10 +1272,11 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
         out[name] = sources[src]
     out["power_loss"] = total_loss(sources)
     out["drive_power"] = out["ring_drive_torque"] * out["inner_ring_speed"]
-    f_ext = work[z, M.WR_FX:M.WR_FX + 3]
-    out["external_load_power"] = float(f_ext @ ring[5:8])
-    ek, ev = mechanical_energy(t, y, model.p, model.flags, model.hertz_table, load_table, impacts, model.cage)
-    out["mechanical_energy"] = float(ek + ev + f_ext @ ring[0:3])
+    if energy:
+        f_ext = work[z, M.WR_FX:M.WR_FX + 3]
+        out["external_load_power"] = float(f_ext @ ring[5:8])
+        ek, ev = mechanical_energy(t, y, model.p, model.flags, model.hertz_table, load_table, impacts, model.cage)
+        out["mechanical_energy"] = float(ek + ev + f_ext @ ring[0:3])
     ao, ai = loaded_contact_angles(out["contact_load"], out["contact_angle"])
     out["contact_angle_outer"] = ao
     out["contact_angle_inner_loaded"] = ai

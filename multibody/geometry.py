@@ -185,31 +185,50 @@ def ball_surface_velocity(rho, nx, nr, vb_x, vb_r, vb_t, wb_x, wb_r, wb_t):
 
 
 @njit(cache=True)
-def ring_surface_velocity(psi, r_p, ring_speed, ring_y, ring_z, ring_vx, ring_vy, ring_vz,
-                          x_p=0.0, ring_x=0.0, tilt_y_rate=0.0, tilt_z_rate=0.0):
-    """Velocity (x, r, t) of the race point (x_p, r_p) at azimuth psi of a ring, m/s.
+def ring_velocity_in_plane(psi, ring_speed, ring_x, ring_y, ring_z, ring_vx, ring_vy, ring_vz,
+                           tilt_y_rate=0.0, tilt_z_rate=0.0):
+    """The ring's rigid-body velocity field over the ball plane at azimuth psi, as coefficients.
 
-    Rigid-body velocity v = v_ring + omega × (p − c_ring), omega = (ring_speed, tilt_y_rate,
-    tilt_z_rate) (small tilts, the convention of `ring_point_in_plane`), p = (x_p, r_p·cos psi,
-    r_p·sin psi), c_ring = (ring_x, ring_y, ring_z). Projected on (e_x, e_r, e_t), with
-    l_x = x_p − ring_x, g1 = tilt_z_rate·cos psi − tilt_y_rate·sin psi,
-    g2 = tilt_y_rate·cos psi + tilt_z_rate·sin psi:
+    v = v_ring + omega × (p − c_ring), omega = (ring_speed, tilt_y_rate, tilt_z_rate) (small
+    tilts, the convention of `ring_point_in_plane`), c_ring = (ring_x, ring_y, ring_z), at the
+    point p = (x_p, r_p·cos psi, r_p·sin psi), projected on (e_x, e_r, e_t):
 
-        v_x = v_ring,x − r_p·g1 + (tilt_z_rate·ring_y − tilt_y_rate·ring_z)
-        v_r = v_ring,r + l_x·g1 + ring_speed·(ring_z·cos psi − ring_y·sin psi)
-        v_t = v_ring,t − l_x·g2 + ring_speed·(r_p − ring_y·cos psi − ring_z·sin psi)
+        v(x_p, r_p) = (a_x − r_p·g1,  a_r + x_p·g1,  a_t − x_p·g2 + ring_speed·(r_p − r_c))   (`ring_velocity_at`)
 
-    The spin of an offset ring moves its surface radially in the ball plane (second line): with
-    a 20 um offset at 1466 rad/s that is 0.03 m/s, the order of the sliding speeds.
+    g1 = tilt_z_rate·cos psi − tilt_y_rate·sin psi, g2 = tilt_y_rate·cos psi + tilt_z_rate·sin psi
+    (the tilt rates about e_t and e_r), r_c = ring_y·cos psi + ring_z·sin psi,
+    a_x = v_ring,x + tilt_z_rate·ring_y − tilt_y_rate·ring_z,
+    a_r = v_ring,r + ring_speed·(ring_z·cos psi − ring_y·sin psi) − ring_x·g1,
+    a_t = v_ring,t + ring_x·g2.
+    The spin of an offset ring moves its surface radially in the ball plane (the ring_speed term of
+    a_r): with a 20 um offset at 1466 rad/s that is 0.03 m/s, the order of the sliding speeds.
+    Returns (a_x, a_r, a_t, g1, g2, r_c).
     """
     c = math.cos(psi)
     s = math.sin(psi)
     g1 = tilt_z_rate * c - tilt_y_rate * s
     g2 = tilt_y_rate * c + tilt_z_rate * s
-    lx = x_p - ring_x
-    return (ring_vx - r_p * g1 + (tilt_z_rate * ring_y - tilt_y_rate * ring_z),
-            ring_vy * c + ring_vz * s + lx * g1 + ring_speed * (ring_z * c - ring_y * s),
-            -ring_vy * s + ring_vz * c - lx * g2 + ring_speed * (r_p - ring_y * c - ring_z * s))
+    return (ring_vx + tilt_z_rate * ring_y - tilt_y_rate * ring_z,
+            ring_vy * c + ring_vz * s + ring_speed * (ring_z * c - ring_y * s) - ring_x * g1,
+            -ring_vy * s + ring_vz * c + ring_x * g2,
+            g1, g2, ring_y * c + ring_z * s)
+
+
+@njit(cache=True)
+def ring_velocity_at(a_x, a_r, a_t, g1, g2, r_c, ring_speed, x_p, r_p):
+    """Velocity (x, r, t) at the point (x_p, r_p) of the ball plane of the field
+    `ring_velocity_in_plane` returned, m/s."""
+    return a_x - r_p * g1, a_r + x_p * g1, a_t - x_p * g2 + ring_speed * (r_p - r_c)
+
+
+@njit(cache=True)
+def ring_surface_velocity(psi, r_p, ring_speed, ring_y, ring_z, ring_vx, ring_vy, ring_vz,
+                          x_p=0.0, ring_x=0.0, tilt_y_rate=0.0, tilt_z_rate=0.0):
+    """Velocity (x, r, t) of the race point (x_p, r_p) at azimuth psi of a ring, m/s: the
+    rigid-body velocity v_ring + omega × (p − c_ring) of `ring_velocity_in_plane`."""
+    a_x, a_r, a_t, g1, g2, r_c = ring_velocity_in_plane(psi, ring_speed, ring_x, ring_y, ring_z, ring_vx,
+                                                         ring_vy, ring_vz, tilt_y_rate, tilt_z_rate)
+    return ring_velocity_at(a_x, a_r, a_t, g1, g2, r_c, ring_speed, x_p, r_p)
 
 
 @njit(cache=True)
