@@ -273,14 +273,23 @@ def phase_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> li
     return _phase_rows(*_read_run(_check_run(run_h5)), include_impacts, settle)
 
 
+def _sample_interval(f, t) -> float:
+    """The run's sample interval, s: its attribute, else the mean spacing of the samples t."""
+    return float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+
+
+def _timebase(f):
+    """(sample times, scene or None, sample interval) of an open run file."""
+    t = f["outputs/time"][...]
+    return t, run_scene(f), _sample_interval(f, t)
+
+
 def _read_run(path):
     """(t, quantity arrays, scene or None, sample interval) of a checked run file, read once."""
     import h5py
     with h5py.File(path, "r") as f:
-        t = f["outputs/time"][...]
+        t, scene, dt = _timebase(f)
         arrays = quantity_arrays(f["outputs"])
-        scene = run_scene(f)
-        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
     return t, arrays, scene, dt
 
 
@@ -325,9 +334,7 @@ def _read_motion(path):
     from coupling.cage_motion import motion_arrays
     with h5py.File(path, "r") as f:
         motion = motion_arrays(f["outputs"])
-        scene = run_scene(f)
-        t = f["outputs/time"][...]
-        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+        _, scene, dt = _timebase(f)
     return motion, scene, dt
 
 
@@ -379,13 +386,10 @@ def _read_power(path):
     optional = ("external_load_power", "mechanical_energy")
     with h5py.File(path, "r") as f:
         g = f["outputs"]
-        t = g["time"][...]
+        t, scene, dt = _timebase(f)
         data = None
         if all(n in g for n in names):
-            data = {n: g[n][...] for n in names}
-            data.update({n: g[n][...] for n in optional if n in g})
-        scene = run_scene(f)
-        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+            data = {n: g[n][...] for n in names + [n for n in optional if n in g]}
     return t, data, scene, dt
 
 
@@ -735,7 +739,7 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
         rc_path = reduced_cage or f.attrs.get("reduced_cage_file")
         rc_hash = str(f.attrs.get("reduced_cage_hash", ""))
         scene = run_scene(f)
-        dt = float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
+        dt = _sample_interval(f, t)
         idx = _parse_frames(frames, t, dt)
         reasons = {}
         if idx is None:

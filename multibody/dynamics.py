@@ -1224,7 +1224,7 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
     which the balance of a recorded window needs (one more pass over the contacts); with film=True
     film_thickness_min, film_thickness_central (Hamrock–Dowson, multibody.film).
     """
-    from multibody.power_loss import RECORDED, power_by_source, total_loss
+    from multibody.power_loss import RECORDED, drive_torque, power_by_source, total_loss
     z = model.n_balls
     work = new_work(model)
     dydt = np.zeros_like(y)
@@ -1260,7 +1260,7 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
         "cage_tilt": cage[4:6].copy(),
         "inner_ring_speed": float(work[z, M.WR_OMEGA_I]),
         "inner_ring_displacement": ring[0:5].copy(),
-        "ring_drive_torque": float(-work[z, M.WR_RING_TORQUE]),
+        "ring_drive_torque": drive_torque(work, z),
         "external_load": work[z, M.WR_FX:M.WR_FX + 3].copy(),
         "ball_position": balls[:, 0:3].copy(),
         "ball_velocity": balls[:, 3:6].copy(),
