@@ -50,6 +50,10 @@ multibody.traction (`traction_table_for`, option --traction-law bounded). Sessio
 sign of the EHL pressure rolling force (multibody.drag; it had pushed the balls forward at the
 outer race) and recalibrated on cases 1–8: 150 °C, X_ref = 0.002 (the grid and the result, mean
 error 135.7 %, in benchmarks/results/slip_rate.md; the diagnosis below predates it and still holds).
+Session 9 ran the paper's own ball hypothesis (model option ball_attitude = "no_pivot": gyroscopic
+pivoting held, the pitch free; with T_eta = 0): right sign at low speed, same strong load
+dependence, mean 137.5 %, max 286.4 %, no better after recalibration on cases 1–8 (slip_rate.md);
+the default stays free balls.
 
 Diagnosis (benchmarks/results/slip_rate.md has the numbers and the commands; benchmarks/bench_slip_rate.py
 prints the budgets). With the paper's 4106 fit the traction curve maxima at the test's contacts are
@@ -531,8 +535,9 @@ def main(argv=None) -> None:
                     help="model option transverse_traction (off = the paper's T_eta = 0)")
     ap.add_argument("--gravity", type=float, default=None,
                     help="m/s^2 along -z (default VALIDATION_GRAVITY = 9.81: the rig's spindle is horizontal; 0 = off)")
-    ap.add_argument("--ball-attitude", default=None, choices=["free", "outer", "inner", "jones"],
-                    help="model option ball_attitude: free Euler balls or race control (default: VALIDATION_BALL_ATTITUDE)")
+    ap.add_argument("--ball-attitude", default=None, choices=["free", "outer", "inner", "jones", "no_pivot"],
+                    help="model option ball_attitude: free Euler balls, race control, or no_pivot (the paper's hypothesis: "
+                         "gyroscopic pivoting held; use with --transverse-traction off) (default: VALIDATION_BALL_ATTITUDE)")
     ap.add_argument("--attitude-ring-reaction", default="off", choices=["on", "off"],
                     help="race control: gyroscopic friction reaction on the inner ring (model option; default off "
                          "here: it destabilises race control at the test's light loads, multibody.dynamics docstring)")

@@ -71,6 +71,21 @@ ratio 1); an unloaded controlling race falls back to the free equations. A const
 conservative (the constraint moment does work on the spin about n). The initial state
 (multibody.initial) starts such balls on the race-control kinematics.
 
+"no_pivot" is the paper's own hypothesis (§2.2.2: the preload prevents the gyroscopic rotation of
+the ball, so there is no sliding in the eta direction and T_eta = 0; use it with
+transverse_traction off, as the paper): only the yaw is held,
+
+    w_t → 0 at the rate k,   I_b·dw_x/dt = M_x,   I_b·dw_r/dt = M_r + I_b·psi'·w_t,
+
+so the spin axis stays in the ball plane but its pitch beta = atan(w_r/w_x) is free and follows
+the moments the contacts, pockets and drag apply about e_x and e_r; no race is assumed to roll
+without spin. The gyroscopic couple M_c = I_b·psi'·w_r − M_t is carried by the same pair of
+transverse friction forces as race control (and, with attitude_ring_reaction, reacted on the inner
+ring). The couple acts about e_t, where w_t = 0, so it does no work on the ball: the power balance
+of multibody.power_loss closes as for free balls (without the ring reaction). With a free ball the
+gyroscopic couple instead turns the axis until beta = 0 at the test's light loads
+(coupling.validate docstring): the two hypotheses bracket what the EHL traction can hold.
+
 Inner ring (mass m_i, diametral/polar inertia I_d, I_p, spin omega_i(t) prescribed):
 
     m_i·(x'', y'', z'') = F_ext(t) + sum of the race reactions
@@ -210,10 +225,13 @@ def _hertz_lookup(htab, kind, cos_a):
 @njit(cache=True)
 def control_race(attitude, q_o, a_o, nxo, nro, q_i, a_i, nxi, nri):
     """Race that controls a ball's attitude (module docstring, "Ball attitude"): 0 outer, 1 inner,
-    −1 free (attitude 0, or the controlling race unloaded). attitude 1 outer, 2 inner, 3 Jones:
+    −1 free (attitude 0, or the controlling race unloaded), −2 no pivoting (attitude 4: no race
+    controls, only the yaw w_t is held). attitude 1 outer, 2 inner, 3 Jones:
     the race with the larger spin-friction capacity Q·a·E(k) controls, the outer one entering with
     cos(alpha_o − alpha_i) = −n_o·n_i (E(k) ratio taken as 1). q, a load and semi-major axis, n the
     contact normal (n_x, n_r) of the outer and of the more loaded inner contact."""
+    if attitude == 4:
+        return -2
     if attitude == 1:
         return 0 if q_o > 0.0 else -1
     if attitude == 2:
@@ -978,10 +996,10 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         ctl = control_race(flags[F_ATTITUDE], q_ctl_o, a_ctl_o, nxo, nro, q_ctl_i, a_ctl_i, nxi, nri)
         kr = p[P_ATT_RATE]
         cnx = cnr = w_ring = ux = ur = 0.0
-        if ctl >= 0:
+        if ctl >= 0 or ctl == -2:
             if ctl == 0:
                 cnx, cnr, w_ring = nxo, nro, 0.0
-            else:
+            elif ctl == 1:
                 cnx, cnr, w_ring = nxi, nri, omega_i
             ux = -cnr
             ur = cnx
@@ -1014,7 +1032,12 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         dydt[o + 3] = fx / mb
         dydt[o + 4] = fr / mb + rb * psid * psid
         dydt[o + 5] = (ft / mb - 2.0 * vbr * psid) / rb
-        if ctl < 0:
+        if ctl == -2:
+            # no gyroscopic pivoting: the free equations about e_x and e_r, the yaw held at 0
+            dydt[o + 6] = mx / ib
+            dydt[o + 7] = mr / ib + psid * w_t
+            dydt[o + 8] = -kr * w_t
+        elif ctl < 0:
             dydt[o + 6] = mx / ib
             dydt[o + 7] = mr / ib + psid * w_t
             dydt[o + 8] = mt / ib - psid * w_r

@@ -21,7 +21,7 @@ Race-control balls (model option ball_attitude "outer", "inner", "jones"; multib
 "Ball attitude"): the orbit is the mean over the balls of Jones's race-control orbital speed
 (`race_control_ball_kinematics`: both contacts roll, the controlling race does not spin), and each
 ball's angular velocity makes its controlling contact roll without spin, so the constrained run
-starts on its constraint.
+starts on its constraint. "no_pivot" balls start as free ones (no race controls them).
 
 `multibody.quasi_static` (Jones with the gyroscopic moment and race control) is the independent
 reference; this solver is the dynamics' own equilibrium (same force law and Hertz tables as the

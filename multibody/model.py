@@ -101,10 +101,10 @@ N_PARAMS = 48
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 1, 2, 3, 4, 5, 6
 F_HERTZ_FIXED, F_ROLLRES, F_LAND = 7, 8, 9
-F_ATTITUDE = 10                        # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones
-F_ATT_RING = 11                        # race control: gyroscopic friction reaction on the inner ring
+F_ATTITUDE = 10                        # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
+F_ATT_RING = 11                        # race control / no pivoting: gyroscopic friction reaction on the inner ring
 N_FLAGS = 12
-BALL_ATTITUDES = ("free", "outer", "inner", "jones")
+BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
 # table[kind, i, col] at cos(alpha) = i/(n-1); kind 0 outer, 1 inner.
@@ -186,9 +186,10 @@ DEFAULT_OPTIONS = {
     "inner_ring_mass": None,
     "inner_ring_added_mass": 0.0,
     "n_modes": 0,
-    "ball_attitude": "free",          # "free" Euler balls, or race control "outer"/"inner"/"jones" (dynamics docstring)
+    "ball_attitude": "free",          # "free" Euler balls, race control "outer"/"inner"/"jones", or "no_pivot"
+                                      # (gyroscopic pivoting held, the paper's hypothesis; dynamics docstring)
     "attitude_rate": 2e4,             # 1/s, relaxation rate of the race-control constraints
-    "attitude_ring_reaction": True,   # race control: gyroscopic friction reaction on the inner ring
+    "attitude_ring_reaction": True,   # race control / no_pivot: gyroscopic friction reaction on the inner ring
 }
 
 
