@@ -60,16 +60,21 @@ factors lambda_o = lambda_i = 1 when the contacts are collinear; multibody.quasi
 light load (2000 N axial, 4000 rpm, drag off, where it is ~35 N per ball, a third of the load)
 the run leaves the race-control speed after ~0.5 s (cage 2–9 % slow at 0.8 s, gross sliding);
 with the option off the same runs hold the race-control speed to 3e-4. Use it off for light-load
-studies. About n the constraint moment is the spin-locking couple, not fed back (the ring's
-spin is prescribed). Carrying the gyroscopic moment instead as one friction force on the ball at
-the controlling contact (lambda = 2 there) makes that force follow the contact normal through
+studies. About n the constraint moment is the spin-locking couple M_n = I_b·(dw/dt − dw/dt_free)·n:
+the controlling race's spin friction. With inner-race control the inner ring takes −M_n·n (its share
+of the friction torque; the outer ring is fixed); before that reaction was applied, 6 % of the
+loss at the paper case went unaccounted in the power balance. Carrying the gyroscopic moment
+instead as one friction force on the ball at the controlling contact (lambda = 2 there) makes
+that force follow the contact normal through
 the constraint, a follower force: measured, a growing axial oscillation of the balls (contact
 angles ±1° to ±3.5° within 0.25 s at 2000 N, 4000 rpm) that ends in gross sliding, also at a
 10 ms constraint time constant; so it is not offered. "jones" picks per ball and step the race
 with the larger Q·a·cos(alpha_o − alpha_i) (outer) or Q·a (inner) (Jones's criterion with E(k)
-ratio 1); an unloaded controlling race falls back to the free equations. A constrained run is not
-conservative (the constraint moment does work on the spin about n). The initial state
-(multibody.initial) starts such balls on the race-control kinematics.
+ratio 1); an unloaded controlling race falls back to the free equations. On the balls and the
+inner ring the constraint moments do the work M_n·sigma + M_t·w_t (sigma the spin on the
+controlling race), zero once the constraints hold (tests/test_ball_attitude.py checks it against
+the power balance). The initial state (multibody.initial) starts such balls on the race-control
+kinematics.
 
 "no_pivot" is the paper's own hypothesis (§2.2.2: the preload prevents the gyroscopic rotation of
 the ball, so there is no sliding in the eta direction and T_eta = 0; use it with
@@ -1049,6 +1054,14 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
             dydt[o + 6] = a_u * ux + b_n * cnx
             dydt[o + 7] = a_u * ur + b_n * cnr
             dydt[o + 8] = -kr * w_t
+            if ctl == 1:
+                # the spin-locking couple M_n·n that holds the ball on the inner race is that race's
+                # spin friction: the ring takes −M_n·n (module docstring), which sets its share of
+                # the friction torque (without it: 6 % of the loss at the paper case unaccounted)
+                m_n = ib * b_n - (mx * cnx + (mr + ib * psid * w_t) * cnr)
+                rmx -= m_n * cnx
+                rmy -= m_n * cnr * cs
+                rmz -= m_n * cnr * sn
     # ---- inner ring
     mi = p[P_MI]
     idr = p[P_IID]

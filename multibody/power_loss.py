@@ -30,10 +30,11 @@ T_drive is what the drive must supply to hold the prescribed spin, the bearing's
 in a steady state dE/dt averages to zero and T_drive·omega_i = Σ P_s, the power loss. The balance
 holds to rounding when the Hertz constant is held at a fixed angle (model option hertz_fixed_angle,
 measured 1e-10 of the loss, tests/test_power_loss.py); with K(alpha) (the default) the Hertz force
-is very slightly non-conservative (9e-6 of the loss at the paper case); a race-control attitude
-(ball_attitude "outer", "inner", "jones") adds the work of its constraint moments, which no source
-counts; "no_pivot" holds only the yaw w_t = 0, about which its couple acts, so it adds none
-(tests/test_ball_attitude.py), unless the ring reaction is on and the ring moves.
+is very slightly non-conservative (9e-6 of the loss at the paper case); a constrained ball attitude
+(ball_attitude "outer", "inner", "jones", "no_pivot") adds the work of its constraint moments,
+M_n·sigma + M_t·w_t per ball (sigma the spin on the controlling race, w_t the yaw), which no source
+counts and which vanishes once the constraints hold (tests/test_ball_attitude.py, to 1e-9 of the
+loss; with attitude_ring_reaction on, the gyroscopic friction pair also works on a moving ring).
 `power_balance` evaluates both sides at one state; `window_power` averages recorded samples.
 """
 from __future__ import annotations
