@@ -1001,7 +1001,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         ctl = control_race(flags[F_ATTITUDE], q_ctl_o, a_ctl_o, nxo, nro, q_ctl_i, a_ctl_i, nxi, nri)
         kr = p[P_ATT_RATE]
         cnx = cnr = w_ring = ux = ur = 0.0
-        if ctl >= 0 or ctl == -2:
+        if ctl != -1:
+            # race control or no pivoting: the races carry the gyroscopic couple
             if ctl == 0:
                 cnx, cnr, w_ring = nxo, nro, 0.0
             elif ctl == 1:
@@ -1037,15 +1038,14 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         dydt[o + 3] = fx / mb
         dydt[o + 4] = fr / mb + rb * psid * psid
         dydt[o + 5] = (ft / mb - 2.0 * vbr * psid) / rb
-        if ctl == -2:
-            # no gyroscopic pivoting: the free equations about e_x and e_r, the yaw held at 0
+        if ctl < 0:
             dydt[o + 6] = mx / ib
             dydt[o + 7] = mr / ib + psid * w_t
-            dydt[o + 8] = -kr * w_t
-        elif ctl < 0:
-            dydt[o + 6] = mx / ib
-            dydt[o + 7] = mr / ib + psid * w_t
-            dydt[o + 8] = mt / ib - psid * w_r
+            if ctl == -2:
+                # no gyroscopic pivoting: the yaw is held at 0, the pitch is free
+                dydt[o + 8] = -kr * w_t
+            else:
+                dydt[o + 8] = mt / ib - psid * w_r
         else:
             # race control: no spin on the controlling race, no yaw; the one free rotation is
             # about u = e_t × n (in the ball plane, normal to n), driven by M·u
