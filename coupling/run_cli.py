@@ -1,7 +1,8 @@
 """`flexbearing run` and `flexbearing validate`.
 
     flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--quiet]
-    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--quiet]
+    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--ball-attitude A]
+                                   [--transverse-traction on|off] [--quiet]
 
 `run` validates the scene before anything else, streams the results to RUN.h5 (default
 out/<scene name>.h5) and writes RUN.summary.json beside it. Ctrl-C keeps what was computed and a
@@ -58,6 +59,13 @@ def register(subparsers) -> None:
     s.add_argument("--workers", type=int, default=None,
                    help="cases run at once in separate processes (default: the number of CPUs; "
                         "coupling.validate's procedure only)")
+    s.add_argument("--ball-attitude", default=None, choices=("free", "outer", "inner", "jones", "no_pivot"),
+                   help="model option ball_attitude (default: free balls, coupling.validate's "
+                        "VALIDATION_BALL_ATTITUDE); no_pivot is the paper's hypothesis, with --transverse-traction "
+                        "off as there; constrained attitudes run without the gyroscopic pair's ring reaction, "
+                        "as in coupling.validate (it destabilises them at the test's light loads)")
+    s.add_argument("--transverse-traction", default="on", choices=("on", "off"),
+                   help="model option transverse_traction (off = the paper's T_eta = 0)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
@@ -148,6 +156,8 @@ def cmd_validate_slip_rate(args) -> int:
                 kw["start"] = args.start
             workers = getattr(args, "workers", None)
             kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
+            kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),
+                                                         getattr(args, "transverse_traction", "on"))
             def table_of(raw, file):
                 rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
                          "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],

@@ -511,6 +511,22 @@ def write_report(rows: list[dict], directory, stem: str = "slip_rate", note: str
     (d / f"{stem}.md").write_text(f"# Steady cage slip rate vs paper Table 5\n\n{note}\n\n" + format_table(rows) + "\n")
 
 
+def validation_model_options(ball_attitude=None, transverse_traction: str = "on", gravity=None,
+                             attitude_ring_reaction: str = "off") -> dict:
+    """Model options from the command-line flags of `python -m coupling.validate` and `flexbearing
+    validate slip-rate` (build_validation_model adds them to its own). The gyroscopic pair's ring
+    reaction is off unless asked for: it destabilises race control at the test's light loads
+    (multibody.dynamics docstring)."""
+    options = {"attitude_ring_reaction": attitude_ring_reaction == "on"}
+    if transverse_traction == "off":
+        options["transverse_traction"] = False
+    if gravity is not None:
+        options["gravity"] = gravity
+    if ball_attitude is not None:
+        options["ball_attitude"] = ball_attitude
+    return options
+
+
 def main(argv=None) -> None:
     """python -m coupling.validate [--cases 1,2] [--oil-temperature C] [--oil-air-fraction X]
     [--radial-clearance M] [--t-max S] [--json FILE] [--out-dir DIR] [--quiet]"""
@@ -554,12 +570,7 @@ def main(argv=None) -> None:
     a = ap.parse_args(argv)
     cases = [int(c) for c in a.cases.split(",")] if a.cases else None
     bearing = None if a.radial_clearance is None else replace(VALIDATION_BEARING, radial_clearance=a.radial_clearance)
-    options = {} if a.transverse_traction == "on" else {"transverse_traction": False}
-    if a.gravity is not None:
-        options["gravity"] = a.gravity
-    if a.ball_attitude is not None:
-        options["ball_attitude"] = a.ball_attitude
-    options["attitude_ring_reaction"] = a.attitude_ring_reaction == "on"
+    options = validation_model_options(a.ball_attitude, a.transverse_traction, a.gravity, a.attitude_ring_reaction)
     def write_json(rows, complete):
         if a.json:
             tmp = f"{a.json}.part"

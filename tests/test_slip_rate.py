@@ -150,3 +150,21 @@ def test_an_interrupted_validation_keeps_the_finished_cases(tmp_path, monkeypatc
     assert main(["validate", "slip-rate", "--cases", "1,7", "--t-max", "0.1", "--quiet", "--json", str(out)]) == 0
     d = json.loads(out.read_text())
     assert d["complete"] is True and [c["case"] for c in d["cases"]] == [1, 7]
+
+
+def test_validate_cli_passes_the_ball_model_options(monkeypatch):
+    """`flexbearing validate slip-rate --ball-attitude no_pivot --transverse-traction off` runs the
+    cases with those model options, the gyroscopic pair's ring reaction off, as `python -m
+    coupling.validate` does with the same flags (one function builds both)."""
+    from coupling.cli import main
+    seen = {}
+
+    def record(cases=None, quiet=False, on_row=None, options=None, **kw):
+        seen.update(options)
+        return []
+
+    monkeypatch.setattr(V, "run_slip_rate_validation", record)
+    main(["validate", "slip-rate", "--cases", "1", "--quiet", "--ball-attitude", "no_pivot",
+          "--transverse-traction", "off"])
+    assert seen == {"ball_attitude": "no_pivot", "transverse_traction": False, "attitude_ring_reaction": False}
+    assert seen == V.validation_model_options("no_pivot", "off")
