@@ -2,7 +2,8 @@
 
     flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--quiet]
     flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--ball-attitude A]
-                                   [--transverse-traction on|off] [--quiet]
+                                   [--transverse-traction on|off] [--shim-angle DEG]
+                                   [--radial-clearance M] [--quiet]
 
 `run` validates the scene before anything else, streams the results to RUN.h5 (default
 out/<scene name>.h5) and writes RUN.summary.json beside it. Ctrl-C keeps what was computed and a
@@ -66,6 +67,11 @@ def register(subparsers) -> None:
                         "as in coupling.validate (it destabilises them at the test's light loads)")
     s.add_argument("--transverse-traction", default="on", choices=("on", "off"),
                    help="model option transverse_traction (off = the paper's T_eta = 0)")
+    s.add_argument("--shim-angle", type=float, default=None, metavar="DEG",
+                   help="shim angle of the test bearing's split inner ring, degrees (default 30, assumed), "
+                        "with the design clearance of that angle unless --radial-clearance is given")
+    s.add_argument("--radial-clearance", type=float, default=None, metavar="M",
+                   help="diametral clearance Pd of the test bearing, m (default: the design clearance)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
@@ -156,6 +162,8 @@ def cmd_validate_slip_rate(args) -> int:
                 kw["start"] = args.start
             workers = getattr(args, "workers", None)
             kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
+            kw["bearing"] = val.validation_bearing(getattr(args, "shim_angle", None),
+                                                   getattr(args, "radial_clearance", None))
             kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),
                                                          getattr(args, "transverse_traction", "on"))
             def table_of(raw, file):

@@ -125,6 +125,19 @@ def design_clearance(bearing=PAPER_BEARING) -> float:
 VALIDATION_BEARING = replace(PAPER_BEARING, radial_clearance=design_clearance(PAPER_BEARING))
 
 
+def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: float | None = None):
+    """The validation's bearing with the two unknowns of the test bearing set (module docstring):
+    shim angle alphaD in degrees (default 30°, SPEC) and diametral clearance Pd in m (default: the
+    design clearance of that shim angle, `design_clearance`). Checked by Bearing.validate, which
+    names the field and the allowed range."""
+    from mesh.validation import require_range
+    if shim_angle_deg is not None:
+        require_range("shim angle (--shim-angle)", shim_angle_deg, 0.0, 45.0, hi_open=True, unit="°")
+    b = PAPER_BEARING if shim_angle_deg is None else replace(PAPER_BEARING, shim_angle=math.radians(shim_angle_deg))
+    b = replace(b, radial_clearance=design_clearance(b) if radial_clearance is None else radial_clearance)
+    return b.validate()
+
+
 def pure_rolling_cage_speed_ratio(alpha_outer: float, alpha_inner: float, beta: float, ball_diameter: float,
                                   pitch_diameter: float) -> float:
     """omega_c/omega_i of a ball rolling without slip (rolling direction) on the fixed outer race and
@@ -529,7 +542,7 @@ def validation_model_options(ball_attitude=None, transverse_traction: str = "on"
 
 def main(argv=None) -> None:
     """python -m coupling.validate [--cases 1,2] [--oil-temperature C] [--oil-air-fraction X]
-    [--radial-clearance M] [--t-max S] [--json FILE] [--out-dir DIR] [--quiet]"""
+    [--shim-angle DEG] [--radial-clearance M] [--t-max S] [--json FILE] [--out-dir DIR] [--quiet]"""
     import argparse
     import json
     ap = argparse.ArgumentParser(description="steady slip-rate validation (paper Table 5)")
@@ -537,7 +550,10 @@ def main(argv=None) -> None:
     ap.add_argument("--oil-temperature", type=float, default=None, help="°C (default: calibrated)")
     ap.add_argument("--oil-air-fraction", type=float, default=None, help="- (default: calibrated)")
     ap.add_argument("--radial-clearance", type=float, default=None,
-                    help="diametral clearance Pd, m (default: design_clearance, 88.4e-6 for the paper bearing)")
+                    help="diametral clearance Pd, m (default: design_clearance of the shim angle, 88.4e-6 at 30°)")
+    ap.add_argument("--shim-angle", type=float, default=None,
+                    help="shim angle alphaD of the split inner ring, degrees (default 30, assumed; the most "
+                         "sensitive unknown of the test bearing, benchmarks/results/slip_rate.md)")
     ap.add_argument("--t-max", type=float, default=15.0,
                     help="longest simulated time per case, s (light-load cases at 8000-12,000 rpm need 4-15 s)")
     ap.add_argument("--t-min", type=float, default=1.0,
@@ -569,7 +585,7 @@ def main(argv=None) -> None:
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
     cases = [int(c) for c in a.cases.split(",")] if a.cases else None
-    bearing = None if a.radial_clearance is None else replace(VALIDATION_BEARING, radial_clearance=a.radial_clearance)
+    bearing = validation_bearing(a.shim_angle, a.radial_clearance)
     options = validation_model_options(a.ball_attitude, a.transverse_traction, a.gravity, a.attitude_ring_reaction)
     def write_json(rows, complete):
         if a.json:

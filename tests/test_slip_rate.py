@@ -159,12 +159,33 @@ def test_validate_cli_passes_the_ball_model_options(monkeypatch):
     from coupling.cli import main
     seen = {}
 
-    def record(cases=None, quiet=False, on_row=None, options=None, **kw):
-        seen.update(options)
+    def record(cases=None, quiet=False, on_row=None, options=None, bearing=None, **kw):
+        seen.update(options=options, bearing=bearing)
         return []
 
     monkeypatch.setattr(V, "run_slip_rate_validation", record)
     main(["validate", "slip-rate", "--cases", "1", "--quiet", "--ball-attitude", "no_pivot",
           "--transverse-traction", "off"])
-    assert seen == {"ball_attitude": "no_pivot", "transverse_traction": False, "attitude_ring_reaction": False}
-    assert seen == V.validation_model_options("no_pivot", "off")
+    assert seen["options"] == {"ball_attitude": "no_pivot", "transverse_traction": False,
+                               "attitude_ring_reaction": False}
+    assert seen["options"] == V.validation_model_options("no_pivot", "off")
+    assert seen["bearing"] == V.VALIDATION_BEARING
+
+
+def test_the_test_bearings_unknowns_can_be_set(monkeypatch, capsys):
+    """--shim-angle sets alphaD and, unless --radial-clearance is given, the design clearance of
+    that angle, Pd = 2·(fe − 0.5)·Dw·(1 − cos alphaD) = 2·0.015·22 mm·(1 − cos 15°) = 22.5 um
+    (written out below from the formula, not taken from the code); a shim angle outside [0, 45)°
+    is refused naming the field and the range."""
+    import math
+    from coupling.cli import main
+    seen = {}
+    monkeypatch.setattr(V, "run_slip_rate_validation", lambda **kw: seen.update(kw) or [])
+    main(["validate", "slip-rate", "--cases", "1", "--quiet", "--shim-angle", "15"])
+    b = seen["bearing"]
+    assert b.shim_angle == pytest.approx(math.radians(15.0))
+    assert b.radial_clearance == pytest.approx(2 * 0.015 * 22e-3 * (1 - math.cos(math.radians(15.0))), rel=1e-12)
+    main(["validate", "slip-rate", "--cases", "1", "--quiet", "--shim-angle", "15", "--radial-clearance", "5e-5"])
+    assert seen["bearing"].radial_clearance == 5e-5
+    assert main(["validate", "slip-rate", "--cases", "1", "--quiet", "--shim-angle", "50"]) != 0
+    assert "shim angle (--shim-angle) = 50" in capsys.readouterr().err
