@@ -1028,7 +1028,8 @@ def _amplification_table(items) -> str:
     return "\n".join(lines)
 
 
-def print_table(rows: list[dict], file=sys.stdout) -> None:
+def print_table(rows: list[dict], file=None) -> None:
+    file = sys.stdout if file is None else file    # the stream at call time, not at import
     keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
     w = max(len(lab) for lab, _, _ in _stat_rows(keys)) if keys else 10
     for r in rows:

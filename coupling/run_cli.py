@@ -84,7 +84,8 @@ def _format_value(value, unit: str) -> tuple[str, str]:
     return f"{value * f:.6g}", u
 
 
-def print_summary(summary: dict, file=sys.stdout) -> None:
+def print_summary(summary: dict, file=None) -> None:
+    file = sys.stdout if file is None else file    # the stream at call time, not at import
     print(f"scene {summary['scene']} ({summary['cage_model']} cage): {summary['n_samples']} samples, "
           f"status {summary['status']}", file=file)
     sps = summary.get("steps_per_s")
@@ -214,10 +215,11 @@ def _write_json(table: dict, path, quiet: bool = False) -> int:
     return 0
 
 
-def print_slip_rate_table(rows, file=sys.stdout) -> dict:
+def print_slip_rate_table(rows, file=None) -> dict:
     """rows: dicts with case, axial_load, radial_load, speed_rpm, slip_ours, slip_test, slip_paper
     (slip rates as fractions). Prints the table in % with the relative errors
     |ours − test|/test and |paper − test|/test, and their mean and max; returns it as a dict."""
+    file = sys.stdout if file is None else file    # the stream at call time, not at import
     out = []
     print(f"{'case':>4} {'Fa/N':>6} {'Fr/N':>6} {'n/rpm':>7} {'test/%':>7} {'paper/%':>8} {'ours/%':>7} "
           f"{'err ours/%':>10} {'err paper/%':>11}", file=file)

@@ -122,9 +122,6 @@ def design_clearance(bearing=PAPER_BEARING) -> float:
     return 2.0 * (bearing.fe - 0.5) * bearing.ball_diameter * (1.0 - math.cos(bearing.shim_angle))
 
 
-VALIDATION_BEARING = replace(PAPER_BEARING, radial_clearance=design_clearance(PAPER_BEARING))
-
-
 def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: float | None = None):
     """The validation's bearing with the two unknowns of the test bearing set (module docstring):
     shim angle alphaD in degrees (default 30°, SPEC) and diametral clearance Pd in m (default: the
@@ -136,6 +133,9 @@ def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: fl
     b = PAPER_BEARING if shim_angle_deg is None else replace(PAPER_BEARING, shim_angle=math.radians(shim_angle_deg))
     b = replace(b, radial_clearance=design_clearance(b) if radial_clearance is None else radial_clearance)
     return b.validate()
+
+
+VALIDATION_BEARING = validation_bearing()
 
 
 def pure_rolling_cage_speed_ratio(alpha_outer: float, alpha_inner: float, beta: float, ball_diameter: float,
