@@ -153,6 +153,17 @@ def cmd_validate_slip_rate(args) -> int:
     from coupling.run import RunInterrupted, run_case_set_slip_rate
     from coupling.scene import load_case_set
 
+    if args.case_set is not None:
+        # these shape coupling.validate's procedure; a case set's scenes carry their own [bearing],
+        # [model] and durations, so they would be ignored without a word
+        given = [flag for flag, value, default in (
+            ("--t-max", args.t_max, None), ("--start", args.start, None), ("--workers", args.workers, None),
+            ("--ball-attitude", args.ball_attitude, None), ("--transverse-traction", args.transverse_traction, "on"),
+            ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None))
+            if value != default]
+        if given:
+            raise InputError(f"{', '.join(given)} cannot be used with --case-set (they set coupling.validate's "
+                             f"procedure; a case set's scenes carry their own bearing, model and durations)")
     if args.case_set is None:
         import importlib.util
         if importlib.util.find_spec("coupling.validate") is not None:

@@ -189,3 +189,13 @@ def test_the_test_bearings_unknowns_can_be_set(monkeypatch, capsys):
     assert seen["bearing"].radial_clearance == 5e-5
     assert main(["validate", "slip-rate", "--cases", "1", "--quiet", "--shim-angle", "50"]) != 0
     assert "shim angle (--shim-angle) = 50" in capsys.readouterr().err
+
+
+def test_procedure_flags_are_refused_with_a_case_set(capsys):
+    """--case-set runs scenes, which carry their own bearing, model and durations: the flags of
+    coupling.validate's procedure would be ignored, so they are refused, naming them."""
+    from coupling.cli import main
+    assert main(["validate", "slip-rate", "--case-set", "scenes/slip_rate_table4.toml", "--cases", "1",
+                 "--shim-angle", "15", "--ball-attitude", "no_pivot"]) != 0
+    err = capsys.readouterr().err
+    assert "--ball-attitude, --shim-angle cannot be used with --case-set" in err
