@@ -60,6 +60,8 @@ def register(subparsers) -> None:
     s.add_argument("--workers", type=int, default=None,
                    help="cases run at once in separate processes (default: the number of CPUs; "
                         "coupling.validate's procedure only)")
+    # multibody.model.BALL_ATTITUDES, written out so that the CLI starts without importing numba
+    # (tests/test_slip_rate.py checks that it takes every one of them)
     s.add_argument("--ball-attitude", default=None, choices=("free", "outer", "inner", "jones", "no_pivot"),
                    help="model option ball_attitude (default: free balls, coupling.validate's "
                         "VALIDATION_BALL_ATTITUDE); no_pivot is the paper's hypothesis, with --transverse-traction "

@@ -87,7 +87,7 @@ from dataclasses import replace
 import numpy as np
 
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.model import build_model, P_GRAV
+from multibody.model import BALL_ATTITUDES, build_model, P_GRAV
 from multibody import traction as TR
 from multibody.initial import initial_state
 from multibody import dynamics as D
@@ -567,7 +567,7 @@ def main(argv=None) -> None:
                     help="model option transverse_traction (off = the paper's T_eta = 0)")
     ap.add_argument("--gravity", type=float, default=None,
                     help="m/s^2 along -z (default VALIDATION_GRAVITY = 9.81: the rig's spindle is horizontal; 0 = off)")
-    ap.add_argument("--ball-attitude", default=None, choices=["free", "outer", "inner", "jones", "no_pivot"],
+    ap.add_argument("--ball-attitude", default=None, choices=list(BALL_ATTITUDES),
                     help="model option ball_attitude: free Euler balls, race control, or no_pivot (the paper's hypothesis: "
                          "gyroscopic pivoting held; use with --transverse-traction off) (default: VALIDATION_BALL_ATTITUDE)")
     ap.add_argument("--attitude-ring-reaction", default="off", choices=["on", "off"],

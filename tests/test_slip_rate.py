@@ -170,6 +170,11 @@ def test_validate_cli_passes_the_ball_model_options(monkeypatch):
                                "attitude_ring_reaction": False}
     assert seen["options"] == V.validation_model_options("no_pivot", "off")
     assert seen["bearing"] == V.VALIDATION_BEARING
+    # the CLI's written-out choices take every attitude the model has
+    from multibody.model import BALL_ATTITUDES
+    for attitude in BALL_ATTITUDES:
+        assert main(["validate", "slip-rate", "--cases", "1", "--quiet", "--ball-attitude", attitude]) == 0
+        assert seen["options"]["ball_attitude"] == attitude
 
 
 def test_the_test_bearings_unknowns_can_be_set(monkeypatch, capsys):
