@@ -23,8 +23,22 @@ whirl and squeeze terms of the moving cage centre (Childs, Turbomachinery Rotord
     F_t =  (eta·R1·L³/(2·Cg²))·[pi·eps·(w_s − 2·phidot)/(2·(1 − eps²)^1.5) + 4·eps·epsdot/(1 − eps²)²]
 
 with w_s = omega_cage + omega_land, phidot the whirl rate of e_hat and epsdot = (de/dt)/Cg; with
-phidot = epsdot = 0 these are W_r and W_t above. For a negative effective speed the pi-film moves
-to the other half: the radial term keeps its restoring sign (|U|), the tangential one flips.
+phidot = epsdot = 0 these are W_r and W_t above. Childs' forms hold for w = w_s − 2·phidot > 0.
+For w < 0 (the other sense of rotation, or a cage whirling faster than half its spin, e.g. the
+synchronous whirl of a cage riding its land) the pi-film lies on the other half of the
+circumference, (pi, 2pi) instead of (0, pi): the pressure's rotation part w·eps·sin(theta) and its
+squeeze part eps_dot·cos(theta) are then integrated over the mirrored half, which keeps the
+radial terms' restoring sign (|w| in the first) and flips the sign of the tangential squeeze term
+(cos·sin is odd about the line of centres), while the tangential rotation term is linear in w
+over either half:
+
+    F_r = −(eta·R1·L³/(2·Cg²))·[2·eps²·|w|/(1 − eps²)² + pi·(1 + 2·eps²)·epsdot/(1 − eps²)^2.5]
+    F_t =  (eta·R1·L³/(2·Cg²))·[pi·eps·w/(2·(1 − eps²)^1.5) + sgn(w)·4·eps·epsdot/(1 − eps²)²]
+
+(tests/test_guide_land.py integrates the short-bearing pressure over the half for both signs of w;
+tests/test_symmetry.py checks the whole model for the mirror that reverses the rotation). sgn(w)
+is smoothed as tanh(w/(1 rad/s)), as the rim friction below, so the force stays continuous where
+the whirl passes half the spin. Before session 10 the squeeze term kept its sign for w < 0.
 
 The film terms are evaluated at min(eps, eps_max) (default 0.95) so they stay finite; from
 |e| >= Cg a rim contact takes over: a radial penalty F_rim = k_rim·(|e| − Cg) along −e_hat with
@@ -83,9 +97,11 @@ def guide_land_force(ey, ez, vy, vz, omega_cage, omega_land, R1, L, Cg, eta, eps
         if eps_true >= eps_max and epsdot > 0.0:
             epsdot = 0.0                               # capped film: no further squeeze growth
         c = n_lands * eta * R1 * L ** 3 / (2.0 * Cg * Cg)
-        wr = c * (2.0 * eps * eps * abs(ws - 2.0 * phidot) / (q * q)
+        w = ws - 2.0 * phidot
+        film_side = math.tanh(w)                       # which half carries the pi-film (docstring)
+        wr = c * (2.0 * eps * eps * abs(w) / (q * q)
                   + math.pi * (1.0 + 2.0 * eps * eps) * epsdot / q ** 2.5)
-        wt = c * (math.pi * eps * (ws - 2.0 * phidot) / (2.0 * q ** 1.5) + 4.0 * eps * epsdot / (q * q))
+        wt = c * (math.pi * eps * w / (2.0 * q ** 1.5) + film_side * 4.0 * eps * epsdot / (q * q))
     else:
         wr, wt = ocvirk_forces(eps, R1 * ws, eta, L, Cg)
         wr = n_lands * abs(wr)

@@ -17,7 +17,8 @@ def half_sommerfeld_forces(eps, ws, epsdot=0.0, phidot=0.0, fixed_limits=True):
     h = Cg·(1 + eps·cos(theta)) (theta from the thickest film, thinnest at theta = pi),
     w = ws − 2·phidot and dh/dt = Cg·epsdot·cos(theta) in the frame of the line of centres.
     p = S(theta)·(z² − L²/4)/(2h³); integrated over z: ∫(L²/4 − z²)dz = L³/6. The pi-film keeps
-    p over theta in (0, pi), the half where the pressure is positive for pure rotation.
+    p over theta in (0, pi), the half where the pressure is positive for pure rotation with
+    w > 0, and over (pi, 2pi) for w < 0.
     """
     def pbar(t):          # pressure integrated over the width, per unit R·dtheta
         h = CG * (1 + eps * math.cos(t))
@@ -25,7 +26,10 @@ def half_sommerfeld_forces(eps, ws, epsdot=0.0, phidot=0.0, fixed_limits=True):
         p = -S / (2 * h ** 3) * L ** 3 / 6
         return p if fixed_limits else max(p, 0.0)
     w = ws - 2 * phidot
-    lo, hi = (0.0, math.pi) if fixed_limits else (0.0, 2 * math.pi)
+    if not fixed_limits:
+        lo, hi = 0.0, 2 * math.pi
+    else:
+        lo, hi = (0.0, math.pi) if w > 0 else (math.pi, 2 * math.pi)
     # force on the journal = −∫ p n dA, n = outward journal normal at theta; e_hat points to the
     # thinnest film (theta = pi), the tangential axis x_hat × e_hat is at theta = 3pi/2 here
     # because theta runs with the surface motion (w > 0).
@@ -91,6 +95,30 @@ def test_dynamic_terms_against_integrated_pressure():
     assert abs(f_perp) == pytest.approx(ft, rel=1e-8)
     # squeeze resists approach: moving outward (vy > 0) increases the restoring force
     assert fy < static[0]
+
+
+@pytest.mark.parametrize("whirl_ratio", [0.9, 1.0, 1.5])
+def test_dynamic_terms_when_the_whirl_outruns_half_the_spin(whirl_ratio):
+    """w = ws − 2·phidot < 0 (a cage whirling at more than half its spin, e.g. synchronously on
+    its land): the pi-film lies on (pi, 2pi) and both dynamic forces equal the integral of the
+    short-bearing pressure over that half, the squeeze's tangential part with the opposite sign
+    to Childs' w > 0 form (relative 1e-8: the quadrature). Found by tests/test_symmetry.py: the
+    mirror that reverses the rotation broke the cage's equations by 1.5e-5 of their scale."""
+    eps, ws = 0.6, 700.0
+    e = eps * CG
+    vy = 0.03                                   # outward: epsdot > 0
+    phidot = whirl_ratio * ws
+    vz = phidot * e
+    fy, fz, _ = guide_land_force(e, 0.0, vy, vz, ws, 0.0, R1, L, CG, ETA, 0.95, True, K_RIM, 0.1)
+    f_e, f_perp = half_sommerfeld_forces(eps, ws, epsdot=vy / CG, phidot=phidot)
+    assert fy == pytest.approx(f_e, rel=1e-8)
+    # the sign between the reference's perpendicular component and F_z, from the w > 0 case
+    fz_pos = guide_land_force(e, 0.0, vy, 0.0, ws, 0.0, R1, L, CG, ETA, 0.95, True, K_RIM, 0.1)[1]
+    sign = math.copysign(1.0, fz_pos * half_sommerfeld_forces(eps, ws, epsdot=vy / CG)[1])
+    assert fz == pytest.approx(sign * f_perp, rel=1e-8)
+    squeeze = 4 * eps * (vy / CG) / (1 - eps ** 2) ** 2 * ETA * R1 * L ** 3 / (2 * CG ** 2)
+    rotation = ETA * R1 * L ** 3 / (2 * CG ** 2) * math.pi * eps * (ws - 2 * phidot) / (2 * (1 - eps ** 2) ** 1.5)
+    assert fz == pytest.approx(rotation - squeeze, rel=1e-12)
 
 
 def test_rim_contact_takes_over_continuously():
