@@ -49,7 +49,8 @@ calibrated number. Traction: the paper's 4106 fit (default) or the bounded law o
 multibody.traction (`traction_table_for`, option --traction-law bounded). Session 8 corrected the
 sign of the EHL pressure rolling force (multibody.drag; it had pushed the balls forward at the
 outer race) and recalibrated on cases 1–8: 150 °C, X_ref = 0.002 (the grid and the result, mean
-error 135.7 %, in benchmarks/results/slip_rate.md; the diagnosis below predates it and still holds).
+error 135.7 %, 135.9 % after the session-10 guide-land correction, in benchmarks/results/slip_rate.md;
+the diagnosis below predates it and still holds).
 Session 9 ran the paper's own ball hypothesis (model option ball_attitude = "no_pivot": gyroscopic
 pivoting held, the pitch free; with T_eta = 0): right sign at low speed, same strong load
 dependence, mean 137.5 %, max 286.4 %, no better after recalibration on cases 1–8 (slip_rate.md);

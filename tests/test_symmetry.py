@@ -264,3 +264,32 @@ def test_rotation_about_the_shaft_axis(gamma_deg, on_rim):
     z = model.n_balls
     assert (work[z, M.WR_RIM_F] > 0.0) == on_rim
     assert work_r[z, M.WR_RING_TORQUE] == pytest.approx(work[z, M.WR_RING_TORQUE], rel=1e-9)
+
+
+@pytest.mark.parametrize("control", ["outer", "inner"])
+def test_quasi_static_solution_mirrors(control):
+    """The quasi-static solver (an independent implementation of the same contact geometry) under
+    the two mirrors: −omega_i with −Fz gives the same loads and angles at the mirrored azimuths
+    (ball j at −psi_j), the ring's z and tilt_y and every spin reversed; −Fx gives the contact angles
+    mirrored (sign reversed) and the ring's x and tilts reversed. Bound 1e-9 (measured 8e-13,
+    the solver's tolerance)."""
+    from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
+    g = grooves_from_bearing(PAPER_BEARING)
+    a = solve_quasi_static(g, OMEGA, fx=FA, fy=1.5e3, fz=-FR, control=control)
+    z = len(a.psi)
+    mirrored = [(-j) % z for j in range(z)]
+    b = solve_quasi_static(g, -OMEGA, fx=FA, fy=1.5e3, fz=FR, control=control)
+    assert a.converged and b.converged
+    qmax = np.max(a.load)
+    assert np.max(np.abs(b.load[mirrored] - a.load)) < 1e-9 * qmax
+    assert np.max(np.abs(b.contact_angle[mirrored] - a.contact_angle)) < 1e-9
+    u = a.ring_displacement * np.array([1, 1, -1, -1, 1])
+    assert np.max(np.abs(b.ring_displacement - u)) < 1e-9 * np.max(np.abs(u))
+    assert b.cage_speed == pytest.approx(-a.cage_speed, rel=1e-9)
+    c = solve_quasi_static(g, OMEGA, fx=-FA, fy=1.5e3, fz=-FR, control=control)
+    assert c.converged
+    assert np.max(np.abs(c.load - a.load[:, [0, 2, 1]])) < 1e-9 * qmax
+    assert np.max(np.abs(c.contact_angle + a.contact_angle[:, [0, 2, 1]])) < 1e-9
+    u = a.ring_displacement * np.array([-1, 1, 1, -1, -1])
+    assert np.max(np.abs(c.ring_displacement - u)) < 1e-9 * np.max(np.abs(u))
+    assert c.cage_speed == pytest.approx(a.cage_speed, rel=1e-9)
