@@ -21,6 +21,7 @@ COMMAND_MODULES = (
     "coupling.run_cli",    # run, validate
     "multibody.cli",       # quasi-static
     "coupling.report",     # report
+    "coupling.study",      # study
     "coupling.demo",       # demo
 )
 

@@ -63,11 +63,16 @@ def test_paper_unsteady_spectra():
 
 def test_every_scene_in_scenes_dir_loads():
     from coupling.scene import load_case_set
+    from coupling.study import load_study
     for path in sorted(SCENES.glob("*.toml")):
         if "[case_set]" in path.read_text():
             with pytest.raises(InputError, match="is a case set"):
                 load_scene(path)
             load_case_set(path)
+        elif "[study]" in path.read_text():
+            with pytest.raises(InputError, match="is a study"):
+                load_scene(path)
+            load_study(path)
         else:
             load_scene(path)
 

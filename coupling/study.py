@@ -1,0 +1,429 @@
+"""`flexbearing study`: one scene run over a range of a parameter (the paper's §4.4 studies).
+
+    flexbearing study STUDY.toml [-o DIR] [--workers N] [--quiet]
+
+The paper (Yang, Liu & Deng 2025, §4.4, Figs. 23–34) varies one parameter of its unsteady case
+at a time (axial load 45–65 kN, radial load 4–8 kN, speed 11,000–15,000 rpm, groove curvature
+coefficients fe 0.51–0.53 and fi 0.515–0.535) and reads off the contact stresses, the pocket and
+guiding forces, the cage's maximum von Mises stress and the film thickness. A study file says
+the same thing:
+
+    [study]
+    name = "axial_load"
+    description = "Paper §4.4.1: axial load 45-65 kN at Fr = 4 kN, unsteady case"
+    scene = "paper_unsteady.toml"           # the base scene, relative to this file
+    keys = ["operation.load.axial_load"]    # scene keys to set, dotted; [i] indexes a list
+    values = [45e3, 50e3, 55e3, 60e3, 65e3] # one run each: a scalar (every key takes it) or a
+                                            #   list with one value per key
+    label = "Axial load"                    # of the parameter, for tables and plots
+    unit = "N"                              # SI unit of the values (the scene's)
+    display_unit = "kN"                     # optional: printed unit and its
+    display_scale = 1e-3                    #   factor from SI (default: unit, 1)
+    settle = 0.05                           # s left out of every statistic (start-up transient)
+
+Each run is the base scene with the keys set (intermediate tables are created, list items must
+exist); every run's scene is validated before anything is integrated, and a value that makes it
+invalid is refused naming the value and the scene's own message. Runs stream to
+DIR/<name>/<name>_<i>.h5 and resume like `flexbearing run --resume`: a finished run is reused, an
+interrupted study continues where it stopped. `--workers N` runs N at once (separate processes,
+fork; each run is the same deterministic integration whatever N).
+
+Results, in DIR/<name>/:
+
+    study.json   every window statistic of every run (coupling.report.phase_table: the whole run,
+                 each phase of the speed profile, each impact; peak and mean of each quantity),
+                 SI, with the value of the parameter and the run's wall time
+    study.md     per quantity, its peak and mean in each window against the parameter
+    <quantity>.png  the same as plots, one line per window (the paper's Figs. 23–34)
+
+Windows are matched across runs by position (whole run, phase k of the speed profile, impact k),
+since a phase's label carries its speed, which a speed study changes; a window the settle time
+leaves empty is left out.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import math
+import re
+import sys
+import time
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from mesh.validation import InputError
+
+STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
+              "display_scale", "settle")
+_PATH_PART = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
+
+
+@dataclass(frozen=True)
+class Study:
+    name: str
+    description: str
+    scene_path: str
+    keys: tuple            # dotted scene keys
+    values: tuple          # per run: a tuple with one value per key
+    label: str
+    unit: str
+    display_unit: str
+    display_scale: float
+    settle: float          # s
+    scenes: tuple          # per run: the validated coupling.scene.Scene
+    path: str = ""
+
+    @property
+    def parameter(self) -> list[float]:
+        """The first key's value of each run (the plots' abscissa), SI."""
+        return [float(v[0]) for v in self.values]
+
+
+def _split_key(key: str, where: str) -> list:
+    """'operation.speed.phases[1].rpm' -> ['operation', 'speed', 'phases', 1, 'rpm']."""
+    parts = []
+    for part in key.split("."):
+        m = _PATH_PART.match(part)
+        if not m:
+            raise InputError(f"{where} = {key!r} is not a scene key; allowed: names joined by '.', "
+                             f"list items as name[i], e.g. 'operation.speed.phases[1].rpm'")
+        parts.append(m.group(1))
+        parts.extend(int(i) for i in re.findall(r"\[(\d+)\]", m.group(2)))
+    return parts
+
+
+def set_key(data: dict, parts: list, value, where: str) -> None:
+    """Set data[p0][p1]... = value in a parsed scene: missing tables are created, list items must
+    exist (a study changes values, not the number of phases or impacts)."""
+    node = data
+    for i, p in enumerate(parts[:-1]):
+        nxt = parts[i + 1]
+        if isinstance(p, int):
+            if not isinstance(node, list) or p >= len(node):
+                raise InputError(f"{where}: item [{p}] does not exist in the base scene")
+            node = node[p]
+            continue
+        if not isinstance(node, dict):
+            raise InputError(f"{where}: {p!r} is not inside a table of the base scene")
+        if p not in node:
+            if isinstance(nxt, int):
+                raise InputError(f"{where}: list {p!r} does not exist in the base scene")
+            node[p] = {}
+        node = node[p]
+    last = parts[-1]
+    if isinstance(last, int):
+        if not isinstance(node, list) or last >= len(node):
+            raise InputError(f"{where}: item [{last}] does not exist in the base scene")
+    elif not isinstance(node, dict):
+        raise InputError(f"{where}: {last!r} is not inside a table of the base scene")
+    node[last] = value
+
+
+def _finite_number(where: str, v) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise InputError(f"{where} = {v!r} is not allowed; allowed: a finite number")
+    return float(v) if isinstance(v, float) else v
+
+
+def load_study(path) -> Study:
+    """Read and validate a study file and build (and validate) the scene of every run."""
+    from coupling.scene import _number, _table, parse_scene
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+        data = tomllib.loads(text)
+    except OSError as exc:
+        raise InputError(f"study file {str(path)!r} cannot be read: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"study {path} is not valid TOML: {exc}") from None
+    _table(data, "study file", ("study",))
+    s = _table(data.get("study", {}), "study", STUDY_KEYS)
+    for k in ("name", "scene", "keys", "values"):
+        if k not in s:
+            raise InputError(f"study.{k} is missing")
+    name = s["name"]
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.-]+", name):
+        raise InputError(f"study.name = {name!r} is not allowed; allowed: letters, digits, '_', '-', '.'")
+    keys = s["keys"]
+    if isinstance(keys, str):
+        keys = [keys]
+    if not isinstance(keys, list) or not keys or not all(isinstance(k, str) for k in keys):
+        raise InputError(f"study.keys = {s['keys']!r} is not allowed; allowed: a scene key or a non-empty list of them")
+    split = [_split_key(k, f"study.keys[{i}]") for i, k in enumerate(keys)]
+    values = s["values"]
+    if not isinstance(values, list) or not values:
+        raise InputError(f"study.values = {values!r} is not allowed; allowed: a non-empty list, one entry per run")
+    runs = []
+    for i, v in enumerate(values):
+        where = f"study.values[{i}]"
+        if isinstance(v, list):
+            if len(v) != len(keys):
+                raise InputError(f"{where} = {v!r} has {len(v)} entries; allowed: one per key ({len(keys)})")
+            runs.append(tuple(_finite_number(f"{where}[{j}]", x) for j, x in enumerate(v)))
+        else:
+            runs.append((_finite_number(where, v),) * len(keys))
+    unit = s.get("unit", "")
+    scale = _number("study.display_scale", s.get("display_scale", 1.0), 0.0, None, lo_open=True)
+    settle = _number("study.settle", s.get("settle", 0.0), 0.0, None, unit="s")
+    scene_file = (path.parent / s["scene"]).resolve()
+    try:
+        base = tomllib.loads(scene_file.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(f"study.scene = {s['scene']!r}: {scene_file} cannot be read: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"study.scene = {s['scene']!r} is not valid TOML: {exc}") from None
+    scenes = []
+    for i, v in enumerate(runs):
+        d = copy.deepcopy(base)
+        for j, (k, parts) in enumerate(zip(keys, split)):
+            set_key(d, parts, v[j], f"study.keys[{j}] = {k!r}")
+        d["name"] = f"{name}_{i}"
+        setting = ", ".join(f"{k} = {x:g}" for k, x in zip(keys, v))
+        d["description"] = f"{s.get('description', name)}: {setting}"
+        try:
+            # no TOML text: the results file then keeps the run's own parsed scene (as JSON), which
+            # `flexbearing report` reads back, so each file says exactly what ran
+            sc = parse_scene(d, text="", path=f"{scene_file} with {setting}")
+        except InputError as exc:
+            raise InputError(f"study.values[{i}] ({setting}) makes the scene invalid: {exc}") from None
+        if sc.duration <= settle:
+            raise InputError(f"study.settle = {settle:g} s leaves nothing of run {i} "
+                             f"(duration {sc.duration:g} s); allowed: [0, {sc.duration:g}) s")
+        scenes.append(sc)
+    return Study(name=name, description=str(s.get("description", "")), scene_path=str(scene_file),
+                 keys=tuple(keys), values=tuple(runs), label=str(s.get("label", keys[0])),
+                 unit=str(unit), display_unit=str(s.get("display_unit", unit)), display_scale=float(scale),
+                 settle=float(settle), scenes=tuple(scenes), path=str(path))
+
+
+# ---------------------------------------------------------------- running
+
+def run_path(out_dir, study: Study, i: int) -> Path:
+    return Path(out_dir) / study.name / f"{study.name}_{i}.h5"
+
+
+def _run_one(scene, path: str, quiet: bool) -> dict:
+    from coupling.run import run_scene
+    return run_scene(scene, path, resume=True, quiet=quiet)
+
+
+def _build_reduced_cage(scene, quiet: bool) -> None:
+    from coupling.flexible_cage import reduced_cage_path
+    reduced_cage_path(scene, quiet=quiet)
+
+
+def _prepare_reduced_cages(study: Study, quiet: bool) -> None:
+    """Build (or find in the cache) each distinct reduced cage of the study once, before parallel
+    runs start: otherwise every worker would build the same one. In a child process, so that the
+    FE stack (MPI) is never initialised in the process that forks the workers."""
+    import multiprocessing
+    seen = set()
+    for sc in study.scenes:
+        if sc.cage_model != "flexible":
+            continue
+        key = repr((sc.bearing.cage, sorted(sc.flexible.items())))
+        if key in seen:
+            continue
+        seen.add(key)
+        p = multiprocessing.get_context("fork").Process(target=_build_reduced_cage, args=(sc, quiet))
+        p.start()
+        p.join()
+        if p.exitcode != 0:
+            raise RuntimeError(f"building the reduced cage of {sc.name} failed (exit code {p.exitcode})")
+
+
+def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> dict:
+    """Run (or resume) every run of the study and write study.json, study.md and the plots.
+    Returns the study.json content."""
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise InputError(f"workers = {workers!r} is not allowed; allowed: an integer >= 1")
+    folder = Path(out_dir) / study.name
+    folder.mkdir(parents=True, exist_ok=True)
+    n = len(study.scenes)
+    summaries = {}
+    t0 = time.perf_counter()
+
+    def done(i, summary):
+        summaries[i] = summary
+        if not quiet:
+            v = study.values[i][0] * study.display_scale
+            print(f"   run {i + 1}/{n} ({study.label} {v:g} {study.display_unit}): "
+                  f"wall {summary.get('wall_time_s', float('nan')):.1f} s", flush=True)
+
+    if workers == 1 or n < 2:
+        for i, sc in enumerate(study.scenes):
+            done(i, _run_one(sc, str(run_path(out_dir, study, i)), quiet))
+    else:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+        _prepare_reduced_cages(study, quiet)
+        # fork (Linux): the workers inherit the compiled kernels (as coupling.validate)
+        with ProcessPoolExecutor(max_workers=min(workers, n), mp_context=multiprocessing.get_context("fork")) as pool:
+            futures = {pool.submit(_run_one, sc, str(run_path(out_dir, study, i)), True): i
+                       for i, sc in enumerate(study.scenes)}
+            try:
+                for f in as_completed(futures):
+                    done(futures[f], f.result())
+            except BaseException:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+    result = collect(study, out_dir, summaries)
+    result["wall_time_s"] = time.perf_counter() - t0
+    (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
+    (folder / "study.md").write_text(study_markdown(study, result))
+    write_study_plots(study, result, folder)
+    return result
+
+
+def _json_default(o):
+    if hasattr(o, "item"):
+        return o.item()
+    raise TypeError(f"{type(o).__name__} is not JSON serialisable")
+
+
+def window_ids(scene) -> dict:
+    """Names of a run's report windows that are the same in every run of a study, by position:
+    'whole run', 'phase k: <kind>' (k-th phase of the speed profile), 'impact k'; keyed by
+    (kind group, t_end), which the settle time does not change (it moves t_start)."""
+    from coupling.report import impact_windows, speed_phases
+    ids = {}
+    for k, ph in enumerate(speed_phases(scene), 1):
+        ids[("phase", round(ph["t_end"], 12))] = f"phase {k}: {ph['kind']}"
+    for k, imp in enumerate(impact_windows(scene), 1):
+        ids[("impact", round(imp["t_end"], 12))] = f"impact {k}"
+    return ids
+
+
+def window_id(row: dict, ids: dict) -> str:
+    if row["kind"] == "run":
+        return "whole run"
+    group = "impact" if row["kind"] == "impact" else "phase"
+    return ids.get((group, round(row["t_end"], 12)), row["label"])
+
+
+def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
+    """study.json content from the runs' results files (coupling.report.phase_table each)."""
+    from coupling.report import phase_table
+    runs = []
+    for i, v in enumerate(study.values):
+        path = run_path(out_dir, study, i)
+        ids = window_ids(study.scenes[i])
+        windows = [{"window": window_id(row, ids), **row}
+                   for row in phase_table(path, include_impacts=True, settle=study.settle)]
+        s = (summaries or {}).get(i, {})
+        runs.append({"index": i, "values": dict(zip(study.keys, v)), "parameter": float(v[0]),
+                     "results_file": str(path), "wall_time_s": s.get("wall_time_s"), "windows": windows})
+    return {"study": {"name": study.name, "description": study.description, "scene": study.scene_path,
+                      "keys": list(study.keys), "label": study.label, "unit": study.unit,
+                      "settle_s": study.settle},
+            "runs": runs}
+
+
+def _quantity_columns(result: dict) -> list[tuple[str, str]]:
+    """(quantity key, statistic suffix) present in every run, in coupling.report's order."""
+    from coupling.report import QUANTITIES
+    out = []
+    for q in QUANTITIES:
+        ext = "min" if q.extreme == "min" else "peak"
+        for stat in (ext, "mean"):
+            col = f"{q.key}_{stat}"
+            if all(any(w.get(col) is not None for w in r["windows"]) for r in result["runs"]):
+                out.append((q.key, stat))
+    return out
+
+
+def study_table(result: dict, key: str, stat: str) -> tuple[list[str], list[list[float | None]]]:
+    """(window ids, one row per run of the statistic in each window), SI."""
+    ids = list(dict.fromkeys(w["window"] for r in result["runs"] for w in r["windows"]))
+    rows = []
+    for r in result["runs"]:
+        by_id = {w["window"]: w for w in r["windows"]}
+        rows.append([by_id.get(i, {}).get(f"{key}_{stat}") for i in ids])
+    return ids, rows
+
+
+def study_markdown(study: Study, result: dict) -> str:
+    from coupling.report import QUANTITY
+    lines = [f"# Study {study.name}", "", study.description, "",
+             f"Base scene `{study.scene_path}`; varied: {', '.join(f'`{k}`' for k in study.keys)}; "
+             f"statistics after {study.settle:g} s (coupling.report: peak = worst ball and instant, "
+             f"mean = over balls and time).", ""]
+    head_value = f"{study.label} [{study.display_unit}]" if study.display_unit else study.label
+    for key, stat in _quantity_columns(result):
+        q = QUANTITY[key]
+        ids, rows = study_table(result, key, stat)
+        lines.append(f"## {q.label}, {stat} [{q.display_unit}]")
+        lines.append("")
+        lines.append("| " + " | ".join([head_value] + ids) + " |")
+        lines.append("|" + "---:|" * (len(ids) + 1))
+        for r, vals in zip(result["runs"], rows):
+            cells = [f"{r['parameter'] * study.display_scale:g}"]
+            cells += ["–" if x is None else f"{x * q.scale:.4g}" for x in vals]
+            lines.append("| " + " | ".join(cells) + " |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
+    """One PNG per quantity: peak (left) and mean (right) against the parameter, one line per
+    window (whole run, phases, impacts)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from coupling.report import QUANTITY
+    folder = Path(folder)
+    x = [r["parameter"] * study.display_scale for r in result["runs"]]
+    paths = []
+    cols = _quantity_columns(result)
+    for key in dict.fromkeys(k for k, _ in cols):
+        q = QUANTITY[key]
+        stats = [s for k, s in cols if k == key]
+        fig, axes = plt.subplots(1, len(stats), figsize=(5.2 * len(stats), 3.8), squeeze=False)
+        for ax, stat in zip(axes[0], stats):
+            ids, rows = study_table(result, key, stat)
+            for j, wid in enumerate(ids):
+                y = [math.nan if r[j] is None else r[j] * q.scale for r in rows]
+                style = dict(lw=2.2, color="k") if wid == "whole run" else dict(lw=1.2, marker="o", ms=3)
+                ax.plot(x, y, label=wid, **style)
+            ax.set_xlabel(f"{study.label} [{study.display_unit}]" if study.display_unit else study.label)
+            ax.set_ylabel(f"{q.label}, {stat} [{q.display_unit}]")
+            ax.grid(alpha=0.3)
+        axes[0][0].legend(fontsize=7)
+        fig.suptitle(f"{study.name}: {q.label}", fontsize=10)
+        fig.tight_layout()
+        p = folder / f"{key}.png"
+        fig.savefig(p, dpi=110)
+        plt.close(fig)
+        paths.append(p)
+    return paths
+
+
+# ---------------------------------------------------------------- command line
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("study", help="a scene over a range of one parameter (the paper's §4.4 studies)",
+                              description=__doc__.split("\n\n")[0])
+    p.add_argument("study", help="study file (TOML), e.g. scenes/study_axial_load.toml")
+    p.add_argument("-o", "--output", default="out/study", help="output folder (default out/study)")
+    p.add_argument("--workers", type=int, default=1, help="runs at once (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=cmd_study)
+
+
+def cmd_study(args) -> int:
+    from coupling.run import RunInterrupted
+    study = load_study(args.study)
+    print(f"== study {study.name}: {len(study.scenes)} runs of {study.scene_path} "
+          f"({', '.join(study.keys)}) -> {Path(args.output) / study.name}", flush=True)
+    try:
+        result = run_study(study, args.output, workers=args.workers, quiet=args.quiet)
+    except RunInterrupted as exc:
+        print(f"flexbearing study: {exc} (run the same command again to continue)", file=sys.stderr)
+        return 130 if isinstance(exc.__cause__, KeyboardInterrupt) else 1
+    except KeyboardInterrupt:
+        print("flexbearing study: interrupted; run the same command again to continue", file=sys.stderr)
+        return 130
+    print(study_markdown(study, result))
+    print(f"wall {result['wall_time_s']:.1f} s; results in {Path(args.output) / study.name}")
+    return 0

@@ -1,0 +1,188 @@
+"""`flexbearing study` (coupling.study): a scene over a range of one parameter.
+
+A two-run study of a short rigid-cage scene under pure thrust: each run carries its value (the
+recorded external load), the study's tables are the runs' own report windows, and the mean
+contact stresses follow the quasi-static solution at each load (the dynamic-vs-quasi-static
+agreement of issue 4, here through the whole study pipeline). Then the input checks.
+"""
+import json
+import math
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from coupling.study import load_study, run_study, study_table
+from mesh.validation import InputError
+
+BASE = """
+name = "thrust"
+description = "pure thrust, rigid cage"
+[oil]
+preset = "paper"
+[cage]
+model = "rigid"
+[operation]
+duration = 0.004
+[operation.speed]
+phases = [{ kind = "ramp", duration = 0.001, start_rpm = 13900, end_rpm = 14000 },
+          { kind = "uniform", duration = 0.003, rpm = 14000 }]
+[operation.load]
+axial_load = 55e3
+radial_load = 0.0
+[integrator]
+tolerance = 1e-6
+initial_step = 1e-7
+[output]
+sample_interval = 1e-4
+record = ["contact_stress", "ball_loads", "contact_angles", "pocket_force", "guiding_force", "cage_speed", "slip"]
+"""
+
+STUDY = """
+[study]
+name = "fa"
+description = "axial load"
+scene = "base.toml"
+keys = ["operation.load.axial_load"]
+values = [30e3, 55e3]
+label = "Axial load"
+unit = "N"
+display_unit = "kN"
+display_scale = 1e-3
+settle = 0.0005
+"""
+
+
+def _write(folder: Path, study: str = STUDY, base: str = BASE) -> Path:
+    (folder / "base.toml").write_text(base)
+    p = folder / "study.toml"
+    p.write_text(study)
+    return p
+
+
+@pytest.fixture(scope="module")
+def thrust_study(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("study")
+    study = load_study(_write(folder))
+    out = folder / "out"
+    result = run_study(study, out, workers=1, quiet=True)
+    return study, out, result
+
+
+def test_each_run_carries_its_value(thrust_study):
+    study, out, result = thrust_study
+    assert [r["parameter"] for r in result["runs"]] == [30e3, 55e3]
+    for r in result["runs"]:
+        with h5py.File(r["results_file"], "r") as f:
+            fx = f["outputs/external_load"][:, 0]
+        assert np.all(fx == r["parameter"])
+    for name in ("study.json", "study.md", "inner_contact_stress.png"):
+        assert (out / "fa" / name).is_file()
+
+
+def test_tables_are_the_runs_report_windows(thrust_study):
+    """study.json holds coupling.report.phase_table of each run unchanged (same settle), and the
+    tables index the windows by position: whole run, phase 1 (the ramp), phase 2."""
+    from coupling.report import phase_table
+    study, out, result = thrust_study
+    saved = json.loads((out / "fa" / "study.json").read_text())
+    for r in saved["runs"]:
+        rows = phase_table(r["results_file"], include_impacts=True, settle=study.settle)
+        assert [w["window"] for w in r["windows"]] == ["whole run", "phase 1: acceleration", "phase 2: uniform speed"]
+        for w, row in zip(r["windows"], rows):
+            assert {k: v for k, v in w.items() if k != "window"} == pytest.approx(row)
+    ids, rows = study_table(saved, "inner_contact_stress", "mean")
+    assert rows[1][0] == saved["runs"][1]["windows"][0]["inner_contact_stress_mean"]
+
+
+def test_mean_contact_stress_follows_the_quasi_static_solution(thrust_study):
+    """Under pure thrust every ball carries the same load; the dynamic mean contact stresses of each
+    run in its uniform-speed phase (the last 3 ms; free balls, traction and drag on) equal the quasi-static ones
+    (outer-race control) at its load within 1.5 % (measured: outer −1.0 / −0.5 %, inner +0.1 / −0.2 %
+    at 30 / 55 kN; the free balls' skid and the pockets shift the loads by that much), and they rise
+    with the axial load as the paper's Fig. 23 shows."""
+    from multibody.bearing import PAPER_BEARING
+    from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
+    study, out, result = thrust_study
+    g = grooves_from_bearing(PAPER_BEARING)
+    means = []
+    for r in result["runs"]:
+        w = next(w for w in r["windows"] if w["window"] == "phase 2: uniform speed")
+        q = solve_quasi_static(g, 14000 * math.pi / 30, fx=r["parameter"], control="outer")
+        p_outer = q.p0[:, 0].mean()
+        p_inner = np.max(q.p0[:, 1:], axis=1).mean()
+        assert w["outer_contact_stress_mean"] == pytest.approx(p_outer, rel=0.015)
+        assert w["inner_contact_stress_mean"] == pytest.approx(p_inner, rel=0.015)
+        means.append((w["outer_contact_stress_mean"], w["inner_contact_stress_mean"]))
+    assert means[1][0] > means[0][0] and means[1][1] > means[0][1]
+
+
+def test_parallel_runs_and_resume_give_the_same_study(thrust_study, tmp_path):
+    """--workers 2 (forked processes) gives the same windows to the last bit; running the study
+    again reuses the finished runs (nothing is integrated twice); a study changed under the same
+    output folder is refused instead of mixing old runs into it."""
+    study, out, result = thrust_study
+    again = run_study(study, out, workers=1, quiet=True)
+    assert again["runs"] == result["runs"] or all(
+        a["windows"] == b["windows"] for a, b in zip(again["runs"], result["runs"]))
+    study2 = load_study(_write(tmp_path))
+    par = run_study(study2, tmp_path / "out", workers=2, quiet=True)
+    for a, b in zip(par["runs"], result["runs"]):
+        assert [{k: v for k, v in w.items()} for w in a["windows"]] == b["windows"]
+    changed = load_study(_write(tmp_path, STUDY.replace("values = [30e3, 55e3]", "values = [31e3, 55e3]")))
+    with pytest.raises(InputError, match="different scene"):
+        run_study(changed, tmp_path / "out", workers=1, quiet=True)
+
+
+def test_keys_into_lists_and_paired_values(tmp_path):
+    """A key may index a list (the speed phases) and several keys may move together: a speed study
+    sets the ramp's end, the plateau and the next ramp's start to one value; a groove study sets
+    fe and fi from one list per run."""
+    base = BASE.replace("""phases = [{ kind = "ramp", duration = 0.001, start_rpm = 13900, end_rpm = 14000 },
+          { kind = "uniform", duration = 0.003, rpm = 14000 }]""",
+                        """phases = [{ kind = "ramp", duration = 0.002, start_rpm = 10000, end_rpm = 14000 },
+          { kind = "uniform", duration = 0.001, rpm = 14000 },
+          { kind = "ramp", duration = 0.001, start_rpm = 14000, end_rpm = 10000 }]""")
+    speed = STUDY.replace('keys = ["operation.load.axial_load"]',
+                          'keys = ["operation.speed.phases[0].end_rpm", "operation.speed.phases[1].rpm", '
+                          '"operation.speed.phases[2].start_rpm"]').replace("values = [30e3, 55e3]",
+                                                                           "values = [11000, 15000]")
+    s = load_study(_write(tmp_path, speed, base))
+    for v, sc in zip((11000, 15000), s.scenes):
+        top = max(sc.speed_table[:, 1]) * 30 / math.pi
+        assert top == pytest.approx(v, rel=1e-12)
+    groove = STUDY.replace('keys = ["operation.load.axial_load"]', 'keys = ["bearing.fe", "bearing.fi"]').replace(
+        "values = [30e3, 55e3]", "values = [[0.51, 0.515], [0.53, 0.535]]")
+    s = load_study(_write(tmp_path, groove))
+    assert [(sc.bearing.fe, sc.bearing.fi) for sc in s.scenes] == [(0.51, 0.515), (0.53, 0.535)]
+    assert s.parameter == [0.51, 0.53]
+
+
+@pytest.mark.parametrize("change, message", [
+    (("[study]", "[study]\nbogus = 1"), "bogus"),
+    (('scene = "base.toml"', 'scene = "missing.toml"'), "missing.toml"),
+    (("values = [30e3, 55e3]", "values = []"), "study.values"),
+    (("values = [30e3, 55e3]", "values = [30e3, -5.0]"), r"study.values\[1\].*axial_load"),
+    (("values = [30e3, 55e3]", 'values = [30e3, "a lot"]'), r"study.values\[1\]"),
+    (("values = [30e3, 55e3]", "values = [[30e3, 1.0]]"), "one per key"),
+    (('keys = ["operation.load.axial_load"]', 'keys = ["operation.load.axial-load"]'), "not a scene key"),
+    (('keys = ["operation.load.axial_load"]', 'keys = ["operation.speed.phases[5].rpm"]'), r"item \[5\]"),
+    (('keys = ["operation.load.axial_load"]', 'keys = ["operation.load.bogus"]'), "bogus"),
+    (("settle = 0.0005", "settle = 0.01"), "study.settle"),
+    (('name = "fa"', 'name = "a b"'), "study.name"),
+])
+def test_bad_study_files_are_refused_naming_the_field(tmp_path, change, message):
+    with pytest.raises(InputError, match=message):
+        load_study(_write(tmp_path, STUDY.replace(*change)))
+
+
+def test_paper_studies_load():
+    """The four studies of the paper's §4.4 (scenes/study_*.toml) are valid, five runs each."""
+    scenes = Path(__file__).resolve().parents[1] / "scenes"
+    files = sorted(scenes.glob("study_*.toml"))
+    assert [f.stem for f in files] == ["study_axial_load", "study_groove_curvature", "study_radial_load",
+                                       "study_speed"]
+    for f in files:
+        s = load_study(f)
+        assert len(s.scenes) == 5
