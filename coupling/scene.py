@@ -561,18 +561,24 @@ class CaseSet:
     path: str = ""
 
 
+def read_toml(path, what: str) -> dict:
+    """The parsed TOML file `path`; an unreadable file or a syntax error is an InputError that
+    names `what` it was meant to be (e.g. "case set") and the path."""
+    path = Path(path)
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(f"{what} {str(path)!r} cannot be read: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{what} {path} is not valid TOML: {exc}") from None
+
+
 def load_case_set(path) -> CaseSet:
     """Read a case set: [case_set] (name, description, duration, average_from), [base] (a scene
     without operation) and [[cases]] (id, group, axial_load, radial_load, speed_rpm and the published
     slip rates). Each case becomes the base scene with a uniform speed and constant loads."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-        data = tomllib.loads(text)
-    except OSError as exc:
-        raise InputError(f"case set {str(path)!r} cannot be read: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"case set {path} is not valid TOML: {exc}") from None
+    data = read_toml(path, "case set")
     _table(data, "case set", ("case_set", "base", "cases"))
     head = _table(data.get("case_set", {}), "case_set", ("name", "description", "duration", "average_from"))
     duration = _number("case_set.duration", head.get("duration"), 0.0, MAX_DURATION, lo_open=True, unit="s")

@@ -48,7 +48,6 @@ import math
 import re
 import sys
 import time
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -128,15 +127,9 @@ def _finite_number(where: str, v) -> float:
 
 def load_study(path) -> Study:
     """Read and validate a study file and build (and validate) the scene of every run."""
-    from coupling.scene import _number, _table, parse_scene
+    from coupling.scene import _number, _table, parse_scene, read_toml
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-        data = tomllib.loads(text)
-    except OSError as exc:
-        raise InputError(f"study file {str(path)!r} cannot be read: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"study {path} is not valid TOML: {exc}") from None
+    data = read_toml(path, "study file")
     _table(data, "study file", ("study",))
     s = _table(data.get("study", {}), "study", STUDY_KEYS)
     for k in ("name", "scene", "keys", "values"):
@@ -167,12 +160,7 @@ def load_study(path) -> Study:
     scale = _number("study.display_scale", s.get("display_scale", 1.0), 0.0, None, lo_open=True)
     settle = _number("study.settle", s.get("settle", 0.0), 0.0, None, unit="s")
     scene_file = (path.parent / s["scene"]).resolve()
-    try:
-        base = tomllib.loads(scene_file.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"study.scene = {s['scene']!r}: {scene_file} cannot be read: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"study.scene = {s['scene']!r} is not valid TOML: {exc}") from None
+    base = read_toml(scene_file, f"study.scene = {s['scene']!r}: scene")
     scenes = []
     for i, v in enumerate(runs):
         d = copy.deepcopy(base)
