@@ -14,7 +14,7 @@ import json
 from pathlib import Path
 
 # direction stated in the paper's text for each study: +1 rises, -1 falls, 0 "only slight
-# variations", None not stated
+# variations", 2 "first increases and then decreases"
 PAPER = {
     "axial_load": {"outer_contact_stress": +1, "inner_contact_stress": +1, "pocket_force": -1,
                    "guiding_force": -1, "von_mises_max": -1, "film_thickness_min": -1},
@@ -23,11 +23,11 @@ PAPER = {
     "speed": {"outer_contact_stress": +1, "inner_contact_stress": -1, "pocket_force": +1,
               "guiding_force": +1, "von_mises_max": +1, "film_thickness_min": +1},
     "groove_curvature": {"outer_contact_stress": +1, "inner_contact_stress": +1, "pocket_force": +1,
-                         "guiding_force": +1, "von_mises_max": +1, "film_thickness_min": None},
+                         "guiding_force": +1, "von_mises_max": +1, "film_thickness_min": 2},
 }
 SECTION = {"axial_load": "§4.4.1, Figs. 23–25", "radial_load": "§4.4.2, Figs. 26–28",
            "speed": "§4.4.3, Figs. 29–31", "groove_curvature": "§4.4.4, Figs. 32–34"}
-ARROW = {+1: "rises", -1: "falls", 0: "~flat", None: "not stated"}
+ARROW = {+1: "rises", -1: "falls", 0: "~flat", 2: "rises, then falls"}
 
 
 def trend_lines(result: dict, name: str) -> list[str]:
@@ -36,7 +36,7 @@ def trend_lines(result: dict, name: str) -> list[str]:
     runs = result["runs"]
     x = [r["parameter"] for r in runs]
     lines = [f"## {name} ({SECTION.get(name, '')}): {study['description']}", "",
-             f"{study['label']}: {', '.join(f'{v:g}' for v in x)} {study['unit']}", "",
+             f"{study['label']}: {', '.join(f'{v:g}' for v in x)} {study['unit']}".rstrip(), "",
              "| quantity | statistic | values (whole run, after the settle time) | first → last | paper |",
              "|---|---|---|---:|---|"]
     for key, paper in PAPER.get(name, {}).items():

@@ -235,8 +235,8 @@ def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> d
     def done(i, summary):
         summaries[i] = summary
         if not quiet:
-            v = study.values[i][0] * study.display_scale
-            print(f"   run {i + 1}/{n} ({study.label} {v:g} {study.display_unit}): "
+            v = f"{study.values[i][0] * study.display_scale:g} {study.display_unit}".rstrip()
+            print(f"   run {i + 1}/{n} ({study.label} {v}): "
                   f"wall {summary.get('wall_time_s', float('nan')):.1f} s", flush=True)
 
     if workers == 1 or n < 2:
