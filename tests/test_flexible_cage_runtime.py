@@ -110,9 +110,12 @@ def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
     bits) at a state with cage translation, spin, tilt and their rates. Integrated 2 ms at
     14,000 rpm, 55 kN / 4 kN, the runs agree to the integrator tolerance, not to round-off: the
     adaptive step control can turn last-bit differences into different step sequences; then the
-    difference shrinks with the tolerance (asserted: 10x tighter tolerance -> at least 5x smaller).
-    When both runs take the same steps they agree to round-off (measured since session 8: 8e-13
-    and 8e-12 of the state), which passes as well."""
+    difference shrinks with the tolerance (asserted: each difference below its tolerance, and, when
+    both tolerances take different step sequences, 10x tighter tolerance -> at least 5x smaller).
+    When the runs take the same steps they agree to round-off (measured in session 8: 8e-13 and
+    8e-12 of the state; session 10, after the guide-land change moved the last bits: 2.7e-13 at
+    1e-6 and 1.5e-10 at 1e-7, i.e. only the tighter tolerance split the step sequences, which the
+    earlier form of this check wrongly required to be 5x below the round-off one)."""
     from coupling.flexible_cage import flexible_cage_body
     from coupling.floating_frame import rigid_body
     from multibody import dynamics, initial, integrator, model as mb
@@ -150,7 +153,11 @@ def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
             y, t, h, _, _ = integrator.advance(m, y0.copy(), 0.0, 2e-3, sp, ld, imp, tol, 1e-7)
             ys.append(y.copy())
         diffs.append(np.abs(ys[0][:c0] - ys[1][:c0]).max() / np.abs(ys[1][:c0]).max())
-    assert diffs[0] < 1e-4 and (max(diffs) < 1e-10 or diffs[1] < 0.2 * diffs[0])
+    # each run within its tolerance; where both tolerances gave different step sequences (both
+    # differences above round-off), the tighter one must shrink the difference
+    assert diffs[0] < 1e-6 and diffs[1] < 1e-7
+    if min(diffs) > 1e-10:
+        assert diffs[1] < 0.2 * diffs[0]
 
 
 def test_flexible_run_interrupted_and_resumed_equals_uninterrupted(paper_reduced_cage, tmp_path):
