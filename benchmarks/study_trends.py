@@ -41,8 +41,7 @@ def trend_lines(result: dict, name: str) -> list[str]:
              "|---|---|---|---:|---|"]
     for key, paper in PAPER.get(name, {}).items():
         q = QUANTITY[key]
-        ext = "min" if q.extreme == "min" else "peak"
-        for stat in (ext, "mean"):
+        for stat in (q.extreme_stat, "mean"):
             col = f"{key}_{stat}"
             vals = [r["windows"][0].get(col) for r in runs]
             if any(v is None for v in vals):

@@ -82,6 +82,11 @@ class Quantity:
                          # (slip: the signed value of largest magnitude)
     per_ball: bool       # one column per ball (envelope + ball 1 in plots)
 
+    @property
+    def extreme_stat(self) -> str:
+        """Name of the window's extreme statistic: "min" for the film, "peak" otherwise."""
+        return "min" if self.extreme == "min" else "peak"
+
 
 QUANTITIES = (
     Quantity("outer_contact_stress", "Outer-race contact stress", "Pa", "MPa", 1e-6, "max", True),
@@ -247,7 +252,7 @@ def window_stats(t: np.ndarray, arrays: dict, mask: np.ndarray) -> dict:
     for key, a in arrays.items():
         qd = QUANTITY[key]
         sub = a[idx]
-        ext = "min" if qd.extreme == "min" else "peak"
+        ext = qd.extreme_stat
         ok = np.isfinite(sub)
         if not ok.any():
             row[f"{key}_{ext}"] = row[f"{key}_mean"] = row[f"{key}_t_{ext}"] = None
@@ -848,7 +853,7 @@ def _stat_rows(keys) -> list[tuple[str, str, Quantity]]:
     rows = []
     for k in keys:
         qd = QUANTITY[k]
-        ext = "min" if qd.extreme == "min" else "peak"
+        ext = qd.extreme_stat
         rows.append((f"{qd.label}, {ext} ({qd.display_unit})", f"{k}_{ext}", qd))
         rows.append((f"{qd.label}, mean ({qd.display_unit})", f"{k}_mean", qd))
     return rows

@@ -51,6 +51,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from coupling.parallel import require_workers, run_in_processes
 from mesh.validation import InputError
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
@@ -119,12 +120,6 @@ def set_key(data: dict, parts: list, value, where: str) -> None:
     node[last] = value
 
 
-def _finite_number(where: str, v) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise InputError(f"{where} = {v!r} is not allowed; allowed: a finite number")
-    return float(v) if isinstance(v, float) else v
-
-
 def load_study(path) -> Study:
     """Read and validate a study file and build (and validate) the scene of every run."""
     from coupling.scene import _number, _table, parse_scene, read_toml
@@ -153,9 +148,9 @@ def load_study(path) -> Study:
         if isinstance(v, list):
             if len(v) != len(keys):
                 raise InputError(f"{where} = {v!r} has {len(v)} entries; allowed: one per key ({len(keys)})")
-            runs.append(tuple(_finite_number(f"{where}[{j}]", x) for j, x in enumerate(v)))
+            runs.append(tuple(_number(f"{where}[{j}]", x) for j, x in enumerate(v)))
         else:
-            runs.append((_finite_number(where, v),) * len(keys))
+            runs.append((_number(where, v),) * len(keys))
     unit = s.get("unit", "")
     scale = _number("study.display_scale", s.get("display_scale", 1.0), 0.0, None, lo_open=True)
     settle = _number("study.settle", s.get("settle", 0.0), 0.0, None, unit="s")
@@ -224,8 +219,7 @@ def _prepare_reduced_cages(study: Study, quiet: bool) -> None:
 def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> dict:
     """Run (or resume) every run of the study and write study.json, study.md and the plots.
     Returns the study.json content."""
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise InputError(f"workers = {workers!r} is not allowed; allowed: an integer >= 1")
+    require_workers(workers)
     folder = Path(out_dir) / study.name
     folder.mkdir(parents=True, exist_ok=True)
     n = len(study.scenes)
@@ -239,23 +233,12 @@ def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> d
             print(f"   run {i + 1}/{n} ({study.label} {v}): "
                   f"wall {summary.get('wall_time_s', float('nan')):.1f} s", flush=True)
 
-    if workers == 1 or n < 2:
-        for i, sc in enumerate(study.scenes):
-            done(i, _run_one(sc, str(run_path(out_dir, study, i)), quiet))
-    else:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
+    parallel = workers > 1 and n > 1
+    if parallel:
         _prepare_reduced_cages(study, quiet)
-        # fork (Linux): the workers inherit the compiled kernels (as coupling.validate)
-        with ProcessPoolExecutor(max_workers=min(workers, n), mp_context=multiprocessing.get_context("fork")) as pool:
-            futures = {pool.submit(_run_one, sc, str(run_path(out_dir, study, i)), True): i
-                       for i, sc in enumerate(study.scenes)}
-            try:
-                for f in as_completed(futures):
-                    done(futures[f], f.result())
-            except BaseException:
-                pool.shutdown(wait=False, cancel_futures=True)
-                raise
+    # in parallel each run is quiet (one progress bar per process would garble the terminal)
+    jobs = [(sc, str(run_path(out_dir, study, i)), quiet or parallel) for i, sc in enumerate(study.scenes)]
+    run_in_processes(_run_one, jobs, workers, done)
     result = collect(study, out_dir, summaries)
     result["wall_time_s"] = time.perf_counter() - t0
     (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
@@ -313,8 +296,7 @@ def _quantity_columns(result: dict) -> list[tuple[str, str]]:
     from coupling.report import QUANTITIES
     out = []
     for q in QUANTITIES:
-        ext = "min" if q.extreme == "min" else "peak"
-        for stat in (ext, "mean"):
+        for stat in (q.extreme_stat, "mean"):
             col = f"{q.key}_{stat}"
             if all(any(w.get(col) is not None for w in r["windows"]) for r in result["runs"]):
                 out.append((q.key, stat))

@@ -87,6 +87,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from coupling.parallel import require_workers, run_in_processes
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody.model import BALL_ATTITUDES, build_model, P_GRAV
 from multibody import traction as TR
@@ -409,9 +410,7 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
         oil_air_fraction = VALIDATION_OIL_AIR_FRACTION
     oil = validation_oil(oil_temperature_c, oil_air_fraction, oil)
     sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        from mesh.validation import InputError
-        raise InputError(f"workers = {workers!r} is not allowed; allowed: an integer >= 1")
+    require_workers(workers)
     bar = None
     if not quiet:
         from tqdm import tqdm
@@ -432,25 +431,12 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
         if on_row is not None:
             on_row(in_case_order())
 
+    # in parallel the slowest cases first (highest speed: the light-load high-speed cases settle
+    # slowest), so that the processes finish together
+    order = sel if workers == 1 or len(sel) < 2 else sorted(sel, key=lambda c: -c["speed_rpm"])
     try:
-        if workers == 1 or len(sel) < 2:
-            for c in sel:
-                report(_run_validation_case(c, *args))
-        else:
-            import multiprocessing
-            from concurrent.futures import ProcessPoolExecutor, as_completed
-            # fork (Linux): the workers inherit the compiled kernels, and a user's script needs no
-            # `if __name__ == "__main__"` guard as it would with spawn; nothing here holds threads or MPI
-            with ProcessPoolExecutor(max_workers=min(workers, len(sel)),
-                                     mp_context=multiprocessing.get_context("fork")) as pool:
-                futures = [pool.submit(_run_validation_case, c, *args)
-                           for c in sorted(sel, key=lambda c: -c["speed_rpm"])]
-                try:
-                    for f in as_completed(futures):
-                        report(f.result())
-                except BaseException:
-                    pool.shutdown(wait=False, cancel_futures=True)
-                    raise
+        run_in_processes(_run_validation_case, [(c, *args) for c in order], workers,
+                         lambda k, row: report(row))
     except (KeyboardInterrupt, Exception) as exc:
         missing = [c["case"] for c in sel if c["case"] not in done]
         why = "Ctrl-C" if isinstance(exc, KeyboardInterrupt) else f"{type(exc).__name__}: {exc}"
