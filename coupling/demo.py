@@ -63,7 +63,7 @@ def run(args) -> int:
     # the first 0.05 s is the start-up transient from the quasi-static initial state: not a result
     write_report(results["paper_unsteady"], report_dir, compare=results["paper_steady"],
                  settle=SETTLE_S)
-    print(f"== report: {report_dir}/report.md (plots, tables"
+    print(f"== report: {report_dir}/report.md and report.html (plots, tables"
           f"{'' if rigid else ', von Mises XDMF for ParaView'})")
     print(f"flexbearing demo finished in {time.perf_counter() - t0:.0f} s")
     return 0

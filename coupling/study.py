@@ -31,9 +31,13 @@ fork; each run is the same deterministic integration whatever N).
 Results, in DIR/<name>/:
 
     study.json   every window statistic of every run (coupling.report.phase_table: the whole run,
-                 each phase of the speed profile, each impact; peak and mean of each quantity),
-                 SI, with the value of the parameter and the run's wall time
-    study.md     per quantity, its peak and mean in each window against the parameter
+                 each phase of the speed profile, each impact; peak, p99 and mean of each quantity;
+                 the cage's motion, coupling.report.cage_motion_table, as cage_<key>: eccentricity
+                 ratio, share on the rim, whirl ratio, centre speed, velocity dispersion), SI, with
+                 the value of the parameter and the run's wall time
+    study.md     per quantity, its peak, p99 and mean in each window against the parameter; the
+                 cage motion per window
+    study.html   the same with the plots, one self-contained page (coupling.html_page)
     <quantity>.png  the same as plots, one line per window (the paper's Figs. 23–34)
 
 Windows are matched across runs by position (whole run, phase k of the speed profile, impact k),
@@ -51,6 +55,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from coupling.html_page import write_html
 from coupling.parallel import require_workers, run_in_processes
 from mesh.validation import InputError
 
@@ -242,8 +247,10 @@ def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> d
     result = collect(study, out_dir, summaries)
     result["wall_time_s"] = time.perf_counter() - t0
     (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
-    (folder / "study.md").write_text(study_markdown(study, result))
-    write_study_plots(study, result, folder)
+    plots = write_study_plots(study, result, folder)
+    (folder / "study.md").write_text(study_markdown(study, result) + "\n## Plots\n\n"
+                                     + "\n".join(f"![{p.stem}]({p.name})" for p in plots) + "\n")
+    write_html(folder / "study.md")      # the tables and the plots in one self-contained page
     return result
 
 
@@ -275,13 +282,16 @@ def window_id(row: dict, ids: dict) -> str:
 
 def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
     """study.json content from the runs' results files (coupling.report.phase_table each)."""
-    from coupling.report import phase_table
+    from coupling.report import MOTION_ROWS, cage_motion_table, phase_table
     runs = []
     for i, v in enumerate(study.values):
         path = run_path(out_dir, study, i)
         ids = window_ids(study.scenes[i])
         windows = [{"window": window_id(row, ids), **row}
                    for row in phase_table(path, include_impacts=True, settle=study.settle)]
+        # the cage's motion in its clearance over the same windows (same report_windows, same order)
+        for w, m in zip(windows, cage_motion_table(path, include_impacts=True, settle=study.settle)):
+            w.update({f"cage_{key}": m.get(key) for _, key, _, _ in MOTION_ROWS})
         s = (summaries or {}).get(i, {})
         runs.append({"index": i, "values": dict(zip(study.keys, v)), "parameter": float(v[0]),
                      "results_file": str(path), "wall_time_s": s.get("wall_time_s"), "windows": windows})
@@ -296,7 +306,7 @@ def _quantity_columns(result: dict) -> list[tuple[str, str]]:
     from coupling.report import QUANTITIES
     out = []
     for q in QUANTITIES:
-        for stat in (q.extreme_stat, "mean"):
+        for stat in q.stats:
             col = f"{q.key}_{stat}"
             if all(any(w.get(col) is not None for w in r["windows"]) for r in result["runs"]):
                 out.append((q.key, stat))
@@ -305,39 +315,52 @@ def _quantity_columns(result: dict) -> list[tuple[str, str]]:
 
 def study_table(result: dict, key: str, stat: str) -> tuple[list[str], list[list[float | None]]]:
     """(window ids, one row per run of the statistic in each window), SI."""
+    return study_column(result, f"{key}_{stat}")
+
+
+def study_column(result: dict, column: str) -> tuple[list[str], list[list[float | None]]]:
+    """(window ids, one row per run of the window value `column`, e.g. "pocket_force_p99" or
+    "cage_velocity_dispersion"), SI."""
     ids = list(dict.fromkeys(w["window"] for r in result["runs"] for w in r["windows"]))
     rows = []
     for r in result["runs"]:
         by_id = {w["window"]: w for w in r["windows"]}
-        rows.append([by_id.get(i, {}).get(f"{key}_{stat}") for i in ids])
+        rows.append([by_id.get(i, {}).get(column) for i in ids])
     return ids, rows
 
 
+def _markdown_rows(study: Study, result: dict, title: str, column: str, cell) -> list[str]:
+    ids, rows = study_column(result, column)
+    head_value = f"{study.label} [{study.display_unit}]" if study.display_unit else study.label
+    lines = [f"## {title}", "", "| " + " | ".join([head_value] + ids) + " |", "|" + "---:|" * (len(ids) + 1)]
+    for r, vals in zip(result["runs"], rows):
+        cells = [f"{r['parameter'] * study.display_scale:g}"] + ["–" if x is None else cell(x) for x in vals]
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines + [""]
+
+
 def study_markdown(study: Study, result: dict) -> str:
-    from coupling.report import QUANTITY
+    from coupling.report import MOTION_ROWS, QUANTITY
     lines = [f"# Study {study.name}", "", study.description, "",
              f"Base scene `{study.scene_path}`; varied: {', '.join(f'`{k}`' for k in study.keys)}; "
              f"statistics after {study.settle:g} s (coupling.report: peak = worst ball and instant, "
-             f"mean = over balls and time).", ""]
-    head_value = f"{study.label} [{study.display_unit}]" if study.display_unit else study.label
+             f"p99 = 99th percentile over the window's samples of the worst ball (p1 of the "
+             f"thinnest film), mean = over balls and time; cage motion as coupling.cage_motion: "
+             f"eccentricity ratio, whirl ratio, velocity dispersion std/mean of the centre's speed).", ""]
     for key, stat in _quantity_columns(result):
         q = QUANTITY[key]
-        ids, rows = study_table(result, key, stat)
-        lines.append(f"## {q.label}, {stat} [{q.display_unit}]")
-        lines.append("")
-        lines.append("| " + " | ".join([head_value] + ids) + " |")
-        lines.append("|" + "---:|" * (len(ids) + 1))
-        for r, vals in zip(result["runs"], rows):
-            cells = [f"{r['parameter'] * study.display_scale:g}"]
-            cells += ["–" if x is None else f"{x * q.scale:.4g}" for x in vals]
-            lines.append("| " + " | ".join(cells) + " |")
-        lines.append("")
+        lines += _markdown_rows(study, result, f"{q.label}, {stat} [{q.display_unit}]", f"{key}_{stat}",
+                                lambda x, q=q: f"{x * q.scale:.4g}")
+    for label, key, scale, fmt in MOTION_ROWS:      # the cage's motion in its clearance (coupling.cage_motion)
+        if any(w.get(f"cage_{key}") is not None for r in result["runs"] for w in r["windows"]):
+            lines += _markdown_rows(study, result, f"Cage motion: {label}", f"cage_{key}",
+                                    lambda x, s=scale, f=fmt: f.format(x * s))
     return "\n".join(lines)
 
 
 def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
-    """One PNG per quantity: peak (left) and mean (right) against the parameter, one line per
-    window (whole run, phases, impacts)."""
+    """One PNG per quantity: peak, p99 and mean (left to right) against the parameter, one line
+    per window (whole run, phases, impacts)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -173,6 +173,35 @@ def test_phase_table_equals_hand_computed(tmp_path):
     assert "von_mises_max_peak" not in rows[0]              # rigid run: not recorded, not reported
 
 
+
+def test_percentile_is_the_interpolated_order_statistic(tmp_path):
+    """p99 / p1 (coupling.report module doc, Hyndman & Fan definition 7): position h = q (n - 1)
+    in the sorted worst-ball values, linear between the two order statistics around it."""
+    rows = report.phase_table(write_run(tmp_path / "run.h5"))
+    rel = 1e-9
+    n = [200, 200, 201]
+    for p, r in enumerate(rows[1:4]):
+        # worst ball of A + B sin(2pi(k/20 - b/4)): A + B max(|sin|, |cos|)(pi k/10) reaches A + B in
+        # 4 of every 20 samples, so the two order statistics around h = 0.99 (n - 1) are both A + B
+        assert r["outer_contact_stress_p99"] == pytest.approx(A[p] + B[p], rel=rel)
+        assert r["pocket_force_p99"] == pytest.approx(2 * P[p], rel=rel)
+        # thinnest film H0 + DH t rises linearly through the phase: p1 at t0 + 0.01 (n - 1) DT
+        assert r["film_thickness_min_p1"] == pytest.approx(H0 + DH * (PHASES[p][0] + 0.01 * (n[p] - 1) * DT), rel=rel)
+    # impact window, 21 samples of G0 + C sin(pi k/20): sorted, e_20 = G0 + C and e_19 = e_18 =
+    # G0 + C sin(9 pi/20); h = 0.99 * 20 = 19.8
+    s9 = math.sin(9 * math.pi / 20)
+    assert rows[4]["guiding_force_p99"] == pytest.approx(G0 + C * (s9 + 0.8 * (1 - s9)), rel=rel)
+    assert rows[4]["guiding_force_peak"] == pytest.approx(G0 + C, rel=rel)
+    # one sample of -3 % among 200 of +2 % (deceleration): the peak is the single spike, the signed
+    # p99 is not moved by it (h = 0.01 * 200 = 2 for p1 falls on +2 % already)
+    assert rows[3]["slip_rate_peak"] == pytest.approx(-0.03, rel=rel)
+    assert rows[3]["slip_rate_p99"] == pytest.approx(0.02, rel=rel)
+    # tables carry the three statistics in order (peak, percentile, mean) for every quantity
+    labels = [lab for lab, _, _ in report._stat_rows(["pocket_force", "film_thickness_min"])]
+    assert labels == ["Pocket force, peak (N)", "Pocket force, p99 (N)", "Pocket force, mean (N)",
+                      "Minimum film thickness, min (µm)", "Minimum film thickness, p1 (µm)",
+                      "Minimum film thickness, mean (µm)"]
+
 def test_interrupted_run_reports_the_phases_it_reached(tmp_path):
     rows = report.phase_table(write_run(tmp_path / "cut.h5", n=251, status="interrupted"))
     assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed"]
@@ -434,3 +463,65 @@ def test_report_has_the_power_section_only_when_recorded(tmp_path):
     plain = report.write_report(write_run(tmp_path / "run.h5"), tmp_path / "rep2")
     assert "Friction torque" not in plain["report"].read_text()
     assert json.loads(plain["json"].read_text())["power_loss"] == []
+
+
+# ---------------------------------------------------------------- report.html (coupling.html_page)
+
+def test_html_page_holds_the_markdown_tables_and_the_plots(tmp_path):
+    """report.html: every Markdown table of report.md becomes an HTML table with the same cells, in
+    order (the page is parsed back with the standard library's HTMLParser, which also checks that
+    the elements it opens are closed), and every plot is embedded: its data URI decodes to the PNG
+    file's bytes exactly."""
+    import base64
+    from html.parser import HTMLParser
+
+    out = report.write_report(write_orbit_run(tmp_path / "orbit.h5"), tmp_path / "rep")
+    md = out["report"].read_text()
+    md_rows = [[c.strip() for c in line.strip().strip("|").split("|")] for line in md.splitlines()
+               if line.startswith("|") and not set(line) <= set("|-: ")]
+
+    class Page(HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.rows, self.images, self.stack, self.cell = [], [], [], None
+
+        def handle_starttag(self, tag, attrs):
+            if tag not in ("meta", "img", "br"):
+                self.stack.append(tag)
+            if tag == "tr":
+                self.rows.append([])
+            elif tag in ("td", "th"):
+                self.cell = ""
+            elif tag == "img":
+                self.images.append(dict(attrs))
+
+        def handle_endtag(self, tag):
+            assert self.stack and self.stack.pop() == tag, f"</{tag}> closes {self.stack}"
+            if tag in ("td", "th"):
+                self.rows[-1].append(self.cell)
+                self.cell = None
+
+        def handle_data(self, data):
+            if self.cell is not None:
+                self.cell += data
+
+    page = Page()
+    page.feed(out["html"].read_text())
+    assert page.stack == []
+    assert page.rows == md_rows and len(md_rows) > 5
+    assert "e/Cg" in out["html"].read_text()
+    plots = [line[line.index("(") + 1:-1] for line in md.splitlines() if line.startswith("![")]
+    assert len(page.images) == len(plots) > 0
+    for img, name in zip(page.images, plots):
+        head, data = img["src"].split(",", 1)
+        assert head == "data:image/png;base64"
+        assert base64.b64decode(data) == (tmp_path / "rep" / name).read_bytes()
+
+
+def test_html_escapes_text_and_keeps_a_missing_plot_as_text(tmp_path):
+    from coupling.html_page import markdown_to_html
+    page = markdown_to_html("# a < b & c\n\n| x | y |\n|---|---:|\n| `p<1` | **2** |\n\n![lost](none.png)\n",
+                            tmp_path)
+    assert "<h1>a &lt; b &amp; c</h1>" in page
+    assert '<td><code>p&lt;1</code></td><td class="num"><strong>2</strong></td>' in page
+    assert "[lost: plot none.png not found]" in page

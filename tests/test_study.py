@@ -36,7 +36,8 @@ tolerance = 1e-6
 initial_step = 1e-7
 [output]
 sample_interval = 1e-4
-record = ["contact_stress", "ball_loads", "contact_angles", "pocket_force", "guiding_force", "cage_speed", "slip"]
+record = ["contact_stress", "ball_loads", "contact_angles", "pocket_force", "guiding_force", "cage_speed", "slip",
+          "cage_orbit"]
 """
 
 STUDY = """
@@ -84,14 +85,20 @@ def test_each_run_carries_its_value(thrust_study):
 def test_tables_are_the_runs_report_windows(thrust_study):
     """study.json holds coupling.report.phase_table of each run unchanged (same settle), and the
     tables index the windows by position: whole run, phase 1 (the ramp), phase 2."""
-    from coupling.report import phase_table
+    from coupling.report import cage_motion_table, phase_table
     study, out, result = thrust_study
     saved = json.loads((out / "fa" / "study.json").read_text())
     for r in saved["runs"]:
         rows = phase_table(r["results_file"], include_impacts=True, settle=study.settle)
+        motion = cage_motion_table(r["results_file"], include_impacts=True, settle=study.settle)
         assert [w["window"] for w in r["windows"]] == ["whole run", "phase 1: acceleration", "phase 2: uniform speed"]
-        for w, row in zip(r["windows"], rows):
-            assert {k: v for k, v in w.items() if k != "window"} == pytest.approx(row)
+        for w, row, m in zip(r["windows"], rows, motion):
+            assert {k: v for k, v in w.items() if k != "window" and not k.startswith("cage_")} == pytest.approx(row)
+            assert w["cage_eps_mean"] == pytest.approx(m["eps_mean"]) and m["eps_mean"] > 0.0
+            assert w["cage_velocity_dispersion"] == pytest.approx(m["velocity_dispersion"])
+    md = (out / "fa" / "study.md").read_text()
+    assert "## Pocket force, p99 [N]" in md and "## Cage motion: Eccentricity ratio e/Cg, mean" in md
+    assert (out / "fa" / "study.html").is_file()
     ids, rows = study_table(saved, "inner_contact_stress", "mean")
     assert rows[1][0] == saved["runs"][1]["windows"][0]["inner_contact_stress_mean"]
 
@@ -178,11 +185,50 @@ def test_bad_study_files_are_refused_naming_the_field(tmp_path, change, message)
 
 
 def test_paper_studies_load():
-    """The four studies of the paper's §4.4 (scenes/study_*.toml) are valid, five runs each."""
+    """The four studies of the paper's §4.4 (scenes/study_*.toml) and the numerical-scatter study
+    beside them are valid, five runs each."""
     scenes = Path(__file__).resolve().parents[1] / "scenes"
     files = sorted(scenes.glob("study_*.toml"))
     assert [f.stem for f in files] == ["study_axial_load", "study_groove_curvature", "study_radial_load",
-                                       "study_speed"]
+                                       "study_speed", "study_tolerance_scatter"]
     for f in files:
         s = load_study(f)
         assert len(s.scenes) == 5
+
+
+def test_trend_verdict_false_alarm_rate():
+    """benchmarks.study_trends.verdict: for a trendless statistic (every order of five values equally
+    likely) a rank correlation |rho| >= 0.9 is reached by the monotone order and the four single
+    adjacent swaps in each direction, 5 + 5 of the 120 orders (Spearman's rho = 1 - sum d^2 / 20
+    for n = 5, so sum d^2 <= 2)."""
+    import itertools
+    from benchmarks.study_trends import verdict
+    x = [1.0, 2.0, 3.0, 4.0, 5.0]
+    counts = {"agrees": 0, "disagrees": 0, "no trend": 0}
+    for order in itertools.permutations(range(5)):
+        counts[verdict(x, [10.0 + k for k in order], +1)] += 1
+    assert counts == {"agrees": 5, "disagrees": 5, "no trend": 110}
+    assert verdict(x, [100, 101, 100.5, 100.2, 101.5], 0) == "agrees"         # 1.5 % change: flat
+    assert verdict(x, [100, 103, 101, 100.2, 101.5], 2) == "agrees"           # inner 103 > both ends + 1 %
+    assert verdict(x, [100, 100.5, 101, 101.5, 102], 2) == "disagrees"        # monotone
+
+
+def test_trend_noise_from_the_scatter_study():
+    """benchmarks.study_trends: the spread (max - min)/|mean| of each whole-run statistic over the
+    scatter study's runs is its noise; a change first to last within it is "within noise"."""
+    from benchmarks.study_trends import noise_levels, trend_lines
+
+    def result(values, guiding):
+        return {"study": {"description": "d", "label": "Axial load", "unit": "N"},
+                "runs": [{"parameter": v, "windows": [{"window": "whole run", "guiding_force_mean": g,
+                                                       "cage_eps_mean": 0.4 + 0.01 * i}]}
+                         for i, (v, g) in enumerate(zip(values, guiding))]}
+    noise = noise_levels(result([1, 2, 3, 4, 5], [95.0, 105.0, 100.0, 100.0, 100.0]))
+    assert noise["guiding_force_mean"] == pytest.approx(0.10)
+    assert noise["cage_eps_mean_abs"] == pytest.approx(0.04)
+    rising = result([45e3, 50e3, 55e3, 60e3, 65e3], [100.0, 102.0, 104.0, 106.0, 108.0])   # +8 %, monotone
+    row = next(l for l in trend_lines(rising, "axial_load", noise) if l.startswith("| Guiding force [N] | mean"))
+    assert row.endswith("| 10.0 % | falls | within noise |")
+    row = next(l for l in trend_lines(rising, "axial_load", {"guiding_force_mean": 0.05})
+               if l.startswith("| Guiding force [N] | mean"))
+    assert row.endswith("| 5.0 % | falls | disagrees |")
