@@ -14,6 +14,7 @@ Only the Markdown the reports write is understood (not general Markdown):
     ![alt](file.png)              -> <figure><img src="data:image/png;base64,..."></figure>
     blank-line separated text     -> <p>
     `code`, **bold** inside text  -> <code>, <strong>
+    &nbsp; and other character references are kept as they are
 
 Text is HTML-escaped before the inline markup is applied, so a label such as "e/Cg < 1" or
 "Fa & Fr" survives. An image whose file is missing is kept as its alt text with a note, not an
@@ -44,9 +45,13 @@ figcaption { font-size: 0.85em; color: #555; }
 """
 
 
+_ENTITY = re.compile(r"&amp;(#?[A-Za-z0-9]+);")
+
+
 def inline(text: str) -> str:
-    """Escaped text with `code` and **bold** turned into <code> and <strong>."""
-    out = html.escape(text, quote=False)
+    """Escaped text with `code` and **bold** turned into <code> and <strong>; character
+    references the Markdown writes on purpose (&nbsp;) are kept."""
+    out = _ENTITY.sub(r"&\1;", html.escape(text, quote=False))
     out = _CODE.sub(lambda m: f"<code>{m.group(1)}</code>", out)
     return _BOLD.sub(lambda m: f"<strong>{m.group(1)}</strong>", out)
 

@@ -474,6 +474,49 @@ def _power_markdown(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def cage_strength_rows(t, arrays, scene, dt, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
+    """The cage's maximum von Mises stress against its material's yield strength, per report window.
+
+        utilization = sigma_vM / R_e        (R_e: the scene's cage.yield_strength; 40CrNiMoA 835 MPa)
+
+    of the window's peak and p99 (window_stats), and the share of its sample intervals whose maximum
+    (over every integrator step, multibody.stress_peak) exceeds R_e, with their number. The cage
+    model is linear elastic: above R_e its stress is the elastic one, an upper bound of the real
+    stress with a local plastic zone. [] for a rigid cage or a scene without a yield strength."""
+    ys = None if scene is None else scene.flexible.get("yield_strength")
+    if ys is None or "von_mises_max" not in arrays:
+        return []
+    vm = arrays["von_mises_max"][:, 0]
+    rows = []
+    for head, mask in report_windows(t, scene, dt, include_impacts, settle):
+        st = window_stats(t, {"von_mises_max": arrays["von_mises_max"]}, mask)
+        v = vm[mask]
+        v = v[np.isfinite(v)]
+        above = int(np.count_nonzero(v > ys))
+        rows.append({**head, "yield_strength": float(ys), "von_mises_max_peak": st["von_mises_max_peak"],
+                     "von_mises_max_t_peak": st["von_mises_max_t_peak"],
+                     "utilization_peak": None if st["von_mises_max_peak"] is None else st["von_mises_max_peak"] / ys,
+                     "utilization_p99": None if st["von_mises_max_p99"] is None else st["von_mises_max_p99"] / ys,
+                     "intervals_above_yield": above,
+                     "share_above_yield": above / v.size if v.size else None})
+    return rows
+
+
+def _strength_markdown(rows: list[dict]) -> str:
+    head = ["quantity"] + [_col_name(r) for r in rows]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" + "---:|" * len(rows)]
+
+    def line(label, key, fmt, scale=1.0):
+        cells = ["–" if r[key] is None else fmt.format(r[key] if scale == 1.0 else r[key] * scale) for r in rows]
+        lines.append("| " + " | ".join([label] + cells) + " |")
+    line("Max. von Mises stress, peak (MPa)", "von_mises_max_peak", "{:,.0f}", 1e-6)
+    line("Utilization peak / R_e", "utilization_peak", "{:.2f}")
+    line("Utilization p99 / R_e", "utilization_p99", "{:.2f}")
+    line("Sample intervals above R_e", "intervals_above_yield", "{:d}")
+    line("Share of the window above R_e (%)", "share_above_yield", "{:.2f}", 100.0)
+    return "\n".join(lines)
+
+
 def write_orbit_plot(run_h5, out_dir, settle: float = 0.0) -> Path | None:
     """cage_orbit.png: the cage centre in units of the guide clearance (the rim is the unit circle),
     one panel per phase of the speed profile, samples inside impact windows in red; below, the
@@ -940,6 +983,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     amplification = _impact_amplification(*run)
     motion_rows = _cage_motion_rows(*_read_motion(path), True, settle)
     power_rows = _power_rows(*_read_power(path), True, settle)
+    strength_rows = cage_strength_rows(*run, True, settle)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"report: plots of {path.name} -> {out_dir}")
     plots = write_plots(path, out_dir, compare=cmp_path)
@@ -992,6 +1036,21 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                  if r.get(f"{k}_t_peak") is not None]
         if peaks:
             md += ["Instants of maximum von Mises stress: " + "; ".join(f"{lab}: {tp:g} s" for lab, tp in peaks), ""]
+    if strength_rows:
+        ys = strength_rows[0]["yield_strength"]
+        above = strength_rows[0]["intervals_above_yield"]
+        md += ["## Cage stress against the yield strength", "",
+               _strength_markdown(strength_rows), "",
+               f"R_e = {ys / 1e6:,.0f} MPa (the scene's cage.yield_strength; default the minimum yield strength "
+               "of quenched and tempered 40CrNiMoA, GB/T 3077). The von Mises stress of a sample interval is "
+               "the maximum over the cage's mesh nodes and every integrator step in it (multibody.stress_peak). "
+               "The cage model is linear elastic: where the utilization exceeds 1 its stress is the elastic "
+               "one, an upper bound of the real stress with a local plastic zone, and the model is outside "
+               "its validity there. "
+               + ("No sample interval of the run exceeds R_e." if above == 0 else
+                  f"{above} sample interval(s) of the run exceed R_e. Peaks that are single ball–cage collisions "
+                  "scatter by a few percent between equally valid integrations (benchmarks/results/study/README.md), "
+                  "so read the p99 utilization beside the peak."), ""]
     if amplification:
         md += ["## Contact stress at the impacts against the quasi-static equilibrium", "",
                _amplification_table(amplification), "",
@@ -1041,7 +1100,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     js.write_text(json.dumps({"run": str(path), "scene": name, "status": status, "units": {
         q.key: q.unit for q in QUANTITIES}, "phases": rows, "compare": str(cmp_path) if cmp_path else None,
         "compare_phases": cmp_rows, "impact_amplification": amplification, "cage_motion": motion_rows,
-        "power_loss": power_rows}, indent=1, allow_nan=False,
+        "power_loss": power_rows, "cage_strength": strength_rows}, indent=1, allow_nan=False,
         default=float) + "\n")
     return {"report": report, "html": page, "json": js, "plots": plots, "xdmf": xdmf}
 

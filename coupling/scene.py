@@ -23,6 +23,8 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     mesh_size = 5e-3          #   FE mesh size [m] (default mesh.cage_mesh.DEFAULT_MESH_SIZE),
     element_order = 3         #   FE degree on the curved mesh (default P3),
     damping_beta = 1e-5       #   stiffness-proportional damping D = damping_beta·K [s]
+    yield_strength = 835e6    #   cage material's yield strength [Pa], for the report only
+                              #   (default: 40CrNiMoA, GB/T 3077, unless [cage.material] is given)
     [cage.material]           # density, youngs_modulus, poisson_ratio
 
     [model]                   # multibody options passed to multibody.model.build_model
@@ -72,7 +74,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mesh.cage_geometry import CageGeometry, Material
+from mesh.cage_geometry import YIELD_STRENGTH_40CrNiMoA, CageGeometry, Material
 from mesh.cache import content_hash
 from mesh.validation import InputError, require_finite, require_range
 from multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
@@ -97,7 +99,7 @@ _MATERIAL_KEYS = tuple(f.name for f in dataclasses.fields(Material))
 _BEARING_SCALARS = tuple(f.name for f in dataclasses.fields(Bearing)
                          if f.name not in ("cage", "ball_material", "ring_material"))
 _CAGE_SCALARS = tuple(f.name for f in dataclasses.fields(CageGeometry) if f.name != "material")
-_FLEXIBLE_KEYS = ("n_modes", "mesh_size", "element_order", "damping_beta")
+_FLEXIBLE_KEYS = ("n_modes", "mesh_size", "element_order", "damping_beta", "yield_strength")
 _OIL_KEYS = tuple(f.name for f in dataclasses.fields(Oil))
 
 
@@ -247,10 +249,14 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         elif k == "mesh_size":
             flexible[k] = _number("cage.mesh_size", v, 0.0, 0.5 * bearing.cage.width, lo_open=True,
                                   unit="m")
+        elif k == "yield_strength":
+            flexible[k] = _number("cage.yield_strength", v, 0.0, 1e10, lo_open=True, unit="Pa")
         else:
             flexible[k] = _number("cage.damping_beta", v, 0.0, 1e-2, unit="s")
     if cage_model == "flexible":
         flexible.setdefault("n_modes", 26)   # the paper keeps 26 modes (§4.1)
+        if "material" not in c:              # the paper's 40CrNiMoA; another material names its own
+            flexible.setdefault("yield_strength", YIELD_STRENGTH_40CrNiMoA)
     return bearing, cage_model, flexible
 
 

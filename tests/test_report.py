@@ -520,8 +520,56 @@ def test_html_page_holds_the_markdown_tables_and_the_plots(tmp_path):
 
 def test_html_escapes_text_and_keeps_a_missing_plot_as_text(tmp_path):
     from coupling.html_page import markdown_to_html
-    page = markdown_to_html("# a < b & c\n\n| x | y |\n|---|---:|\n| `p<1` | **2** |\n\n![lost](none.png)\n",
-                            tmp_path)
+    page = markdown_to_html("# a < b & c\n\n| x | y |\n|---|---:|\n| `p<1` | **2** |\n| &nbsp;z | 3 |\n\n"
+                            "![lost](none.png)\n", tmp_path)
     assert "<h1>a &lt; b &amp; c</h1>" in page
+    assert "<td>&nbsp;z</td>" in page
     assert '<td><code>p&lt;1</code></td><td class="num"><strong>2</strong></td>' in page
     assert "[lost: plot none.png not found]" in page
+
+
+# ---------------------------------------------------------------- cage stress against the yield strength
+
+def test_cage_strength_against_the_yield_strength(tmp_path):
+    """utilization = sigma_vM / R_e of the window's peak and p99, and the count and share of sample
+    intervals above R_e, on a stress signal built for it: 400 MPa everywhere, a half-sine of
+    600 MPa on it in the impact window (0.29-0.31 s, 21 samples: 1000 MPa at 0.30 s). With
+    R_e = 835 MPa (the default of a flexible scene, 40CrNiMoA) the samples above it are those with
+    600 sin(pi k/20) > 435, i.e. sin > 0.725: k = 6..14 (sin(6 pi/20) = 0.809, sin(5 pi/20) = 0.707),
+    9 samples."""
+    run = write_run(tmp_path / "flex.h5", cage="flexible")
+    t = np.arange(601) * DT
+    bump = np.where((t >= 0.29 - 1e-12) & (t <= 0.31 + 1e-12), np.sin(np.pi * (t - 0.29) / 0.02), 0.0)
+    vm = 400e6 + 600e6 * np.clip(bump, 0.0, None)
+    with h5py.File(run, "r+") as f:
+        f["outputs/von_mises_max"] = vm
+    t_, arrays, scene, dt = report._read_run(run)
+    assert scene.flexible["yield_strength"] == 835e6
+    rows = report.cage_strength_rows(t_, arrays, scene, dt)
+    whole, impact = rows[0], rows[-1]
+    assert impact["kind"] == "impact"
+    assert impact["utilization_peak"] == pytest.approx(1000e6 / 835e6, rel=1e-12)
+    assert impact["intervals_above_yield"] == 9 and whole["intervals_above_yield"] == 9
+    assert impact["share_above_yield"] == pytest.approx(9 / 21, rel=1e-12)
+    assert whole["share_above_yield"] == pytest.approx(9 / 601, rel=1e-12)
+    s9 = math.sin(9 * math.pi / 20)       # p99 of the impact window, as test_percentile_...
+    assert impact["utilization_p99"] == pytest.approx((400e6 + 600e6 * (s9 + 0.8 * (1 - s9))) / 835e6, rel=1e-12)
+    assert rows[1]["utilization_peak"] == pytest.approx(400e6 / 835e6, rel=1e-12)  # acceleration: flat
+    assert rows[1]["intervals_above_yield"] == 0
+    md = report.write_report(run, tmp_path / "rep")["report"].read_text()
+    assert "## Cage stress against the yield strength" in md and "R_e = 835 MPa" in md
+    assert "| Utilization peak / R_e | 1.20 |" in md
+    # a rigid cage has no stress: no section; a scene with its own material and no R_e: none either
+    assert report.cage_strength_rows(*report._read_run(write_run(tmp_path / "rigid.h5"))) == []
+
+
+def test_yield_strength_in_the_scene():
+    from coupling.scene import loads_scene
+    base = SCENE.format(cage="flexible", record='["von_mises"]')
+    assert loads_scene(base).flexible["yield_strength"] == 835e6
+    own = base.replace('model = "flexible"', 'model = "flexible"\nyield_strength = 1.1e9')
+    assert loads_scene(own).flexible["yield_strength"] == 1.1e9
+    other = base.replace('model = "flexible"', 'model = "flexible"\n[cage.material]\ndensity = 8500.0')
+    assert "yield_strength" not in loads_scene(other).flexible      # another material: not assumed
+    with pytest.raises(InputError, match=r"cage.yield_strength"):
+        loads_scene(base.replace('model = "flexible"', 'model = "flexible"\nyield_strength = -5'))
