@@ -29,3 +29,20 @@ def _spring_chain(n, seed):
 def spring_chain():
     """spring_chain(n, seed) -> (K, M) of a free 3-DOF-per-node spring chain (algebra tests)."""
     return _spring_chain
+
+
+@pytest.fixture(scope="session")
+def paper_reduced_cage():
+    """The paper's reduced cage (default mesh, P3, Craig–Bampton): from the test cache, else built
+    with dolfinx once per session (a few minutes; slow tests only)."""
+    import mesh.cage_mesh as cm
+    from mesh.cage_geometry import PAPER_CAGE
+    from fem_cage.reduce_cli import build
+    from fem_cage import reduced_cage as rcf
+    key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
+                        rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE, True)
+    path = rcf.find_cached(key)       # the run's own cache entry (coupling.flexible_cage), if any
+    if path is None:
+        path, _, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
+                           rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, degree=cm.DEFAULT_DEGREE)
+    return rcf.read(path)

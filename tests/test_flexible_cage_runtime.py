@@ -87,21 +87,6 @@ def test_free_spinning_ring_hoop_stress_equals_rotating_ring(thin_ring):
     assert np.abs(err).max() < 0.025
 
 
-@pytest.fixture(scope="module")
-def paper_reduced_cage():
-    import mesh.cage_mesh as cm
-    from mesh.cage_geometry import PAPER_CAGE
-    from fem_cage.reduce_cli import build
-    from fem_cage import reduced_cage as rcf
-    key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
-                        rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE, True)
-    path = rcf.find_cached(key)       # the run's own cache entry (coupling.flexible_cage), if any
-    if path is None:
-        path, _, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
-                           rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, degree=cm.DEFAULT_DEGREE)
-    return rcf.read(path)
-
-
 def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
     """The reduced paper cage keeping only its 6 rigid modes (the floating frame, no elastic
     coordinates) and a rigid cage with the file's mass, centre of mass and inertia are the same
