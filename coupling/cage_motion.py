@@ -25,7 +25,10 @@ bearing axis x, and the cage speed omega_c(t) about +x:
 
         the stability index of Ghaisas et al. (2004): 0 for a steady circular whirl (constant
         centre speed), small for a smooth whirl, of order 1 for the irregular, collision-driven
-        motion of an unstable cage. v is the central difference of the recorded centre,
+        motion of an unstable cage. As a stability index it assumes a steady motion: a whirl that
+        decays to rest inside the window (a cage knocked off by an impact that settles again at
+        one azimuth) also gives values of order 1, from a centre speed falling to zero; read it
+        beside the orbit and the eccentricity history (cage_orbit.png). v is the central difference of the recorded centre,
         v_k = (c_{k+1} − c_{k−1}) / (t_{k+1} − t_{k−1}), exact in magnitude for a circular orbit
         sampled evenly, O((Omega·dt)²) otherwise (Omega: whirl rate, dt: sample interval).
 

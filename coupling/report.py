@@ -1071,7 +1071,9 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                "whirl, 0.5 half-frequency whirl on the land film, near 0 a centre held at one azimuth by a "
                "static load); velocity dispersion = std/mean of the centre's speed, the stability index of "
                "Ghaisas, Wassgren & Sadeghi (2004): 0 for a steady circular whirl, of order 1 for the "
-               "irregular, collision-driven motion of an unstable cage. Orbit: `cage_orbit.png`.", ""]
+               "irregular, collision-driven motion of an unstable cage, but also for a whirl that decays to rest "
+               "inside the window (a cage that settles at one azimuth after an impact): read it with the orbit, "
+               "`cage_orbit.png`.", ""]
     if power_rows:
         md += ["## Friction torque and power loss", "",
                _power_markdown(power_rows), "",
