@@ -35,9 +35,12 @@ Statistics over a time window W (a phase of the speed profile, an impact, or the
 
 Why p99 beside the peak: the cage's pocket and guiding forces and its stress are dominated by
 single ball–cage collisions of a fraction of a sample interval (the von Mises value of a sample is
-already the maximum over every integrator step in it). The peak of a window is then one event
-that moves by ±15 % between neighbouring runs of a study without a trend, while p99, the level the
-worst ball exceeds in 1 % of the window's time, is set by the many collisions of the window (200
+already the maximum over every integrator step in it). The peak of a window is then one event:
+the whole-run peaks of the pocket and guiding forces differ by 12 and 20 % between five equally
+valid integrations of the paper's unsteady case (tolerances 0.6–1e-6, scenes/
+study_tolerance_scatter.toml), their p99 by 8 and 5 %, their means by 1 and 0.4 %
+(benchmarks/results/study/README.md). p99, the level the worst ball exceeds in 1 % of the
+window's time, is set by the many collisions of the window (200
 samples in a 20 ms impact window at 0.1 ms, i.e. between the 2nd and 3rd largest; 5,500 in the
 paper's 0.6 s run). It is a sample statistic: it estimates the share of time, so a run's sample
 interval must resolve the signal for it to mean the same thing across runs.
