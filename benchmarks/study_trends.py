@@ -92,7 +92,7 @@ def trend_lines(result: dict, name: str, noise: dict | None = None) -> list[str]
                          f"{'–' if spread is None else f'{100 * spread:.1f} %'} | {ARROW[paper]} | {v} |")
     # the cage's motion, which the paper does not state: what explains the cage-force trends
     for label, key, scale, fmt in MOTION_ROWS:
-        if key not in ("eps_mean", "whirl_ratio", "velocity_dispersion"):
+        if key not in ("eps_mean", "whirl_ratio", "velocity_dispersion", "held_fraction"):
             continue
         vals = [r["windows"][0].get(f"cage_{key}") for r in runs]
         if any(v is None for v in vals):

@@ -32,6 +32,14 @@ bearing axis x, and the cage speed omega_c(t) about +x:
         v_k = (c_{k+1} − c_{k−1}) / (t_{k+1} − t_{k−1}), exact in magnitude for a circular orbit
         sampled evenly, O((Omega·dt)²) otherwise (Omega: whirl rate, dt: sample interval).
 
+    held fraction        share of the samples with |v_k| < HELD_SPEED · ½|omega_c,k| · Cg
+
+        the time the centre is at rest at one azimuth. ½·omega_c·e is the centre speed of a
+        half-frequency whirl at eccentricity e, so the threshold (HELD_SPEED = 0.1) is that whirl
+        at e = 0.1·Cg: a whirling cage (e/Cg 0.5–0.8) moves 5–8 times faster, a cage held by a
+        static load only vibrates (measured 0.01–0.06 of ½·omega_c·Cg in the paper's unsteady case
+        at 65 kN). Cg is the clearance given, else |c|/eps at the samples off centre (median).
+
 The whirl angle needs |Omega|·dt < pi between samples (unwrapping) and is undefined at a centred
 cage: windows where the mean eccentricity ratio is below `min_eps` (default 0.02) report no whirl
 ratio. All inputs and outputs are SI (m, s, rad/s) or ratios.
@@ -45,6 +53,7 @@ import numpy as np
 from mesh.validation import InputError
 
 MIN_EPS = 0.02        # below this mean eccentricity ratio the whirl angle is noise, not a whirl
+HELD_SPEED = 0.1      # centre speed, in units of a half-frequency whirl at full clearance, below which it is held
 
 
 def whirl_angle(centre_yz: np.ndarray) -> np.ndarray:
@@ -95,7 +104,8 @@ def window_motion(t, centre_yz, cage_speed, eccentricity_ratio=None, clearance=N
     eps_mean, eps_max, rim_fraction (share of samples with eps >= 1), whirl_ratio (None when
     eps_mean < min_eps or the cage did not turn), whirl_rate_mean (rad/s, net angle over time),
     centre_speed_mean (m/s), velocity_dispersion (None with fewer than 3 samples or a still centre),
-    cage_revolutions, n_samples."""
+    held_fraction (None with fewer than 3 samples or an unknown clearance), cage_revolutions,
+    n_samples."""
     t, c = _check(t, centre_yz, cage_speed, eccentricity_ratio)
     if eccentricity_ratio is None:
         if clearance is None or not clearance > 0.0:
@@ -105,7 +115,7 @@ def window_motion(t, centre_yz, cage_speed, eccentricity_ratio=None, clearance=N
         eps = np.asarray(eccentricity_ratio, dtype=np.float64).ravel()
     row = {"n_samples": int(t.size), "eps_mean": None, "eps_max": None, "rim_fraction": None,
            "whirl_ratio": None, "whirl_rate_mean": None, "centre_speed_mean": None,
-           "velocity_dispersion": None, "cage_revolutions": None}
+           "velocity_dispersion": None, "held_fraction": None, "cage_revolutions": None}
     if t.size == 0:
         return row
     row.update(eps_mean=float(eps.mean()), eps_max=float(eps.max()), rim_fraction=float(np.mean(eps >= 1.0)))
@@ -124,6 +134,13 @@ def window_motion(t, centre_yz, cage_speed, eccentricity_ratio=None, clearance=N
         row["centre_speed_mean"] = vm
         if vm > 0.0:
             row["velocity_dispersion"] = float(v.std() / vm)
+        cg = clearance
+        if cg is None:
+            off = eps > 1e-3
+            cg = float(np.median(np.hypot(c[off, 0], c[off, 1]) / eps[off])) if off.any() else None
+        if cg is not None:
+            w = np.abs(np.asarray(cage_speed, dtype=np.float64).ravel()[1:-1])
+            row["held_fraction"] = float(np.mean(v < HELD_SPEED * 0.5 * w * cg))
     return row
 
 

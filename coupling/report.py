@@ -387,7 +387,7 @@ def _read_motion(path):
 def cage_motion_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
     """Cage-motion statistics per report window (whole run, phases, impacts; `report_windows`):
     eps_mean, eps_max, rim_fraction, whirl_ratio, whirl_rate_mean [rad/s], centre_speed_mean [m/s],
-    velocity_dispersion, cage_revolutions (coupling.cage_motion.window_motion). [] when the run did
+    velocity_dispersion, held_fraction, cage_revolutions (coupling.cage_motion.window_motion). [] when the run did
     not record the cage orbit (scene output "cage_orbit") and the cage speed."""
     return _cage_motion_rows(*_read_motion(_check_run(run_h5)), include_impacts, settle)
 
@@ -411,6 +411,7 @@ MOTION_ROWS = (   # (label, key, scale, format) of the cage-motion table
     ("Whirl ratio (whirl revolutions per cage revolution)", "whirl_ratio", 1.0, "{:+.3f}"),
     ("Cage-centre speed, mean (mm/s)", "centre_speed_mean", 1e3, "{:.3g}"),
     ("Velocity dispersion std/mean of the centre speed", "velocity_dispersion", 1.0, "{:.3f}"),
+    ("Time held at one azimuth (%)", "held_fraction", 100.0, "{:.1f}"),
 )
 
 
@@ -1076,7 +1077,8 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                "Ghaisas, Wassgren & Sadeghi (2004): 0 for a steady circular whirl, of order 1 for the "
                "irregular, collision-driven motion of an unstable cage, but also for a whirl that decays to rest "
                "inside the window (a cage that settles at one azimuth after an impact): read it with the orbit, "
-               "`cage_orbit.png`.", ""]
+               "`cage_orbit.png`, and the time held: the share of samples whose centre moves slower than a "
+               "half-frequency whirl at a tenth of the clearance would (a cage at rest at one azimuth).", ""]
     if power_rows:
         md += ["## Friction torque and power loss", "",
                _power_markdown(power_rows), "",

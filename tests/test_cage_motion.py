@@ -100,3 +100,24 @@ def test_bad_input_is_refused():
         CM.window_motion(t, c, w, clearance=-1.0)
     with pytest.raises(InputError, match="increase strictly"):
         CM.window_motion(t[::-1], c, w, clearance=1e-4)
+
+
+def test_held_fraction_counts_the_samples_at_rest():
+    """A half-frequency whirl at e = 0.5 Cg (centre speed ½·omega_c·e = 5 × the threshold
+    HELD_SPEED·½·omega_c·Cg) that stops at sample 999 and stays there: the central-difference speed
+    is zero at the interior samples 1000 … 1999, so 1000 of the 1999 interior samples are held;
+    the clearance is recovered from eps = |c|/Cg when it is not given. A centre vibrating at 0.02 Cg
+    at the whirl frequency (speed 0.2 of the threshold) is held throughout."""
+    cg, w_c, n, dt = 100e-6, 600.0, 2001, 1e-4
+    t = np.arange(n) * dt
+    phase = 0.5 * w_c * np.minimum(t, t[999])
+    c = 0.5 * cg * np.stack([np.cos(phase), np.sin(phase)], axis=1)
+    w = np.full(n, w_c)
+    row = CM.window_motion(t, c, w, clearance=cg)
+    assert row["held_fraction"] == pytest.approx(1000 / 1999, rel=1e-12)
+    eps = np.hypot(c[:, 0], c[:, 1]) / cg
+    assert CM.window_motion(t, c, w, eccentricity_ratio=eps)["held_fraction"] == pytest.approx(1000 / 1999, rel=1e-12)
+    whirl = 0.5 * cg * np.stack([np.cos(0.5 * w_c * t), np.sin(0.5 * w_c * t)], axis=1)
+    assert CM.window_motion(t, whirl, w, clearance=cg)["held_fraction"] == 0.0
+    shake = np.stack([0.3 * cg + 0.02 * cg * np.cos(0.5 * w_c * t), np.full(n, 0.1 * cg)], axis=1)
+    assert CM.window_motion(t, shake, w, clearance=cg)["held_fraction"] == 1.0
