@@ -111,7 +111,8 @@ class Scene:
     bearing: Bearing
     oil: Oil
     cage_model: str                   # "rigid" | "flexible"
-    flexible: dict                    # reduced-cage parameters given in the scene (flexible only)
+    flexible: dict                    # reduced-cage parameters given in the scene (flexible only),
+                                      # and the cage's yield_strength, which only the report reads
     model_options: dict               # passed to multibody.model.build_model
     duration: float                   # s
     speed_table: np.ndarray           # (n, 2): t [s], omega [rad/s]

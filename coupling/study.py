@@ -33,7 +33,8 @@ Results, in DIR/<name>/:
     study.json   every window statistic of every run (coupling.report.phase_table: the whole run,
                  each phase of the speed profile, each impact; peak, p99 and mean of each quantity;
                  the cage's motion, coupling.report.cage_motion_table, as cage_<key>: eccentricity
-                 ratio, share on the rim, whirl ratio, centre speed, velocity dispersion), SI, with
+                 ratio, share on the rim, whirl ratio, centre speed, velocity dispersion, time held
+                 at one azimuth), SI, with
                  the value of the parameter and the run's wall time
     study.md     per quantity, its peak, p99 and mean in each window against the parameter; the
                  cage motion per window
@@ -83,6 +84,11 @@ class Study:
     def parameter(self) -> list[float]:
         """The first key's value of each run (the plots' abscissa), SI."""
         return [float(v[0]) for v in self.values]
+
+    @property
+    def axis_label(self) -> str:
+        """The parameter's name with its printed unit, for table heads and plot axes."""
+        return f"{self.label} [{self.display_unit}]" if self.display_unit else self.label
 
 
 def _split_key(key: str, where: str) -> list:
@@ -284,7 +290,7 @@ def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
     """study.json content from the runs' results files (coupling.report.phase_table each)."""
     from coupling.report import MOTION_ROWS, cage_motion_table, phase_table
     runs = []
-    for i, v in enumerate(study.values):
+    for i, (v, x) in enumerate(zip(study.values, study.parameter)):
         path = run_path(out_dir, study, i)
         ids = window_ids(study.scenes[i])
         windows = [{"window": window_id(row, ids), **row}
@@ -293,7 +299,7 @@ def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
         for w, m in zip(windows, cage_motion_table(path, include_impacts=True, settle=study.settle)):
             w.update({f"cage_{key}": m.get(key) for _, key, _, _ in MOTION_ROWS})
         s = (summaries or {}).get(i, {})
-        runs.append({"index": i, "values": dict(zip(study.keys, v)), "parameter": float(v[0]),
+        runs.append({"index": i, "values": dict(zip(study.keys, v)), "parameter": x,
                      "results_file": str(path), "wall_time_s": s.get("wall_time_s"), "windows": windows})
     return {"study": {"name": study.name, "description": study.description, "scene": study.scene_path,
                       "keys": list(study.keys), "label": study.label, "unit": study.unit,
@@ -331,8 +337,7 @@ def study_column(result: dict, column: str) -> tuple[list[str], list[list[float 
 
 def _markdown_rows(study: Study, result: dict, title: str, column: str, cell) -> list[str]:
     ids, rows = study_column(result, column)
-    head_value = f"{study.label} [{study.display_unit}]" if study.display_unit else study.label
-    lines = [f"## {title}", "", "| " + " | ".join([head_value] + ids) + " |", "|" + "---:|" * (len(ids) + 1)]
+    lines = [f"## {title}", "", "| " + " | ".join([study.axis_label] + ids) + " |", "|" + "---:|" * (len(ids) + 1)]
     for r, vals in zip(result["runs"], rows):
         cells = [f"{r['parameter'] * study.display_scale:g}"] + ["–" if x is None else cell(x) for x in vals]
         lines.append("| " + " | ".join(cells) + " |")
@@ -346,7 +351,8 @@ def study_markdown(study: Study, result: dict) -> str:
              f"statistics after {study.settle:g} s (coupling.report: peak = worst ball and instant, "
              f"p99 = 99th percentile over the window's samples of the worst ball (p1 of the "
              f"thinnest film), mean = over balls and time; cage motion as coupling.cage_motion: "
-             f"eccentricity ratio, whirl ratio, velocity dispersion std/mean of the centre's speed).", ""]
+             f"eccentricity ratio, whirl ratio, velocity dispersion std/mean of the centre's speed, "
+             f"time held at one azimuth).", ""]
     for key, stat in _quantity_columns(result):
         q = QUANTITY[key]
         lines += _markdown_rows(study, result, f"{q.label}, {stat} [{q.display_unit}]", f"{key}_{stat}",
@@ -379,7 +385,7 @@ def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
                 y = [math.nan if r[j] is None else r[j] * q.scale for r in rows]
                 style = dict(lw=2.2, color="k") if wid == "whole run" else dict(lw=1.2, marker="o", ms=3)
                 ax.plot(x, y, label=wid, **style)
-            ax.set_xlabel(f"{study.label} [{study.display_unit}]" if study.display_unit else study.label)
+            ax.set_xlabel(study.axis_label)
             ax.set_ylabel(f"{q.label}, {stat} [{q.display_unit}]")
             ax.grid(alpha=0.3)
         axes[0][0].legend(fontsize=7)
