@@ -12,9 +12,11 @@ Hertz pressure, contact angle) and the cage speed; `--balls` adds one line per b
 bearing_stiffness`: "updated" = tangent of the quasi-static curve, "frozen" = ball kinematics held);
 `--json` writes the whole result in SI. `--control friction` replaces the race-control hypothesis
 by the ball spin that the traction sets: the steady running state of `multibody.steady` (the
-fixed point of the dynamics with the scene's oil, drag, pocket and land models, rigid cage), which
-exists for a pure axial load without gravity; it reports the cage speed, slip and ball spin
-beside the contact table. `--times T0:T1:N` solves at N instants from T0 to T1 (s) along the
+dynamics' accelerations set to zero with the scene's oil, drag, pocket and land models, rigid
+cage): for a pure axial load without gravity the fixed point of the dynamics (cage speed, slip,
+ball spin); with a radial load or weight the frozen-azimuth state with the cage held off-centre
+in its guide film (cage centre, film force against the pockets' resultant, every ball's pocket
+force; `--balls` one line per ball). `--times T0:T1:N` solves at N instants from T0 to T1 (s) along the
 scene's speed and load profiles, each warm-started from the previous one (a cold solve where the
 warm one fails), and prints one row per instant: the quasi-static history of the operating
 profile (contact loads, Hertz pressures and angles through a speed ramp or an impact, and with
@@ -48,7 +50,7 @@ def register(subparsers) -> None:
                    help="N instants from T0 to T1 (s) along the profiles, one row each (replaces --time)")
     p.add_argument("--control", default="outer", choices=("outer", "inner", "jones", "friction"),
                    help="race that controls the balls: outer, inner, or per ball by Jones's criterion; or "
-                        "friction: ball spin from the traction (steady thrust state, pure axial load only)")
+                        "friction: ball spin from the traction (steady thrust state; with a radial load or weight the frozen-azimuth held-cage state)")
     p.add_argument("--friction-share", default=None, metavar="LO,LI",
                    help="share of the gyroscopic friction between the races, lambda_o + lambda_i = 2 "
                         "(default: all on the controlling race; 1,1 = the dynamics' race-control couple)")
@@ -206,20 +208,25 @@ def write_json(path, data) -> None:
 
 
 def steady_scene(scene, time: float = 0.0):
-    """(y, info, outputs, inputs): multibody.steady's steady thrust state of `scene` at `time`
-    (rigid cage, the scene's model options); the load at `time` must be purely axial."""
+    """(y, info, outputs, inputs): the steady running state of `scene` at `time` (rigid cage, the
+    scene's model options): multibody.steady's steady thrust state for a pure axial load without
+    gravity, its frozen-azimuth held-cage state otherwise (a radial load or weight: the balls
+    differ by azimuth and the cage sits off-centre in its guide film)."""
+    from multibody import model as M
     from multibody.model import build_model
-    from multibody.steady import steady_thrust_state
+    from multibody.steady import steady_held_cage_state, steady_thrust_state
 
     omega, force = scene_instant(scene, time)
-    fr = math.hypot(force[1], force[2])
-    if fr != 0.0:
-        raise InputError(f"--control friction: the steady thrust state needs a pure axial load; the scene has a "
-                         f"radial load of {fr:.6g} N at t = {time:g} s (allowed: 0)")
     model = build_model(scene.bearing, scene.oil, scene.model_options)
-    y, info = steady_thrust_state(model, omega, float(force[0]))
+    held = math.hypot(force[1], force[2]) != 0.0 or model.p[M.P_GRAV] != 0.0
+    if held:
+        y, info = steady_held_cage_state(model, omega, force)
+    else:
+        y, info = steady_thrust_state(model, omega, float(force[0]))
+    info["slip_rate"] = float(info["outputs"]["slip_rate"])
     out = info.pop("outputs")
-    inputs = dict(scene=scene.name, time=time, inner_speed=omega, load=force.tolist(), control="friction")
+    inputs = dict(scene=scene.name, time=time, inner_speed=omega, load=force.tolist(), control="friction",
+                  state="held_cage" if held else "thrust")
     return y, info, out, inputs
 
 
@@ -345,21 +352,50 @@ def _cmd_sweep(scene, args) -> int:
 
 
 def _cmd_friction(scene, args) -> int:
-    """--control friction: print and write the steady thrust state (module docstring)."""
+    """--control friction: print and write the steady running state (module docstring)."""
+    import numpy as np
+
     y, info, out, inputs = steady_scene(scene, args.time)
+    held = inputs["state"] == "held_cage"
+    fx, fy, fz = inputs["load"]
     print(f"{scene.name} at t = {args.time:g} s: inner ring {inputs['inner_speed'] * 30 / math.pi:.1f} rpm, "
-          f"Fa = {inputs['load'][0]:.1f} N; ball spin from the traction (steady thrust state)")
-    print(f"cage speed {info['cage_speed'] * 30 / math.pi:.2f} rpm, slip {100 * info['slip_rate']:.3f} %, "
-          f"ball angular velocity (x, r, t) = ({info['ball_w_x']:.1f}, {info['ball_w_r']:.1f}, "
-          f"{info['ball_w_t']:.1f}) rad/s; converged={info['converged']} (residual {info['residual']:.2e})")
+          f"load ({fx:.1f}, {fy:.1f}, {fz:.1f}) N; ball spin from the traction "
+          + ("(frozen-azimuth held-cage state, multibody.steady)" if held else "(steady thrust state)"))
+    print(f"cage speed {info['cage_speed'] * 30 / math.pi:.2f} rpm, slip {100 * info['slip_rate']:.3f} %; "
+          f"converged={info['converged']} (residual {info['residual']:.2e})")
     q, ang, p0 = out["contact_load"], out["contact_angle"], out["contact_stress"]
-    for k, name in enumerate(("outer", "inner_left", "inner_right")):
-        print(f"{name:12s}: Q {q[0, k]:9.1f} N  p0 {p0[0, k] / 1e6:7.1f} MPa  alpha {math.degrees(ang[0, k]):6.2f} deg")
+    if held:
+        c, land, res = info["cage_centre"], info["cage_land_force"], info["pocket_resultant"]
+        ft = out["pocket_force_tangential"]
+        print(f"cage centre (y, z) = ({c[1] * 1e6:.1f}, {c[2] * 1e6:.1f}) um, eccentricity ratio "
+              f"{info['cage_eccentricity_ratio']:.3f}; guide-land film force ({land[0]:.1f}, {land[1]:.1f}) N "
+              f"against the pockets' resultant ({res[1]:.1f}, {res[2]:.1f}) N")
+        print(f"pocket force {np.min(out['pocket_force']):.1f} to {np.max(out['pocket_force']):.1f} N "
+              f"(tangential on the balls {np.min(ft):.1f} to {np.max(ft):.1f} N)")
+        print("frozen azimuths: the dynamics' pocket-force pattern lags this one by about 50 deg "
+              "(multibody.steady.steady_held_cage_state); `flexbearing run` for the cage's motion")
+        for k, name in enumerate(("outer", "inner_left", "inner_right")):
+            print(f"{name:12s}: Qmax {q[:, k].max():9.1f} N  p0max {p0[:, k].max() / 1e6:7.1f} MPa  alpha "
+                  f"{math.degrees(ang[:, k].min()):6.2f} to {math.degrees(ang[:, k].max()):6.2f} deg")
+        if args.balls:
+            psi = y[2:9 * len(q):9]
+            print("ball  psi(deg)   Q_o(N)  Q_il(N)  Q_ir(N)  alpha_o(deg)  pocket_t(N)")
+            for j in range(len(q)):
+                print(f"{j:4d} {math.degrees(psi[j]) % 360:9.2f} {q[j, 0]:8.1f} {q[j, 1]:8.1f} {q[j, 2]:8.1f} "
+                      f"{math.degrees(ang[j, 0]):13.2f} {ft[j]:12.2f}")
+    else:
+        print(f"ball angular velocity (x, r, t) = ({info['ball_w_x']:.1f}, {info['ball_w_r']:.1f}, "
+              f"{info['ball_w_t']:.1f}) rad/s")
+        for k, name in enumerate(("outer", "inner_left", "inner_right")):
+            print(f"{name:12s}: Q {q[0, k]:9.1f} N  p0 {p0[0, k] / 1e6:7.1f} MPa  alpha {math.degrees(ang[0, k]):6.2f} deg")
     if args.json:
-        write_json(args.json, dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **info,
-                                   contact_load=q[0], contact_angle=ang[0], contact_stress=p0[0], state=y))
+        per_ball = dict(contact_load=q, contact_angle=ang, contact_stress=p0) if held else \
+            dict(contact_load=q[0], contact_angle=ang[0], contact_stress=p0[0])
+        if held:
+            per_ball.update(pocket_force=out["pocket_force"], pocket_force_tangential=out["pocket_force_tangential"])
+        write_json(args.json, dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **info, **per_ball, state=y))
     if not info["converged"]:
-        print("flexbearing quasi-static: no steady thrust state (the traction cannot balance the drag at any "
+        print("flexbearing quasi-static: no steady running state (the traction cannot balance the drag at any "
               "skid, or is flat there: multibody.steady docstring); run the dynamics instead", file=sys.stderr)
         return 1
     return 0

@@ -1,6 +1,7 @@
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 
@@ -100,9 +101,10 @@ def test_quasi_static_modes(tmp_path, capsys):
     assert "radial load of 4000 N" in captured.err and "Qmax" not in captured.out
 
 
-def test_quasi_static_friction_control_is_the_steady_thrust_state(tmp_path, capsys):
+def test_quasi_static_friction_control_is_the_steady_running_state(tmp_path, capsys):
     # --control friction runs multibody.steady on the scene (rigid cage, the scene's oil): the paper's steady scene
-    # with its radial load removed gives the state of tests/test_steady.py; with the radial load it is refused
+    # with its radial load removed gives the state of tests/test_steady.py; with its radial load the frozen-azimuth
+    # held-cage state, whose film force carries the pockets' resultant (Newton's third law, 1e-6 N)
     import json
     import math
     from coupling.cli import main
@@ -117,5 +119,15 @@ def test_quasi_static_friction_control_is_the_steady_thrust_state(tmp_path, caps
     d = json.loads(out.read_text())
     _, info = steady_thrust_state(build_model(PAPER_BEARING, PAPER_OIL, {}), 14000 * math.pi / 30, 55e3)
     assert d["converged"] and d["slip_rate"] == pytest.approx(info["slip_rate"], rel=1e-9, abs=1e-12)
-    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--control", "friction"]) == 2
-    assert "radial load of 4000 N" in capsys.readouterr().err
+    assert d["inputs"]["state"] == "thrust"
+    held = tmp_path / "held.json"
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--control", "friction", "--balls",
+                 "--json", str(held)]) == 0
+    text = capsys.readouterr().out
+    d = json.loads(held.read_text())
+    assert d["converged"] and d["inputs"]["state"] == "held_cage" and len(d["pocket_force"]) == 20
+    np.testing.assert_allclose(np.add(d["cage_land_force"], d["pocket_resultant"][1:]), 0.0, atol=1e-6)
+    assert "held-cage state" in text and "against the pockets' resultant" in text
+    assert text.count("\n") > 20                     # --balls: one line per ball
+
+
