@@ -33,6 +33,11 @@ search itself 20–40 ms). The fixed point has a centred cage. Whether the dynam
 separate question: with the weight on (the slip validation) they settle within 0.3 points of it
 (cases 5, 6); without it, at light load, the outer-ring-guided cage whirls out to its rim
 (tests/test_cage_whirl.py) and the skid changes (case 4, 15 s: cage 198 against 267 rad/s).
+
+Under a combined load (or with weight) the balls differ by azimuth: `steady_held_cage_state`
+solves every ball separately with the balls frozen at their azimuths and the cage held off-centre
+in its guide film (6Z + 11 unknowns, Newton with a Levenberg–Marquardt fallback, 0.3–0.7 s for the
+paper bearing); its docstring says what the frozen azimuths leave out.
 """
 from __future__ import annotations
 
@@ -188,17 +193,17 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
     6Z + 11 equations: each ball's pocket force is what its traction, drag and inertia leave over,
     the cage centre moves until the guide-land film force balances the resultant of the pocket
     forces (F_land + sum_j F_pocket,j = 0) and the cage speed until their torque balances the land
-    and churning drag. This is the classical quasi-static skidding analysis (Harris 1971, for a
-    thrust load; its per-ball extension to combined load as in Harris & Kotzalas, Advanced Concepts
-    of Bearing Technology, 5th ed., ch. on high-speed operation) made with the dynamics' own force
-    models, and the state in which `coupling.cage_motion` reports a cage as "held".
+    and churning drag. This is Harris's skidding analysis (J. Lubr. Technol. 93(1):17–24, 1971,
+    written for a thrust load, where all balls are alike: `steady_thrust_state`) with per-ball
+    unknowns, made with the dynamics' own force models; it is the state in which
+    `coupling.cage_motion` reports a cage as "held".
 
     Approximation: the balls' states are taken as functions of the azimuth that do not lag behind
     the load, i.e. d/dt of a ball's pocket offset and spin along its orbit is neglected. Measured
     against the dynamics integrated from this state (paper bearing, 14,000 rpm, Fr 4 kN, rigid cage;
-    benchmarks/held_cage_mechanism.py): the mean pocket force agrees within 7 %, the first azimuthal
-    harmonic of the pocket force lags the frozen one by 43–56° with 75–95 % of its amplitude, so
-    the cage's held position and film force differ in direction by about 50°.
+    benchmarks/held_cage_mechanism.py, Fa 45–65 kN): the mean pocket force agrees within 7 %, the
+    first azimuthal harmonic of the pocket force lags the frozen one by 42–56° with 74–97 % of its
+    amplitude, so the cage's film force is 25–31 % smaller and turned by about 50°.
 
     load = (Fx, Fy, Fz) on the inner ring, N. phase: azimuth of pocket 0 (rad, from +Y to +Z); the
     solution varies with it at the ball-pass period only. Rigid cage only. info: converged,
