@@ -55,6 +55,11 @@ Session 9 ran the paper's own ball hypothesis (model option ball_attitude = "no_
 pivoting held, the pitch free; with T_eta = 0): right sign at low speed, same strong load
 dependence, mean 137.5 %, max 286.4 %, no better after recalibration on cases 1–8 (slip_rate.md);
 the default stays free balls.
+Session 13: the test's own speed trend (benchmarks/slip_speed_decomposition.py) needs a
+speed-independent 4.3–5.5 % in every load group if its skid grows as the model's (n^2.2–2.6,
+measured with load-independent traction at a 15° shim angle), and drag cannot give that. Only a
+ball attitude near inner-race control can, and it needs the transverse traction named below
+(slip_rate.md, "Session 13").
 
 Diagnosis (benchmarks/results/slip_rate.md has the numbers and the commands; benchmarks/bench_slip_rate.py
 prints the budgets). With the paper's 4106 fit the traction curve maxima at the test's contacts are

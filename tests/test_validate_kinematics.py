@@ -114,3 +114,17 @@ def test_race_control_kinematics_matches_jones_and_harris(race, ao, ai):
 def test_race_control_unknown_race_is_refused():
     with pytest.raises(InputError, match="race"):
         V.race_control_kinematics(0.3, 0.5, "cage", DW, DM)
+
+
+def test_slip_speed_decomposition_recovers_offset_and_skid():
+    """benchmarks.slip_speed_decomposition: for slips built as S0 + k·(n/4000)^p at the test's speeds,
+    the least-squares split returns S0 and k exactly (1e-10; the fit is linear in S0 and k) with a
+    zero residual; with one slip raised by 0.1 the residual is nonzero and below 0.1."""
+    from benchmarks.slip_speed_decomposition import split_offset_and_skid
+    n = np.array([4000.0, 5000.0, 6000.0, 8000.0, 10000.0, 12000.0])
+    for p in (1.0, 2.0, 2.6):
+        s = 4.3 + 0.9 * (n / 4000.0) ** p
+        s0, k, rms = split_offset_and_skid(n, s, p)
+        assert abs(s0 - 4.3) < 1e-10 and abs(k - 0.9) < 1e-10 and rms < 1e-10
+        s[2] += 0.1
+        assert 0.0 < split_offset_and_skid(n, s, p)[2] < 0.1
