@@ -23,10 +23,14 @@ from mpi4py import MPI
 from mesh.cage_mesh import DEFAULT_DEGREE  # noqa: E402  (re-export: the converged default space)
 
 
-def load_cage_mesh(path, comm=MPI.COMM_WORLD):
+def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, check: bool = True):
     """Read a gmsh .msh (linear or curved quadratic tets) into dolfinx, distributed over comm.
 
     Returns (domain, cell_tags, facet_tags, names) with names: physical name -> tag.
+    Refuses (mesh.validation.InputError) a mesh with inverted or badly curved tetrahedra
+    (mesh.quality.check_mesh_file: Jacobian ratio below min_quality, default
+    mesh.quality.MIN_JACOBIAN_RATIO), naming the elements and where they are; check=False skips
+    that (only for studies of what invalid elements do).
     The file is read by gmsh on rank 0 only and the mesh is then partitioned (dolfinx
     model_to_mesh); dolfinx 0.5.2's read_from_msh is broken, hence this wrapper.
     """
@@ -38,6 +42,11 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD):
     if comm.rank == 0:
         if not path.exists():
             raise FileNotFoundError(path)
+        # every mesh, built here or given by the user (--mesh), is checked before any FE work:
+        # inverted or badly curved elements give wrong stresses (mesh.quality)
+        from mesh.quality import check_mesh_file, MIN_JACOBIAN_RATIO
+        if check:
+            check_mesh_file(path, bound=MIN_JACOBIAN_RATIO if min_quality is None else min_quality)
         gmsh.initialize()
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("cage")

@@ -620,6 +620,8 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
         f["mesh"].attrs["msh_sha256"] = rcf.file_sha256(msh)
         f["mesh"].attrs["n_dofs"] = int(red["n_dofs"])
         f["mesh"].attrs["element"] = f"P{degree} on order-{order} tetrahedra"
+        from mesh.cage_mesh import mesh_quality_of
+        f["mesh"].attrs["quality"] = json.dumps(mesh_quality_of(msh, degree))
         f["interface"].attrs["dof_names"] = "ux uy uz rx ry rz"
         g = f["loads/guide_modal_loads"]
         g.attrs["columns"] = json.dumps(list(rcf.GUIDE_LOAD_COLUMNS))

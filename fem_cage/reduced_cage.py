@@ -20,7 +20,9 @@ Root attributes
                 the corner nodes of each cell (a P1 tetrahedron skeleton for any XDMF writer);
                 tets10 (Nc, 10): all nodes in VTK tetra10 order (quadratic mesh only); attrs: source_msh (path at build time),
                 msh_sha256, n_dofs (of the full model), element (e.g. "P3 on curved order-2
-                tetrahedra").
+                tetrahedra"), quality (JSON: the mesh's element quality — inverted cells, worst
+                Jacobian ratio and scaled Jacobian — and what the repair of badly curved cells
+                changed; mesh.cage_mesh.mesh_quality_of).
 /interface      positions (Z, 3) m: interface node i at pocket i's centre; pocket (Z) int;
                 dof_names = ux uy uz rx ry rz (node DOF order, body frame).
 /modes          frequency_hz (M), omega (M) rad/s, ascending; modes 0–5 rigid (omega = 0):
@@ -105,6 +107,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mesh.cage_mesh import MESH_VERSION
+
 SCHEMA = "flexbearing.reduced_cage"
 SCHEMA_VERSION = 4
 READABLE_VERSIONS = (2, 3, 4)        # 2, 3: no /loads; 2: basis without the centrifugal vector
@@ -133,7 +137,7 @@ def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str
             "pocket_size": None if pocket_size is None else float(pocket_size),
             "coupling": str(coupling), "n_fixed": int(n_fixed),
             "centrifugal_vector": bool(centrifugal), "guide_load_vectors": bool(guide_loads),
-            "inertia_relief_vectors": bool(inertia_relief), "mesh_version": 1}
+            "inertia_relief_vectors": bool(inertia_relief), "mesh_version": MESH_VERSION}
 
 
 def cache_path(key: dict) -> Path:

@@ -40,6 +40,13 @@ DEFAULT_ORDER = 2
 DEFAULT_DEGREE = 3
 # Distance (in global element sizes) over which the size grows from pocket_size to size.
 REFINE_GROWTH = 1.5
+# Version of the meshing procedure, in every mesh cache key (and the reduced cage's): 2 = curved
+# elements checked and repaired (mesh.quality), so no version-1 mesh (with inverted elements) is
+# ever reused.
+MESH_VERSION = 2
+# Half-width of the local refinement zone around a pocket's wall (stress studies), m: it covers
+# the wall, its edges, the bars to the next pockets (2.7-5.4 mm wide) and the side rails (2.9 mm).
+LOCAL_ZONE = 3.0e-3
 # Smallest chamfer drawn, m (smaller ones are drawn as sharp edges; see _profile_points).
 MIN_FEATURE = 1e-6
 
@@ -60,7 +67,8 @@ def pocket_name(k: int) -> str:
     return f"pocket_{k:02d}"
 
 
-def _check_sizes(geometry: CageGeometry, size: float, order: int, pocket_size: float | None):
+def _check_sizes(geometry: CageGeometry, size: float, order: int, pocket_size: float | None,
+                 local=None):
     # Upper bound: one element across the cage width; lower bound: beyond ~0.5 mm the mesh has
     # millions of dofs, far past convergence (mesh study), and would exhaust memory.
     require_range("mesh.size", size, 0.5e-3, geometry.width, unit="m")
@@ -68,6 +76,13 @@ def _check_sizes(geometry: CageGeometry, size: float, order: int, pocket_size: f
         require_range("mesh.pocket_size", pocket_size, 0.25e-3, size, unit="m")
     if order not in (1, 2):
         raise InputError(f"mesh.order = {order!r} is outside the allowed set {{1, 2}}")
+    if local is not None:
+        pockets, h = local
+        for k in pockets:
+            if int(k) != k or not 0 <= k < geometry.n_pockets:
+                raise InputError(f"mesh.local pocket = {k!r} is outside the allowed range "
+                                 f"[0, {geometry.n_pockets - 1}]")
+        require_range("mesh.local size", h, 0.1e-3, size, unit="m")
 
 
 def _profile_points(g: CageGeometry, pockets: bool = True) -> list[tuple[float, float]]:
@@ -92,7 +107,7 @@ def _profile_points(g: CageGeometry, pockets: bool = True) -> list[tuple[float, 
 
 
 def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | None,
-                 with_pockets: bool = True, verbose: bool = False):
+                 with_pockets: bool = True, verbose: bool = False, local=None):
     """Build geometry + mesh in the current gmsh model; return physical name -> tag."""
     import gmsh
 
@@ -172,18 +187,35 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
     pocket_surfs = [s for n, ss in groups.items() if n.startswith("pocket_") for s in ss]
-    if with_pockets and pocket_size is not None and pocket_size < size:
-        f = gmsh.model.mesh.field
+    f = gmsh.model.mesh.field
+    fields = []
+
+    def threshold(surfs, lc, dist_min, dist_max):
         fd = f.add("Distance")
-        f.setNumbers(fd, "FacesList", pocket_surfs)
+        f.setNumbers(fd, "FacesList", surfs)
         f.setNumber(fd, "NNodesByEdge", 60)
         ft = f.add("Threshold")
         f.setNumber(ft, "IField", fd)
-        f.setNumber(ft, "LcMin", pocket_size)
+        f.setNumber(ft, "LcMin", lc)
         f.setNumber(ft, "LcMax", size)
-        f.setNumber(ft, "DistMin", 0.25 * pocket_size)
-        f.setNumber(ft, "DistMax", 0.25 * pocket_size + REFINE_GROWTH * size)
-        f.setAsBackgroundMesh(ft)
+        f.setNumber(ft, "DistMin", dist_min)
+        f.setNumber(ft, "DistMax", dist_max)
+        fields.append(ft)
+
+    if with_pockets and pocket_size is not None and pocket_size < size:
+        threshold(pocket_surfs, pocket_size, 0.25 * pocket_size, 0.25 * pocket_size + REFINE_GROWTH * size)
+    if with_pockets and local is not None:
+        # a refinement zone around some pockets (stress convergence studies): element size h within
+        # LOCAL_ZONE of their walls: the pockets, the bars between them and the rails
+        pockets, h = local
+        walls = [s_ for k in pockets for s_ in groups[pocket_name(int(k))]]
+        threshold(walls, h, LOCAL_ZONE, LOCAL_ZONE + REFINE_GROWTH * size)
+    if len(fields) == 1:
+        f.setAsBackgroundMesh(fields[0])
+    elif fields:
+        fm = f.add("Min")
+        f.setNumbers(fm, "FieldsList", fields)
+        f.setAsBackgroundMesh(fm)
     # Resolve the curvature of bore, outside and pockets (elements per 2*pi of arc).
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 12)
     gmsh.option.setNumber("Mesh.Optimize", 1)
@@ -191,6 +223,44 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
     if order == 2:
         gmsh.model.mesh.setOrder(2)          # curved: mid-side nodes on the CAD surfaces
     return names
+
+
+def _validate_and_repair(fe_degree: int = DEFAULT_DEGREE) -> dict:
+    """Check every tetrahedron of the current gmsh model (mesh.quality) and flatten the curved
+    ones below MIN_JACOBIAN_RATIO (quality.repair_curved_elements); refuse the mesh if anything is
+    still invalid. Returns {"quality": summary after, "repair": log}.
+
+    Why here: gmsh's curving (setOrder(2)) puts the mid-side nodes of thin slivers that touch a
+    curved surface on that surface and can invert them (the paper cage at 5 mm: cells 4467/4468,
+    det J < 0 at every Gauss point); gmsh 4.8's own high-order optimisers do not fix them
+    (measured: "HighOrder" fails, "HighOrderElastic" leaves min det J / det J(centroid) = -0.002,
+    benchmarks/results/mesh_quality.md)."""
+    import gmsh
+    from . import quality as Q
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    X = np.asarray(coords).reshape(-1, 3)
+    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+    index[tags] = np.arange(len(tags))
+    types = gmsh.model.mesh.getElementTypes(3)
+    t10 = gmsh.model.mesh.getElementType("Tetrahedron", 2)
+    t4 = gmsh.model.mesh.getElementType("Tetrahedron", 1)
+    et = t10 if t10 in types else t4
+    _, enodes = gmsh.model.mesh.getElementsByType(et)
+    n = 10 if et == t10 else 4
+    cells = index[np.asarray(enodes, dtype=np.int64).reshape(-1, n)]
+    if n == 10:
+        cells = cells[:, GMSH_TO_VTK_TET10]
+    Xr, log = Q.repair_curved_elements(X, cells, Q.MIN_JACOBIAN_RATIO, fe_degree)
+    moved = np.flatnonzero(np.any(Xr != X, axis=1))
+    for i in moved:
+        gmsh.model.mesh.setNode(int(tags[i]), Xr[i].tolist(), [])
+    q = Q.mesh_quality(Xr, cells, fe_degree)
+    Q.require_valid(q, Q.MIN_JACOBIAN_RATIO, "cage mesh after repair")
+    return {"quality": q.summary(), "repair": log.as_dict()}
+
+
+# gmsh's 10-node tetrahedron lists the edges (2,3) and (1,3) the other way round from VTK/meshio
+GMSH_TO_VTK_TET10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
 
 
 def _sample_face(tag: int, m: int = 5) -> np.ndarray:
@@ -218,15 +288,21 @@ def _write(path: Path):
 
 
 def build_cage_mesh(geometry: CageGeometry, size: float, order: int, path,
-                    pocket_size: float | None = None, verbose: bool = False) -> Path:
+                    pocket_size: float | None = None, verbose: bool = False, local=None,
+                    repair: bool = True) -> Path:
     """Mesh the cage and write a gmsh .msh (v4.1) to `path`; return the path.
 
     size: global element size, m; pocket_size: element size on the pocket walls, m (None = size);
-    order: 1 (linear tetrahedra) or 2 (curved quadratic tetrahedra, gmsh setOrder(2)).
+    order: 1 (linear tetrahedra) or 2 (curved quadratic tetrahedra, gmsh setOrder(2));
+    local: None, or (pockets, element size h m): a refinement zone of size h within LOCAL_ZONE of
+    the walls of those pockets (stress convergence studies, fem_cage.stress_study).
+    Every mesh is checked and its badly curved elements repaired (_validate_and_repair); the
+    quality and the repair are written beside it (quality_path). repair=False writes gmsh's mesh
+    as it is (only for studies of what bad elements do: fem_cage.elasticity refuses to read it).
     """
     geometry.validate()
-    _check_sizes(geometry, size, order, pocket_size)
-    return _mesh_to_file(geometry, size, order, Path(path), pocket_size, True, verbose)
+    _check_sizes(geometry, size, order, pocket_size, local)
+    return _mesh_to_file(geometry, size, order, Path(path), pocket_size, True, verbose, local, repair)
 
 
 def build_ring_mesh(geometry: CageGeometry, size: float, order: int, path,
@@ -236,37 +312,66 @@ def build_ring_mesh(geometry: CageGeometry, size: float, order: int, path,
     return _mesh_to_file(geometry, size, order, Path(path), None, False, verbose)
 
 
-def _mesh_to_file(geometry, size, order, path, pocket_size, with_pockets, verbose) -> Path:
+def _mesh_to_file(geometry, size, order, path, pocket_size, with_pockets, verbose, local=None,
+                  repair: bool = True) -> Path:
     import gmsh
+    import json
     gmsh.initialize()      # gmsh 4.8 has no isInitialized(): own the session for this call
     try:
         gmsh.model.add("cage")
-        _build_model(geometry, size, order, pocket_size, with_pockets, verbose)
+        _build_model(geometry, size, order, pocket_size, with_pockets, verbose, local)
+        report = _validate_and_repair() if repair else None
         _write(path)
     finally:
         gmsh.finalize()
+    if report is not None:
+        quality_path(path).write_text(json.dumps(report, indent=1))
     return path
 
 
+def quality_path(msh_path) -> Path:
+    """The sidecar JSON beside a mesh built here: its quality and what the repair changed."""
+    p = Path(msh_path)
+    return p.with_name(p.stem + ".quality.json")
+
+
+def mesh_quality_of(msh_path, fe_degree: int = DEFAULT_DEGREE) -> dict:
+    """{"quality": ..., "repair": ...} of a mesh: the sidecar written when it was built, else
+    computed from the file (no repair information then)."""
+    import json
+    from . import quality as Q
+    side = quality_path(msh_path)
+    if side.exists():
+        return json.loads(side.read_text())
+    return {"quality": Q.mesh_file_quality(msh_path, fe_degree).summary(), "repair": None}
+
+
 def mesh_key(geometry: CageGeometry, size: float, order: int, pocket_size: float | None,
-             kind: str = "cage") -> dict:
-    return {"kind": kind, "geometry": geometry.to_dict(), "size": float(size), "order": int(order),
-            "pocket_size": None if pocket_size is None else float(pocket_size), "version": 1}
+             kind: str = "cage", local=None) -> dict:
+    key = {"kind": kind, "geometry": geometry.to_dict(), "size": float(size), "order": int(order),
+           "pocket_size": None if pocket_size is None else float(pocket_size),
+           "version": MESH_VERSION}
+    if local is not None:
+        key["local"] = [sorted(int(k) for k in local[0]), float(local[1]), LOCAL_ZONE]
+    return key
 
 
-def cache_path(geometry: CageGeometry, size: float, order: int, pocket_size: float | None) -> Path:
+def cache_path(geometry: CageGeometry, size: float, order: int, pocket_size: float | None,
+               local=None) -> Path:
     from .cache import cache_dir, content_hash
-    return cache_dir() / "meshes" / f"{content_hash(mesh_key(geometry, size, order, pocket_size))}.msh"
+    key = mesh_key(geometry, size, order, pocket_size, local=local)
+    return cache_dir() / "meshes" / f"{content_hash(key)}.msh"
 
 
 def cached_cage_mesh(geometry: CageGeometry, size: float = DEFAULT_MESH_SIZE,
-                     order: int = DEFAULT_ORDER, pocket_size: float | None = DEFAULT_POCKET_SIZE) -> Path:
+                     order: int = DEFAULT_ORDER, pocket_size: float | None = DEFAULT_POCKET_SIZE,
+                     local=None) -> Path:
     """build_cage_mesh into cache_dir()/meshes/<content_hash>.msh, reused when present."""
     geometry.validate()
-    _check_sizes(geometry, size, order, pocket_size)
-    path = cache_path(geometry, size, order, pocket_size)
+    _check_sizes(geometry, size, order, pocket_size, local)
+    path = cache_path(geometry, size, order, pocket_size, local)
     if not path.exists():
-        build_cage_mesh(geometry, size, order, path, pocket_size)
+        build_cage_mesh(geometry, size, order, path, pocket_size, local=local)
     return path
 
 

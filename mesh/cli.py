@@ -64,9 +64,43 @@ def write_mesh_xdmf(msh_path) -> Path:
     return out
 
 
+def quality_line(summary: dict, repair: dict | None) -> str:
+    """One line a user reads: element count, the worst Jacobian ratio against its bound, the worst
+    scaled Jacobian, and what the repair changed."""
+    s = (f"{summary['n_cells']:,} cells, {summary['n_inverted']} inverted, min Jacobian ratio "
+         f"{summary['min_jacobian_ratio']:.3f} (bound {summary['bound']:g}), min scaled Jacobian "
+         f"{summary['min_scaled_jacobian']:.3f}")
+    if repair is not None:
+        s += (f"; repaired {repair['n_cells_flattened']} curved cell(s) of "
+              f"{repair['quality_before']['n_below_bound']} below the bound "
+              f"({repair['quality_before']['n_inverted']} inverted), nodes moved up to "
+              f"{repair['max_node_shift_m'] * 1e6:.0f} µm off the surface")
+    return s
+
+
+def cmd_check(path) -> int:
+    """`flexbearing mesh --check FILE`: the quality of any mesh file; exit 1 if it would be refused."""
+    from .quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
+    from .validation import InputError
+    q = mesh_file_quality(path)
+    print(f"{path}: {quality_line(q.summary(), None)}")
+    try:
+        require_valid(q, MIN_JACOBIAN_RATIO, str(path))
+    except InputError as exc:
+        print(f"refused: {exc}")
+        return 1
+    print("valid: every element passes")
+    return 0
+
+
 def cmd_mesh(args) -> int:
     from mpi4py import MPI
-    from .cage_mesh import build_cage_mesh
+    from .cage_mesh import build_cage_mesh, mesh_quality_of
+    if args.check:
+        return cmd_check(Path(args.check))
+    if not args.output:
+        from .validation import InputError
+        raise InputError("flexbearing mesh: give -o/--output FILE.msh (or --check FILE to check a mesh)")
     g = geometry_from_args(args)
     out = Path(args.output)
     if out.suffix != ".msh":
@@ -79,14 +113,20 @@ def cmd_mesh(args) -> int:
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
         print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} mm, "
               f"pocket size {args.pocket_size:g} mm, order {args.order})")
+        rep = mesh_quality_of(out)
+        print("quality: " + quality_line(rep["quality"], rep["repair"]))
     return 0
 
 
 def register(subparsers):
     p = subparsers.add_parser("mesh", help="mesh the cage (gmsh): FILE.msh + FILE.xdmf",
-                              description="Mesh the cage with gmsh (tagged pockets, guide, volume).")
+                              description="Mesh the cage with gmsh (tagged pockets, guide, volume). "
+                              "Every mesh is checked (Jacobian of each curved tetrahedron) and its "
+                              "badly curved elements repaired (mesh.quality).")
     add_geometry_arguments(p)
     add_mesh_arguments(p)
-    p.add_argument("-o", "--output", required=True, help="output .msh file (XDMF written beside it)")
+    p.add_argument("-o", "--output", help="output .msh file (XDMF and FILE.quality.json written beside it)")
+    p.add_argument("--check", metavar="FILE", help="only check an existing mesh file: every tetrahedron's "
+                   "Jacobian (inverted, badly curved) and shape; exit 1 if flexbearing would refuse it")
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_mesh)
