@@ -36,14 +36,16 @@ with c the recorded cage centre and (beta_y, beta_z) its tilt (/outputs/cage_cen
 scene output "cage_orbit"), and a ball at (x_b, r_b cos psi_b, r_b sin psi_b) (ball_axial_position,
 ball_radial_position, ball_azimuth: scene output "kinematics"). The cage's spin angle phi is not
 among the recorded outputs; it is estimated from the balls, each in its own pocket (ball j in
-pocket j, at body azimuth theta_j = atan2(Z_j, Y_j) of the pocket's interface node):
+pocket j, at body azimuth theta_j = atan2(Z_j, Y_j) of the pocket's interface node, deformed:
+its position plus its translation Phi_j q_k, which reaches tens of µm in an impact):
 
     b'_j = R_y(beta_y)^T R_z(beta_z)^T (b_j - c),   psi'_j = atan2(b'_j,z, b'_j,y)
     phi  = arg sum_j exp(i (psi'_j - theta_j))                           (circular mean)
 
 exact when every ball sits on its pocket's axis; a ball moves in its pocket by at most the
-pocket clearance, so |phi - phi_true| <= (D_p - D_w) / (2 r_p) with r_p the pitch radius of the
-balls (0.17° for the paper bearing: 0.25 mm of clearance at 83.5 mm). The cage is written
+pocket clearance (plus the µm of the contact's approach), so |phi - phi_true| <= (D_p - D_w) /
+(2 r_p) with r_p the pitch radius of the balls (0.17° for the paper bearing: 0.25 mm of
+clearance at 83.5 mm), a placement error of at most 0.27 mm at the cage's outside radius. The cage is written
 undeformed at its placed position; its elastic displacement as the point vector "displacement"
 (true, m, bearing-frame components A u) for ParaView's Warp By Vector, and as
 "displacement_scaled" = s·A u, magnified by the displacement scale s (default: the power-of-ten
@@ -426,7 +428,7 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
         else:
             centre = np.zeros((len(idx), 3))
             tilt = np.zeros((len(idx), 2))
-            if has_balls or has_cage:
+            if has_balls:
                 notes.append("the cage centre is taken at the bearing centre, untilted: the run did not "
                              "record \"cage_orbit\" (cage_centre, cage_tilt); add it to [output] record")
         scene = run_scene(f)
@@ -438,6 +440,8 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
     if has_cage:
         rc, hash_note = open_reduced_cage(path, rc_path, rc_hash, q_full.shape[1])
     inertial = has_balls
+    if not inertial:            # the body frame: no rigid motion
+        centre, tilt = np.zeros_like(centre), np.zeros_like(tilt)
     frame = ("bearing frame (x the bearing axis, y and z radial, origin the bearing centre, outer ring "
              "fixed)") if inertial else "cage body frame (x the cage axis, pocket 0 at +y), cage at rest"
     n = len(idx)
@@ -452,12 +456,13 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
     rot = np.tile(np.eye(3), (n, 1, 1))
     phi = np.zeros(n)
     if inertial:
-        if rc is not None:
-            pa = np.arctan2(rc.interface_positions[:, 2], rc.interface_positions[:, 1])
-        else:
-            Z = balls.shape[1]
-            pa = 2.0 * np.pi * np.arange(Z) / Z    # a rigid cage's pocket j at azimuth 2 pi j / Z
+        Z = balls.shape[1]
         for i in range(n):
+            if rc is not None:      # the pockets' centres, deformed (interface node translations)
+                P = rc.interface_positions + rc.interface_modes[:, :3, :] @ q_full[i]
+                pa = np.arctan2(P[:, 2], P[:, 1])
+            else:                   # a rigid cage's pocket j at azimuth 2 pi j / Z
+                pa = 2.0 * np.pi * np.arange(Z) / Z
             A_tilt = _rotation(0.0, tilt[i, 0], tilt[i, 1])
             phi[i] = cage_spin_angle(balls[i], centre[i], A_tilt, pa)
             rot[i] = _rotation(phi[i], tilt[i, 0], tilt[i, 1])

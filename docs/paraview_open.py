@@ -11,10 +11,12 @@ What it does, as the GUI steps of the README do: open the files with ParaView's 
 Warp By Vector on displacement_scaled (the displacement times series.json's displacement_scale,
 so Scale Factor 1), colour by von_mises, spheres of the balls' diameter on the points; then
   - prints the data range of von_mises that ParaView reads at every time step, against the
-    maximum flexbearing wrote (field_max_von_mises in the JSON), and their largest relative
-    difference (exit status 1 if above 1e-9: the file would not show what was computed);
+    maximum flexbearing wrote (field_max_von_mises in the JSON) and the one the run recorded
+    (recorded_von_mises_max), and the largest relative difference to the written one (exit status
+    1 if above 1e-9: the file would not show what was computed);
   - saves a screenshot at time T (default: the step with the largest von Mises stress) looking at
-    the whole cage (--view cage, default) or at the node of the maximum (--view peak).
+    the whole cage with its balls (--view cage, default) or, balls hidden, at the node of the
+    maximum along its surface normal (--view peak).
 
 Needs ParaView (Debian: apt-get install paraview xvfb); not a flexbearing dependency. pvpython
 runs its own Python: this script imports only paraview and the standard library.
@@ -43,13 +45,14 @@ def main(argv=None):
     meta = json.load(open(os.path.join(d, "series.json" if series else "von_mises.json")))
     frames = meta["cage"]["frames"] if series else meta["frames"]
     written = [fr["field_max_von_mises"] for fr in frames]
+    recorded = [fr.get("recorded_von_mises_max") for fr in frames]
     scale = meta.get("displacement_scale", 1.0)
 
     cage = pv.Xdmf3ReaderS(FileName=[cage_file])
     times = list(cage.TimestepValues) if len(frames) > 1 else [frames[0]["time"]]
     print(f"{cage_file}: {len(times)} time steps, {meta.get('frame', '')}")
     worst = 0.0
-    for t, w in zip(times, written):
+    for t, w, rec in zip(times, written, recorded):
         cage.UpdatePipeline(t)
         data = servermanager.Fetch(cage)
         lo, hi = data.GetPointData().GetArray("von_mises").GetRange()
@@ -57,8 +60,8 @@ def main(argv=None):
         rel = abs(hi - w) / w
         worst = max(worst, rel)
         print(f"  t = {t:.6g} s: von_mises range {lo:.6g} .. {hi:.10g} Pa (written max {w:.10g}, "
-              f"rel. diff {rel:.2e}); {data.GetNumberOfPoints()} points, {data.GetNumberOfCells()} "
-              f"cells of VTK type {cell}")
+              f"rel. diff {rel:.2e}; recorded by the run {rec if rec is None else format(rec, '.10g')}); "
+              f"{data.GetNumberOfPoints()} points, {data.GetNumberOfCells()} cells of VTK type {cell}")
     print(f"largest relative difference ParaView range vs written maximum: {worst:.2e}")
 
     k = max(range(len(written)), key=written.__getitem__) if a.time is None else \
@@ -87,7 +90,7 @@ def main(argv=None):
     bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
     disp.SetScalarBarVisibility(view, True)
     points_file = os.path.join(d, "series_points.xdmf")
-    if series and os.path.isfile(points_file):
+    if series and os.path.isfile(points_file) and a.view == "cage":
         pts = pv.Xdmf3ReaderS(FileName=[points_file])
         balls = pv.Glyph(Input=pts, GlyphType="Sphere")
         balls.ScaleArray = ["POINTS", "diameter"]
