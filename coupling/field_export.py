@@ -290,7 +290,8 @@ def write_xdmf(xdmf, h5_name: str, name: str, topology_type: str, topology_path:
     """XDMF 3 temporal collection over heavy data in the HDF5 file `h5_name` beside `xdmf`.
 
     grids: [{"time", "geometry": HDF5 path of the (n_nodes, 3) node coordinates, "attributes":
-    [(name, "Scalar" | "Vector", HDF5 path, SI unit), ...]}]; all of them point data. Every time
+    [(name, "Scalar" | "Vector", HDF5 path, SI unit[, "Int"]), ...]}] (float64 unless "Int");
+    all of them point data. Every time
     grid carries its own Topology and Geometry items (plain XDMF, no XInclude), so ParaView's XDMF
     readers and meshio.xdmf.TimeSeriesReader both read it; `info` goes into Information elements
     of the Domain. Written by hand: meshio 5.0's TimeSeriesWriter puts the .h5 in the current
@@ -316,14 +317,9 @@ def write_xdmf(xdmf, h5_name: str, name: str, topology_type: str, topology_path:
         item(topo, topology_path, topology_shape, "Int", "8")
         item(ET.SubElement(g, "Geometry", GeometryType="XYZ"), gr["geometry"], (n_nodes, 3))
         ET.SubElement(g, "Time", Value=repr(float(gr["time"])))
-        for aname, atype, apath, unit in gr["attributes"]:
+        for aname, atype, apath, unit, *kind in gr["attributes"]:
             a = ET.SubElement(g, "Attribute", Name=aname, AttributeType=atype, Center="Node", Units=unit)
-            if atype == "Vector":
-                item(a, apath, (n_nodes, 3))
-            elif apath.startswith("int:"):
-                item(a, apath[4:], (n_nodes,), "Int", "8")
-            else:
-                item(a, apath, (n_nodes,))
+            item(a, apath, (n_nodes, 3) if atype == "Vector" else (n_nodes,), *(("Int", "8") if kind else ()))
     ET.indent(root)
     xdmf.write_text('<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
     return xdmf
@@ -391,158 +387,176 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
     displacement_scale: s of "displacement_scaled" (None: auto, module doc).
     Returns {"cage", "points", "json", "notes", "n_frames"} (paths None when not written)."""
     import h5py
+    if displacement_scale is not None and not (displacement_scale > 0 and math.isfinite(displacement_scale)):
+        raise InputError(f"--displacement-scale = {displacement_scale!r} must be a finite number > 0")
+    d = _read_series(run_h5, series, reduced_cage)
+    n = len(d["idx"])
+    rc = d["rc"]
+    size = n * (0 if rc is None else len(rc.vertices)) * 8 * 10     # 10 float64 per node and frame
+    if size > SERIES_MAX_BYTES:
+        raise InputError(f"--series {series}: {n} frames of the {len(rc.vertices):,}-node cage make "
+                         f"{size / 1e9:.1f} GB of files (allowed up to {SERIES_MAX_BYTES / 1e9:g} GB); take "
+                         f"every N-th sample (--series T0:T1:N with N >= {math.ceil(size / SERIES_MAX_BYTES)}) "
+                         f"or a shorter window")
+    inertial = d["balls"] is not None
+    frame = ("bearing frame (x the bearing axis, y and z radial, origin the bearing centre, outer ring "
+             "fixed)") if inertial else "cage body frame (x the cage axis, pocket 0 at +y), cage at rest"
+    meta = {"run": str(d["path"]), "series": series, "frame": frame, "n_frames": n,
+            "samples": [int(k) for k in d["idx"]], "times": [float(x) for x in d["t"]], "notes": d["notes"],
+            "fields": {"von_mises": "Pa", "displacement": "m (elastic, true, frame components)",
+                       "displacement_scaled": "m (displacement times displacement_scale)",
+                       "diameter": "m (balls: D_w; cage centre: 0)", "ball": "1 (ball number 1..Z; 0 = cage centre)"}}
+    rot = np.tile(np.eye(3), (n, 1, 1))
+    if inertial:
+        rot, phi = _placement(d)
+        meta["cage_spin_angle"] = ("estimated from the balls' azimuths (circular mean of each ball's azimuth "
+                                   "about the cage centre minus its pocket's), not recorded by the run")
+        if d["bearing"] is not None:
+            b = d["bearing"]
+            bound = (b.cage.pocket_diameter - b.ball_diameter) / (2.0 * float(np.mean(d["ball_radius"])))
+            meta["cage_spin_angle"] += f"; error bound (D_p - D_w)/(2 r_p) = {math.degrees(bound):.3g} deg"
+        meta["cage_spin_angle_rad"] = [float(p) for p in phi]
+    else:           # the body frame: no rigid motion
+        d["centre"] = np.zeros_like(d["centre"])
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for stale in (SERIES_CAGE, SERIES_POINTS):     # of an earlier series in the same folder
+        (out_dir / stale).unlink(missing_ok=True)
+    paths = {"cage": None, "points": None, "json": out_dir / SERIES_JSON, "notes": d["notes"], "n_frames": n}
+    with h5py.File(out_dir / SERIES_H5, "w") as g:
+        if rc is not None:
+            paths["cage"] = _write_series_cage(g, out_dir, d, rot, displacement_scale, meta)
+        if inertial:
+            paths["points"] = _write_series_points(g, out_dir, d, meta)
+    paths["json"].write_text(json.dumps(meta, indent=1) + "\n")
+    return paths
+
+
+def _read_series(run_h5, series: str, reduced_cage) -> dict:
+    """What the series needs from the run, with a note for each part it did not record."""
+    import h5py
 
     from coupling.report import _check_run, _sample_interval, run_scene
     path = _check_run(run_h5)
-    if displacement_scale is not None and not (displacement_scale > 0 and math.isfinite(displacement_scale)):
-        raise InputError(f"--displacement-scale = {displacement_scale!r} must be a finite number > 0")
     notes = []
     with h5py.File(path, "r") as f:
         out = f["outputs"]
         t = out["time"][...]
         idx = parse_series(series, t, _sample_interval(f, t))
-        has_cage = "cage_modal_coordinates_full" in out
-        has_balls = all(k in out for k in ("ball_axial_position", "ball_radial_position", "ball_azimuth"))
-        has_orbit = "cage_centre" in out and "cage_tilt" in out
-        if has_cage:
-            q_full = out["cage_modal_coordinates_full"][idx, :]
-            vm_rec = out["von_mises_max"][idx] if "von_mises_max" in out else None
-            t_peak = out["von_mises_max_time"][idx] if "von_mises_max_time" in out else t[idx]
+        d = {"path": path, "idx": idx, "t": t[idx], "notes": notes, "rc": None, "balls": None,
+             "bearing": getattr(run_scene(f), "bearing", None)}
+        if "cage_modal_coordinates_full" in out:
+            d["q_full"] = out["cage_modal_coordinates_full"][idx, :]
+            d["vm_rec"] = out["von_mises_max"][idx] if "von_mises_max" in out else None
+            d["t_peak"] = out["von_mises_max_time"][idx] if "von_mises_max_time" in out else t[idx]
             rc_path, rc_hash = _run_cage_file(f, reduced_cage)
         else:
             notes.append("the cage is not written: the run has no /outputs/cage_modal_coordinates_full "
                          "(a flexible-cage run recording \"von_mises\" has it; cage model of this run: "
                          f"{f.attrs.get('cage_model', '?')!r})")
-        if has_balls:
-            xb = out["ball_axial_position"][idx]
-            rb = out["ball_radial_position"][idx]
-            psi = out["ball_azimuth"][idx]
-            balls = np.stack([xb, rb * np.cos(psi), rb * np.sin(psi)], axis=-1)     # (n, Z, 3)
+        if all(k in out for k in ("ball_axial_position", "ball_radial_position", "ball_azimuth")):
+            rb, psi = out["ball_radial_position"][idx], out["ball_azimuth"][idx]
+            d["balls"] = np.stack([out["ball_axial_position"][idx], rb * np.cos(psi), rb * np.sin(psi)], -1)
+            d["ball_radius"] = rb
         else:
             notes.append("the balls are not written and the cage stays in its body frame: the run did not "
                          "record \"kinematics\" (ball positions; the cage's spin angle is estimated from "
                          "them); add it to [output] record of the scene")
-        if has_orbit:
-            centre = out["cage_centre"][idx]
-            tilt = out["cage_tilt"][idx]
+        if "cage_centre" in out and "cage_tilt" in out:
+            d["centre"], d["tilt"], d["orbit"] = out["cage_centre"][idx], out["cage_tilt"][idx], True
         else:
-            centre = np.zeros((len(idx), 3))
-            tilt = np.zeros((len(idx), 2))
-            if has_balls:
+            d["centre"], d["tilt"], d["orbit"] = np.zeros((len(idx), 3)), np.zeros((len(idx), 2)), False
+            if d["balls"] is not None:
                 notes.append("the cage centre is taken at the bearing centre, untilted: the run did not "
                              "record \"cage_orbit\" (cage_centre, cage_tilt); add it to [output] record")
-        scene = run_scene(f)
-    if not has_cage and not has_balls:
+    if "q_full" not in d and d["balls"] is None:
         raise InputError(f"--series: {path} holds neither the cage's modal coordinates nor the balls' "
                          f"positions; " + "; ".join(notes))
-    rc = None
-    hash_note = None
-    if has_cage:
-        rc, hash_note = open_reduced_cage(path, rc_path, rc_hash, q_full.shape[1])
-    inertial = has_balls
-    if not inertial:            # the body frame: no rigid motion
-        centre, tilt = np.zeros_like(centre), np.zeros_like(tilt)
-    frame = ("bearing frame (x the bearing axis, y and z radial, origin the bearing centre, outer ring "
-             "fixed)") if inertial else "cage body frame (x the cage axis, pocket 0 at +y), cage at rest"
-    n = len(idx)
-    Nn = 0 if rc is None else len(rc.vertices)
-    size = n * Nn * 8 * 10
-    if size > SERIES_MAX_BYTES:
-        need = math.ceil(size / SERIES_MAX_BYTES)
-        raise InputError(f"--series {series}: {n} frames of the {Nn:,}-node cage make {size / 1e9:.1f} GB "
-                         f"of files (allowed up to {SERIES_MAX_BYTES / 1e9:g} GB); take every N-th sample "
-                         f"(--series T0:T1:N with N >= {need}) or a shorter window")
-    # rigid placement of the cage per frame (module doc)
-    rot = np.tile(np.eye(3), (n, 1, 1))
-    phi = np.zeros(n)
-    if inertial:
-        Z = balls.shape[1]
-        for i in range(n):
-            if rc is not None:      # the pockets' centres, deformed (interface node translations)
-                P = rc.interface_positions + rc.interface_modes[:, :3, :] @ q_full[i]
-                pa = np.arctan2(P[:, 2], P[:, 1])
-            else:                   # a rigid cage's pocket j at azimuth 2 pi j / Z
-                pa = 2.0 * np.pi * np.arange(Z) / Z
-            A_tilt = _rotation(0.0, tilt[i, 0], tilt[i, 1])
-            phi[i] = cage_spin_angle(balls[i], centre[i], A_tilt, pa)
-            rot[i] = _rotation(phi[i], tilt[i, 0], tilt[i, 1])
-        phi = np.unwrap(phi)
-        bearing = getattr(scene, "bearing", None)
-        phi_bound = None
-        if bearing is not None:
-            phi_bound = (bearing.cage.pocket_diameter - bearing.ball_diameter) / (2.0 * float(np.mean(rb)))
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    h5 = out_dir / SERIES_H5
-    times = t[idx]
-    meta = {"run": str(path), "series": series, "frame": frame, "n_frames": n,
-            "samples": [int(k) for k in idx], "times": [float(x) for x in times], "notes": notes,
-            "fields": {"von_mises": "Pa", "displacement": "m (elastic, true, frame components)",
-                       "displacement_scaled": "m (displacement times displacement_scale)",
-                       "diameter": "m (balls: D_w; cage centre: 0)", "ball": "1 (ball number 1..Z; 0 = cage centre)"}}
-    if inertial:
-        meta["cage_spin_angle"] = ("estimated from the balls' azimuths (circular mean of each ball's "
-                                   "azimuth about the cage centre minus its pocket's), not recorded by the run"
-                                   + (f"; error bound (D_p - D_w)/(2 r_p) = {math.degrees(phi_bound):.3g} deg"
-                                      if phi_bound is not None else ""))
-        meta["cage_spin_angle_rad"] = [float(p) for p in phi]
-    paths = {"cage": None, "points": None, "json": out_dir / SERIES_JSON, "notes": notes, "n_frames": n}
-    with h5py.File(h5, "w") as g:
-        if rc is not None:
-            topo_type, cells = cage_cells(rc)
-            _dataset(g, "cage/topology", cells, "1")
-            umax = max(float(np.linalg.norm(rc.vertex_displacement @ q, axis=1).max()) for q in q_full)
-            outside_d = 2.0 * float(np.hypot(rc.vertices[:, 1], rc.vertices[:, 2]).max())
-            s = float(displacement_scale) if displacement_scale is not None else (
-                nice_scale(SCALE_TARGET * outside_d / umax) if umax > 0 else 1.0)
-            grids = []
-            meta["displacement_scale"] = s
-            meta["displacement_scale_source"] = "--displacement-scale" if displacement_scale is not None else (
-                f"auto: the largest displacement ({umax * 1e6:.4g} µm) drawn as about "
-                f"{SCALE_TARGET:.0%} of the cage's outside diameter ({outside_d * 1e3:.5g} mm)")
-            meta["cage"] = {"file": SERIES_CAGE, "cells": topo_type, "n_nodes": Nn, "n_cells": len(cells),
-                            "reduced_cage_file": str(rc_path), "reduced_cage_hash": hash_note, "frames": []}
-            for i, (q, R) in enumerate(zip(q_full, rot)):
-                vm, u = nodal_field(rc, q)
-                _dataset(g, f"cage/geometry/{i}", centre[i] + rc.vertices @ R.T, "m")
-                _dataset(g, f"cage/von_mises/{i}", vm, "Pa")
-                ui = u @ R.T
-                _dataset(g, f"cage/displacement/{i}", ui, "m")
-                _dataset(g, f"cage/displacement_scaled/{i}", s * ui, "m")
-                grids.append({"time": float(times[i]), "geometry": f"/cage/geometry/{i}", "attributes": [
-                    ("von_mises", "Scalar", f"/cage/von_mises/{i}", "Pa"),
-                    ("displacement_scaled", "Vector", f"/cage/displacement_scaled/{i}", "m"),
-                    ("displacement", "Vector", f"/cage/displacement/{i}", "m")]})
-                meta["cage"]["frames"].append({
-                    "time": float(times[i]), "field_time": float(t_peak[i]),
-                    "field_max_von_mises": float(vm.max()), "field_max_node": int(vm.argmax()),
-                    "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[i])})
-            info = {"frame": frame, "units": "SI (m, Pa)", "displacement_scale": s,
-                    "field_time": "von_mises and displacement at the integrator step with the sample interval's "
-                                  "maximum stress (series.json field_time), placement at the sample time",
-                    "run": str(path)}
-            if inertial:
-                info["cage_spin_angle"] = meta["cage_spin_angle"]
-            paths["cage"] = write_xdmf(out_dir / SERIES_CAGE, h5.name, "cage", topo_type, "/cage/topology",
-                                       cells.shape, Nn, grids, info)
-        if has_balls:
-            Z = balls.shape[1]
-            pts = np.concatenate([balls, centre[:, None, :]], axis=1)        # (n, Z + 1, 3)
-            _dataset(g, "points/topology", np.arange(Z + 1, dtype=np.int64).reshape(-1, 1), "1")
-            dw = getattr(getattr(scene, "bearing", None), "ball_diameter", float("nan"))
-            _dataset(g, "points/diameter", np.r_[np.full(Z, dw), 0.0], "m")
-            _dataset(g, "points/ball", np.r_[np.arange(1, Z + 1), 0].astype(np.int64), "1")
-            grids = []
-            for i in range(n):
-                _dataset(g, f"points/geometry/{i}", pts[i], "m")
-                grids.append({"time": float(times[i]), "geometry": f"/points/geometry/{i}", "attributes": [
-                    ("diameter", "Scalar", "/points/diameter", "m"), ("ball", "Scalar", "int:/points/ball", "1")]})
-            meta["points"] = {"file": SERIES_POINTS, "n_balls": Z,
-                              "cage_centre": "recorded (cage_orbit)" if has_orbit else "not recorded: the bearing centre"}
-            paths["points"] = write_xdmf(out_dir / SERIES_POINTS, h5.name, "balls_and_cage_centre", "Polyvertex",
-                                         "/points/topology", (Z + 1, 1), Z + 1, grids,
-                                         {"frame": frame, "units": "SI (m)",
-                                          "points": f"balls 1..{Z} (ball = number, diameter = D_w), then the cage "
-                                                    f"centre (ball = 0, diameter = 0)", "run": str(path)})
-    paths["json"].write_text(json.dumps(meta, indent=1) + "\n")
-    return paths
+    if "q_full" in d:
+        d["rc"], d["hash_note"] = open_reduced_cage(path, rc_path, rc_hash, d["q_full"].shape[1])
+        d["rc_path"] = str(rc_path)
+    return d
+
+
+def _placement(d) -> tuple[np.ndarray, np.ndarray]:
+    """(A (n, 3, 3), phi (n,) unwrapped) of the cage in the bearing frame at each frame (module
+    doc): the recorded tilt, the spin angle from the balls in the pockets' deformed centres."""
+    n, Z = d["balls"].shape[:2]
+    rc = d["rc"]
+    rot = np.empty((n, 3, 3))
+    phi = np.empty(n)
+    for i in range(n):
+        if rc is not None:      # the pockets' centres, deformed (interface node translations)
+            P = rc.interface_positions + rc.interface_modes[:, :3, :] @ d["q_full"][i]
+            pa = np.arctan2(P[:, 2], P[:, 1])
+        else:                   # a rigid cage's pocket j at azimuth 2 pi j / Z
+            pa = 2.0 * np.pi * np.arange(Z) / Z
+        by, bz = d["tilt"][i]
+        phi[i] = cage_spin_angle(d["balls"][i], d["centre"][i], _rotation(0.0, by, bz), pa)
+        rot[i] = _rotation(phi[i], by, bz)
+    return rot, np.unwrap(phi)
+
+
+def _write_series_cage(g, out_dir: Path, d: dict, rot, displacement_scale, meta) -> Path:
+    """The cage part of write_series: datasets in the open HDF5 file g, series_cage.xdmf."""
+    rc, q_full, centre = d["rc"], d["q_full"], d["centre"]
+    topo_type, cells = cage_cells(rc)
+    _dataset(g, "cage/topology", cells, "1")
+    umax = max(float(np.linalg.norm(rc.vertex_displacement @ q, axis=1).max()) for q in q_full)
+    outside_d = 2.0 * float(np.hypot(rc.vertices[:, 1], rc.vertices[:, 2]).max())
+    if displacement_scale is not None:
+        s, source = float(displacement_scale), "--displacement-scale"
+    else:
+        s = nice_scale(SCALE_TARGET * outside_d / umax) if umax > 0 else 1.0
+        source = (f"auto: the largest displacement ({umax * 1e6:.4g} µm) drawn as about {SCALE_TARGET:.0%} "
+                  f"of the cage's outside diameter ({outside_d * 1e3:.5g} mm)")
+    meta["displacement_scale"], meta["displacement_scale_source"] = s, source
+    meta["cage"] = {"file": SERIES_CAGE, "cells": topo_type, "n_nodes": len(rc.vertices), "n_cells": len(cells),
+                    "reduced_cage_file": d["rc_path"], "reduced_cage_hash": d["hash_note"], "frames": []}
+    grids = []
+    for i, (q, R) in enumerate(zip(q_full, rot)):
+        vm, u = nodal_field(rc, q)
+        u = u @ R.T
+        _dataset(g, f"cage/geometry/{i}", centre[i] + rc.vertices @ R.T, "m")
+        _dataset(g, f"cage/von_mises/{i}", vm, "Pa")
+        _dataset(g, f"cage/displacement/{i}", u, "m")
+        _dataset(g, f"cage/displacement_scaled/{i}", s * u, "m")
+        grids.append({"time": float(d["t"][i]), "geometry": f"/cage/geometry/{i}", "attributes": [
+            ("von_mises", "Scalar", f"/cage/von_mises/{i}", "Pa"),
+            ("displacement_scaled", "Vector", f"/cage/displacement_scaled/{i}", "m"),
+            ("displacement", "Vector", f"/cage/displacement/{i}", "m")]})
+        meta["cage"]["frames"].append({
+            "time": float(d["t"][i]), "field_time": float(d["t_peak"][i]),
+            "field_max_von_mises": float(vm.max()), "field_max_node": int(vm.argmax()),
+            "recorded_von_mises_max": None if d["vm_rec"] is None else float(d["vm_rec"][i])})
+    info = {"frame": meta["frame"], "units": "SI (m, Pa)", "displacement_scale": s,
+            "field_time": "von_mises and displacement at the integrator step with the sample interval's "
+                          "maximum stress (series.json field_time), placement at the sample time",
+            "run": meta["run"]}
+    if "cage_spin_angle" in meta:
+        info["cage_spin_angle"] = meta["cage_spin_angle"]
+    return write_xdmf(out_dir / SERIES_CAGE, SERIES_H5, "cage", topo_type, "/cage/topology", cells.shape,
+                      len(rc.vertices), grids, info)
+
+
+def _write_series_points(g, out_dir: Path, d: dict, meta) -> Path:
+    """The point part of write_series: the balls and the cage centre, series_points.xdmf."""
+    balls, centre = d["balls"], d["centre"]
+    n, Z = balls.shape[:2]
+    pts = np.concatenate([balls, centre[:, None, :]], axis=1)        # (n, Z + 1, 3)
+    _dataset(g, "points/topology", np.arange(Z + 1, dtype=np.int64).reshape(-1, 1), "1")
+    dw = getattr(d["bearing"], "ball_diameter", float("nan"))
+    _dataset(g, "points/diameter", np.r_[np.full(Z, dw), 0.0], "m")
+    _dataset(g, "points/ball", np.r_[np.arange(1, Z + 1), 0].astype(np.int64), "1")
+    grids = []
+    for i in range(n):
+        _dataset(g, f"points/geometry/{i}", pts[i], "m")
+        grids.append({"time": float(d["t"][i]), "geometry": f"/points/geometry/{i}", "attributes": [
+            ("diameter", "Scalar", "/points/diameter", "m"), ("ball", "Scalar", "/points/ball", "1", "Int")]})
+    meta["points"] = {"file": SERIES_POINTS, "n_balls": Z,
+                      "cage_centre": "recorded (cage_orbit)" if d["orbit"] else "not recorded: the bearing centre"}
+    return write_xdmf(out_dir / SERIES_POINTS, SERIES_H5, "balls_and_cage_centre", "Polyvertex",
+                      "/points/topology", (Z + 1, 1), Z + 1, grids,
+                      {"frame": meta["frame"], "units": "SI (m)", "run": meta["run"],
+                       "points": f"balls 1..{Z} (ball = number, diameter = D_w), then the cage centre "
+                                 f"(ball = 0, diameter = 0)"})

@@ -829,14 +829,18 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
             say("report: von Mises XDMF frames and the stress picture")
             xdmf = field_export.write_von_mises_xdmf(path, out_dir, frames, reduced_cage=reduced_cage)
             xdmf_note = f"`{xdmf.name}` (+ `{xdmf.with_suffix('.h5').name}`; frames in `{xdmf.with_suffix('.json').name}`)"
-            from coupling.stress_picture import picture_markdown, write_stress_picture
+        except InputError as exc:
+            xdmf_note = f"not written: {exc}"
+            say(f"report: {xdmf_note}")
+        from coupling.stress_picture import picture_markdown, write_stress_picture
+        try:
             picture, facts = write_stress_picture(path, out_dir, reduced_cage=reduced_cage, settle=settle,
                                                   yield_strength=strength_rows[0]["yield_strength"]
                                                   if strength_rows else None)
             picture_md = picture_markdown(picture, facts)
         except InputError as exc:
-            xdmf_note = f"not written: {exc}"
-            say(f"report: {xdmf_note}")
+            picture_md = ["## Cage von Mises stress at the run's maximum", "", f"Not drawn: {exc}", ""]
+            say(f"report: stress picture not drawn: {exc}")
     keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
     md = [f"# Run report: {name}", "",
           f"- results file: `{path}` (status: {status}, cage: {cage}, "

@@ -125,43 +125,55 @@ def peak_sample(run_h5, settle: float = 0.0):
                 str(f.attrs.get("reduced_cage_hash", "")))
 
 
+def cage_skin(rc) -> dict:
+    """The reduced cage's boundary faces sorted for the picture (module doc): {"faces" (F, 6|3),
+    "outside", "bore", "wall" (F,) bool, "pocket" (F,) the nearest pocket by azimuth (0-based),
+    "pocket_azimuth" (Z,) rad}. A face is on a pocket wall when its outward normal points towards
+    that pocket's axis (n . (-rho_hat) > 1/2, rho the face centre's offset from the axis in the
+    plane normal to it) and, when the file's geometry gives the pocket diameter, rho < 0.55 D_p
+    (so a relief groove's wall near a pocket is not taken for it)."""
+    X = np.asarray(rc.vertices, dtype=np.float64)
+    faces = boundary_faces(rc.tets10 if rc.tets10 is not None else rc.tets, X)
+    nrm = face_normals(faces, X)
+    cen = X[faces[:, :3]].mean(axis=1)
+    theta_c = np.arctan2(cen[:, 2], cen[:, 1])
+    n_r = nrm[:, 1] * np.cos(theta_c) + nrm[:, 2] * np.sin(theta_c)
+    pa = np.arctan2(rc.interface_positions[:, 2], rc.interface_positions[:, 1])
+    Z = len(pa)
+    j = np.mod(np.rint((theta_c - pa[0]) / (2.0 * math.pi / Z)).astype(int), Z)
+    tj = pa[j]
+    t_off = -cen[:, 1] * np.sin(tj) + cen[:, 2] * np.cos(tj)
+    rho = np.hypot(cen[:, 0], t_off)
+    n_t = -nrm[:, 1] * np.sin(tj) + nrm[:, 2] * np.cos(tj)
+    wall = -(nrm[:, 0] * cen[:, 0] + n_t * t_off) / np.maximum(rho, 1e-30) > 0.5
+    params = rc.attrs.get("parameters")
+    geom = params.get("geometry", {}) if isinstance(params, dict) else {}
+    if "pocket_diameter" in geom:
+        wall &= rho < 0.55 * geom["pocket_diameter"]
+    return {"faces": faces, "outside": (n_r > 0.5) & ~wall, "bore": (n_r < -0.5) & ~wall, "wall": wall,
+            "pocket": j, "pocket_azimuth": pa}
+
+
 def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0,
                          yield_strength: float | None = None) -> tuple[Path, dict]:
-    """<out_dir>/von_mises_peak.png (module doc) and its facts: {"time", "sample", "von_mises_max",
-    "recorded_von_mises_max", "node", "position" (m, body frame), "azimuth_deg", "radius",
-    "surface", "pocket"}. yield_strength (Pa): marked on the colour bar when the field reaches it."""
+    """<out_dir>/von_mises_peak.png (module doc) and its facts (von_mises_peak.json): {"time",
+    "sample", "von_mises_max", "recorded_von_mises_max", "node", "recorded_node", "position" (m,
+    body frame), "azimuth_deg", "radius", "surface", "hottest_pocket"}. yield_strength (Pa):
+    marked on the colour bar when the field reaches it."""
     from coupling.field_export import nodal_field, open_reduced_cage
     from coupling.report import _style
     k, tk, vm_rec, node_rec, q, rc_path, rc_hash = peak_sample(run_h5, settle)
     rc, _ = open_reduced_cage(run_h5, reduced_cage or rc_path, rc_hash, len(q))
     vm, _ = nodal_field(rc, q)
     X = np.asarray(rc.vertices, dtype=np.float64)
-    cells = rc.tets10 if rc.tets10 is not None else rc.tets
-    faces = boundary_faces(cells, X)
-    nrm = face_normals(faces, X)
-    cen = X[faces[:, :3]].mean(axis=1)
-    theta_c = np.arctan2(cen[:, 2], cen[:, 1])
-    n_r = nrm[:, 1] * np.cos(theta_c) + nrm[:, 2] * np.sin(theta_c)
-    params = rc.attrs.get("parameters")
-    geom = params.get("geometry", {}) if isinstance(params, dict) else {}
-    pa = np.arctan2(rc.interface_positions[:, 2], rc.interface_positions[:, 1])
+    skin = cage_skin(rc)
+    faces, wall, j, pa = skin["faces"], skin["wall"], skin["pocket"], skin["pocket_azimuth"]
+    groups = {"outside": skin["outside"], "bore": skin["bore"]}
     Z = len(pa)
     pitch = 2.0 * math.pi / Z
     theta0 = -0.5 * pitch
     theta = np.degrees(np.mod(np.arctan2(X[:, 2], X[:, 1]) - theta0, 2 * math.pi) + theta0)
     r = np.hypot(X[:, 1], X[:, 2])
-    # pocket walls: each face to its nearest pocket by azimuth; wall = normal towards that
-    # pocket's axis (within the pocket's radius when the geometry is known)
-    j = np.mod(np.rint((theta_c - pa[0]) / pitch).astype(int), Z)
-    tj = pa[j]
-    t_off = -cen[:, 1] * np.sin(tj) + cen[:, 2] * np.cos(tj)
-    rho = np.hypot(cen[:, 0], t_off)
-    n_t = -nrm[:, 1] * np.sin(tj) + nrm[:, 2] * np.cos(tj)
-    inward = -(nrm[:, 0] * cen[:, 0] + n_t * t_off) / np.maximum(rho, 1e-30)
-    wall = inward > 0.5
-    if "pocket_diameter" in geom:
-        wall &= rho < 0.55 * geom["pocket_diameter"]
-    groups = {"outside": (n_r > 0.5) & ~wall, "bore": (n_r < -0.5) & ~wall}
     wall_nodes = [np.unique(faces[wall & (j == p)]) for p in range(Z)]
     hot = int(np.argmax([vm[w].max() if w.size else -1.0 for w in wall_nodes]))
     n_max = int(np.argmax(vm))

@@ -171,6 +171,47 @@ def test_boundary_faces_of_a_cube_are_its_outward_skin(quadratic):
             assert np.allclose(X[faces[:, m]], 0.5 * (X[faces[:, i]] + X[faces[:, j]]), atol=0)
 
 
+def test_cage_skin_matches_the_mesh_tags():
+    """On the default cage mesh (gmsh, curved 10-node tetrahedra) of the nominal geometry, the
+    boundary faces found from the cells alone are the mesh's tagged facets (their corner sets),
+    outward: (1/3)∮ x·n dA over the corner triangles equals the volume of the corner tetrahedra
+    (the same polyhedron; 1e-12 relative); and the picture's classes agree with the tags: each
+    pocket's wall = its facets "pocket_k", the guide surface within "outside", the bore within
+    "bore" (mesh.cage_mesh physical groups, an independent labelling by gmsh's geometry)."""
+    from types import SimpleNamespace
+
+    import meshio
+
+    from coupling.stress_picture import cage_skin
+    from mesh import cage_mesh
+    from mesh.cage_geometry import CageGeometry
+    g = CageGeometry()
+    msh = meshio.read(cage_mesh.cached_cage_mesh(g))
+    X = msh.points
+    tets10 = np.vstack([c.data for c in msh.cells if c.type == "tetra10"])
+    tags = {}
+    for c, tag in zip(msh.cells, msh.cell_data["gmsh:physical"]):
+        if c.type == "triangle6":
+            for corners, t in zip(np.sort(c.data[:, :3], axis=1), tag):
+                tags[tuple(corners)] = int(t)
+    az = 2 * np.pi * np.arange(g.n_pockets) / g.n_pockets
+    rc = SimpleNamespace(vertices=X, tets10=tets10, tets=tets10[:, :4], attrs={"parameters": {"geometry": g.to_dict()}},
+                         interface_positions=np.stack([0 * az, g.mean_radius * np.cos(az), g.mean_radius * np.sin(az)], 1))
+    skin = cage_skin(rc)
+    faces = skin["faces"]
+    keys = [tuple(k) for k in np.sort(faces[:, :3], axis=1)]
+    assert sorted(keys) == sorted(tags)
+    a, b, c = (X[faces[:, i]] for i in range(3))
+    flux = np.einsum("ij,ij->", (a + b + c) / 3, 0.5 * np.cross(b - a, c - a)) / 3
+    t = X[tets10[:, :4]]
+    volume = np.abs(np.einsum("ij,ij->i", t[:, 1] - t[:, 0], np.cross(t[:, 2] - t[:, 0], t[:, 3] - t[:, 0]))).sum() / 6
+    assert flux == pytest.approx(volume, rel=1e-12)
+    tag = np.array([tags[k] for k in keys])
+    for k in range(g.n_pockets):
+        assert np.array_equal(skin["wall"] & (skin["pocket"] == k), tag == cage_mesh.pocket_tag(k))
+    assert np.all(skin["outside"][tag == cage_mesh.TAG_GUIDE]) and np.all(skin["bore"][tag == cage_mesh.TAG_BORE])
+
+
 def test_cage_spin_angle_from_the_balls():
     """Balls on their pockets' axes: phi recovered to round-off at any tilt and centre; balls
     moved tangentially in their pockets by up to c: |error| <= c / R (the module's bound)."""
