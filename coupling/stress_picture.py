@@ -254,7 +254,7 @@ def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     png = out_dir / PICTURE
-    fig.savefig(png)
+    fig.savefig(png, dpi=120)       # the Gouraud panels are raster: 150 dpi doubles the page weight
     plt.close(fig)
     png.with_suffix(".json").write_text(json.dumps(facts, indent=1) + "\n")
     return png, facts
