@@ -1,6 +1,7 @@
 """`flexbearing report`: time-history plots, per-phase tables and the cage's von Mises field of a run.
 
-    flexbearing report RUN.h5 [--compare OTHER.h5] [-o DIR] [--frames auto|t1,t2,...] [--quiet]
+    flexbearing report RUN.h5 [--compare OTHER.h5] [-o DIR] [--frames auto|t1,t2,...]
+                              [--series T0:T1[:N]] [--displacement-scale S] [--quiet]
 
 Everything is read from the run's results file (coupling.results): the SI datasets under
 /outputs, their `unit` attributes, and the scene's TOML text under /scene, which gives the phases
@@ -64,15 +65,9 @@ dissipative source takes (traction and rolling resistance at the outer and inner
 damping, pockets, churning, guide land, cage structural damping), the drive and external-load
 power, the rate of change of the mechanical energy and the residual of the energy balance.
 
-The ParaView series (write_von_mises_xdmf) rebuilds the cage's stress field at chosen instants
-from the recorded modal coordinates in the full basis of the reduced cage file
-(fem_cage.reduced_cage):
-
-    sigma(x_v, t) = S_v q(t)      (S_v: (6, M) Voigt xx yy zz yz xz xy, Pa per unit q)
-    u(x_v, t)     = Phi_v q(t)    (Phi_v: (3, M), m per unit q)
-    sigma_vM      = sqrt(1/2[(sxx-syy)^2 + (syy-szz)^2 + (szz-sxx)^2] + 3(syz^2 + sxz^2 + sxy^2))
-
-(von Mises 1913), on the P1 tetrahedra of the file's mesh, one XDMF grid per frame.
+The cage's stress field (flexible cage): rebuilt from the recorded modal coordinates at every mesh
+node, for ParaView at the peaks and, with --series, over a window with the balls
+(coupling.field_export), and as a picture at the run's maximum (coupling.stress_picture).
 """
 from __future__ import annotations
 
@@ -736,190 +731,6 @@ def write_plots(run_h5, out_dir, compare=None) -> list[Path]:
     return written
 
 
-# ---------------------------------------------------------------- von Mises field for ParaView
-
-def von_mises(sigma: np.ndarray) -> np.ndarray:
-    """sigma_vM of Voigt stresses (..., 6) = (xx, yy, zz, yz, xz, xy) (von Mises 1913):
-    sqrt(1/2[(sxx-syy)^2 + (syy-szz)^2 + (szz-sxx)^2] + 3(syz^2 + sxz^2 + sxy^2))."""
-    s = np.asarray(sigma)
-    xx, yy, zz, yz, xz, xy = (s[..., i] for i in range(6))
-    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2) + 3.0 * (yz ** 2 + xz ** 2 + xy ** 2))
-
-
-def auto_frames(t: np.ndarray, vm: np.ndarray, phases: list[dict], impacts: list[dict],
-                dt: float) -> list[tuple[int, str]]:
-    """Sample indices of the default frames with the reason: the instant of maximum von Mises in
-    each impact window (the impact's stress peak) and in each phase of the speed profile outside
-    the impact windows (the phase's own running peak, which an impact would otherwise hide); the
-    whole run's maximum when the scene has neither. Sorted by time, duplicates merged."""
-    picks: dict[int, list[str]] = {}
-    ok = np.isfinite(vm)
-    in_impact = np.zeros(len(t), bool)
-    for imp in impacts:
-        in_impact |= window_mask(t, imp["t_start"], imp["t_end"], True, dt)
-    windows = []
-    for i, ph in enumerate(phases):
-        m = window_mask(t, ph["t_start"], ph["t_end"], i == len(phases) - 1, dt) & ok
-        outside = m & ~in_impact
-        windows.append((f"{ph['label']}" + (" (outside impacts)" if outside.any() and
-                                            outside.sum() < m.sum() else ""), outside if outside.any() else m))
-    for imp in impacts:
-        windows.append((imp["label"], window_mask(t, imp["t_start"], imp["t_end"], True, dt) & ok))
-    if not windows:
-        windows = [("whole run", ok)]
-    for label, m in windows:
-        idx = np.flatnonzero(m)
-        if idx.size:
-            k = int(idx[np.argmax(vm[idx])])
-            picks.setdefault(k, []).append(f"max von Mises in {label}")
-    return [(k, "; ".join(picks[k])) for k in sorted(picks)]
-
-
-def _parse_frames(frames, t: np.ndarray, dt: float):
-    """'auto' | 't1,t2,...' | sequence of floats -> None (auto) or sorted unique sample indices."""
-    if frames is None or (isinstance(frames, str) and frames.strip() == "auto"):
-        return None
-    if isinstance(frames, str):
-        try:
-            times = [float(s) for s in frames.split(",") if s.strip()]
-        except ValueError:
-            raise InputError(f"--frames = {frames!r} must be 'auto' or times in s separated by "
-                             f"commas, e.g. 0.1,0.3") from None
-    else:
-        times = [float(x) for x in frames]
-    if not times:
-        raise InputError(f"--frames = {frames!r} lists no time (give 'auto' or t1,t2,... in s)")
-    out = []
-    for x in times:
-        if not (t[0] - 0.5 * dt <= x <= t[-1] + 0.5 * dt):
-            raise InputError(f"--frames: t = {x:g} s is outside the run (allowed range "
-                             f"[{t[0]:g}, {t[-1]:g}] s)")
-        out.append(int(np.argmin(np.abs(t - x))))
-    return sorted(set(out))
-
-
-def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> Path:
-    """ParaView series of the cage's von Mises field: <out_dir>/von_mises.xdmf (+ .h5, + .json).
-
-    P1 tetrahedra of the reduced cage file's mesh; point data "von_mises" (Pa) and
-    "displacement" (m, elastic deformation in the cage's body frame) rebuilt from the recorded
-    modal coordinates (module doc); one grid per frame, time value = the time of the integrator
-    step with the interval's maximum stress (von_mises_max_time; the sample time for older runs).
-    frames: "auto" (auto_frames: each impact's peak and each phase's peak outside the impacts),
-    "t1,t2,..." or a list of times in s (nearest samples).
-    reduced_cage: path of the reduced cage file (default: the run's attribute reduced_cage_file).
-    The JSON sidecar lists each frame's time, reason, the recorded max von Mises and the field's
-    maximum over the vertices (they agree when the run's evaluator used the same nodal modes)."""
-    import h5py
-
-    from fem_cage.reduced_cage import file_sha256, read
-    path = _check_run(run_h5)
-    with h5py.File(path, "r") as f:
-        out = f["outputs"]
-        if "cage_modal_coordinates_full" not in out:
-            raise InputError(f"{path}: no /outputs/cage_modal_coordinates_full (a flexible-cage run "
-                             f"recording von_mises has it; cage model of this run: "
-                             f"{f.attrs.get('cage_model', '?')!r})")
-        t = out["time"][...]
-        vm_rec = out["von_mises_max"][...] if "von_mises_max" in out else None
-        vtx_rec = out["von_mises_max_vertex"][...] if "von_mises_max_vertex" in out else None
-        # the step of the sample interval where the maximum occurred (runs since the per-step
-        # monitor): its modal coordinates are what cage_modal_coordinates_full holds
-        t_peak = out["von_mises_max_time"][...] if "von_mises_max_time" in out else None
-        rc_path = reduced_cage or f.attrs.get("reduced_cage_file")
-        rc_hash = str(f.attrs.get("reduced_cage_hash", ""))
-        scene = run_scene(f)
-        dt = _sample_interval(f, t)
-        idx = _parse_frames(frames, t, dt)
-        reasons = {}
-        if idx is None:
-            if vm_rec is None:
-                raise InputError(f"--frames auto needs /outputs/von_mises_max in {path}; give times "
-                                 f"instead (--frames t1,t2,...)")
-            picks = auto_frames(t, vm_rec, speed_phases(scene) if scene else [],
-                                impact_windows(scene) if scene else [], dt)
-            idx = [k for k, _ in picks]
-            reasons = dict(picks)
-        q_full = out["cage_modal_coordinates_full"][idx, :] if idx else np.zeros((0, 0))
-    if rc_path is None or not Path(str(rc_path)).is_file():
-        raise InputError(f"reduced cage file {rc_path!r} of {path} not found (pass its path: "
-                         f"flexbearing report ... --reduced-cage FILE)")
-    rc = read(rc_path)
-    hash_note = "not recorded"
-    if rc_hash:
-        known = {str(rc.attrs.get("content_hash", "")), file_sha256(rc_path)}
-        hash_note = "matches" if any(h and (h == rc_hash or h.startswith(rc_hash) or rc_hash.startswith(h))
-                                     for h in known) else f"MISMATCH (run: {rc_hash})"
-    M = rc.stress_modes.shape[2]
-    if q_full.shape[1] != M:
-        raise InputError(f"{path}: cage_modal_coordinates_full has {q_full.shape[1]} modes, the reduced "
-                         f"cage file {rc_path} has {M} (allowed: equal); wrong reduced cage file?")
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    xdmf = out_dir / "von_mises.xdmf"
-    meta = {"run": str(path), "reduced_cage_file": str(rc_path), "reduced_cage_hash": hash_note,
-            "fields": {"von_mises": "Pa", "displacement": "m (elastic, cage body frame)"}, "frames": []}
-    fields = []
-    for k, q in zip(idx, q_full):
-        sigma = rc.stress_modes @ q                 # (Nv, 6) Pa
-        vm = von_mises(sigma)
-        tk = float(t[k]) if t_peak is None or not np.isfinite(t_peak[k]) else float(t_peak[k])
-        fields.append((tk, vm, rc.vertex_displacement @ q))   # u: (Nv, 3) m
-        meta["frames"].append({"time": tk, "sample": int(k), "sample_time": float(t[k]),
-                               "reason": reasons.get(k, "requested"),
-                               "field_max_von_mises": float(vm.max()), "field_max_vertex": int(vm.argmax()),
-                               "recorded_von_mises_max": None if vm_rec is None else float(vm_rec[k]),
-                               "recorded_max_vertex": None if vtx_rec is None else int(vtx_rec[k])})
-    write_xdmf_series(xdmf, rc.vertices, rc.tets, fields)
-    xdmf.with_suffix(".json").write_text(json.dumps(meta, indent=1) + "\n")
-    return xdmf
-
-
-def write_xdmf_series(xdmf, vertices, tets, frames) -> Path:
-    """XDMF 3 temporal collection of P1 tetrahedra with point data, heavy data in <stem>.h5 beside it.
-
-    frames: [(t, von_mises (Nv,), displacement (Nv, 3)), ...]. Every time grid carries its own
-    Topology/Geometry items pointing at the same /mesh datasets (plain XDMF, no XInclude), so
-    ParaView (Xdmf3 reader) and meshio.xdmf.TimeSeriesReader both read it. Written by hand: meshio
-    5.0's TimeSeriesWriter puts the .h5 in the current directory instead of beside the .xdmf."""
-    import xml.etree.ElementTree as ET
-
-    import h5py
-    xdmf = Path(xdmf)
-    h5 = xdmf.with_suffix(".h5")
-    vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-    tets = np.ascontiguousarray(tets, dtype=np.int64)
-    with h5py.File(h5, "w") as f:
-        f["mesh/geometry"] = vertices
-        f["mesh/topology"] = tets
-        f["time"] = np.array([fr[0] for fr in frames], dtype=np.float64)
-        for i, (_, vm, u) in enumerate(frames):
-            f[f"von_mises/{i}"] = np.asarray(vm, dtype=np.float64)
-            f[f"displacement/{i}"] = np.asarray(u, dtype=np.float64)
-
-    def item(parent, path, shape, dtype="Float", precision="8"):
-        d = ET.SubElement(parent, "DataItem", DataType=dtype, Dimensions=" ".join(map(str, shape)),
-                          Format="HDF", Precision=precision)
-        d.text = f"{h5.name}:{path}"
-
-    root = ET.Element("Xdmf", Version="3.0")
-    coll = ET.SubElement(ET.SubElement(root, "Domain"), "Grid", Name="cage_von_mises",
-                         GridType="Collection", CollectionType="Temporal")
-    for i, (t, _, _) in enumerate(frames):
-        g = ET.SubElement(coll, "Grid", Name=f"t={t:.6g}", GridType="Uniform")
-        topo = ET.SubElement(g, "Topology", TopologyType="Tetrahedron", NumberOfElements=str(len(tets)))
-        item(topo, "/mesh/topology", tets.shape, "Int", "8")
-        item(ET.SubElement(g, "Geometry", GeometryType="XYZ"), "/mesh/geometry", vertices.shape)
-        ET.SubElement(g, "Time", Value=repr(float(t)))
-        item(ET.SubElement(g, "Attribute", Name="von_mises", AttributeType="Scalar", Center="Node"),
-             f"/von_mises/{i}", (len(vertices),))
-        item(ET.SubElement(g, "Attribute", Name="displacement", AttributeType="Vector", Center="Node"),
-             f"/displacement/{i}", (len(vertices), 3))
-    ET.indent(root)
-    xdmf.write_text('<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
-    return xdmf
-
-
 # ---------------------------------------------------------------- report.md
 
 def _fmt(v, scale: float) -> str:
@@ -971,16 +782,27 @@ def _col_name(row: dict) -> str:
 
 
 def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
-                 quiet: bool = True, settle: float = 0.0) -> dict:
+                 quiet: bool = True, settle: float = 0.0, series: str | None = None,
+                 displacement_scale: float | None = None) -> dict:
     """Plots, the per-phase table (report.md, report.json), the same as one self-contained page
-    with the plots embedded (report.html, coupling.html_page) and, for a flexible-cage run, the von
-    Mises XDMF series. Returns {"report", "html", "json", "plots", "xdmf"} paths (xdmf None if not
-    written)."""
+    with the plots embedded (report.html, coupling.html_page) and, for a flexible-cage run, the
+    picture of the cage's stress field at the run's maximum and the von Mises XDMF frames; with
+    `series` ("T0:T1[:N]") the ParaView time series of that window (coupling.field_export.
+    write_series, written first: a bad window stops the report). Returns {"report", "html",
+    "json", "plots", "xdmf", "stress_picture", "series"} (None where not written)."""
     import h5py
+
+    from coupling import field_export
     path = _check_run(run_h5)
     cmp_path = _check_run(compare) if compare is not None else None
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    series_out = None
+    if series is not None:
+        say(f"report: ParaView series {series} of {path.name}")
+        series_out = field_export.write_series(path, out_dir, series, reduced_cage=reduced_cage,
+                                               displacement_scale=displacement_scale)
     run = _read_run(path)
     rows = _phase_rows(*run, True, settle)
     cmp_rows = phase_table(cmp_path, settle=settle) if cmp_path else None
@@ -988,7 +810,6 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     motion_rows = _cage_motion_rows(*_read_motion(path), True, settle)
     power_rows = _power_rows(*_read_power(path), True, settle)
     strength_rows = cage_strength_rows(*run, True, settle)
-    say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"report: plots of {path.name} -> {out_dir}")
     plots = write_plots(path, out_dir, compare=cmp_path)
     orbit_png = write_orbit_plot(path, out_dir, settle=settle) if motion_rows else None
@@ -1002,14 +823,24 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         with h5py.File(cmp_path, "r") as f:
             cmp_name = str(f.attrs.get("scene_name", cmp_path.stem))
     xdmf, xdmf_note = None, "not written: the run has no flexible-cage modal coordinates (rigid cage)."
+    picture, picture_md = None, []
     if flexible:
         try:
-            say("report: von Mises XDMF series")
-            xdmf = write_von_mises_xdmf(path, out_dir, frames, reduced_cage=reduced_cage)
+            say("report: von Mises XDMF frames and the stress picture")
+            xdmf = field_export.write_von_mises_xdmf(path, out_dir, frames, reduced_cage=reduced_cage)
             xdmf_note = f"`{xdmf.name}` (+ `{xdmf.with_suffix('.h5').name}`; frames in `{xdmf.with_suffix('.json').name}`)"
         except InputError as exc:
             xdmf_note = f"not written: {exc}"
             say(f"report: {xdmf_note}")
+        from coupling.stress_picture import picture_markdown, write_stress_picture
+        try:
+            picture, facts = write_stress_picture(path, out_dir, reduced_cage=reduced_cage, settle=settle,
+                                                  yield_strength=strength_rows[0]["yield_strength"]
+                                                  if strength_rows else None)
+            picture_md = picture_markdown(picture, facts)
+        except InputError as exc:
+            picture_md = ["## Cage von Mises stress at the run's maximum", "", f"Not drawn: {exc}", ""]
+            say(f"report: stress picture not drawn: {exc}")
     keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
     md = [f"# Run report: {name}", "",
           f"- results file: `{path}` (status: {status}, cage: {cage}, "
@@ -1098,7 +929,9 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     if orbit_png is not None:
         plots = plots + [orbit_png]
     md += ["## Plots", ""] + [f"![{p.stem}]({p.name})" for p in plots] + [""]
-    md += ["## Cage von Mises field (ParaView)", "", xdmf_note, ""]
+    md += picture_md
+    md += ["## Cage von Mises field (ParaView)", "", f"Frames at the peaks: {xdmf_note}", "",
+           field_export.series_markdown(series_out, series), ""]
     report = out_dir / "report.md"
     report.write_text("\n".join(md))
     from coupling.html_page import write_html
@@ -1109,7 +942,8 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         "compare_phases": cmp_rows, "impact_amplification": amplification, "cage_motion": motion_rows,
         "power_loss": power_rows, "cage_strength": strength_rows}, indent=1, allow_nan=False,
         default=float) + "\n")
-    return {"report": report, "html": page, "json": js, "plots": plots, "xdmf": xdmf}
+    return {"report": report, "html": page, "json": js, "plots": plots, "xdmf": xdmf,
+            "stress_picture": picture, "series": series_out}
 
 
 def _impact_amplification(t, arrays, scene, dt) -> list[dict]:
@@ -1158,14 +992,27 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("report", help="plots, per-phase tables and the cage's von Mises field of a run",
                               description="Report of a run: one PNG per quantity and an overview, "
                                           "report.md/report.json with peak, p99 and mean per phase of the "
-                                          "speed profile and per impact, and (flexible cage) a ParaView "
-                                          "XDMF series of the cage's von Mises field.")
+                                          "speed profile and per impact, and (flexible cage) a picture of the "
+                                          "cage's von Mises field at the run's maximum and ParaView XDMF "
+                                          "files of it (10-node tetrahedra, every node drawn): the peaks "
+                                          "(--frames) and a time series with the balls (--series). "
+                                          "Headless check and screenshot: xvfb-run -a pvpython "
+                                          "docs/paraview_open.py DIR (README).")
     p.add_argument("run", help="results file of `flexbearing run` (.h5)")
     p.add_argument("--compare", metavar="OTHER.h5", help="overlay and tabulate another run beside it "
                                                          "(e.g. the steady scene)")
     p.add_argument("-o", "--output", metavar="DIR", help="output folder (default: <run>_report beside the run)")
     p.add_argument("--frames", default="auto", help="von Mises frames: auto (max in each phase and each "
                                                    "impact) or times in s, e.g. 0.1,0.3")
+    p.add_argument("--series", metavar="T0:T1[:N]",
+                   help="ParaView time series of the window T0..T1 s at every N-th sample (default every "
+                        "one): the cage placed and deformed, coloured by von Mises (series_cage.xdmf), "
+                        "and the balls and the cage centre (series_points.xdmf); needs a flexible-cage "
+                        "run for the cage and the scene output \"kinematics\" for the balls")
+    p.add_argument("--displacement-scale", type=float, metavar="S",
+                   help="magnification of the series' displacement_scaled field (Warp By Vector at scale "
+                        "1 then draws the cage S times deformed; default: the largest displacement drawn "
+                        "as about 1%% of the cage's outside diameter)")
     p.add_argument("--settle", type=float, default=0.0, metavar="S",
                    help="leave samples before t = S seconds (start-up transient) out of the tables")
     p.add_argument("--reduced-cage", metavar="FILE", help="reduced cage file (default: the one the run names)")
@@ -1177,11 +1024,20 @@ def cmd_report(args) -> int:
     run = Path(args.run)
     out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
-                       reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle)
+                       reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle,
+                       series=args.series, displacement_scale=args.displacement_scale)
     if not args.quiet:
         print_table(json.loads(res["json"].read_text())["phases"])
     print(f"report: {res['report']} (and {res['html'].name}, plots embedded)")
     print(f"plots:  {len(res['plots'])} PNG in {out_dir}")
+    if res["stress_picture"]:
+        print(f"stress: {res['stress_picture']}")
     if res["xdmf"]:
         print(f"xdmf:   {res['xdmf']}")
+    if res["series"]:
+        for key in ("cage", "points"):
+            if res["series"][key]:
+                print(f"series: {res['series'][key]} ({res['series']['n_frames']} frames)")
+        for note in res["series"]["notes"]:
+            print(f"series: {note}")
     return 0

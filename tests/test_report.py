@@ -27,7 +27,7 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling import report
+from coupling import field_export, report
 from coupling.results import ResultsWriter
 from coupling.scene import loads_scene
 from mesh.validation import InputError
@@ -291,7 +291,7 @@ def _vm_by_deviator(voigt):
 def test_von_mises_xdmf_reads_back_with_meshio(tmp_path):
     import meshio
     run, S, Phi, q, vm_rec = _fake_flexible_run(tmp_path)
-    xdmf = report.write_von_mises_xdmf(run, tmp_path / "rep", "auto")
+    xdmf = field_export.write_von_mises_xdmf(run, tmp_path / "rep", "auto")
     t = np.arange(601) * DT
     # auto frames: the max of the recorded von Mises in the impact window [0.29, 0.31] s and in
     # each phase outside it (the uniform phase 0.2-0.4 s without samples 290..310)
@@ -319,15 +319,15 @@ def test_von_mises_xdmf_reads_back_with_meshio(tmp_path):
 def test_von_mises_xdmf_explicit_frames_and_bad_frames(tmp_path):
     import meshio
     run, S, Phi, q, _ = _fake_flexible_run(tmp_path)
-    xdmf = report.write_von_mises_xdmf(run, tmp_path / "rep", "0.1, 0.3004")   # nearest samples 100, 300
+    xdmf = field_export.write_von_mises_xdmf(run, tmp_path / "rep", "0.1, 0.3004")   # nearest samples 100, 300
     with meshio.xdmf.TimeSeriesReader(str(xdmf)) as r:
         r.read_points_cells()
         times = [r.read_data(i)[0] for i in range(r.num_steps)]
     assert times == pytest.approx([0.1, 0.3], abs=1e-12)
     with pytest.raises(InputError, match=r"outside the run \(allowed range \[0, 0.6\] s\)"):
-        report.write_von_mises_xdmf(run, tmp_path / "rep", "0.7")
+        field_export.write_von_mises_xdmf(run, tmp_path / "rep", "0.7")
     with pytest.raises(InputError, match="--frames"):
-        report.write_von_mises_xdmf(run, tmp_path / "rep", "first")
+        field_export.write_von_mises_xdmf(run, tmp_path / "rep", "first")
 
 
 def test_report_command_end_to_end(tmp_path):
