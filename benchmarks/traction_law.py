@@ -1,9 +1,9 @@
 """The EHL film-shear traction law against the paper's 4106 fit (issue 25): curves, cost, attitude.
 
 Run: nice -n 5 .venv/bin/python benchmarks/traction_law.py [--skip-attitude]
-Writes benchmarks/results/traction_law.json and traction_law_curves.png (mu(s) at the slip-rate
+Writes benchmarks/results/traction_law.json, traction_law_curves.png (mu(s) at the slip-rate
 test's contacts, cases 1 and 6 at the validation oil state, and at the paper's steady scene, the
-fit beside each), and prints:
+fit beside each) and traction_law_sweep.png (the no-dead-zone sweep), and prints:
 * the contacts' conditions (load, p0, rolling speed, film) and each curve's slope at s = 0, its
   maximum and the slip where it is reached;
 * the cost of the traction of one contact (8 slices) inside a compiled loop, and of one call of
@@ -185,6 +185,48 @@ def plot(rows, path):
     fig.savefig(path, dpi=110)
 
 
+def sweep(path):
+    """The no-dead-zone sweep of tests/test_traction_ehl.py (loads 30–8000 N, UR 1–60 m/s, oil
+    20–200 °C, outer and inner race of the paper bearing): slope at s = 0, slip of the maximum and
+    the maximum, and a figure of the curves."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from multibody.hertz import effective_modulus, race_curvature_radii
+    e_eff = effective_modulus(210e9, 0.3, 210e9, 0.3)
+    temps, loads, speeds = (20.0, 100.0, 200.0), (30.0, 200.0, 1500.0, 8000.0), (1.0, 10.0, 60.0)
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.5), sharey=True)
+    rows = []
+    for ax, tc in zip(axes, temps):
+        oil = replace(PAPER_OIL, temperature_c=tc)
+        tab = T.ehl_traction_table(oil.viscosity_temperature_coeff)
+        for inner in (False, True):
+            rx, ry = race_curvature_radii(0.022, 0.167, 0.52 if inner else 0.515, math.radians(35.0 if inner else 20.0), inner)
+            for q in loads:
+                for ur in speeds:
+                    mu = T.ehl_traction_curve(SLIPS, q, rx, ry, e_eff, ur, oil, tab)
+                    k = int(np.argmax(mu))
+                    rows.append({"oil_C": tc, "inner": inner, "Q_N": q, "UR_m_s": ur, "slope_at_0": float(mu[1] / SLIPS[1]),
+                                 "s_at_max": float(SLIPS[k]), "max": float(mu[k]),
+                                 "monotone_to_max": bool(np.all(np.diff(mu[:k + 1]) > 0.0))})
+                    if not inner:
+                        ax.semilogx(SLIPS[1:], mu[1:], lw=1, color=f"C{loads.index(q)}",
+                                    ls=("-", "--", ":")[speeds.index(ur)], label=f"{q:.0f} N, {ur:.0f} m/s")
+        ax.set_title(f"EHL law, outer race (20°), oil {tc:.0f} °C", fontsize=9)
+        ax.set_xlabel("slide/roll ratio s")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("traction coefficient mu")
+    axes[-1].legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    summary = {"n": len(rows), "min_slope_at_0": min(r["slope_at_0"] for r in rows),
+               "max_slope_at_0": max(r["slope_at_0"] for r in rows),
+               "min_s_at_max": min(r["s_at_max"] for r in rows), "max_mu": max(r["max"] for r in rows),
+               "all_monotone_to_max": all(r["monotone_to_max"] for r in rows)}
+    print("sweep", summary)
+    return {"summary": summary, "rows": rows}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--skip-attitude", action="store_true")
@@ -203,11 +245,12 @@ def main():
         rows.append(curve_row(f"paper steady scene (thrust only), {name} race", q, rx, ry, ur, PAPER_OIL, e_eff))
     for r in rows:
         print({k: (round(v, 5) if isinstance(v, float) else v) for k, v in r.items() if not k.startswith("curve")})
-    out = {"slips": SLIPS.tolist(), "curves": rows, "cost": cost()}
+    res = os.path.join(HERE, "results")
+    out = {"slips": SLIPS.tolist(), "curves": rows, "sweep": sweep(os.path.join(res, "traction_law_sweep.png")),
+           "cost": cost()}
     print(out["cost"])
     if not a.skip_attitude:
         out["attitude"] = attitude_table()
-    res = os.path.join(HERE, "results")
     plot(rows, os.path.join(res, "traction_law_curves.png"))
     with open(os.path.join(res, "traction_law.json"), "w") as f:
         json.dump(out, f, indent=1)

@@ -83,7 +83,7 @@ contact alone carries 0.24 N·m at mu = 0.1. Any friction with creep stiffness t
 balls towards outer-race control (its spin capacity Q·a is 3.7 times the inner's): beta = 4.7° /
 10.8° at mu = 0.03 / 0.1 for case 1, 1.0–1.4° for case 6 (multibody.steady, the dynamics and an
 independent single-ball model agree, tests/test_attitude_independent.py), slips −8 to −17 %. With
-the EHL film-shear law (issue 25, the default since) Table 5 comes out at −9 to −12 % in every
+the EHL film-shear law (issue 25, the default since) Table 5 comes out at −7.8 to −11.7 % in every
 case (benchmarks/results/slip_rate.md, "Session 14"). The test's positive slips would need skid,
 or a geometry or ball material in which the inner contact's Q·a exceeds the outer's; the kinematic
 estimate "beta = alpha_i" (slip 2.2–12.8 %) used earlier is not Jones's inner-race control, which
@@ -274,8 +274,12 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0, oil=
 def build_validation_model(bearing, oil, options: dict | None = None, traction_law: str | None = None,
                            traction_scale: float = 1.0):
     """multibody.model.build_model with the traction table of `traction_law` (`traction_table_for`)
-    and gravity VALIDATION_GRAVITY unless `options` sets "gravity" (module docstring, "Gravity")."""
+    and gravity VALIDATION_GRAVITY unless `options` sets "gravity" (module docstring, "Gravity").
+    With "ehl" the law is the model option itself, so `options` may also set its
+    contact_temperature_rise (the uncertainty study's inputs, multibody.traction.EHL_RANGES)."""
     options = {"gravity": VALIDATION_GRAVITY, "ball_attitude": VALIDATION_BALL_ATTITUDE, **(options or {})}
+    if (VALIDATION_TRACTION_LAW if traction_law is None else traction_law) == "ehl":
+        return build_model(bearing, oil, {"traction_law": "ehl", "traction_scale": traction_scale, **options})
     model = build_model(bearing, oil, options)
     return model._replace(traction_table=traction_table_for(traction_law, traction_scale, oil))
 

@@ -280,6 +280,17 @@ def slip_polynomial_from_three_points(a, du_minus, du_centre, du_plus):
 
 
 @njit(cache=True)
+def _slice(m, n_slices, Q, a, du0, du1, du2):
+    """(Q_m, eta_m, y_m, du_m) of slice m of n: load share, centre eta = y/a, centre y (m) and the
+    sliding velocity du(y_m) there (module docstring, "Slice integration")."""
+    hs = 2.0 / n_slices
+    lo = -1.0 + m * hs
+    eta = lo + 0.5 * hs
+    y = eta * a
+    return Q * slice_load_share(lo, lo + hs), eta, y, du0 + y * (du1 + y * du2)
+
+
+@njit(cache=True)
 def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, transverse, s_lin=0.0):
     """Traction on the ball integrated over n_slices slices along the major axis (module docstring).
 
@@ -299,13 +310,8 @@ def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, tr
     tx = 0.0
     ty = 0.0
     mz = 0.0
-    h = 2.0 / n_slices
     for m in range(n_slices):
-        lo = -1.0 + m * h
-        hi = lo + h
-        qm = Q * slice_load_share(lo, hi)
-        y = 0.5 * (lo + hi) * a
-        du = du0 + y * (du1 + y * du2)
+        qm, _, y, du = _slice(m, n_slices, Q, a, du0, du1, du2)
         if transverse and dv != 0.0:
             sv = math.sqrt(du * du + dv * dv)
             mu = traction_coefficient_regularised(sv / ur, A, B, C, D, s_lin)
@@ -373,38 +379,50 @@ def barus_strip_mean(c):
 
 
 @njit(cache=True)
-def ehl_strip_shear(v, p_c, b_m, h, u_roll, eta_in, alpha_p, k_oil, tau0, gamma_l, g_mod,
-                    k_steel, kappa_steel, beta_t):
-    """Mean shear stress (Pa) of the film over one strip of the Hertz ellipse (module docstring,
-    "EHL film-shear law"): sliding speed v >= 0 (m/s), centreline pressure p_c (Pa), half-length
-    b_m of the strip along the rolling direction (m), film thickness h (m), rolling speed u_roll
-    (m/s), inlet viscosity eta_in (Pa·s), alpha_p (1/Pa), oil conductivity k_oil (W/(m·K)), Eyring
-    stress tau0 (Pa), limiting-shear coefficient gamma_l, film shear modulus g_mod (Pa), steel
-    conductivity and diffusivity, viscosity–temperature coefficient beta_t (1/K)."""
-    if v <= 0.0 or p_c <= 0.0:
-        return 0.0
-    c = alpha_p * p_c
-    # geometric-mean (Eyring, log regime) and arithmetic-mean (Newtonian) viscosity of the strip
-    ln_eta_g = math.log(eta_in) + 0.25 * math.pi * c
-    ratio = barus_strip_mean(c) / math.exp(0.25 * math.pi * c)      # eta_a/eta_g >= 1
+def _strip_viscosity(eta_in, c):
+    """(eta_g, R) of a strip with centre-line alpha·p_c = c: the geometric-mean Barus viscosity
+    eta_in·exp((pi/4)·c) and the ratio R = eta_a/eta_g >= 1 of the arithmetic mean to it."""
+    e_quarter = math.exp(0.25 * math.pi * c)
+    return eta_in * e_quarter, barus_strip_mean(c) / e_quarter
+
+
+@njit(cache=True)
+def _strip_shear_core(v, p_mean, eta_g, ratio, h, c_th, t_m, tau0, gamma_l, g_mod, beta_t):
+    """Strip-mean shear stress (module docstring, "EHL film-shear law") from the strip's mean
+    pressure, viscosities, thermal coefficient c_th (K·m²/W) and transit time t_m (s)."""
     rate = v / h
-    xg = math.exp(ln_eta_g + math.log(rate / tau0))
+    xg = eta_g * rate / tau0
     y = xg * (1.0 + (ratio - 1.0) / math.sqrt(1.0 + xg * xg))
-    tau_iso = tau0 * math.log(y + math.sqrt(1.0 + y * y))           # tau0·asinh(y)
-    # shear heating: mean film temperature rise over the thickness (h/12k, uniform dissipation,
-    # parabolic profile) plus the mean flash temperature of both solids (Jaeger band source,
-    # Pe >> 1, half the heat into each); ln(eta) linear in T, linearised about tau_iso
-    c_th = h / (12.0 * k_oil) + 0.532 * math.sqrt(2.0 * kappa_steel * b_m / max(u_roll, 1e-3)) / k_steel
-    sens = tau0 * y / math.sqrt(1.0 + y * y)                          # d tau / d ln(eta)
-    tau_th = tau_iso / (1.0 + beta_t * c_th * v * sens)
-    # limiting shear stress tau_L = gamma_L·p (strip-mean pressure), Bair–Winer form
-    tau_l = gamma_l * 0.25 * math.pi * p_c
-    tau_f = -tau_l * math.expm1(-tau_th / tau_l)
-    # Maxwell element over the transit time 2·b_m/U: stress builds from zero at the inlet
-    x = g_mod * rate * (2.0 * b_m / max(u_roll, 1e-3)) / tau_f
+    root_y = math.sqrt(1.0 + y * y)
+    tau_iso = tau0 * math.log(y + root_y)                             # tau0·asinh(y)
+    tau_th = tau_iso / (1.0 + beta_t * c_th * v * tau0 * y / root_y)  # d tau/d ln(eta) = tau0·tanh
+    tau_l = gamma_l * p_mean
+    tau_f = -tau_l * math.expm1(-tau_th / tau_l)                      # Bair–Winer limit
+    x = g_mod * rate * t_m / tau_f                                    # Maxwell element
     if x < 1e-6:
         return tau_f * x * (0.5 - x / 6.0)
     return tau_f * (1.0 - (1.0 - math.exp(-x)) / x)
+
+
+@njit(cache=True)
+def ehl_strip_shear(v, p_c, b_m, h, u_roll, eta_in, alpha_p, k_oil, tau0, gamma_l, g_mod,
+                    k_steel, kappa_steel, beta_t):
+    """Mean shear stress (Pa) of the film over one strip of the Hertz ellipse (module docstring,
+    "EHL film-shear law"): sliding speed v >= 0 (m/s), centre-line pressure p_c (Pa), half-length
+    b_m of the strip along the rolling direction (m), film thickness h (m), rolling speed u_roll
+    (m/s), inlet viscosity eta_in (Pa·s), alpha_p (1/Pa), oil conductivity k_oil (W/(m·K)), Eyring
+    stress tau0 (Pa), limiting-shear coefficient gamma_l, film shear modulus g_mod (Pa), steel
+    conductivity and diffusivity, viscosity–temperature coefficient beta_t (1/K). Thermal
+    coefficient: the film's mean rise h/(12·k_oil) (uniform dissipation, parabolic profile) plus
+    the mean flash temperature of both solids, 0.532·sqrt(2·kappa·b_m/U)/k_steel (Jaeger band
+    source, Pe >> 1, half the heat into each)."""
+    if v <= 0.0 or p_c <= 0.0:
+        return 0.0
+    u = max(u_roll, 1e-3)
+    eta_g, ratio = _strip_viscosity(eta_in, alpha_p * p_c)
+    c_th = h / (12.0 * k_oil) + 0.532 * math.sqrt(2.0 * kappa_steel * b_m / u) / k_steel
+    return _strip_shear_core(v, 0.25 * math.pi * p_c, eta_g, ratio, h, c_th, 2.0 * b_m / u, tau0, gamma_l,
+                             g_mod, beta_t)
 
 
 @njit(cache=True)
@@ -428,22 +446,18 @@ def sliced_traction_ehl(Q, a, b, p0, h, u_rolling, du0, du1, du2, dv, n_slices, 
     g_mod = table[6, 2]
     beta_t = table[7, 3]
     eta_in = eta_oil * math.exp(-beta_t * table[7, 0])
-    k_steel = table[7, 1]
-    kappa_steel = table[7, 2]
+    u = max(ur, 1e-3)
+    # per contact: the film's thermal term and the flash term of the full half-length b
+    c_film = h / (12.0 * k_oil)
+    c_flash = 0.532 * math.sqrt(2.0 * table[7, 2] * b / u) / table[7, 1]
     v_lin = s_lin * ur
     tx = 0.0
     ty = 0.0
     mz = 0.0
-    hs = 2.0 / n_slices
     for m in range(n_slices):
-        lo = -1.0 + m * hs
-        hi = lo + hs
-        qm = Q * slice_load_share(lo, hi)
-        eta_m = 0.5 * (lo + hi)
-        y = eta_m * a
+        qm, eta_m, y, du = _slice(m, n_slices, Q, a, du0, du1, du2)
         root = math.sqrt(max(1.0 - eta_m * eta_m, 0.0))
         p_c = p0 * root
-        du = du0 + y * (du1 + y * du2)
         if transverse and dv != 0.0:
             sv = math.sqrt(du * du + dv * dv)
         else:
@@ -451,9 +465,11 @@ def sliced_traction_ehl(Q, a, b, p0, h, u_rolling, du0, du1, du2, dv, n_slices, 
         if sv <= 0.0 or p_c <= 0.0:
             continue
         v_eval = sv if sv >= v_lin else v_lin
-        tau = ehl_strip_shear(v_eval, p_c, b * root, h, ur, eta_in, alpha_p, k_oil, tau0, gamma_l,
-                              g_mod, k_steel, kappa_steel, beta_t)
-        fm = qm * tau / (0.25 * math.pi * p_c)
+        eta_g, ratio = _strip_viscosity(eta_in, alpha_p * p_c)
+        p_mean = 0.25 * math.pi * p_c
+        tau = _strip_shear_core(v_eval, p_mean, eta_g, ratio, h, c_film + c_flash * math.sqrt(root),
+                                2.0 * b * root / u, tau0, gamma_l, g_mod, beta_t)
+        fm = qm * tau / p_mean
         if v_eval > sv:
             fm *= sv / v_eval
         if transverse and dv != 0.0:
