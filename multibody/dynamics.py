@@ -21,8 +21,9 @@ triad (e_x, e_r, e_t), whose angular velocity is psi'·e_x (de_r/dt = psi'·e_t,
 F and M collect, for each ball: the Hertz loads of the outer and the two inner half-grooves
 (Q = K·delta^1.5, K from the exact Hertz solution at the current contact angle, tabulated in
 cos(alpha)), optional viscous contact damping, the sliced EHL traction of every loaded contact
-(traction fit of multibody.traction, `_sliced_traction`; transverse traction on by default, see
-below), the EHL rolling resistance F_R at each contact and the pressure rolling force F_H through
+(multibody.traction: the paper's 4106 fit, or the EHL film-shear law when the model's traction
+table is `ehl_traction_table`, with the Hamrock–Dowson central film at the contact's inlet
+viscosity; transverse traction on by default, see below), the EHL rolling resistance F_R at each contact and the pressure rolling force F_H through
 the ball centre (multibody.drag), the ball–pocket force (paper §2.3.1: linear Kc·Z up to the
 pocket clearance, Hertz beyond) with the lubricated pocket's Poiseuille rolling and Couette
 sliding resistances (multibody.pocket), the churning drag in the oil–air mixture
