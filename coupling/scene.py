@@ -28,6 +28,9 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     [cage.material]           # density, youngs_modulus, poisson_ratio
 
     [model]                   # multibody options passed to multibody.model.build_model
+    traction_law = "fit"      # "fit" (paper's 4106 fit, default) | "ehl" (EHL film-shear law, no
+                              #   dead zone at light load; multibody.traction), with "ehl":
+                              #   traction_scale = 1.0, contact_temperature_rise = 0.0 (K)
 
     [operation]
     duration = 0.6            # s

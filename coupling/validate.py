@@ -45,8 +45,9 @@ content of the cavity. Both are calibrated together on cases 1–8 only (`calibr
 are the same for every case; cases 9–15 are the check (VALIDATION_*; the calibration grid and the
 result are in benchmarks/results/slip_rate.md). The cavity oil fraction is either constant or
 X_ref·(4000 rpm/n) (`case_oil_air_fraction`: Parker's 1/n at a constant oil supply); X_ref is the
-calibrated number. Traction: the paper's 4106 fit (default) or the bounded law of
-multibody.traction (`traction_table_for`, option --traction-law bounded). Session 8 corrected the
+calibrated number. Traction: the EHL film-shear law of multibody.traction (default since issue
+25; `traction_table_for`), the paper's 4106 fit (--traction-law fit, the calibration's law) or its
+bounded and origin variants. Session 8 corrected the
 sign of the EHL pressure rolling force (multibody.drag; it had pushed the balls forward at the
 outer race) and recalibrated on cases 1–8: 150 °C, X_ref = 0.002 (the grid and the result, mean
 error 135.7 %, 135.9 % after the session-10 guide-land correction, in benchmarks/results/slip_rate.md;
@@ -70,16 +71,24 @@ contact slides grossly (slide/UR 0.10–0.62) and, because of the ball's spin re
 by the pockets, 0.2–0.5 N per ball) and the churning drag (0.1–0.7 N per ball at X = 0.005), and
 the slip is what makes the small traction balance them; the traction capacity grows as Q_i^1.74
 (Q^0.74 of the fit times Q), hence the strong load dependence (case 1/7/12 at 4000 rpm: +3.1 /
-−1.0 / −4.5 %, same cage drag). The balls cannot carry the gyroscopic moment, so their spin axis
-stays parallel to the bearing axis (beta ≈ 0); with the contact angles the centrifugal force gives
-(inner 37–42°, outer 3–20°) pure rolling then puts the cage 9–17 % ABOVE nm
-(`pure_rolling_cage_speed_ratio`, beta = 0): a traction-rich model gives negative slips at low
-speed (traction x5, or the bounded law: −8 to −11 % at 4000 rpm for all three groups, load
-independent). The test's numbers match, within 1–2.5 points and with the right speed and load
-trends, the pure-rolling cage speed with NO spin at the inner contact (beta = alpha_i,
-"inner-race control", slip 2.2–12.8 %), which needs the races to carry the gyroscopic moment
-I·omega_R·omega_c·sin(beta) ≈ 0.36 N·m (4000 rpm) to 3.1 N·m (12,000 rpm), i.e. a traction coefficient
-of 0.11–0.22 at these loads (moment over r·(Q_o + Q_i)): not an EHL value. At high speed the cage keeps decelerating for
+−1.0 / −4.5 %, same cage drag). The fit also has no creep stiffness there: A + D < 0 is clipped to
+mu = 0 below s = 0.034 (outer) and 0.085 (inner) at case 1 (multibody.traction, "Origin law"), and
+`--traction-scale` multiplies A, B and D alike, so the dead zone stays at any scale. With nothing
+to hold the gyroscopic couple the spin axis turns onto the bearing axis (beta ≈ 0, pure rolling
+then puts the cage 9–17 % ABOVE nm, `pure_rolling_cage_speed_ratio`). That is the dead zone, not
+a limit of friction: the couple I_b·omega_R·omega_c·sin(beta) is carried by transverse friction
+at the contacts with the lever Dw/2 (not by the spin moment 3π/16·mu·Q·a, which an earlier
+version of this note compared it with), 0.135 N·m for beta = 10.8° at case 1, where the outer
+contact alone carries 0.24 N·m at mu = 0.1. Any friction with creep stiffness therefore drives the
+balls towards outer-race control (its spin capacity Q·a is 3.7 times the inner's): beta = 4.7° /
+10.8° at mu = 0.03 / 0.1 for case 1, 1.0–1.4° for case 6 (multibody.steady, the dynamics and an
+independent single-ball model agree, tests/test_attitude_independent.py), slips −8 to −17 %. With
+the EHL film-shear law (issue 25, the default since) Table 5 comes out at −7.8 to −11.7 % in every
+case (benchmarks/results/slip_rate.md, "Session 14"). The test's positive slips would need skid,
+or a geometry or ball material in which the inner contact's Q·a exceeds the outer's; the kinematic
+estimate "beta = alpha_i" (slip 2.2–12.8 %) used earlier is not Jones's inner-race control, which
+at case 1 has beta = 44.8°, slip +9.0 %, and needs a couple of 0.50 N·m.
+At high speed the cage keeps decelerating for
 seconds (cage inertia against a small net torque): values at t_max are not steady (`settled`).
 """
 from __future__ import annotations
@@ -238,12 +247,16 @@ def validation_oil(oil_temperature_c=None, oil_air_fraction=None, oil=PAPER_OIL)
     return replace(oil, temperature_c=float(t), oil_air_fraction=float(x)).validate()
 
 
-def traction_table_for(law: str | None = None, traction_scale: float = 1.0) -> np.ndarray:
-    """Traction coefficient table of a named law (multibody.traction): "fit" = the paper's 4106
+def traction_table_for(law: str | None = None, traction_scale: float = 1.0, oil=None) -> np.ndarray:
+    """Traction coefficient table of a named law (multibody.traction): "ehl" = the EHL film-shear
+    law (`ehl_traction_table`, needs `oil` for its viscosity–temperature coefficient;
+    traction_scale is then the film-strength scale, inside EHL_RANGES); "fit" = the paper's 4106
     fit (TRACTION_FIT_4106, 4 rows); "bounded" = the same fit evaluated inside its data range with
-    the limiting-shear bound (TRACTION_BOUNDED_4106, multibody.traction.bounded_traction_table).
-    traction_scale (diagnostic only, 1 = none) multiplies the whole curve (rows A, B, D)."""
+    the limiting-shear bound (TRACTION_BOUNDED_4106); "origin" = the fit through the origin.
+    For the fit laws traction_scale (diagnostic only, 1 = none) multiplies the whole curve (rows A, B, D)."""
     law = VALIDATION_TRACTION_LAW if law is None else law
+    if law == "ehl":
+        return TR.ehl_traction_table((oil or PAPER_OIL).viscosity_temperature_coeff, traction_scale)
     if law == "fit":
         tab = np.array(TR.TRACTION_FIT_4106, dtype=np.float64)
     elif law == "bounded":
@@ -252,7 +265,7 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0) -> n
         tab = np.array(TR.TRACTION_ORIGIN_4106, dtype=np.float64)
     else:
         from mesh.validation import InputError
-        raise InputError(f"traction law = {law!r} is not known; allowed: 'fit', 'bounded', 'origin'")
+        raise InputError(f"traction law = {law!r} is not known; allowed: 'ehl', 'fit', 'bounded', 'origin'")
     if traction_scale != 1.0:
         tab[[0, 1, 3], 0] *= traction_scale
     return tab
@@ -261,10 +274,14 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0) -> n
 def build_validation_model(bearing, oil, options: dict | None = None, traction_law: str | None = None,
                            traction_scale: float = 1.0):
     """multibody.model.build_model with the traction table of `traction_law` (`traction_table_for`)
-    and gravity VALIDATION_GRAVITY unless `options` sets "gravity" (module docstring, "Gravity")."""
+    and gravity VALIDATION_GRAVITY unless `options` sets "gravity" (module docstring, "Gravity").
+    With "ehl" the law is the model option itself, so `options` may also set its
+    contact_temperature_rise (the uncertainty study's inputs, multibody.traction.EHL_RANGES)."""
     options = {"gravity": VALIDATION_GRAVITY, "ball_attitude": VALIDATION_BALL_ATTITUDE, **(options or {})}
+    if (VALIDATION_TRACTION_LAW if traction_law is None else traction_law) == "ehl":
+        return build_model(bearing, oil, {"traction_law": "ehl", "traction_scale": traction_scale, **options})
     model = build_model(bearing, oil, options)
-    return model._replace(traction_table=traction_table_for(traction_law, traction_scale))
+    return model._replace(traction_table=traction_table_for(traction_law, traction_scale, oil))
 
 
 def steady_case_start(model, case: dict):
@@ -551,7 +568,7 @@ def main(argv=None) -> None:
     ap.add_argument("--t-min", type=float, default=1.0,
                     help="no settling test before this time, s (the cage speed can pause on its way: "
                          "at t_min 0.3 s case 9 'settled' at 0.30 s while its neighbours drifted for 1–3 s)")
-    ap.add_argument("--traction-law", default=None, choices=["fit", "bounded", "origin"],
+    ap.add_argument("--traction-law", default=None, choices=["ehl", "fit", "bounded", "origin"],
                     help="traction coefficient law (default: VALIDATION_TRACTION_LAW)")
     ap.add_argument("--oil-air-scaling", default=None, choices=["constant", "inverse_speed"],
                     help="oil fraction vs speed: constant, or X_ref·4000/n (default: VALIDATION_OIL_AIR_SCALING)")
@@ -566,7 +583,7 @@ def main(argv=None) -> None:
                     help="race control: gyroscopic friction reaction on the inner ring (model option; default off "
                          "here: it destabilises race control at the test's light loads, multibody.dynamics docstring)")
     ap.add_argument("--traction-scale", type=float, default=1.0,
-                    help="diagnostic only: multiply the traction curve (1 = the law itself)")
+                    help="ehl: film-strength scale (0.5-2); fit laws: diagnostic multiplier of the curve (1 = the law itself)")
     ap.add_argument("--start", default="quasi_static", choices=["quasi_static", "steady"],
                     help="initial state: pure rolling at the quasi-static equilibrium, or the steady thrust state "
                          "(multibody.steady; skips the long settling of the light-load high-speed cases)")
@@ -606,9 +623,11 @@ def main(argv=None) -> None:
 # (grids of benchmarks/results/slip_rate.md; session 8, after the pressure rolling force's sign was
 # corrected, on settled runs of up to 15 s): the paper's fit, oil at 150 °C (the upper end of the
 # plausible range; 160 °C ranks better still), cavity oil fraction 0.2 % at 4000 rpm falling as 1/n.
+# Traction (issue 25): the EHL film-shear law of multibody.traction (no dead zone at the test's light
+# contacts); the oil state above was calibrated with the fit and is kept.
 VALIDATION_OIL_TEMPERATURE_C = 150.0
 VALIDATION_OIL_AIR_FRACTION = 0.002
-VALIDATION_TRACTION_LAW = "fit"
+VALIDATION_TRACTION_LAW = "ehl"
 VALIDATION_OIL_AIR_SCALING = "inverse_speed"
 VALIDATION_GRAVITY = 9.81
 VALIDATION_BALL_ATTITUDE = "free"

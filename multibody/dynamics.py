@@ -21,8 +21,9 @@ triad (e_x, e_r, e_t), whose angular velocity is psi'·e_x (de_r/dt = psi'·e_t,
 F and M collect, for each ball: the Hertz loads of the outer and the two inner half-grooves
 (Q = K·delta^1.5, K from the exact Hertz solution at the current contact angle, tabulated in
 cos(alpha)), optional viscous contact damping, the sliced EHL traction of every loaded contact
-(traction fit of multibody.traction, `_sliced_traction`; transverse traction on by default, see
-below), the EHL rolling resistance F_R at each contact and the pressure rolling force F_H through
+(multibody.traction: the paper's 4106 fit, or the EHL film-shear law when the model's traction
+table is `ehl_traction_table`, with the Hamrock–Dowson central film at the contact's inlet
+viscosity; transverse traction on by default, see below), the EHL rolling resistance F_R at each contact and the pressure rolling force F_H through
 the ball centre (multibody.drag), the ball–pocket force (paper §2.3.1: linear Kc·Z up to the
 pocket clearance, Hertz beyond) with the lubricated pocket's Poiseuille rolling and Couette
 sliding resistances (multibody.pocket), the churning drag in the oil–air mixture
@@ -149,7 +150,8 @@ from multibody.profiles import load_at, speed_at
 from multibody.guide_land import guide_land_force
 from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
-from multibody.traction import sliced_traction, traction_coefficients_table
+from multibody.traction import EHL_TABLE_ROWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
+from multibody.film import film_thickness as hamrock_dowson_film
 from coupling.floating_frame import accelerations as ffrf_accelerations
 from coupling.floating_frame import add_node_load, node_kinematics, deformed_moments, mass_matrix
 
@@ -344,9 +346,17 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         urr = abs(ur)
         if urr < p[P_UMIN]:
             urr = p[P_UMIN]
-        A, B, C, D = traction_coefficients_table(Q, urr, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
-        Tt, Ttau, Mn = sliced_traction(Q, a_ax, urr, du0, du1, 0.0, dv, A, B, C, D,
-                                       flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
+        if ttab.shape[0] == EHL_TABLE_ROWS:
+            # EHL film-shear law (multibody.traction): the film at the contact's inlet viscosity
+            eta_in = p[P_ETA0] * math.exp(-ttab[7, 3] * ttab[7, 0])
+            h_c = hamrock_dowson_film(rx, ry, p[P_EBR], q_el, urr, eta_in, p[P_ALPHA_P])[1]
+            Tt, Ttau, Mn = sliced_traction_ehl(Q, a_ax, b_ax, p0, h_c, urr, du0, du1, 0.0, dv,
+                                               flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN],
+                                               p[P_ETA0], p[P_ALPHA_P], p[P_K0], ttab)
+        else:
+            A, B, C, D = traction_coefficients_table(Q, urr, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
+            Tt, Ttau, Mn = sliced_traction(Q, a_ax, urr, du0, du1, 0.0, dv, A, B, C, D,
+                                           flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
         # force on the ball at p: Tt·e_t + Ttau·tau
         Fx += Ttau * tx_
         Fr += Ttau * tr_

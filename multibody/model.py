@@ -56,6 +56,13 @@ Assumed inputs (not in the paper; options keys, SI):
 * ``traction_slip_linear`` (2e-3): below this slip |s| the traction curve is replaced by the
   straight line through the origin and mu(s_lin): the fitted curve has mu(0+) = A + D != 0,
   i.e. a jump at s = 0 that would make the RHS discontinuous (chatter, step rejections).
+* ``traction_law`` ("fit"): the traction coefficient law of multibody.traction: "fit", the paper's
+  4106 regression (Wang, Yang & Wang 2004; default, the paper's scenes), or "ehl", the EHL
+  film-shear law (Newtonian → Eyring shear of the film with a pressure-proportional limiting
+  shear stress, thermal correction, Maxwell element; no dead zone at light load; the slip-rate
+  validation's law). With "ehl": ``traction_scale`` (1.0) multiplies the film's strength (Eyring
+  and limiting shear stresses) and ``contact_temperature_rise`` (0 K) is the contacts' inlet
+  temperature above the oil temperature (ranges: multibody.traction.EHL_RANGES).
 * ``min_rolling_speed`` (0.5 m/s): the traction fit is evaluated with UR >= this (its power laws
   in Ub diverge at UR -> 0).
 * ``eps_film_max`` (0.95): the short-bearing land forces are evaluated at min(eps, eps_max);
@@ -71,7 +78,7 @@ import numpy as np
 from mesh.validation import InputError, require_range
 from multibody.bearing import Bearing, Oil
 from multibody.hertz import effective_modulus, ellipticity, hertz_stiffness, race_curvature_radii
-from multibody.traction import TRACTION_FIT_4106
+from multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table
 from multibody.geometry import inner_groove_centres, outer_groove_centre
 from multibody.guide_land import rim_stiffness
 
@@ -149,7 +156,7 @@ class Model(NamedTuple):
     p: np.ndarray            # float64 (N_PARAMS,)
     flags: np.ndarray        # int64 (N_FLAGS,)
     hertz_table: np.ndarray  # float64 (2, N_HGRID, N_HCOLS)
-    traction_table: np.ndarray  # float64 (4, 4): traction fit rows A..D
+    traction_table: np.ndarray  # float64: the traction law's table (multibody.traction: fit (4, 4), EHL (8, 4))
     scale: np.ndarray        # float64 (n_state,): absolute error scale of each state component
     relmask: np.ndarray      # float64 (n_state,): 1 where the relative tolerance applies
     n_balls: int
@@ -181,6 +188,9 @@ DEFAULT_OPTIONS = {
     "pocket_friction": 0.0,
     "gravity": 0.0,
     "traction_slip_linear": 2e-3,
+    "traction_law": "fit",            # "fit" (paper's 4106 regression) | "ehl" (EHL film-shear law)
+    "traction_scale": 1.0,            # "ehl" only: film strength scale
+    "contact_temperature_rise": 0.0,  # "ehl" only: K above the oil temperature at the contact inlets
     "min_rolling_speed": 0.5,
     "eps_film_max": 0.95,
     "inner_ring_mass": None,
@@ -387,10 +397,22 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     flags[F_ATT_RING] = bool(_option(options, "attitude_ring_reaction"))
     p[P_ATT_RATE] = require_range("model.attitude_rate", _option(options, "attitude_rate"), 1e2, 1e6, unit="1/s")
 
+    law = _option(options, "traction_law")
+    if law not in TRACTION_LAWS:
+        raise InputError(f"model.traction_law = {law!r} is not known; allowed: {list(TRACTION_LAWS)}")
+    if law == "ehl":
+        ttab = ehl_traction_table(oil.viscosity_temperature_coeff, float(_option(options, "traction_scale")),
+                                  float(_option(options, "contact_temperature_rise")))
+    else:
+        for key in ("traction_scale", "contact_temperature_rise"):
+            if key in options and options[key] != DEFAULT_OPTIONS[key]:
+                raise InputError(f"model.{key} = {options[key]!r} applies to traction_law = 'ehl' only "
+                                 f"(this model has {law!r})")
+        ttab = np.array(TRACTION_FIT_4106, dtype=np.float64)
     htab = _hertz_tables(bearing, e_br)
     n_state = 9 * z + 11 + 12 + 2 * n_modes
     scale, relmask = _error_scales(z, n_modes, dw)
-    return Model(p=p, flags=flags, hertz_table=htab, traction_table=np.array(TRACTION_FIT_4106, dtype=np.float64),
+    return Model(p=p, flags=flags, hertz_table=htab, traction_table=ttab,
                  scale=scale, relmask=relmask, n_balls=z, n_modes=n_modes, n_state=n_state,
                  cage=cage_arrays(cage_body))
 

@@ -79,6 +79,60 @@ A = −D:
 which differs from the fit only where exp(−C·s) matters (the fit's C = 5–7: s below ~0.5), and is
 odd in s like the fit. Stored as a 6-row table with no data-range clamp and no cap, flag
 table[5, 1] = 1.
+
+EHL film-shear law (model option traction_law = "ehl"; `sliced_traction_ehl`, issue 25). The fit
+and its variants above have no creep stiffness at the slip-rate test's light contacts (a dead zone
+up to s = 0.03–0.09); this law computes the traction from the shear of the oil film instead, at
+every load, with the physics of the EHL traction curve (Johnson & Tevaarwerk, Proc. R. Soc. A
+356:215, 1977; Evans & Johnson, Proc. IMechE C 200(5):313, 1986; Bair & Winer, J. Lubr. Technol.
+101(3):251, 1979). Each slice m of the ellipse (the same slices and load shares as above) is a strip
+along the rolling direction with centre-line pressure p_c = p0·sqrt(1 − eta_m²), half-length
+b_m = b·sqrt(1 − eta_m²), mean pressure (pi/4)·p_c, transit time t_m = 2·b_m/U; the film has the
+Hamrock–Dowson central thickness h (multibody.film) and shear rate v/h at the slice's sliding
+speed v. The strip-mean shear stress:
+
+    Newtonian -> Eyring:  tau_E = tau0·asinh(Y),  Y = X_g·(1 + (R − 1)/sqrt(1 + X_g²)),
+                          X_g = eta_g·v/(h·tau0),  eta_g = eta_in·exp(alpha·(pi/4)·p_c),
+                          R = eta_a/eta_g,  eta_a = eta_in·barus_strip_mean(alpha·p_c)
+      (the Barus viscosity averaged along the strip: arithmetic mean eta_a where the shear is
+      Newtonian, tau linear in eta; geometric mean eta_g where it is Eyring, tau linear in ln eta;
+      Y interpolates, exact in both limits)
+    thermal:              tau_T = tau_E/(1 + beta_T·c_th·v·tau0·Y/sqrt(1 + Y²)),
+                          c_th = h/(12·k_oil) + 0.532·sqrt(2·kappa_s·b_m/U)/k_s
+      (ln eta linear in T with the oil's viscosity–temperature coefficient beta_T, linearised about
+      the isothermal stress: d tau/d ln eta = tau0·tanh(tau_E/tau0); temperature rise c_th·tau·v:
+      the film's mean rise for uniform dissipation and the mean flash temperature of both solids,
+      Jaeger's band source at Peclet >> 1 with half the heat into each; Evans & Johnson's thermal
+      Eyring regime, which makes the curve fall at large slip)
+    limiting shear:       tau_f = tau_L·(1 − exp(−tau_T/tau_L)),  tau_L = gamma_L·(pi/4)·p_c
+      (Bair & Winer's limiting-shear law in steady shear, tau_L proportional to pressure)
+    Maxwell element:      tau_mean = tau_f·(1 − (1 − exp(−x))/x),  x = G·(v/h)·t_m/tau_f
+      (Johnson & Tevaarwerk's viscoelastic film, stress rising from zero at the inlet, with the
+      non-linear dashpot replaced by its secant viscosity tau_f/(v/h): exact for a linear Maxwell
+      fluid, the elastic limit tau_mean = G·v·t_m/(2h) for x -> 0, the steady flow stress for
+      x -> inf; within 15 % of the integrated Johnson–Tevaarwerk equation in between,
+      tests/test_traction_ehl.py)
+
+and mu_m = tau_mean/((pi/4)·p_c), the slice force mu_m·Q_m along its slip vector (transverse
+option as above). Below s_lin = model.traction_slip_linear the line through the origin and
+mu(s_lin) is used (the same numerical regularisation as the fit). Properties: mu(0) = 0, slope at
+s = 0 the Newtonian–Maxwell U·eta_a·(1 − De·(1 − exp(−1/De)))/(h·p_mean), De = eta_a·U/(G·2·b_m),
+mu <= gamma_L·scale; rising monotonically to a maximum at s >= 1e-3, then falling by shear heating.
+
+Parameters for a MIL-L-23699 / type II (pentaerythritol) ester such as 4106. No numerical traction
+curve or rheological constants of a MIL-L-23699 oil could be retrieved here (only abstracts of
+the papers above), so the values are the middle of the ranges those sources give for synthetic
+esters and mineral oils at 0.5–2 GPa, and their ranges are declared (EHL_RANGES) for the
+uncertainty study of the slip-rate validation: Eyring stress tau0 = 4 MPa (2–10 MPa, Johnson &
+Tevaarwerk 1977, Evans & Johnson 1986), limiting-shear coefficient gamma_L = 0.06 (0.03–0.10, Bair
+& Winer 1979), film shear modulus G = 1 GPa (0.1–3 GPa, Johnson & Tevaarwerk 1977), bearing steel
+k_s = 40 W/(m·K), kappa_s = 1.1e-5 m²/s. The oil's own data come from multibody.bearing.Oil
+(paper Table 7): the inlet viscosity at the oil temperature, alpha_p = 1.85e-8 1/Pa (Barus),
+beta_T, k_oil. The level is checked against the paper's 4106 fit inside its data range (the
+maxima agree within a factor 1.8, tests/test_traction_ehl.py) — the one published traction
+curve of this oil available. Two scalars carry the uncertainty the validation's study samples:
+traction_scale (0.5–2) multiplies tau0 and gamma_L, contact_temperature_rise (0–60 K) lowers the
+inlet viscosity (the contacts run hotter than the supplied oil). Table layout: `ehl_traction_table`.
 """
 from __future__ import annotations
 
@@ -226,6 +280,17 @@ def slip_polynomial_from_three_points(a, du_minus, du_centre, du_plus):
 
 
 @njit(cache=True)
+def _slice(m, n_slices, Q, a, du0, du1, du2):
+    """(Q_m, eta_m, y_m, du_m) of slice m of n: load share, centre eta = y/a, centre y (m) and the
+    sliding velocity du(y_m) there (module docstring, "Slice integration")."""
+    hs = 2.0 / n_slices
+    lo = -1.0 + m * hs
+    eta = lo + 0.5 * hs
+    y = eta * a
+    return Q * slice_load_share(lo, lo + hs), eta, y, du0 + y * (du1 + y * du2)
+
+
+@njit(cache=True)
 def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, transverse, s_lin=0.0):
     """Traction on the ball integrated over n_slices slices along the major axis (module docstring).
 
@@ -245,13 +310,8 @@ def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, tr
     tx = 0.0
     ty = 0.0
     mz = 0.0
-    h = 2.0 / n_slices
     for m in range(n_slices):
-        lo = -1.0 + m * h
-        hi = lo + h
-        qm = Q * slice_load_share(lo, hi)
-        y = 0.5 * (lo + hi) * a
-        du = du0 + y * (du1 + y * du2)
+        qm, _, y, du = _slice(m, n_slices, Q, a, du0, du1, du2)
         if transverse and dv != 0.0:
             sv = math.sqrt(du * du + dv * dv)
             mu = traction_coefficient_regularised(sv / ur, A, B, C, D, s_lin)
@@ -262,3 +322,181 @@ def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, tr
         tx += tmx
         mz -= y * tmx
     return tx, ty, mz
+
+
+# ================================================================ EHL film-shear law ("ehl")
+# Rheological parameters of a MIL-L-23699 / type II (pentaerythritol) ester; module docstring
+# "EHL film-shear law" gives the equations, the sources and the reasons for each value and range.
+EHL_EYRING_STRESS = 4.0e6          # Pa, tau0
+EHL_LIMITING_SHEAR_COEFF = 0.06     # gamma_L = tau_L/p
+EHL_SHEAR_MODULUS = 1.0e9           # Pa, G of the film (Maxwell element)
+EHL_STEEL_CONDUCTIVITY = 40.0       # W/(m·K), bearing steel
+EHL_STEEL_DIFFUSIVITY = 1.1e-5      # m²/s, bearing steel (k/(rho·c) = 40/(7800·460))
+# declared ranges (the uncertainty study of the slip-rate validation samples inside them)
+EHL_RANGES = {
+    "traction_scale": (0.5, 2.0),                # multiplies tau0 and gamma_L (the film's strength)
+    "eyring_stress": (2.0e6, 10.0e6),            # Pa
+    "limiting_shear_coeff": (0.03, 0.10),
+    "shear_modulus": (0.1e9, 3.0e9),             # Pa
+    "contact_temperature_rise": (0.0, 60.0),     # K above the oil temperature
+}
+EHL_TABLE_ROWS = 8
+TRACTION_LAWS = ("fit", "ehl")      # model option traction_law (multibody.model)
+
+
+def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float = 1.0,
+                       contact_temperature_rise: float = 0.0, eyring_stress: float = EHL_EYRING_STRESS,
+                       limiting_shear_coeff: float = EHL_LIMITING_SHEAR_COEFF,
+                       shear_modulus: float = EHL_SHEAR_MODULUS) -> np.ndarray:
+    """The (8, 4) coefficient table of the EHL film-shear law (module docstring): rows 0–5 unused,
+    row 6 = (tau0 Pa, gamma_L, G Pa, traction_scale), row 7 = (contact temperature rise K, k_steel
+    W/(m·K), kappa_steel m²/s, beta_T 1/K: the oil's viscosity–temperature coefficient). Values
+    outside EHL_RANGES are refused (mesh.validation.require_range names the field)."""
+    from mesh.validation import require_range
+    for name, value in (("traction_scale", traction_scale), ("contact_temperature_rise", contact_temperature_rise),
+                        ("eyring_stress", eyring_stress), ("limiting_shear_coeff", limiting_shear_coeff),
+                        ("shear_modulus", shear_modulus)):
+        lo, hi = EHL_RANGES[name]
+        require_range(f"traction.{name}", value, lo, hi)
+    require_range("oil.viscosity_temperature_coeff", viscosity_temperature_coeff, 0.0, 1.0)
+    tab = np.zeros((EHL_TABLE_ROWS, 4))
+    tab[6] = (eyring_stress, limiting_shear_coeff, shear_modulus, traction_scale)
+    tab[7] = (contact_temperature_rise, EHL_STEEL_CONDUCTIVITY, EHL_STEEL_DIFFUSIVITY, viscosity_temperature_coeff)
+    return tab
+
+
+def is_ehl_table(table) -> bool:
+    """True for a table of the EHL film-shear law (`ehl_traction_table`)."""
+    return table.shape[0] == EHL_TABLE_ROWS
+
+
+@njit(cache=True)
+def barus_strip_mean(c):
+    """Mean of exp(c·sqrt(1 − xi²)) over xi in [−1, 1] (the Barus viscosity averaged along a strip of
+    the Hertz ellipse, c = alpha·p_centre), ≈ exp(c)/sqrt(1 + 2c/pi): exact at c = 0 and as
+    c → inf (Laplace: exp(c)·sqrt(pi/(2c))), within 6.5 % in between (tests/test_traction_ehl.py)."""
+    return math.exp(c) / math.sqrt(1.0 + 2.0 * c / math.pi)
+
+
+@njit(cache=True)
+def _strip_viscosity(eta_in, c):
+    """(eta_g, R) of a strip with centre-line alpha·p_c = c: the geometric-mean Barus viscosity
+    eta_in·exp((pi/4)·c) and the ratio R = eta_a/eta_g >= 1 of the arithmetic mean to it."""
+    e_quarter = math.exp(0.25 * math.pi * c)
+    return eta_in * e_quarter, barus_strip_mean(c) / e_quarter
+
+
+@njit(cache=True)
+def _strip_shear_core(v, p_mean, eta_g, ratio, h, c_th, t_m, tau0, gamma_l, g_mod, beta_t):
+    """Strip-mean shear stress (module docstring, "EHL film-shear law") from the strip's mean
+    pressure, viscosities, thermal coefficient c_th (K·m²/W) and transit time t_m (s)."""
+    rate = v / h
+    xg = eta_g * rate / tau0
+    y = xg * (1.0 + (ratio - 1.0) / math.sqrt(1.0 + xg * xg))
+    root_y = math.sqrt(1.0 + y * y)
+    tau_iso = tau0 * math.log(y + root_y)                             # tau0·asinh(y)
+    tau_th = tau_iso / (1.0 + beta_t * c_th * v * tau0 * y / root_y)  # d tau/d ln(eta) = tau0·tanh
+    tau_l = gamma_l * p_mean
+    tau_f = -tau_l * math.expm1(-tau_th / tau_l)                      # Bair–Winer limit
+    x = g_mod * rate * t_m / tau_f                                    # Maxwell element
+    if x < 1e-6:
+        return tau_f * x * (0.5 - x / 6.0)
+    return tau_f * (1.0 - (1.0 - math.exp(-x)) / x)
+
+
+@njit(cache=True)
+def ehl_strip_shear(v, p_c, b_m, h, u_roll, eta_in, alpha_p, k_oil, tau0, gamma_l, g_mod,
+                    k_steel, kappa_steel, beta_t):
+    """Mean shear stress (Pa) of the film over one strip of the Hertz ellipse (module docstring,
+    "EHL film-shear law"): sliding speed v >= 0 (m/s), centre-line pressure p_c (Pa), half-length
+    b_m of the strip along the rolling direction (m), film thickness h (m), rolling speed u_roll
+    (m/s), inlet viscosity eta_in (Pa·s), alpha_p (1/Pa), oil conductivity k_oil (W/(m·K)), Eyring
+    stress tau0 (Pa), limiting-shear coefficient gamma_l, film shear modulus g_mod (Pa), steel
+    conductivity and diffusivity, viscosity–temperature coefficient beta_t (1/K). Thermal
+    coefficient: the film's mean rise h/(12·k_oil) (uniform dissipation, parabolic profile) plus
+    the mean flash temperature of both solids, 0.532·sqrt(2·kappa·b_m/U)/k_steel (Jaeger band
+    source, Pe >> 1, half the heat into each)."""
+    if v <= 0.0 or p_c <= 0.0:
+        return 0.0
+    u = max(u_roll, 1e-3)
+    eta_g, ratio = _strip_viscosity(eta_in, alpha_p * p_c)
+    c_th = h / (12.0 * k_oil) + 0.532 * math.sqrt(2.0 * kappa_steel * b_m / u) / k_steel
+    return _strip_shear_core(v, 0.25 * math.pi * p_c, eta_g, ratio, h, c_th, 2.0 * b_m / u, tau0, gamma_l,
+                             g_mod, beta_t)
+
+
+@njit(cache=True)
+def sliced_traction_ehl(Q, a, b, p0, h, u_rolling, du0, du1, du2, dv, n_slices, transverse, s_lin,
+                        eta_oil, alpha_p, k_oil, table):
+    """`sliced_traction` with the EHL film-shear law: each slice gets mu = (strip-mean shear
+    stress)/(strip-mean pressure) of `ehl_strip_shear` at its sliding speed. Q load (N), a, b
+    semi-axes across / along the rolling direction (m), p0 Hertz peak pressure (Pa), h central film
+    thickness (m), u_rolling = UR (m/s), du(y) as in `sliced_traction`, eta_oil the oil's viscosity
+    at its temperature (Pa·s), alpha_p, k_oil, table = `ehl_traction_table`. Below the slip s_lin
+    (>= 0) the curve is the straight line through the origin and mu(s_lin), as `sliced_traction`.
+    Returns (T_x, T_y, M_z) on the ball."""
+    if Q <= 0.0 or n_slices < 1 or h <= 0.0:
+        return 0.0, 0.0, 0.0
+    ur = abs(u_rolling)
+    if ur < 1e-12:
+        ur = 1e-12
+    scale = table[6, 3]
+    tau0 = table[6, 0] * scale
+    gamma_l = table[6, 1] * scale
+    g_mod = table[6, 2]
+    beta_t = table[7, 3]
+    eta_in = eta_oil * math.exp(-beta_t * table[7, 0])
+    u = max(ur, 1e-3)
+    # per contact: the film's thermal term and the flash term of the full half-length b
+    c_film = h / (12.0 * k_oil)
+    c_flash = 0.532 * math.sqrt(2.0 * table[7, 2] * b / u) / table[7, 1]
+    v_lin = s_lin * ur
+    tx = 0.0
+    ty = 0.0
+    mz = 0.0
+    for m in range(n_slices):
+        qm, eta_m, y, du = _slice(m, n_slices, Q, a, du0, du1, du2)
+        root = math.sqrt(max(1.0 - eta_m * eta_m, 0.0))
+        p_c = p0 * root
+        if transverse and dv != 0.0:
+            sv = math.sqrt(du * du + dv * dv)
+        else:
+            sv = abs(du)
+        if sv <= 0.0 or p_c <= 0.0:
+            continue
+        v_eval = sv if sv >= v_lin else v_lin
+        eta_g, ratio = _strip_viscosity(eta_in, alpha_p * p_c)
+        p_mean = 0.25 * math.pi * p_c
+        tau = _strip_shear_core(v_eval, p_mean, eta_g, ratio, h, c_film + c_flash * math.sqrt(root),
+                                2.0 * b * root / u, tau0, gamma_l, g_mod, beta_t)
+        fm = qm * tau / p_mean
+        if v_eval > sv:
+            fm *= sv / v_eval
+        if transverse and dv != 0.0:
+            tmx = fm * du / sv
+            ty += fm * dv / sv
+        else:
+            tmx = fm if du >= 0.0 else -fm
+        tx += tmx
+        mz -= y * tmx
+    return tx, ty, mz
+
+
+def ehl_traction_curve(slips, Q, Rx, Ry, E_eff, u_rolling, oil, table, n_slices: int = 8, s_lin: float = 0.0):
+    """mu(s) of the EHL film-shear law for a uniform slide/roll ratio s (numpy array) at one
+    contact: the Hertz ellipse (multibody.hertz, exact), the Hamrock–Dowson central film with the
+    inlet viscosity at the contact temperature, and `sliced_traction_ehl`; the same evaluation as
+    the dynamics (multibody.dynamics._race). For plots, tests and tables (not compiled)."""
+    from multibody.film import film_thickness
+    from multibody.hertz import hertz_point_contact
+    a, b, p0, _ = hertz_point_contact(Rx, Ry, E_eff, Q)
+    eta = oil.viscosity()
+    eta_in = eta * math.exp(-table[7, 3] * table[7, 0])
+    h = film_thickness(Rx, Ry, E_eff, Q, u_rolling, eta_in, oil.pressure_viscosity_coeff)[1]
+    out = np.empty(len(np.atleast_1d(slips)))
+    for i, s in enumerate(np.atleast_1d(slips)):
+        tx, _, _ = sliced_traction_ehl(Q, a, b, p0, h, u_rolling, s * abs(u_rolling), 0.0, 0.0, 0.0,
+                                       n_slices, False, s_lin, eta, oil.pressure_viscosity_coeff,
+                                       oil.thermal_conductivity, table)
+        out[i] = tx / Q
+    return out

@@ -22,7 +22,11 @@ from multibody import integrator as I
 
 def _cage_orbit(gravity, t_end, case_no=4, dt=2.5e-3):
     case = [c for c in V.slip_rate_cases() if c["case"] == case_no][0]
-    model = V.build_validation_model(V.VALIDATION_BEARING, V.validation_oil(), {"gravity": gravity})
+    # the paper's fit, with which these orbits were measured: its weak traction leaves the cage to
+    # its land film; with the EHL law the pockets push harder and the unloaded whirl ratio over
+    # 0.05–0.2 s is 0.44 (the film's half-frequency whirl disturbed by the balls)
+    model = V.build_validation_model(V.VALIDATION_BEARING, V.validation_oil(), {"gravity": gravity},
+                                     traction_law="fit")
     _, y, sp, ld, imp = V.steady_case_start(model, case)
     ws = I.Workspace(model)
     t, h = 0.0, 1e-6

@@ -85,8 +85,9 @@ def test_slip_rate_case_1_within_goal():
 def test_steady_start_of_the_light_load_high_speed_cases():
     """start="steady" (multibody.steady): case 6 (12,000 rpm, 1100/200 N) starts from the fixed point of
     the thrust-only dynamics, so its first 50 ms already turn at that cage speed; the radial load
-    and the weight then act (within 1 %, their effect on the cage speed here). Case 1 (4000 rpm) has
-    no such fixed point (the fit's dead zone) and falls back to the quasi-static start, saying so."""
+    and the weight then act (within 1 %, their effect on the cage speed here). With the paper's fit,
+    case 1 (4000 rpm) has no such fixed point (the fit's dead zone) and falls back to the
+    quasi-static start, saying so; the EHL law (the default, no dead zone) has one."""
     import math
     from mesh.validation import InputError
     from multibody.model import P_GRAV
@@ -101,8 +102,11 @@ def test_steady_start_of_the_light_load_high_speed_cases():
     _, info = steady_thrust_state(model._replace(p=p0), 12000 * math.pi / 30, case6["axial_load"])
     assert abs(row["window_means"][0] / info["cage_speed"] - 1.0) < 1e-2
     case1 = [c for c in V.slip_rate_cases() if c["case"] == 1][0]
-    row1 = V.run_slip_case(case1, V.VALIDATION_BEARING, V.validation_oil(), t_min=0.05, t_max=0.05, start="steady")
+    row1 = V.run_slip_case(case1, V.VALIDATION_BEARING, V.validation_oil(), t_min=0.05, t_max=0.05, start="steady",
+                           traction_law="fit")
     assert row1["start"] == "quasi_static (no steady thrust state)"
+    row1 = V.run_slip_case(case1, V.VALIDATION_BEARING, V.validation_oil(), t_min=0.05, t_max=0.05, start="steady")
+    assert row1["start"] == "steady"
     with pytest.raises(InputError, match="start"):
         V.run_slip_case(case1, V.VALIDATION_BEARING, V.validation_oil(), t_max=0.05, start="rest")
 
