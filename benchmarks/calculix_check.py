@@ -35,7 +35,13 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", type=float, nargs="+", default=[4.0, 3.0, 2.5],
                     help="element sizes, mm (pocket size the same)")
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--markdown-only", action="store_true",
+                    help="re-render calculix_check.md from the existing calculix_check.json")
     args = ap.parse_args(argv)
+    if args.markdown_only:
+        out = json.loads((RESULTS / "calculix_check.json").read_text())
+        (RESULTS / "calculix_check.md").write_text(markdown(out))
+        return 0
     from mesh.cage_geometry import PAPER_CAGE
     from mesh.cage_mesh import build_cage_mesh
     from fem_cage.calculix_check import check_mesh
@@ -78,7 +84,7 @@ def _jsonable(x):
 
 
 def summary_line(r) -> str:
-    parts = [f"h = {r['mesh']['size_m'] * 1e3:g} mm, {r['mesh']['dofs']} dofs:"]
+    parts = [f"h = {r['mesh']['size_m'] * 1e3:g} mm, {r['mesh']['dofs']} dofs"]
     for k, c in r["cases"].items():
         parts.append(f"{k} {c['vm_max_project_Pa'] / 1e6:.2f}/{c['vm_max_calculix_Pa'] / 1e6:.2f} MPa "
                      f"({100 * c['vm_max_rel_diff']:+.2f} %)")
@@ -104,7 +110,27 @@ def markdown(out) -> str:
          "pocket 1, pocket 0 reacting (the `reduce --check` case; CalculiX spreads the ball force "
          "and the reaction with its own *DISTRIBUTING couplings). Stresses: nodal von Mises over "
          "all mesh nodes (vertices and mid-edge nodes), each code's own recovery.", "",
-         "## Meshes", "", "| h (mm) | nodes | C3D10 elements | dofs | project assembly (s) | whole check (s) |",
+         "## Acceptance (issue 24: max von Mises and its location within 2 %, frequencies within 0.5 %)",
+         "", "| h (mm) | max von Mises: largest difference (case) | location: smallest 'other code at "
+         "this code's peak' | frequencies: largest difference | met |", "|---|---|---|---|---|"]
+    for r in runs:
+        cs = r["cases"]
+        worst = max(cs, key=lambda k: abs(cs[k]["vm_max_rel_diff"]))
+        loc = min(min(c["calculix_at_project_peak_rel"], c["project_at_calculix_peak_rel"]) for c in cs.values())
+        fr = r.get("frequencies", {}).get("max_abs_rel_diff", float("nan"))
+        ok = (abs(cs[worst]["vm_max_rel_diff"]) <= ACCEPT_VM and loc >= 1 - ACCEPT_VM
+              and (fr <= ACCEPT_HZ or np.isnan(fr)))
+        L.append(f"| {r['mesh']['size_m'] * 1e3:g} | {100 * cs[worst]['vm_max_rel_diff']:+.2f} % ({worst}) | "
+                 f"{100 * loc:.1f} % | {100 * fr:.3f} % | {'yes' if ok else 'no'} |")
+    same = max(abs(c["same_recovery"]["vm_max_rel_diff"]) for r in runs for c in r["cases"].values())
+    L += ["", "Where a row is not met, the difference is the two codes' nodal stress recovery in curved "
+          "elements, not their solutions: with CalculiX's recovery applied to the project's displacement "
+          f"the maxima agree within {100 * same:.2f} % on every mesh, at the same node (the quadrature "
+          "difference; last column of the next table), and the recovery difference shrinks with "
+          "refinement (tables below). The peak sits on the pocket's edge with the bore or the "
+          "outside (x = ±11.25 mm, the pocket's axial extreme), where neighbouring nodes carry "
+          "nearly the same stress: two nodes of one hot spot can swap ranks between the codes.",
+          "", "## Meshes", "", "| h (mm) | nodes | C3D10 elements | dofs | project assembly (s) | whole check (s) |",
          "|---|---|---|---|---|---|"]
     for r in runs:
         m = r["mesh"]

@@ -52,7 +52,7 @@ CCX = "ccx"
 C3D10_FROM_VTK = np.arange(10)
 # mid-edge node k (4..9) sits on the edge between these two corners (0-based), C3D10/VTK order
 TET10_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
-# C3D10 faces: corner positions (0-based) of faces 1..4 and their 6 nodes (corners + mid-edges)
+# C3D10 faces 1..4: their corner positions (0-based) in the element
 TET_FACE_CORNERS = ((0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3))
 # frd STRESS order (xx, yy, zz, xy, yz, zx) -> Voigt (xx, yy, zz, yz, xz, xy)
 FRD_STRESS_TO_VOIGT = (0, 1, 2, 4, 5, 3)
@@ -152,12 +152,6 @@ class DistributingCoupling:
 def _fmt(x: float) -> str:
     # ccx reads real fields as F20.0: at most 20 characters, so 13 significant digits
     return f"{x:.12e}"
-
-
-def _lines(values, per_line: int = 8):
-    vals = list(values)
-    for i in range(0, len(vals), per_line):
-        yield ", ".join(vals[i:i + per_line])
 
 
 def deck_text(mesh: Tet10Mesh, material, *, analysis: str = "static", boundary=(), cloads=(),

@@ -42,15 +42,17 @@ with 4 Gauss points (exact for the stiffness of a straight-sided element, not fo
 for a curved element); the project uses degree 2 x degree = 4 by default. With
 quadrature_degree = 2 the project uses the same 4-point rule and its free–free frequencies equal
 CalculiX's to its printed digits; with 4 they differ by the quadrature error, of the order of
-the discretisation error itself (measured: frequencies and displacements as h^3..4). (2) Stress recovery: on a straight-sided element the P2 stress is
+the discretisation error itself (measured on the paper cage, 4 -> 2 mm: frequencies 0.085 % ->
+0.009 %, ~h^3.2; displacements ~h^2.6..3.2). (2) Stress recovery: on a straight-sided element the P2 stress is
 linear and 4 Gauss points sample it exactly, so ccx's extrapolation and the project's
 interpolation give the same corner and mid-edge values (tests/test_calculix.py checks it to
 round-off); they differ only in curved elements (pocket walls, bore, outside), whose stress is
 not linear in x. Both recover a uniform stress exactly (x is in the isoparametric space), so the
 difference scales with the stress gradient times the element's distortion: ~ h^2 kappa
 |grad sigma| relative to sigma (kappa the wall curvature). Measured on the paper cage
-(benchmarks/results/calculix_check.md): the whole-field difference falls as h^1.7..1.9; at a
-single node, the peak, it fluctuates from mesh to mesh (up to 3 % at 4 mm, 1.6 % at 2.5 mm).
+(benchmarks/results/calculix_check.md): the whole-field difference falls as h^1.6..1.8 (spin
+2.3 % at 4 mm, 0.67 % at 2 mm); at a single node, the peak, it fluctuates from mesh to mesh (up
+to 3.3 % at 4 mm, 1.6 % at 2.5 mm, 1.4 % at 2 mm).
 extrapolated_nodal_stress applies ccx's recovery to the project's solution and separates (2)
 from the solutions' own difference.
 
