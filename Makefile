@@ -11,9 +11,13 @@ PY    := $(VENV)/bin/python
 SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 # Debian 12 packages: the FE stack and the scientific Python stack. Never pip-installed.
+# calculix-ccx is a verification tool, not a runtime need: the independent FE check of the cage's
+# stress and frequencies (fem_cage/calculix_check.py, the slow tests of `make test-all`,
+# benchmarks/calculix_check.py) runs CalculiX on the project's own mesh.
 APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy python3-scipy \
     python3-numba python3-h5py python3-matplotlib python3-tqdm python3-dask python3-distributed \
-    python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin
+    python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
+    calculix-ccx
 
 .PHONY: setup demo test test-all bench clean
 
