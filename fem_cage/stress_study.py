@@ -8,8 +8,9 @@ Load cases (body frame: x the bearing axis, pocket k at azimuth theta_k = 2 pi k
                       a force F on pocket k's interface node, circumferential e_theta, axial e_x or
                       radial e_r, spread over the pocket wall by the RBE3 distributing coupling the
                       reduced cage uses: f = C_k^T (F, 0) (fem_cage.interface, Eq. (2))
-    land              a radial land force F along body y on the guide surface, the cosine
-                      traction of fem_cage.reduce_cli.guide_load_vectors (G1)
+    land              a radial land force F along body z on the guide surface, the sine
+                      traction of fem_cage.reduce_cli.guide_load_vectors (G2), centred on pocket 5
+                      (azimuth 90 deg), so the refined zone of the study holds its maximum
 
 Each is solved for the FREE cage by inertia relief, the quasi-static answer of an unsupported body
 to a load with a net force or moment (Craig & Kurdila, "Fundamentals of Structural Dynamics"
@@ -72,7 +73,7 @@ def load_vectors(V, facet_tags, M, geometry, cases=CASES, pocket: int = POCKET) 
             out[c] = Ck.T @ (POCKET_FORCE_N * pocket_direction(theta, c.split("_")[1]))
     if "land" in cases:
         F, _ = guide_load_vectors(V, facet_tags)
-        out["land"] = LAND_FORCE_N * F[:, 0]
+        out["land"] = LAND_FORCE_N * F[:, 1]
     return out
 
 
