@@ -72,8 +72,15 @@ def _groups(path):
 
 
 def test_physical_groups_and_pocket_positions(relieved_mesh):
+    from mesh.cage_mesh import mesh_quality_of
     g, path = relieved_mesh
     groups, types = _groups(path)
+    # the repair of badly curved cells (mesh.quality) moves a few mid-edge nodes off the CAD
+    # surface, by at most the shift it reports; every other node is on it
+    repair = mesh_quality_of(path)["repair"]
+    shift, n_moved = repair["max_node_shift_m"], repair["n_nodes_moved"]
+    tol = 1e-9 + 1e-5 * g.outer_radius          # np.allclose's default: gmsh/OCC round-off
+    off = 0
     assert list(types) == [11]                       # 10-node (curved quadratic) tetrahedra only
     assert groups["cage"][:2] == (3, 1)
     assert groups["guide"][:2] == (2, 200)
@@ -84,14 +91,19 @@ def test_physical_groups_and_pocket_positions(relieved_mesh):
         assert (d, t) == (2, 101 + k)
         # Every node of pocket k lies on the cylinder of radius Dp/2 about the radial axis at
         # theta_k = 2 pi k / Z (from +y towards +z), centred on x = 0. Tolerance: the curved
-        # quadratic mesh puts all nodes on the CAD surface (1e-9 m: gmsh/OCC round-off).
+        # quadratic mesh puts all nodes on the CAD surface (gmsh/OCC round-off), except the few
+        # the repair moved.
         th = 2 * math.pi * k / g.n_pockets
         axis = np.array([0.0, math.cos(th), math.sin(th)])
-        dist = np.linalg.norm(X - np.outer(X @ axis, axis), axis=1)
-        assert np.allclose(dist, 0.5 * g.pocket_diameter, atol=1e-9)
+        dist = np.abs(np.linalg.norm(X - np.outer(X @ axis, axis), axis=1) - 0.5 * g.pocket_diameter)
+        assert dist.max() <= shift + tol
+        off += int(np.count_nonzero(dist > tol))
     # Guide nodes: on the outside cylinder r = D/2, within the two lands |x| >= relief/2.
     X = groups["guide"][2]
-    assert np.allclose(np.hypot(X[:, 1], X[:, 2]), g.outer_radius, atol=1e-9)
+    dist = np.abs(np.hypot(X[:, 1], X[:, 2]) - g.outer_radius)
+    assert dist.max() <= shift + tol
+    off += int(np.count_nonzero(dist > tol))
+    assert off <= n_moved
     assert np.all(np.abs(X[:, 0]) >= 0.5 * g.relief_width - 1e-9)
 
 
