@@ -121,7 +121,7 @@ def quality_sweep(done, quick):
     from mesh import quality as Q
     from mesh.cage_geometry import PAPER_CAGE
     from mesh.cage_mesh import build_cage_mesh, GMSH_TO_VTK_TET10
-    from mesh.cache import cache_dir
+    from common.cache import cache_dir
     from fem_cage import stress_study as ss
     from fem_cage.craig_bampton import petsc_to_scipy
     from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass

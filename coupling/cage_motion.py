@@ -50,7 +50,7 @@ import math
 
 import numpy as np
 
-from mesh.validation import InputError
+from common.validation import InputError
 
 MIN_EPS = 0.02        # below this mean eccentricity ratio the whirl angle is noise, not a whirl
 HELD_SPEED = 0.1      # centre speed, in units of a half-frequency whirl at full clearance, below which it is held

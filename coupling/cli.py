@@ -11,7 +11,7 @@ import importlib
 import importlib.util
 import sys
 
-from mesh.validation import InputError
+from common.validation import InputError
 
 # Order = order in --help. A module that does not exist yet is skipped.
 COMMAND_MODULES = (

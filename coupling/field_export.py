@@ -68,7 +68,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mesh.validation import InputError
+from common.validation import InputError
 
 SERIES_CAGE = "series_cage.xdmf"
 SERIES_POINTS = "series_points.xdmf"

@@ -1,7 +1,7 @@
 """The flexible cage body: the reduced cage file turned into floating-frame arrays.
 
 `flexible_cage_body(rc, n_keep, beta, centrifugal_correction)` selects the modal basis the run
-integrates and transforms every quantity the floating-frame equations (coupling.floating_frame),
+integrates and transforms every quantity the floating-frame equations (multibody.floating_frame),
 the pocket coupling and the stress recovery need into that basis:
 
     Phi_run = Phi_full · T          (T: (M_elastic, n) — a selection plus an optional extra column)
@@ -34,8 +34,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from coupling.floating_frame import FlexibleBody
-from mesh.validation import require_range
+from multibody.floating_frame import FlexibleBody
+from common.validation import require_range
 
 N_RIGID = 6
 

@@ -8,7 +8,7 @@ coupling.study._prepare_reduced_cages).
 """
 from __future__ import annotations
 
-from mesh.validation import InputError
+from common.validation import InputError
 
 
 def require_workers(workers) -> int:

@@ -79,7 +79,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mesh.validation import InputError
+from common.validation import InputError
 
 RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 

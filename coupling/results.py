@@ -133,7 +133,7 @@ class ResultsWriter:
         None means no valid checkpoint (the run must start over; the file has been reset)."""
         import h5py
 
-        from mesh.validation import InputError
+        from common.validation import InputError
         f = h5py.File(path, "r+")
         try:
             if f.attrs.get("format") != FORMAT:

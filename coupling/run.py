@@ -37,7 +37,7 @@ import numpy as np
 
 from coupling.progress import RunProgress
 from coupling.results import ResultsWriter, write_summary
-from mesh.validation import InputError
+from common.validation import InputError
 from multibody.profiles import load_at, speed_at
 
 

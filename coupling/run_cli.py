@@ -17,7 +17,7 @@ import os
 import sys
 from pathlib import Path
 
-from mesh.validation import InputError
+from common.validation import InputError
 
 DEFAULT_CASE_SET = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
 

@@ -64,7 +64,7 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
 
 Loading converts the spectra to the arrays of `multibody.profiles`: speed_table (n, 2) in rad/s,
 load_table (n, 4) in N, impacts (m, 6). Every refusal names the field, the value and the allowed
-range (mesh.validation.InputError); unknown keys are refused with the list of allowed keys.
+range (common.validation.InputError); unknown keys are refused with the list of allowed keys.
 """
 from __future__ import annotations
 
@@ -77,9 +77,10 @@ from pathlib import Path
 
 import numpy as np
 
-from mesh.cage_geometry import YIELD_STRENGTH_40CrNiMoA, CageGeometry, Material
-from mesh.cache import content_hash
-from mesh.validation import InputError, require_finite, require_range
+from common.materials import YIELD_STRENGTH_40CrNiMoA, Material
+from mesh.cage_geometry import CageGeometry
+from common.cache import content_hash
+from common.validation import InputError, require_finite, require_range
 from multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
 from multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints
 

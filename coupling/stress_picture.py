@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mesh.validation import InputError
+from common.validation import InputError
 
 PICTURE = "von_mises_peak.png"
 

@@ -58,7 +58,7 @@ from pathlib import Path
 
 from coupling.html_page import write_html
 from coupling.parallel import require_workers, run_in_processes
-from mesh.validation import InputError
+from common.validation import InputError
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
               "display_scale", "settle")

@@ -143,7 +143,7 @@ def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: fl
     shim angle alphaD in degrees (default 30°, SPEC) and diametral clearance Pd in m (default: the
     design clearance of that shim angle, `design_clearance`). Checked by Bearing.validate, which
     names the field and the allowed range."""
-    from mesh.validation import require_range
+    from common.validation import require_range
     if shim_angle_deg is not None:
         require_range("shim angle (--shim-angle)", shim_angle_deg, 0.0, 45.0, hi_open=True, unit="°")
     b = PAPER_BEARING if shim_angle_deg is None else replace(PAPER_BEARING, shim_angle=math.radians(shim_angle_deg))
@@ -196,7 +196,7 @@ def race_control_kinematics(alpha_outer: float, alpha_inner: float, race: str, b
     contact line in the cage frame, `pure_rolling_cage_speed_ratio`), this is zero spin relative to
     the race itself, which turns at omega_c (outer) or omega_i − omega_c (inner) about e_x."""
     if race not in ("outer", "inner"):
-        from mesh.validation import InputError
+        from common.validation import InputError
         raise InputError(f"race = {race!r} is not known; allowed: 'outer', 'inner'")
     rho = 0.5 * ball_diameter
     nox, nor = math.sin(alpha_outer), math.cos(alpha_outer)
@@ -229,7 +229,7 @@ def case_oil_air_fraction(fraction_ref: float, speed_rpm: float, scaling: str = 
         return fraction_ref
     if scaling == "inverse_speed":
         return fraction_ref * OIL_AIR_REFERENCE_RPM / speed_rpm
-    from mesh.validation import InputError
+    from common.validation import InputError
     raise InputError(f"oil_air_scaling = {scaling!r} is not known; allowed: 'constant', 'inverse_speed'")
 
 
@@ -264,7 +264,7 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0, oil=
     elif law == "origin":
         tab = np.array(TR.TRACTION_ORIGIN_4106, dtype=np.float64)
     else:
-        from mesh.validation import InputError
+        from common.validation import InputError
         raise InputError(f"traction law = {law!r} is not known; allowed: 'ehl', 'fit', 'bounded', 'origin'")
     if traction_scale != 1.0:
         tab[[0, 1, 3], 0] *= traction_scale
@@ -305,7 +305,7 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     load and gravity act from t = 0. Where that fixed point does not exist (the traction fit's dead
     zone) the quasi-static start is used; the row's "start" says which one ran."""
     if start not in ("quasi_static", "steady"):
-        from mesh.validation import InputError
+        from common.validation import InputError
         raise InputError(f"start = {start!r} is not known; allowed: 'quasi_static', 'steady'")
     model = build_validation_model(bearing, oil, options, traction_law, traction_scale)
     omega, y, sp, ld, imp = steady_case_start(model, case)

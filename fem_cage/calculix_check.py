@@ -107,7 +107,7 @@ def project_model(msh_path, material, degree: int = 2, quadrature_degree: int | 
     from .elasticity import load_cage_mesh, assemble_stiffness_mass
     from .craig_bampton import petsc_to_scipy
     from .stress_modes import NodalStress
-    from mesh.validation import InputError
+    from common.validation import InputError
     if degree != 2:
         raise InputError(f"calculix_check.degree = {degree} is outside the allowed set {{2}} "
                          "(C3D10 is the P2 isoparametric element)")
@@ -341,7 +341,7 @@ def pocket_case(model: ProjectModel, geometry, force_n: float, direction: str, s
     'circumferential' (e_theta of the pocket), 'axial' (x) or 'radial' (e_r)."""
     from . import interface as itf
     from .craig_bampton import full_static
-    from mesh.validation import InputError
+    from common.validation import InputError
     th = geometry.pocket_azimuths()[k_load]
     dirs = {"circumferential": (0.0, -np.sin(th), np.cos(th)), "axial": (1.0, 0.0, 0.0),
             "radial": (0.0, np.cos(th), np.sin(th))}

@@ -103,7 +103,7 @@ def geometry_of(names, p, base=NOMINAL_CAGE):
 
 
 def _base_id(base) -> str:
-    from mesh.cache import content_hash
+    from common.cache import content_hash
     return content_hash(base.to_dict())
 
 
@@ -317,7 +317,7 @@ def run_calibration(outdir: Path, size=None, pocket_size=None, order=2, degree=3
     """CLI driver: fit, then verify at the default mesh with mode classification; write
     calibration.json / calibration.md in outdir."""
     from mpi4py import MPI
-    from mesh.validation import InputError
+    from common.validation import InputError
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     if box not in BOXES:

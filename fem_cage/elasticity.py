@@ -27,7 +27,7 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
     """Read a gmsh .msh (linear or curved quadratic tets) into dolfinx, distributed over comm.
 
     Returns (domain, cell_tags, facet_tags, names) with names: physical name -> tag.
-    Refuses (mesh.validation.InputError) a mesh with inverted or badly curved tetrahedra
+    Refuses (common.validation.InputError) a mesh with inverted or badly curved tetrahedra
     (mesh.quality.check_mesh_file: Jacobian ratio below min_quality, default
     mesh.quality.MIN_JACOBIAN_RATIO), naming the elements and where they are; check=False skips
     that (only for studies of what invalid elements do).

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from mesh.validation import require_range
+from common.validation import require_range
 
 
 class _LU:

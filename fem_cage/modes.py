@@ -40,7 +40,7 @@ def free_free_modes(K, M, n_modes: int = 27, shift: float | None = None, tol: fl
     from slepc4py import SLEPc
 
     if n_modes < 1:
-        from mesh.validation import InputError
+        from common.validation import InputError
         raise InputError(f"modes.n_modes = {n_modes} is outside the allowed range [1, inf)")
     if shift is None:
         shift = -(2 * np.pi * 10.0) ** 2      # -3948 (rad/s)^2: 10 Hz below zero

@@ -197,7 +197,7 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
     from .craig_bampton import petsc_to_scipy, craig_bampton, orthonormalise
     from .invariants import scalar_mass_matrix, mass_moments, rigid_properties, ffrf_invariants
     from .stress_modes import stress_modes
-    from mesh.validation import InputError
+    from common.validation import InputError
 
     if coupling not in ("rbe2", "rbe3"):
         raise InputError(f"reduce.coupling = {coupling!r} is outside the allowed set {{rbe2, rbe3}}")
@@ -667,7 +667,7 @@ def run_checks(red: dict, domain, geometry, degree: int, n_keep: int = 26) -> di
 
 def run(args) -> int:
     from mesh.cage_geometry import PAPER_CAGE
-    from mesh.validation import require_range, InputError
+    from common.validation import require_range, InputError
     from . import reduced_cage as rcf
     import mesh.cage_mesh as cm      # light: gmsh is imported inside its functions
     size = cm.DEFAULT_MESH_SIZE if args.size is None else args.size

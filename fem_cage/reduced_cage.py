@@ -34,7 +34,7 @@ Root attributes
                 rigid_twist (6, 6): (t, omega) about the body origin of each rigid mode.
 /invariants     mass, center_of_mass (3), inertia_origin (3,3), inertia_com (3,3),
                 I1..I9 (fem_cage.invariants docstring; I5 (3,M,M), I8 (3,3,M), I9 (3,3,M,M)),
-                raw consistent-mass moments (what coupling.floating_frame contracts):
+                raw consistent-mass moments (what multibody.floating_frame contracts):
                 first (3) = ∫rho x, second (3,3) = ∫rho x_a x_b, S1 (3,M) = ∫rho Phi,
                 Sx (3,3,M) = ∫rho x_a Phi_k,b, SS (3,3,M,M) = ∫rho Phi_j,a Phi_k,b (Shabana's
                 S_ab); Mff = I6 = identity.
@@ -141,7 +141,7 @@ def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str
 
 
 def cache_path(key: dict) -> Path:
-    from mesh.cache import cache_dir, content_hash
+    from common.cache import cache_dir, content_hash
     return cache_dir() / "reduced_cage" / f"{content_hash(key)}.h5"
 
 
@@ -206,7 +206,7 @@ class ReducedCage:
 
     def truncate(self, n_keep: int = DEFAULT_N_KEEP) -> "ReducedCage":
         """The first n_keep modes by frequency (rigid ones included)."""
-        from mesh.validation import require_range
+        from common.validation import require_range
         require_range("reduced_cage.n_keep", n_keep, 1, self.n_modes)
         return self.select(np.arange(int(n_keep)))
 

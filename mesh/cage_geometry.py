@@ -13,29 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, asdict, replace
 
-from .validation import InputError, require_positive, require_range
-
-
-@dataclass(frozen=True)
-class Material:
-    """Linear elastic isotropic material (SI)."""
-    density: float          # kg/m^3
-    youngs_modulus: float   # Pa
-    poisson_ratio: float    # -
-
-    def validate(self, name: str = "material") -> "Material":
-        require_positive(f"{name}.density", self.density, "kg/m^3")
-        require_positive(f"{name}.youngs_modulus", self.youngs_modulus, "Pa")
-        require_range(f"{name}.poisson_ratio", self.poisson_ratio, -1.0, 0.5, lo_open=True, hi_open=True)
-        return self
-
-
-M50 = Material(density=7810.0, youngs_modulus=210e9, poisson_ratio=0.3)
-STEEL_40CrNiMoA = Material(density=7870.0, youngs_modulus=209e9, poisson_ratio=0.295)
-# Minimum yield strength sigma_s of 40CrNiMoA quenched (850 °C, oil) and tempered (600 °C), GB/T 3077
-# (25 mm test blank; tensile strength >= 980 MPa). Not a model input: the report compares the
-# cage's elastic von Mises stress with it (coupling.report, "Cage stress against the yield strength").
-YIELD_STRENGTH_40CrNiMoA = 835e6    # Pa
+from common.materials import STEEL_40CrNiMoA, Material
+from common.validation import InputError, require_positive, require_range
 
 
 @dataclass(frozen=True)
@@ -89,7 +68,7 @@ class CageGeometry:
     def validate(self) -> "CageGeometry":
         """Refuse geometry that cannot be meshed or is not a cage; return self.
 
-        Every message names the field, its value and the allowed range (mesh.validation).
+        Every message names the field, its value and the allowed range (common.validation).
         """
         require_positive("cage.outside_diameter", self.outside_diameter, "m")
         require_range("cage.bore_diameter", self.bore_diameter, 0.0, self.outside_diameter,

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .cage_geometry import CageGeometry
-from .validation import InputError, require_range
+from common.validation import InputError, require_range
 
 # Converged default: Lagrange P3 on a curved quadratic mesh of uniform 4 mm elements.
 # Stress (benchmarks/results/cage_stress_convergence.md): the maximum von Mises stress of every
@@ -362,7 +362,7 @@ def mesh_key(geometry: CageGeometry, size: float, order: int, pocket_size: float
 
 def cache_path(geometry: CageGeometry, size: float, order: int, pocket_size: float | None,
                local=None) -> Path:
-    from .cache import cache_dir, content_hash
+    from common.cache import cache_dir, content_hash
     key = mesh_key(geometry, size, order, pocket_size, local=local)
     return cache_dir() / "meshes" / f"{content_hash(key)}.msh"
 
@@ -380,7 +380,7 @@ def cached_cage_mesh(geometry: CageGeometry, size: float = DEFAULT_MESH_SIZE,
 
 
 def cached_ring_mesh(geometry: CageGeometry, size: float, order: int = DEFAULT_ORDER) -> Path:
-    from .cache import cache_dir, content_hash
+    from common.cache import cache_dir, content_hash
     path = cache_dir() / "meshes" / f"{content_hash(mesh_key(geometry, size, order, None, 'ring'))}.msh"
     if not path.exists():
         build_ring_mesh(geometry, size, order, path)

@@ -81,7 +81,7 @@ def quality_line(summary: dict, repair: dict | None) -> str:
 def cmd_check(path) -> int:
     """`flexbearing mesh --check FILE`: the quality of any mesh file; exit 1 if it would be refused."""
     from .quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
-    from .validation import InputError
+    from common.validation import InputError
     q = mesh_file_quality(path)
     print(f"{path}: {quality_line(q.summary(), None)}")
     try:
@@ -99,7 +99,7 @@ def cmd_mesh(args) -> int:
     if args.check:
         return cmd_check(Path(args.check))
     if not args.output:
-        from .validation import InputError
+        from common.validation import InputError
         raise InputError("flexbearing mesh: give -o/--output FILE.msh (or --check FILE to check a mesh)")
     g = geometry_from_args(args)
     out = Path(args.output)

@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import InputError
+from common.validation import InputError
 
 # Edges of the VTK/meshio tetra10 (node 4 + k sits on EDGES[k]).
 EDGES = ((0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3))

@@ -9,8 +9,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace, asdict
 
-from mesh.cage_geometry import M50, Material, PAPER_CAGE, CageGeometry
-from mesh.validation import InputError, require_positive, require_range
+from common.materials import M50, Material
+from mesh.cage_geometry import PAPER_CAGE, CageGeometry
+from common.validation import InputError, require_positive, require_range
 
 
 @dataclass(frozen=True)

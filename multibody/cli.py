@@ -37,7 +37,7 @@ import math
 import sys
 from pathlib import Path
 
-from mesh.validation import InputError, require_range
+from common.validation import InputError, require_range
 
 
 def register(subparsers) -> None:

@@ -152,29 +152,32 @@ from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, 
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from multibody.traction import EHL_TABLE_ROWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
 from multibody.film import film_thickness as hamrock_dowson_film
-from coupling.floating_frame import accelerations as ffrf_accelerations
-from coupling.floating_frame import add_node_load, node_kinematics, deformed_moments, mass_matrix
+from multibody.floating_frame import accelerations as ffrf_accelerations
+from multibody.floating_frame import add_node_load, node_kinematics, deformed_moments, mass_matrix
 
 
 
 def _invalidate_stale_numba_cache() -> None:
-    """Drop this module's and the integrator's numba cache when any compiled dependency changed.
+    """Drop the compiled kernels' numba cache when any source they link changed.
 
     numba's on-disk cache of a function is keyed on its own source file only, but `rhs` links in
-    the compiled code of geometry, traction, profiles and hertz (and the integrator links `rhs`):
-    an edit there would otherwise leave a stale `rhs` in the cache. A hash of all those sources is
-    kept next to the cache; on mismatch the cached entries of dynamics and integrator are removed.
+    the compiled code of other modules (geometry, traction, profiles, hertz, the floating frame,
+    ...), the integrator links `rhs` and the stress monitor (which links fem_cage.von_mises): an
+    edit there would otherwise leave a stale kernel in the cache. A hash of every source of this
+    package and of fem_cage/von_mises.py is kept next to the cache; on mismatch the cached entries
+    of every module of the package are removed.
     """
     import hashlib
     import os
     import glob
     here = os.path.dirname(os.path.abspath(__file__))
-    names = ("dynamics.py", "integrator.py", "geometry.py", "traction.py", "profiles.py", "hertz.py", "model.py",
-             "drag.py", "guide_land.py", "pocket.py", "film.py", os.path.join("..", "coupling", "floating_frame.py"))
+    sources = sorted(glob.glob(os.path.join(here, "*.py")))
+    sources.append(os.path.join(here, "..", "fem_cage", "von_mises.py"))
     h = hashlib.sha1()
-    for n in names:
+    for path in sources:
         try:
-            with open(os.path.join(here, n), "rb") as f:
+            with open(path, "rb") as f:
+                h.update(os.path.basename(path).encode())
                 h.update(f.read())
         except OSError:
             pass
@@ -188,8 +191,9 @@ def _invalidate_stale_numba_cache() -> None:
         pass
     try:
         os.makedirs(cache, exist_ok=True)
-        for pat in ("dynamics.*.nb[ic]", "integrator.*.nb[ic]"):
-            for fn in glob.glob(os.path.join(cache, "**", pat), recursive=True):
+        for path in sources[:-1]:
+            stem = os.path.splitext(os.path.basename(path))[0]
+            for fn in glob.glob(os.path.join(cache, "**", f"{stem}.*.nb[ic]"), recursive=True):
                 os.remove(fn)
         with open(stamp, "w") as f:
             f.write(h.hexdigest())
@@ -613,7 +617,7 @@ def _cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az):
 
 @njit(cache=True)
 def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
-    """Cage equations: the floating-frame equations of coupling.floating_frame with the applied
+    """Cage equations: the floating-frame equations of multibody.floating_frame with the applied
     generalised forces cage[16] (pocket loads, added by `rhs`), the guide-land force and torque
     at the frame origin and gravity; rigid cage = zero modes (module docstring).
 

@@ -35,7 +35,7 @@ import math
 import numpy as np
 from scipy.optimize import root
 
-from mesh.validation import InputError, require_range
+from common.validation import InputError, require_range
 from multibody import model as M
 from multibody.dynamics import _hertz_lookup, control_race, nominal_cage_speed
 from multibody.geometry import race_contact, ring_point_in_plane

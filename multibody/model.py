@@ -75,7 +75,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from mesh.validation import InputError, require_range
+from common.validation import InputError, require_range
 from multibody.bearing import Bearing, Oil
 from multibody.hertz import effective_modulus, ellipticity, hertz_stiffness, race_curvature_radii
 from multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table
@@ -162,7 +162,7 @@ class Model(NamedTuple):
     n_balls: int
     n_modes: int
     n_state: int
-    # The cage body in floating-frame form (coupling.floating_frame.FlexibleBody arrays followed by
+    # The cage body in floating-frame form (multibody.floating_frame.FlexibleBody arrays followed by
     # its work arrays, `cage_arrays`): mass (1,), first, second, S1, Sx, SS, Mff, stiffness,
     # damping, node_position, node_modes, Mmat, rhs, U, Wab, acc, Qext, A (3,3), scratch (8,3),
     # node_load (Z + 1, 6): each pocket node's force and moment on the cage in the body frame,
@@ -204,8 +204,8 @@ DEFAULT_OPTIONS = {
 
 
 def cage_arrays(body) -> tuple:
-    """The numba argument tuple of a cage body (coupling.floating_frame.FlexibleBody)."""
-    from coupling.floating_frame import new_workspace
+    """The numba argument tuple of a cage body (multibody.floating_frame.FlexibleBody)."""
+    from multibody.floating_frame import new_workspace
     Mmat, rvec, U, Wab = new_workspace(body.n_modes)
     d = 6 + body.n_modes
     land = getattr(body, "land_modes", None)
@@ -221,7 +221,7 @@ def rigid_cage_body(cage, pitch_diameter: float):
     """The rigid cage as a floating-frame body with zero modes: mass and inertia of the annulus
     minus the pockets (`cage_mass_properties`), CoM at the frame origin, one interface node per
     pocket on its axis at the pitch radius (the ball centres' radius)."""
-    from coupling.floating_frame import rigid_body
+    from multibody.floating_frame import rigid_body
     mc, icp, icd = cage_mass_properties(cage)
     psi = 2.0 * math.pi * np.arange(cage.n_pockets) / cage.n_pockets
     r = 0.5 * pitch_diameter
@@ -291,7 +291,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     """Model arrays for `bearing` lubricated with `oil` (module docstring for every entry).
 
     options: any key of DEFAULT_OPTIONS; unknown keys are an InputError.
-    cage_body: the cage as a floating-frame body (coupling.floating_frame.FlexibleBody; the
+    cage_body: the cage as a floating-frame body (multibody.floating_frame.FlexibleBody; the
     flexible cage of coupling.flexible_cage); None = the rigid cage (`rigid_cage_body`).
     """
     options = dict(options or {})

@@ -60,7 +60,7 @@ from dataclasses import dataclass, field, asdict
 import numpy as np
 from numba import njit
 
-from mesh.validation import InputError, require_range, require_positive, require_finite
+from common.validation import InputError, require_range, require_positive, require_finite
 from multibody import geometry as geo
 from multibody.hertz import (race_curvature_radii, hertz_stiffness, hertz_point_contact,
                              effective_modulus)

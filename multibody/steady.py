@@ -45,7 +45,7 @@ import math
 
 import numpy as np
 
-from mesh.validation import InputError, require_range
+from common.validation import InputError, require_range
 from multibody import dynamics as D
 from multibody import model as M
 from multibody.initial import initial_state

@@ -351,8 +351,8 @@ def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float
     """The (8, 4) coefficient table of the EHL film-shear law (module docstring): rows 0–5 unused,
     row 6 = (tau0 Pa, gamma_L, G Pa, traction_scale), row 7 = (contact temperature rise K, k_steel
     W/(m·K), kappa_steel m²/s, beta_T 1/K: the oil's viscosity–temperature coefficient). Values
-    outside EHL_RANGES are refused (mesh.validation.require_range names the field)."""
-    from mesh.validation import require_range
+    outside EHL_RANGES are refused (common.validation.require_range names the field)."""
+    from common.validation import require_range
     for name, value in (("traction_scale", traction_scale), ("contact_temperature_rise", contact_temperature_rise),
                         ("eyring_stress", eyring_stress), ("limiting_shear_coeff", limiting_shear_coeff),
                         ("shear_modulus", shear_modulus)):

@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 
 from coupling import validate as V
-from mesh.validation import InputError
+from common.validation import InputError
 from multibody import dynamics as D
 from multibody import integrator as I
 from multibody import model as M

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from mesh.cage_geometry import PAPER_CAGE, NOMINAL_CAGE
-from mesh.validation import InputError
+from common.validation import InputError
 
 
 @pytest.mark.parametrize("change, field", [

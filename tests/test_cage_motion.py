@@ -21,7 +21,7 @@ import pytest
 from scipy.special import ellipe
 
 from coupling import cage_motion as CM
-from mesh.validation import InputError
+from common.validation import InputError
 
 
 def _circle(r=20e-6, omega=300.0, w0=600.0, a=2000.0, dt=1e-4, n=2001, sense=1.0):

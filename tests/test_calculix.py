@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-from mesh.cage_geometry import Material
+from common.materials import Material
 
 needs_ccx = pytest.mark.skipif(
     not __import__("shutil").which("ccx"),
@@ -189,7 +189,7 @@ def test_mesh_order_check_refuses_wrong_order(bar_msh):
 
 def test_deck_refuses_bad_input(bar_msh):
     from fem_cage import calculix as cx
-    from mesh.validation import InputError
+    from common.validation import InputError
     mesh = cx.read_tet10_mesh(bar_msh)
     with pytest.raises(InputError, match="calculix.analysis"):
         cx.deck_text(mesh, STEEL, analysis="buckle")

@@ -108,7 +108,7 @@ def test_race_control_full_model_matches_jones_quasi_static(control):
 
 
 def test_friction_share_is_validated():
-    from mesh.validation import InputError
+    from common.validation import InputError
     from multibody.quasi_static import solve_quasi_static, grooves_from_bearing
     with pytest.raises(InputError, match="friction_share"):
         solve_quasi_static(grooves_from_bearing(PAPER_BEARING), 1000.0, fx=5e3, friction_share=(1.5, 1.0))

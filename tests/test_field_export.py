@@ -30,7 +30,7 @@ from scipy.spatial.transform import Rotation
 
 from coupling import field_export
 from coupling.stress_picture import boundary_faces, face_normals, write_stress_picture
-from mesh.validation import InputError
+from common.validation import InputError
 from test_report import _vm_by_deviator, write_run
 
 R_POCKET = 0.05          # m, radius of the synthetic pockets' centres

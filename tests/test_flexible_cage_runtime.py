@@ -1,4 +1,4 @@
-"""The flexible cage at run time (coupling.flexible_cage + coupling.floating_frame) on real
+"""The flexible cage at run time (coupling.flexible_cage + multibody.floating_frame) on real
 reduced cages. Slow: each module fixture builds a reduced cage with dolfinx (the thin ring in
 ~1 min, the paper cage in ~4–6 min on 2 cores).
 
@@ -37,7 +37,7 @@ def test_free_spinning_ring_hoop_stress_equals_rotating_ring(thin_ring):
     value: the section mean within 1 % and every node within 2.5 % (the 3D ring vs the plane-stress
     disc model and the averaged nodal stress of a 2.5 mm P2 mesh: measured −2.1…+0.6 % for the
     full FE solution itself on this mesh)."""
-    from coupling import floating_frame as ff
+    from multibody import floating_frame as ff
     from coupling.flexible_cage import StressRecovery, flexible_cage_body
     g, rc = thin_ring
     beta = 1e-5
@@ -102,7 +102,7 @@ def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
     1e-6 and 1.5e-10 at 1e-7, i.e. only the tighter tolerance split the step sequences, which the
     earlier form of this check wrongly required to be 5x below the round-off one)."""
     from coupling.flexible_cage import flexible_cage_body
-    from coupling.floating_frame import rigid_body
+    from multibody.floating_frame import rigid_body
     from multibody import dynamics, initial, integrator, model as mb
     from multibody.bearing import PAPER_BEARING, PAPER_OIL
     rc = paper_reduced_cage

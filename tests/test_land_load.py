@@ -15,7 +15,7 @@ with G = 0 they are 0 and the rest of the RHS is unchanged bit for bit.
 """
 import numpy as np
 
-from coupling.floating_frame import FlexibleBody
+from multibody.floating_frame import FlexibleBody
 from multibody import dynamics, initial, model as mb
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 

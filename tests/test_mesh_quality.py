@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from mesh import quality as Q
-from mesh.validation import InputError
+from common.validation import InputError
 
 REF = Q.reference_nodes(10)            # the reference quadratic tetrahedron, straight-sided
 

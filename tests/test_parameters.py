@@ -4,7 +4,7 @@ import math
 import pytest
 
 from mesh.cage_geometry import PAPER_CAGE
-from mesh.validation import InputError
+from common.validation import InputError
 from multibody.bearing import PAPER_BEARING, PAPER_OIL, ENGINE_OIL
 
 

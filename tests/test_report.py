@@ -30,7 +30,7 @@ import pytest
 from coupling import field_export, report
 from coupling.results import ResultsWriter
 from coupling.scene import loads_scene
-from mesh.validation import InputError
+from common.validation import InputError
 
 Z = 4
 DT = 1e-3

@@ -15,7 +15,7 @@ import pytest
 
 from coupling.results import read_checkpoint, read_outputs
 from coupling.run import RunInterrupted, run_scene
-from mesh.validation import InputError
+from common.validation import InputError
 from test_run import SCENE, fake_advance, fake_backend, fake_scene
 
 HERE = Path(__file__).resolve().parent

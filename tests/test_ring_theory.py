@@ -7,7 +7,7 @@ import pytest
 from fem_cage.ring_theory import (thin_ring_inplane_hz, thin_ring_outofplane_hz,
                                   thick_ring_inplane_hz, torsion_constant_rectangle,
                                   cowper_shear_coefficient)
-from mesh.cage_geometry import Material
+from common.materials import Material
 
 STEEL = Material(density=7850.0, youngs_modulus=200e9, poisson_ratio=0.3)
 

@@ -20,7 +20,7 @@ import pytest
 from coupling.results import read_outputs, summary_path
 from coupling.run import RunInterrupted, run_scene
 from coupling.scene import RPM, loads_scene
-from mesh.validation import InputError
+from common.validation import InputError
 from multibody.profiles import load_at, speed_angle_at, speed_at
 
 W0, ZETA, MASS = 2 * math.pi * 200.0, 0.05, 10.0

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from coupling.scene import RPM, load_scene, loads_scene
-from mesh.validation import InputError
+from common.validation import InputError
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 

@@ -89,7 +89,7 @@ def test_steady_start_of_the_light_load_high_speed_cases():
     case 1 (4000 rpm) has no such fixed point (the fit's dead zone) and falls back to the
     quasi-static start, saying so; the EHL law (the default, no dead zone) has one."""
     import math
-    from mesh.validation import InputError
+    from common.validation import InputError
     from multibody.model import P_GRAV
     from multibody.steady import steady_thrust_state
     case6 = [c for c in V.slip_rate_cases() if c["case"] == 6][0]
@@ -115,7 +115,7 @@ def test_cases_in_parallel_give_the_same_rows_in_case_order():
     """workers=2 runs the cases in two processes: each row is one deterministic integration, so the
     rows must equal the serial ones bit for bit, and come back in case order (they are started
     highest speed first). 0.1 s of cases 7 and 1; a bad worker count is refused with its name."""
-    from mesh.validation import InputError
+    from common.validation import InputError
     kw = dict(cases=[7, 1], quiet=True, t_max=0.1, t_min=0.05)
     serial = V.run_slip_rate_validation(**kw)
     parallel = V.run_slip_rate_validation(workers=2, **kw)

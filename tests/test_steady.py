@@ -27,7 +27,7 @@ import math
 import numpy as np
 import pytest
 
-from mesh.validation import InputError
+from common.validation import InputError
 from multibody import dynamics as D
 from multibody import integrator as I
 from multibody import model as M

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from coupling.study import load_study, run_study, study_table
-from mesh.validation import InputError
+from common.validation import InputError
 
 BASE = """
 name = "thrust"

@@ -139,7 +139,7 @@ def test_against_the_published_4106_fit_inside_its_data_range():
 
 
 def test_model_option_and_scene_key_select_the_law():
-    from mesh.validation import InputError
+    from common.validation import InputError
     from multibody.bearing import PAPER_BEARING
     from multibody.model import build_model
     assert build_model(PAPER_BEARING, PAPER_OIL, {}).traction_table.shape == (4, 4)      # the paper's fit

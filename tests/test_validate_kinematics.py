@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from coupling import validate as V
-from mesh.validation import InputError
+from common.validation import InputError
 from multibody import traction as T
 
 DW, DM = 0.022, 0.167
