@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT))
 from multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
 from multibody.model import build_model  # noqa: E402
 from multibody.initial import initial_state  # noqa: E402
-from multibody import dynamics as D  # noqa: E402
+from multibody import outputs as O  # noqa: E402
 from multibody import integrator as I  # noqa: E402
 
 
@@ -50,7 +50,7 @@ def main(argv=None):
     t0 = time.perf_counter()
     ref, _, _, n_ref, _ = I.advance(m, y0.copy(), 0.0, a.duration, sp, ld, imp, 1e-10, 1e-8)
     t_ref = time.perf_counter() - t0
-    q_ref = D.evaluate_outputs(m, a.duration, ref, sp, ld, imp)["contact_load"]
+    q_ref = O.evaluate_outputs(m, a.duration, ref, sp, ld, imp)["contact_load"]
     rows = []
     for meth in ("dopri5", "bs32"):
         for tol in (1e-4, 1e-5, 1e-6, 1e-7, 1e-8):
@@ -61,7 +61,7 @@ def main(argv=None):
             wall = time.perf_counter() - t0
             wgt = m.scale + m.relmask * np.abs(ref)
             err = float(np.sqrt(np.mean(((y - ref) / wgt) ** 2)))
-            q = D.evaluate_outputs(m, a.duration, y, sp, ld, imp)["contact_load"]
+            q = O.evaluate_outputs(m, a.duration, y, sp, ld, imp)["contact_load"]
             qerr = float(np.max(np.abs(q - q_ref)) / np.mean(q_ref[:, 0]))
             rows.append(dict(method=meth, tol=tol, wall_s=wall, steps=n, rejected=nr,
                              state_error=err, load_error=qerr, sim_s_per_wall_s=a.duration / wall))

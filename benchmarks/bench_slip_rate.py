@@ -24,6 +24,7 @@ import numpy as np
 
 from coupling import validate as V
 from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import integrator as I
 from multibody import model as M
 from multibody.initial import initial_state
@@ -44,7 +45,7 @@ def case_budget(case_no: int, t_run: float = 0.6, window: float = 0.05, oil_temp
     n = 0
     while t < t_run - 1e-12:
         y, t, h, _, _ = I.advance(model, y, t, min(t + 1e-3, t_run), sp, ld, imp, tol, h, ws)
-        out = D.evaluate_outputs(model, t, y, sp, ld, imp)
+        out = O.evaluate_outputs(model, t, y, sp, ld, imp)
         Q = out["contact_load"]
         pick = np.where(Q[:, 1] >= Q[:, 2], 1, 2)
         zi = np.arange(Q.shape[0])
@@ -101,7 +102,7 @@ def static_tables(oil_temperature_c: float = 120.0) -> str:
     for c in V.slip_rate_cases():
         w = c["speed_rpm"] * math.pi / 30.0
         y = initial_state(model, w, c["axial_load"], c["radial_load"])
-        out = D.evaluate_outputs(model, 0.0, y, np.array([[0.0, w]]),
+        out = O.evaluate_outputs(model, 0.0, y, np.array([[0.0, w]]),
                                  np.array([[0.0, c["axial_load"], 0.0, -c["radial_load"]]]), np.zeros((0, 6)))
         Q, ang = out["contact_load"], out["contact_angle"]
         zi = np.arange(Q.shape[0])

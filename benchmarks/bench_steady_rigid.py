@@ -3,7 +3,7 @@
 Scene scenes/paper_steady_rigid.toml (SPEC §6): 14,000 rpm, Fa = 55 kN, Fr = 4 kN, 0.6 s,
 rigid cage, tolerance and sample interval from the scene (1e-6, 1e-4 s). The loop is the one of a
 run: the integrator advances sample by sample (multibody.integrator.advance), the outputs the
-scene records are evaluated at every sample (multibody.dynamics.evaluate_outputs) and kept in
+scene records are evaluated at every sample (multibody.outputs.evaluate_outputs) and kept in
 memory (no HDF5: that is the results engineer's part and measured by its own benchmark).
 
 Reported: wall time (compilation excluded: a warm-up of 1 ms runs first), steps, rejected steps,
@@ -30,7 +30,7 @@ sys.path.insert(0, str(ROOT))
 
 from multibody.model import build_model  # noqa: E402
 from multibody.initial import initial_state  # noqa: E402
-from multibody import dynamics as D  # noqa: E402
+from multibody import outputs as O  # noqa: E402
 from multibody import integrator as I  # noqa: E402
 
 
@@ -66,7 +66,7 @@ def main(argv=None) -> dict:
     # warm-up: compile everything (cached on disk after the first run)
     tw = time.perf_counter()
     I.advance(model, y0.copy(), 0.0, 1e-3, sp, ld, imp, tol, h0)
-    D.evaluate_outputs(model, 0.0, y0, sp, ld, imp, film=film)
+    O.evaluate_outputs(model, 0.0, y0, sp, ld, imp, film=film)
     t_compile = time.perf_counter() - tw
 
     n = int(round(duration / dt))
@@ -85,7 +85,7 @@ def main(argv=None) -> dict:
         y, t, h, a_, r_ = I.advance(model, y, t, tn, sp, ld, imp, tol, h, ws, method=a.method)
         steps += a_
         rej += r_
-        out = D.evaluate_outputs(model, t, y, sp, ld, imp, film=film)
+        out = O.evaluate_outputs(model, t, y, sp, ld, imp, film=film)
         cage[k - 1] = out["cage_speed"]
         slip[k - 1] = out["slip_rate"]
         if bar is not None and k % 50 == 0:

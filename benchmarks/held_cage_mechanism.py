@@ -87,7 +87,7 @@ def run_dynamics(model, y, omega, load, duration, average_from):
     """Integrate from y (rigid cage, tolerance 1e-6), sample every 0.1 ms; return the balls'
     azimuths and tangential pocket forces, the cage centre, film force and pocket resultant over
     t >= average_from."""
-    from multibody import dynamics as D
+    from multibody import outputs as O
     from multibody import model as M
     from multibody.integrator import Workspace, advance
 
@@ -101,7 +101,7 @@ def run_dynamics(model, y, omega, load, duration, average_from):
     for k in range(1, int(round(duration / 1e-4)) + 1):
         y, t, h, _, _ = advance(model, y, t, k * 1e-4, speed_table, load_table, impacts, tol=1e-6, h=h, ws=ws)
         if t >= average_from - 1e-12:
-            o = D.evaluate_outputs(model, t, y, speed_table, load_table, impacts)
+            o = O.evaluate_outputs(model, t, y, speed_table, load_table, impacts)
             psi.append(y[2:9 * z:9].copy())
             ft.append(o["pocket_force_tangential"])
             centre.append(y[c0 + 1:c0 + 3].copy())

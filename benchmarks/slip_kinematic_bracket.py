@@ -26,7 +26,7 @@ from dataclasses import replace
 import numpy as np
 
 from coupling import validate as V
-from multibody import dynamics as D
+from multibody.geometry import nominal_cage_speed
 from multibody import quasi_static as QS
 from multibody.bearing import PAPER_BEARING
 
@@ -51,7 +51,7 @@ def bracket(shim_angle_deg: float) -> dict:
         ki = np.where(q[:, 1] >= q[:, 2], 1, 2)
         ao = float(np.mean(np.abs(r.contact_angle[both, 0])))
         ai = float(np.mean(np.abs(r.contact_angle[np.arange(len(q)), ki][both])))
-        nm = D.nominal_cage_speed(w, b.ball_diameter, b.pitch_diameter, 0.5 * (ao + ai))
+        nm = nominal_cage_speed(w, b.ball_diameter, b.pitch_diameter, 0.5 * (ao + ai))
         ratio_inner, _ = V.race_control_kinematics(ao, ai, "inner", b.ball_diameter, b.pitch_diameter)
         ratio_beta = V.pure_rolling_cage_speed_ratio(ao, ai, ai, b.ball_diameter, b.pitch_diameter)
         for k, nc in zip(ATTITUDES, (r.cage_speed, ratio_inner * w, ratio_beta * w)):

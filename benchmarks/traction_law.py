@@ -28,6 +28,7 @@ sys.path.insert(0, os.path.join(HERE, ".."))
 
 from coupling import validate as V  # noqa: E402
 from multibody import dynamics as D  # noqa: E402
+from multibody import outputs as O  # noqa: E402
 from multibody import traction as T  # noqa: E402
 from multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
 from multibody.film import film_thickness  # noqa: E402
@@ -43,7 +44,7 @@ def contacts_of(model, case, oil):
     load): (label, Q, Rx, Ry, UR)."""
     omega = case["speed_rpm"] * math.pi / 30.0
     y = initial_state(model, omega, case["axial_load"], 0.0)
-    out = D.evaluate_outputs(model, 0.0, y, np.array([[0.0, omega]]),
+    out = O.evaluate_outputs(model, 0.0, y, np.array([[0.0, omega]]),
                              np.array([[0.0, case["axial_load"], 0.0, 0.0]]), np.zeros((0, 6)))
     rows = []
     work = D.new_work(model)

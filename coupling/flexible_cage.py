@@ -207,7 +207,7 @@ def backend(scene):
     centrifugal deformation, and outputs extended by the cage stress."""
     from types import SimpleNamespace
     from fem_cage import reduced_cage as rcf
-    from multibody import dynamics, initial, integrator, model as mb
+    from multibody import dynamics, initial, integrator, model as mb, outputs
 
     path = reduced_cage_path(scene)
     rc = rcf.read(path)
@@ -251,7 +251,7 @@ def backend(scene):
         over every integrator step since the previous sample (the compiled monitor), with the
         vertex, the time it occurred and the full modal coordinates of that step; at a sample
         no step led to (the first) it is evaluated at (t, y) itself."""
-        out = dynamics.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film, energy=energy)
+        out = outputs.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film, energy=energy)
         lay = mb.state_layout(model)
         q = y[lay["modes"]:lay["modes"] + n]
         out["cage_modal_coordinates"] = q.copy()
@@ -279,12 +279,8 @@ def backend(scene):
             out["cage_modal_coordinates_full"] = qf
         return out
 
-    units = dict(getattr(dynamics, "OUTPUT_UNITS", {}))
-    units.update({"von_mises_max": "Pa", "von_mises_max_vertex": "index", "von_mises_max_time": "s",
-                  "von_mises_steps": "steps", "cage_modal_coordinates": "1",
-                  "cage_modal_coordinates_full": "1"})
-    ws = getattr(integrator, "Workspace", None)
+    # the units of these outputs: multibody.output_registry (groups "von_mises", "cage_modes")
     return SimpleNamespace(build_model=build_model, initial_state=initial_state,
                            advance=advance, evaluate_outputs=evaluate_outputs,
-                           new_workspace=(lambda m: ws(m)) if ws else None, OUTPUT_UNITS=units,
-                           FILE_ATTRS=file_attrs, basis=basis, reduced_cage=rc)
+                           new_workspace=integrator.Workspace, FILE_ATTRS=file_attrs, basis=basis,
+                           reduced_cage=rc)

@@ -7,7 +7,10 @@ Layout (SI units in the `unit` attribute of every dataset):
                            sample_interval, n_samples_expected, cage_model, summary (JSON, at the end)
     /scene                 the scene's TOML text, as loaded
     /outputs/time          (n,) s
-    /outputs/<name>        (n, ...) one row per sample, e.g. contact_stress_inner (n, Z) Pa
+    /outputs/<name>        (n, ...) one row per sample, e.g. contact_stress (n, Z, 3) Pa; attrs
+                           unit, dims (names of the axes, e.g. "time, ball, contact") and, for
+                           labelled last axes, columns ("outer, inner_left, inner_right"), from
+                           multibody.output_registry
     /checkpoint/slot0, slot1   y (state), attrs t, h, n_samples, n_steps, n_rejected, wall_time, seq
 
 Crash safety. Samples are buffered in memory and written in blocks: each block is appended to the
@@ -31,42 +34,15 @@ from pathlib import Path
 
 import numpy as np
 
+from multibody import output_registry as R
+
 FORMAT = "flexbearing-results"
 FORMAT_VERSION = 1
 CHUNK_ROWS = 256          # rows per HDF5 chunk along time (a chunk of (256, 20) float64 is 40 kB)
 
-# Units of the recorded quantities (keys of multibody.dynamics.evaluate_outputs, after the run's
-# split of mixed-unit vectors, coupling.run.SPLIT_OUTPUTS). A backend's OUTPUT_UNITS dict wins;
-# name fragments are the last resort (ordered: the more specific fragment first).
-KNOWN_UNITS = {
-    "time": "s", "contact_load": "N", "contact_angle": "rad", "contact_angle_outer": "rad",
-    "contact_angle_inner_loaded": "rad", "contact_stress": "Pa", "approach": "m",
-    "entrainment_speed": "m/s", "slide_ratio": "1", "pocket_force": "N", "pocket_offset": "m",
-    "pocket_force_tangential": "N", "churning_drag": "N", "cage_land_force": "N",
-    "cage_land_force_magnitude": "N", "cage_land_torque": "N·m", "cage_rim_force": "N",
-    "cage_eccentricity_ratio": "1", "cage_speed": "rad/s", "nominal_cage_speed": "rad/s",
-    "slip_rate": "1", "cage_centre": "m", "cage_tilt": "rad", "inner_ring_speed": "rad/s",
-    "inner_ring_position": "m", "inner_ring_tilt": "rad", "ring_drive_torque": "N·m",
-    "external_load": "N", "ball_axial_position": "m", "ball_radial_position": "m",
-    "ball_azimuth": "rad", "ball_axial_velocity": "m/s", "ball_radial_velocity": "m/s",
-    "ball_orbit_speed": "rad/s", "ball_angular_velocity": "rad/s", "film_thickness_min": "m",
-    "film_thickness_central": "m", "von_mises_max": "Pa", "drive_power": "W", "power_loss": "W",
-    "power_loss_traction": "W", "power_loss_rolling": "W", "power_loss_contact_damping": "W",
-    "power_loss_pocket": "W", "power_loss_churning": "W", "power_loss_guide_land": "W",
-    "power_loss_cage_damping": "W", "mechanical_energy": "J", "external_load_power": "W",
-}
-CONTACTS = ("outer", "inner_left", "inner_right")
-# Names of the last axis of vector outputs: the summary gives statistics per column too (e.g. the
-# outer and the inner contact stress separately).
-KNOWN_COLUMNS = {
-    **{k: CONTACTS for k in ("contact_load", "contact_angle", "contact_stress", "approach",
-                             "entrainment_speed", "slide_ratio", "film_thickness_min",
-                             "film_thickness_central", "power_loss_traction", "power_loss_rolling",
-                             "power_loss_contact_damping")},
-    "cage_land_force": ("y", "z"), "cage_centre": ("x", "y", "z"), "inner_ring_position": ("x", "y", "z"),
-    "external_load": ("x", "y", "z"), "cage_tilt": ("tilt_y", "tilt_z"), "inner_ring_tilt": ("tilt_y", "tilt_z"),
-    "ball_angular_velocity": ("x", "r", "t"),
-}
+# Units, dimension names and column labels of the recorded quantities: multibody.output_registry
+# (a backend's OUTPUT_UNITS dict wins; name fragments are the last resort for names it does not
+# know, ordered: the more specific fragment first).
 _UNIT_RULES = (("ratio", "1"), ("angular_velocity", "rad/s"), ("angle", "rad"), ("tilt", "rad"),
                ("von_mises", "Pa"), ("stress", "Pa"), ("pressure", "Pa"), ("film", "m"),
                ("thickness", "m"), ("torque", "N·m"), ("force", "N"), ("load", "N"), ("drag", "N"),
@@ -78,8 +54,10 @@ _UNIT_RULES = (("ratio", "1"), ("angular_velocity", "rad/s"), ("angle", "rad"), 
 def unit_for(name: str, known: dict | None = None) -> str:
     if known and name in known:
         return known[name]
-    if name in KNOWN_UNITS:
-        return KNOWN_UNITS[name]
+    if name in R.OUTPUT:
+        return R.OUTPUT[name].unit
+    if name == "time":
+        return "s"
     for frag, unit in _UNIT_RULES:
         if frag in name:
             return unit
@@ -186,7 +164,10 @@ class ResultsWriter:
                 ds = out.create_dataset(k, shape=(0,) + block.shape[1:], maxshape=(None,) + block.shape[1:],
                                         dtype=np.float64, chunks=(CHUNK_ROWS,) + block.shape[1:])
                 ds.attrs["unit"] = unit_for(k, self.units)
-                cols = KNOWN_COLUMNS.get(k)
+                entry = R.OUTPUT.get(k)
+                if entry is not None and len(entry.dims) == block.ndim - 1:
+                    ds.attrs["dims"] = ", ".join(("time",) + entry.dims)
+                cols = entry.columns if entry is not None else None
                 if cols and block.ndim >= 2 and block.shape[-1] == len(cols):
                     ds.attrs["columns"] = ", ".join(cols)
             ds = out[k]

@@ -13,21 +13,19 @@ The physics comes from a *backend*, a namespace with
                                          outputs, speed_table, load_table, impacts, film (True when
                                          film_thickness is recorded), energy (True when power_loss
                                          is recorded) are passed)
-    OUTPUT_UNITS (optional dict name -> unit)
-`default_backend(scene)` assembles it from multibody.{model, initial, integrator, dynamics} (rigid
-cage) or from coupling.flexible_cage (flexible cage, when that module exists); tests pass a small
-fake backend so that streaming, checkpoints and resume are proven independently of the physics.
-Nothing here imports the FE stack.
+    OUTPUT_UNITS (optional dict name -> unit; default: multibody.output_registry)
+`default_backend(scene)` assembles it from multibody.{model, initial, integrator, outputs} (rigid
+cage) or from coupling.flexible_cage (flexible cage); tests pass a small fake backend so that
+streaming, checkpoints and resume are proven independently of the physics. Nothing here imports
+the FE stack.
 
-What each scene output records (keys of multibody.dynamics.evaluate_outputs; a backend whose
-evaluate_outputs takes `outputs=` selects its keys itself). A returned key that no group lists is
-recorded when it starts with a requested output's name (e.g. von_mises_max for von_mises).
-The inner-ring speed and the external load (the spectra at t_k) are always recorded.
+What each scene output records: multibody.output_registry (a backend whose evaluate_outputs takes
+`outputs=` selects its keys itself; a key the registry does not know is recorded when it starts
+with a requested output's name). The inner-ring speed and the external load (the spectra at t_k)
+are always recorded. Vectors of mixed units are split into SI datasets (the registry's `source`).
 """
 from __future__ import annotations
 
-import importlib
-import importlib.util
 import inspect
 import time
 from pathlib import Path
@@ -38,58 +36,17 @@ import numpy as np
 from coupling.progress import RunProgress
 from coupling.results import ResultsWriter, write_summary
 from common.validation import InputError
+from multibody import output_registry as R
 from multibody.profiles import load_at, speed_at
 
 
-OUTPUT_GROUPS = {
-    "contact_stress": ("contact_stress",),                              # p0 per ball and contact, Pa
-    "ball_loads": ("contact_load", "approach"),
-    "contact_angles": ("contact_angle", "contact_angle_outer", "contact_angle_inner_loaded"),
-    "pocket_force": ("pocket_force", "pocket_force_tangential", "pocket_offset"),
-    "guiding_force": ("cage_land_force", "cage_land_force_magnitude", "cage_land_torque", "cage_rim_force"),
-    "cage_speed": ("cage_speed", "nominal_cage_speed"),
-    "slip": ("slip_rate", "slide_ratio"),
-    "film_thickness": ("film_thickness_min", "film_thickness_central"),
-    "von_mises": ("von_mises_max", "von_mises_max_vertex", "von_mises_max_time", "von_mises_steps",
-                  "cage_modal_coordinates_full"),
-    "cage_modes": ("cage_modal_coordinates",),
-    "kinematics": ("ball_position", "ball_velocity", "ball_angular_velocity", "ball_orbit_speed",
-                   "inner_ring_displacement", "ring_drive_torque", "entrainment_speed", "churning_drag"),
-    "cage_orbit": ("cage_centre", "cage_tilt", "cage_eccentricity_ratio"),
-    "power_loss": ("ring_drive_torque", "drive_power", "power_loss", "power_loss_traction",   # W, N·m, J
-                   "power_loss_rolling", "power_loss_contact_damping", "power_loss_pocket",
-                   "power_loss_churning", "power_loss_guide_land", "power_loss_cage_damping",
-                   "mechanical_energy", "external_load_power"),
-}
-ALWAYS_RECORDED = ("inner_ring_speed", "external_load")
-# Vectors whose components have different units are recorded as separate SI datasets:
-# key -> ((new key, index along the last axis), ...); a component not listed is dropped
-# (ball_velocity's third component is psi', recorded as ball_orbit_speed already).
-SPLIT_OUTPUTS = {
-    "ball_position": (("ball_axial_position", 0), ("ball_radial_position", 1), ("ball_azimuth", 2)),
-    "ball_velocity": (("ball_axial_velocity", 0), ("ball_radial_velocity", 1)),
-    "inner_ring_displacement": (("inner_ring_position", slice(0, 3)), ("inner_ring_tilt", slice(3, 5))),
-}
-
-
-def split_mixed_units(values: dict) -> dict:
-    out = {}
-    for k, v in values.items():
-        if k in SPLIT_OUTPUTS:
-            a = np.asarray(v)
-            for name, idx in SPLIT_OUTPUTS[k]:
-                out[name] = a[..., idx]
-        else:
-            out[k] = v
-    return out
-
-
 def recorded_keys(requested, returned) -> list[str]:
-    """The keys of `returned` to record for the requested scene outputs (module doc)."""
-    listed = {k for g in OUTPUT_GROUPS.values() for k in g}
-    want = {k for r in requested for k in OUTPUT_GROUPS.get(r, ())} | set(ALWAYS_RECORDED)
+    """The keys of `returned` (an evaluation's keys) to record for the requested scene outputs: those
+    multibody.output_registry lists under them (and the ALWAYS ones); a key the registry does not
+    know (another backend's) is recorded when it starts with a requested output's name."""
+    want = R.evaluated_names(requested)
     return [k for k in returned
-            if k in want or (k not in listed and any(k.startswith(r) for r in requested))]
+            if k in want or (k not in R.EVALUATED and any(k.startswith(r) for r in requested))]
 
 
 class RunInterrupted(Exception):
@@ -103,33 +60,16 @@ class RunInterrupted(Exception):
 
 
 def default_backend(scene) -> SimpleNamespace:
-    """The physics for this scene's cage model (imports only what that model needs)."""
+    """The physics for this scene's cage model (imports only what that model needs: the flexible
+    cage's backend loads the reduced cage file, and builds it with the FE stack only when it is not
+    cached)."""
     if scene.cage_model == "flexible":
-        if not flexible_backend_available():
-            raise InputError("cage.model = 'flexible': flexible cage coupling not available yet "
-                             "(coupling.flexible_cage.backend(scene) is missing); use cage.model = 'rigid'")
-        return importlib.import_module("coupling.flexible_cage").backend(scene)
-    missing = [m for m in ("multibody.model", "multibody.initial", "multibody.integrator",
-                           "multibody.dynamics") if importlib.util.find_spec(m) is None]
-    if missing:
-        raise InputError(f"the multibody dynamics is not available yet (missing: {', '.join(missing)})")
-    model = importlib.import_module("multibody.model")
-    initial = importlib.import_module("multibody.initial")
-    integrator = importlib.import_module("multibody.integrator")
-    dynamics = importlib.import_module("multibody.dynamics")
-    workspace = getattr(integrator, "Workspace", None)
+        from coupling.flexible_cage import backend
+        return backend(scene)
+    from multibody import initial, integrator, model, outputs
     return SimpleNamespace(build_model=model.build_model, initial_state=initial.initial_state,
-                           advance=integrator.advance, evaluate_outputs=dynamics.evaluate_outputs,
-                           new_workspace=(lambda m: workspace(m)) if workspace else None,
-                           OUTPUT_UNITS=getattr(dynamics, "OUTPUT_UNITS", {}))
-
-
-def flexible_backend_available() -> bool:
-    """True once coupling.flexible_cage provides backend(scene) (the flexible-cage physics with the
-    same five entries as default_backend's namespace)."""
-    if importlib.util.find_spec("coupling.flexible_cage") is None:
-        return False
-    return hasattr(importlib.import_module("coupling.flexible_cage"), "backend")
+                           advance=integrator.advance, evaluate_outputs=outputs.evaluate_outputs,
+                           new_workspace=integrator.Workspace)
 
 
 def _accepted_kwargs(func, available: dict) -> dict:
@@ -167,9 +107,7 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     wall_start = time.perf_counter()
     if backend is None:
         backend = default_backend(scene)
-    units = dict(getattr(backend, "OUTPUT_UNITS", {}) or {})
-    units.setdefault("inner_ring_speed", "rad/s")
-    units.setdefault("external_load", "N")
+    units = {**R.units(), **(getattr(backend, "OUTPUT_UNITS", {}) or {})}
     model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
 
     speed_table, load_table, impacts = scene.speed_table, scene.load_table, scene.impacts
@@ -194,7 +132,7 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
         values = dict(backend.evaluate_outputs(model, t, y, **eval_kwargs))
         if keys is None:
             keys = list(values) if selects_itself else recorded_keys(scene.outputs, values)
-        values = split_mixed_units({k: values[k] for k in keys})
+        values = R.split_mixed_units({k: values[k] for k in keys})
         if "inner_ring_speed" not in values:
             values["inner_ring_speed"] = speed_at(t, speed_table)
         if "external_load" not in values:

@@ -69,7 +69,6 @@ range (common.validation.InputError); unknown keys are refused with the list of 
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -82,13 +81,12 @@ from mesh.cage_geometry import CageGeometry
 from common.cache import content_hash
 from common.validation import InputError, require_finite, require_range
 from multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
+from multibody.model import DEFAULT_OPTIONS
+from multibody.output_registry import GROUPS
 from multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints
 
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
-OUTPUTS = ("contact_stress", "ball_loads", "contact_angles", "pocket_force", "guiding_force",
-           "cage_speed", "slip", "film_thickness", "von_mises", "kinematics", "cage_orbit",
-           "cage_modes", "power_loss")
 CAGE_MODELS = ("rigid", "flexible")
 OIL_PRESETS = {"paper": PAPER_OIL, "engine": ENGINE_OIL}
 IMPACT_SHAPES = {"half-sine": HALF_SINE, "rectangular": RECTANGULAR}
@@ -126,7 +124,7 @@ class Scene:
     initial_step: float               # s
     max_step: float | None            # s
     sample_interval: float            # s
-    outputs: tuple                    # names from OUTPUTS, in the scene's order
+    outputs: tuple                    # scene outputs (multibody.output_registry.GROUPS), in the scene's order
     checkpoint_every: int             # samples
     text: str = ""                    # the TOML text as loaded (stored in the results file)
     data: dict = field(default_factory=dict, repr=False)   # the parsed TOML
@@ -440,15 +438,10 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _model_options(d: dict) -> dict:
-    """[model] keys are checked against multibody.model.DEFAULT_OPTIONS when that module exists."""
+    """[model] keys are checked against multibody.model.DEFAULT_OPTIONS."""
     if not isinstance(d, dict):
         raise InputError(f"model = {d!r} must be a table")
-    defaults = None
-    if importlib.util.find_spec("multibody.model") is not None:
-        import multibody.model as mm
-        defaults = getattr(mm, "DEFAULT_OPTIONS", None)
-    if defaults is not None:
-        _table(d, "model", tuple(defaults))
+    _table(d, "model", tuple(DEFAULT_OPTIONS))
     out = {}
     for k, v in d.items():
         if isinstance(v, (bool, str)):
@@ -506,9 +499,9 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     record = out.get("record", [])
     if not isinstance(record, list) or not record:
         raise InputError(f"output.record = {record!r} must be a non-empty list of outputs from: "
-                         f"{', '.join(OUTPUTS)}")
+                         f"{', '.join(GROUPS)}")
     for i, r in enumerate(record):
-        _string(f"output.record[{i}]", r, OUTPUTS)
+        _string(f"output.record[{i}]", r, GROUPS)
     if len(set(record)) != len(record):
         raise InputError(f"output.record = {record!r} lists an output twice")
     if "von_mises" in record and cage_model != "flexible":

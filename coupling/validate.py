@@ -106,7 +106,8 @@ from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody.model import BALL_ATTITUDES, build_model, P_GRAV
 from multibody import traction as TR
 from multibody.initial import initial_state
-from multibody import dynamics as D
+from multibody.geometry import nominal_cage_speed
+from multibody import outputs as O
 from multibody import integrator as I
 
 # (case, group, Fa N, Fr N, speed rpm, test slip %, paper simulated slip %) — paper Tables 4 and 5
@@ -332,7 +333,7 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
             y, t, h, a, b = I.advance(model, y, t, min(t + sample_dt, t_w_end), sp, ld, imp, tol, h, ws)
             n_steps += a
             n_rej += b
-            out = D.evaluate_outputs(model, t, y, sp, ld, imp)
+            out = O.evaluate_outputs(model, t, y, sp, ld, imp)
             speeds.append(out["cage_speed"])
             ao_w.append(np.mean(np.abs(out["contact_angle_outer"])))
             ai_w.append(np.mean(np.abs(out["contact_angle_inner_loaded"])))
@@ -361,12 +362,12 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
         if 0.0 < q < 0.9:
             nc = means[-1] + (means[-1] - means[-2]) * q / (1.0 - q)
     alpha = alphas[-1]
-    nm = D.nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, alpha)
+    nm = nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, alpha)
     slip = (nm - nc) / nm
     # for transparency: the same cage speed against nm with other contact angles
     alt = {}
     for name, a in (("alpha_free", bearing.free_contact_angle), ("alpha_shim", bearing.shim_angle)):
-        nm_a = D.nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, a)
+        nm_a = nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, a)
         alt[f"slip_pct_{name}"] = 100.0 * (nm_a - nc) / nm_a
     # the pure-rolling cage speeds of the same contact angles (`pure_rolling_cage_speed_ratio`):
     # free ball (spin axis parallel to the bearing axis, beta = 0) and no spin at the inner contact

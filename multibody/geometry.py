@@ -275,3 +275,8 @@ def pitch_orbit_speed(inner_speed, outer_speed, ball_diameter, pitch_diameter, c
     """
     g = ball_diameter * math.cos(contact_angle) / pitch_diameter
     return 0.5 * (inner_speed * (1.0 - g) + outer_speed * (1.0 + g))
+
+
+def nominal_cage_speed(omega_i: float, dw: float, dm: float, alpha: float) -> float:
+    """nm = 0.5·omega_i·(1 − Dw·cos(alpha)/dm), rad/s (paper §3.2; SPEC §6)."""
+    return 0.5 * omega_i * (1.0 - dw * math.cos(alpha) / dm)

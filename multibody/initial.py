@@ -37,7 +37,8 @@ from scipy.optimize import root
 
 from common.validation import InputError, require_range
 from multibody import model as M
-from multibody.dynamics import _hertz_lookup, control_race, nominal_cage_speed
+from multibody.dynamics import _hertz_lookup, control_race
+from multibody.geometry import nominal_cage_speed
 from multibody.geometry import race_contact, ring_point_in_plane
 
 

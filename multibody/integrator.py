@@ -47,6 +47,7 @@ import numpy as np
 from numba import njit
 
 from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import model as M
 from multibody.stress_peak import disabled_monitor, stress_peak_step
 
@@ -264,7 +265,7 @@ def _worst_contact(model, t, y, speed_table, load_table, impacts):
             return bad // 9, "ball state", f"state component {bad % 9} non-finite"
         return -1, "ring/cage state", f"state index {bad} non-finite"
     try:
-        out = D.evaluate_outputs(model, t, y, speed_table, load_table, impacts)
+        out = O.evaluate_outputs(model, t, y, speed_table, load_table, impacts)
     except Exception as exc:  # pragma: no cover - diagnostic path
         return -1, "unknown", repr(exc)
     rel = out["approach"] / model.p[M.P_DW]

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from multibody import dynamics as D
 from multibody import model as M
 
 SOURCES = ("traction", "rolling", "damping", "pocket", "churning", "guide_land", "cage_damping")
@@ -81,7 +82,6 @@ def power_balance(model, t: float, y: np.ndarray, speed_table, load_table, impac
     Returns {"sources": power_by_source, "loss", "drive_torque", "drive_power", "energy_rate",
     "residual"}.
     """
-    from multibody import dynamics as D
     z = model.n_balls
     work = D.new_work(model)
     dydt = np.zeros_like(y)
@@ -110,7 +110,8 @@ def total_loss(sources: dict) -> float:
 
 
 # ---------------------------------------------------------------- recorded samples
-# The datasets a run records for the scene output "power_loss" (coupling.run.OUTPUT_GROUPS)
+# The datasets of the sources' power, which a run records for the scene output "power_loss"
+# (multibody.output_registry)
 RECORDED = {"traction": "power_loss_traction", "rolling": "power_loss_rolling",
             "damping": "power_loss_contact_damping", "pocket": "power_loss_pocket",
             "churning": "power_loss_churning", "guide_land": "power_loss_guide_land",

@@ -47,6 +47,7 @@ import numpy as np
 
 from common.validation import InputError, require_range
 from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import model as M
 from multibody.initial import initial_state
 
@@ -61,7 +62,7 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
     ball j at azimuth 2·pi·j/Z + pocket_offset, cage angle 0). info: converged, residual (max scaled
     residual, N per ball), cage_speed (rad/s), slip_rate ((nm − nc)/nm, nm at the mean loaded
     contact angle, the paper's definition), the unknowns by name, nfev, and outputs (the
-    multibody.dynamics.evaluate_outputs dict of y). tol: residual tolerance relative to the axial
+    multibody.outputs.evaluate_outputs dict of y). tol: residual tolerance relative to the axial
     load per ball."""
     require_range("steady.speed_rad_s", speed_rad_s, 0.0, 1e5, lo_open=True, unit="rad/s")
     require_range("steady.axial_load", abs(axial_load), 0.0, 1e7, lo_open=True, unit="N")
@@ -118,7 +119,7 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
         nfev += sol.nfev
     y = state(sol.x)
     res = float(np.max(np.abs(sol.fun)))
-    out = D.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
+    out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
     info = dict(converged=bool(res <= tol), residual=res, cage_speed=float(y[c0 + 9]),
                 slip_rate=float(out["slip_rate"]), nfev=int(nfev))
     info.update(zip(UNKNOWNS, (u0 + sol.x * scale_u).tolist()))
@@ -284,7 +285,7 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
     v, f, iterations, nfev = _newton(residual, n, tol)
     y = state(v)
     res = float(np.max(np.abs(f)))
-    out = D.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
+    out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
     info = dict(converged=bool(res <= tol), residual=res, iterations=int(iterations), nfev=int(nfev),
                 cage_speed=float(y[c0 + 9]), cage_centre=y[c0:c0 + 3].copy(),
                 cage_eccentricity_ratio=float(out["cage_eccentricity_ratio"]),

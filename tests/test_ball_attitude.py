@@ -33,6 +33,7 @@ import pytest
 from coupling import validate as V
 from common.validation import InputError
 from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import integrator as I
 from multibody import model as M
 from multibody.bearing import PAPER_OIL
@@ -134,7 +135,7 @@ def test_spin_axis_settles_on_the_controlling_race(attitude):
         beta = math.atan2(abs(w_r), abs(w_x_rel))
         assert math.degrees(abs(beta - expected)) < TOL_BETA_DEG
         assert abs(y[o + 8]) < 1e-6 * abs(w_x_rel)
-    out = D.evaluate_outputs(model, t, y, sp, ld, imp)
+    out = O.evaluate_outputs(model, t, y, sp, ld, imp)
     Q, ang = out["contact_load"], out["contact_angle"]
     zi = np.arange(model.n_balls)
     a_i = np.abs(ang[zi, np.where(Q[:, 1] >= Q[:, 2], 1, 2)]).mean()
@@ -238,7 +239,7 @@ def test_no_pivot_ball_rolls_at_its_own_pitch():
     assert np.degrees(np.abs(beta - beta0)).max() < 1.0
     for j in range(z):
         assert abs(y[9 * j + 8]) < 1e-9 * abs(y[9 * j + 6])
-    out = D.evaluate_outputs(model, t, y, sp, ld, imp)
+    out = O.evaluate_outputs(model, t, y, sp, ld, imp)
     Q, ang = out["contact_load"], out["contact_angle"]
     zi = np.arange(z)
     a_i = float(np.abs(ang[zi, np.where(Q[:, 1] >= Q[:, 2], 1, 2)]).mean())

@@ -16,7 +16,7 @@ import pytest
 
 from coupling import cage_motion as CM
 from coupling import validate as V
-from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import integrator as I
 
 
@@ -33,7 +33,7 @@ def _cage_orbit(gravity, t_end, case_no=4, dt=2.5e-3):
     rows = []
     while t < t_end - 1e-12:
         y, t, h, _, _ = I.advance(model, y, t, min(t + dt, t_end), sp, ld, imp, 1e-5, h, ws)
-        o = D.evaluate_outputs(model, t, y, sp, ld, imp)
+        o = O.evaluate_outputs(model, t, y, sp, ld, imp)
         c = o["cage_centre"]
         rows.append((t, c[1], c[2], o["cage_eccentricity_ratio"], o["cage_speed"]))
     r = np.array(rows)

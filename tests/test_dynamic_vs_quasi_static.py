@@ -36,7 +36,7 @@ import pytest
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody.model import build_model
 from multibody.initial import initial_state, quasi_static
-from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import integrator as I
 
 IMP = np.zeros((0, 6))
@@ -55,7 +55,7 @@ def _dynamic_means(options, rpm=14000.0, fa=55e3, fr=4e3, duration=0.03, average
     for k in range(1, int(round(duration / dt)) + 1):
         y, t, h, _, _ = I.advance(m, y, t, k * dt, sp, ld, IMP, I.DEFAULT_TOL, h, ws)
         if t >= average_from * duration:
-            o = D.evaluate_outputs(m, t, y, sp, ld, IMP)
+            o = O.evaluate_outputs(m, t, y, sp, ld, IMP)
             Q = o["contact_load"]
             pick = np.where(Q[:, 1] >= Q[:, 2], 1, 2)
             loads.append([Q[:, 0].mean(), Q[np.arange(20), pick].mean()])

@@ -11,6 +11,7 @@ from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody import model as M
 from multibody.model import build_model, state_layout
 from multibody import dynamics as D
+from multibody import outputs as O
 from multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
 from multibody.initial import initial_state
 
@@ -198,7 +199,7 @@ def test_evaluate_outputs_keys_and_slip_definition():
     y = initial_state(m, w, 1500.0, 500.0)
     sp = np.array([[0.0, w]])
     ld = np.array([[0.0, 1500.0, 0.0, -500.0]])
-    out = D.evaluate_outputs(m, 0.0, y, sp, ld, IMP, film=True)
+    out = O.evaluate_outputs(m, 0.0, y, sp, ld, IMP, film=True)
     for k in ("contact_load", "contact_angle", "contact_stress", "pocket_force", "cage_land_force",
               "cage_speed", "slip_rate", "film_thickness_min", "film_thickness_central",
               "ball_position", "inner_ring_displacement", "cage_centre"):

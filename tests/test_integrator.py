@@ -12,6 +12,7 @@ from multibody.model import build_model, state_layout
 from multibody.initial import initial_state
 from multibody import integrator as I
 from multibody import dynamics as D
+from multibody import outputs as O
 
 OFF = {"traction": False, "drag": False, "damping": False, "hertz_fixed_angle": True}
 IMP = np.zeros((0, 6))
@@ -49,16 +50,16 @@ def test_hertz_impact_duration_and_rebound():
     ld = np.array([[0.0, 0.0, 0.0, 0.0]])
     ws = I.Workspace(m)
     y, t, h, _, _ = I.advance(m, y, 0.0, 0.995 * tc, sp, ld, IMP, 1e-8, 1e-8, ws)
-    out = D.evaluate_outputs(m, t, y, sp, ld, IMP)
+    out = O.evaluate_outputs(m, t, y, sp, ld, IMP)
     assert out["contact_load"][0, 0] > 0.0
     y, t, h, _, _ = I.advance(m, y, t, 1.005 * tc, sp, ld, IMP, 1e-8, h, ws)
-    out = D.evaluate_outputs(m, t, y, sp, ld, IMP)
+    out = O.evaluate_outputs(m, t, y, sp, ld, IMP)
     assert out["contact_load"][0, 0] == 0.0
     assert y[4] == pytest.approx(-v0, rel=1e-6)
     # the maximum approach was reached at t_c/2
     m2, y2 = _impact_setup(v0)
     y2, t2, _, _, _ = I.advance(m2, y2, 0.0, 0.5 * tc, sp, ld, IMP, 1e-8, 1e-8)
-    out = D.evaluate_outputs(m2, t2, y2, sp, ld, IMP)
+    out = O.evaluate_outputs(m2, t2, y2, sp, ld, IMP)
     assert out["approach"][0, 0] == pytest.approx(dmax, rel=1e-4)
 
 

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import integrator as I
 from multibody import model as M
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
@@ -103,7 +104,7 @@ def test_energy_along_a_run_equals_the_integrated_balance():
     for k in range(501):
         if k:
             y, t, h, _, _ = I.advance(model, y, t, k * dt, SP, LD, IMP, I.DEFAULT_TOL, h, ws)
-        out = D.evaluate_outputs(model, t, y, SP, LD, IMP, energy=True)
+        out = O.evaluate_outputs(model, t, y, SP, LD, IMP, energy=True)
         ts.append(t)
         net.append(out["drive_power"] + out["external_load_power"] - out["power_loss"])
         loss.append(out["power_loss"])

@@ -29,6 +29,7 @@ import pytest
 
 from common.validation import InputError
 from multibody import dynamics as D
+from multibody import outputs as O
 from multibody import integrator as I
 from multibody import model as M
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
@@ -141,7 +142,7 @@ def test_held_cage_dynamics_keep_the_cage_balance(held):
     for k in range(1, 1001):
         yy, t, h, _, _ = I.advance(model, yy, t, k * 1e-4, SP, ld, IMP, I.DEFAULT_TOL, h, ws)
         if t > 0.06 - 1e-12:
-            o = D.evaluate_outputs(model, t, yy, SP, ld, IMP)
+            o = O.evaluate_outputs(model, t, yy, SP, ld, IMP)
             ft.append(o["pocket_force_tangential"].mean())
             land.append(o["cage_land_force"])
             res.append(o["pocket_force_on_cage"].sum(axis=0)[1:])
