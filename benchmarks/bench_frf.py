@@ -43,7 +43,7 @@ def main(argv=None):
     from tqdm import tqdm
     from mesh.cage_geometry import PAPER_CAGE
     import mesh.cage_mesh as cm
-    from fem_cage.reduce_cli import build
+    from fem_cage.reduction import build
     from fem_cage.frequency_response import compare, frequency_grid
     t0 = time.perf_counter()
     path, red, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,

@@ -61,11 +61,11 @@ def main():
 
 
 def sweep():
-    """The profile of scenes/paper_unsteady_rigid.toml at 61 instants (multibody.cli.sweep_scene): each
+    """The profile of scenes/paper_unsteady_rigid.toml at 61 instants (coupling.quasi_static_scene.sweep_scene): each
     solve warm-started from the previous one, against cold solves; the largest difference of the
     contact loads (relative to the largest load) between the two."""
     from coupling.scene import load_scene
-    from multibody.cli import solve_scene, sweep_scene
+    from coupling.quasi_static_scene import solve_scene, sweep_scene
     scene = load_scene("scenes/paper_unsteady_rigid.toml")
     times = np.linspace(0.0, 0.6, 61)
     t = time.perf_counter()

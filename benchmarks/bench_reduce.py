@@ -2,7 +2,7 @@
 
 For each (coupling, n_fixed) asked (default: rbe3 with 30 fixed-interface modes, the
 `flexbearing reduce` default), builds the reduced cage of mesh.cage_geometry.PAPER_CAGE at the
-default mesh and runs every check of fem_cage.reduce_cli.run_checks: static exactness (full basis
+default mesh and runs every check of fem_cage.reduction_check.run_checks: static exactness (full basis
 and 26-mode truncation), stress recovery, first 10 elastic free–free frequencies vs the full
 model, mass properties vs direct integration, max-von-Mises evaluator vs brute force and its cost,
 the free–free static centrifugal and land (guide-surface) load responses vs the full FE.
@@ -34,7 +34,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     from mesh.cage_geometry import PAPER_CAGE
     import mesh.cage_mesh as cm
-    from fem_cage.reduce_cli import build
+    from fem_cage.reduction import build
     old = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
     for coupling in args.coupling:
         for n_fixed in args.n_fixed:

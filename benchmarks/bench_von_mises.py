@@ -31,7 +31,7 @@ def paper_file():
                         rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE)
     path = rcf.find_cached(key)
     if path is None:
-        from fem_cage.reduce_cli import build
+        from fem_cage.reduction import build
         path, _, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
                            rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, quiet=False, checks=False,
                            degree=cm.DEFAULT_DEGREE)

@@ -22,7 +22,8 @@ import h5py
 
 from coupling.amplification import impact_amplification, pulse_scene
 from coupling.cli import main as flexbearing
-from coupling.report import quantity_arrays, run_scene
+from coupling.results import scene_of_run
+from coupling.windows import quantity_arrays
 
 RESULTS = Path(__file__).resolve().parent / "results"
 DURATIONS = (5e-5, 1e-4, 1.5e-4, 2e-4, 3e-4, 5e-4, 1e-3, 2e-3, 5e-3, 2e-2)
@@ -39,7 +40,7 @@ def measure(td: float, folder: Path) -> dict:
         assert flexbearing(["run", str(scene), "-o", str(run), "--quiet", "--force"]) == 0
     wall = time.perf_counter() - wall
     with h5py.File(run, "r") as f:
-        item = impact_amplification(run_scene(f), f["outputs/time"][...], quantity_arrays(f["outputs"]))[0]
+        item = impact_amplification(scene_of_run(f), f["outputs/time"][...], quantity_arrays(f["outputs"]))[0]
     item.update(pulse_duration=td, run_wall_s=wall)
     return item
 

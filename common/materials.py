@@ -28,5 +28,5 @@ M50 = Material(density=7810.0, youngs_modulus=210e9, poisson_ratio=0.3)
 STEEL_40CrNiMoA = Material(density=7870.0, youngs_modulus=209e9, poisson_ratio=0.295)
 # Minimum yield strength sigma_s of 40CrNiMoA quenched (850 °C, oil) and tempered (600 °C), GB/T 3077
 # (25 mm test blank; tensile strength >= 980 MPa). Not a model input: the report compares the
-# cage's elastic von Mises stress with it (coupling.report, "Cage stress against the yield strength").
+# cage's elastic von Mises stress with it (coupling.windows.cage_strength_rows, the report's "Cage stress against the yield strength").
 YIELD_STRENGTH_40CrNiMoA = 835e6    # Pa

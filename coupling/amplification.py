@@ -11,7 +11,7 @@ of the undamped oscillator). An impact that lasts many natural periods of the ri
 is therefore quasi-static for the contacts, and the report says so with numbers.
 
 Here the static response is multibody.quasi_static's equilibrium at the pulse's peak instant, with
-the speed and load of that instant (multibody.cli.solve_scene) and a ball on the load line
+the speed and load of that instant (coupling.quasi_static_scene.solve_scene) and a ball on the load line
 (psi0 = the azimuth of the radial load: during the window balls pass that place, so the run's
 worst ball is compared with the equilibrium's worst ball). The dynamic response is the run's peak
 Hertz pressure from the start of the pulse to a few natural periods after it (a short pulse's
@@ -98,7 +98,7 @@ def pulse_scene(pulse_duration: float, t_center: float, duration: float, rpm: fl
 def impact_amplification(scene, t: np.ndarray, arrays: dict, control: str = "jones",
                          periods_after: float = 5.0) -> list[dict]:
     """One dict per impact of `scene` that the run reached (t: sample times, s; arrays: the run's
-    coupling.report.quantity_arrays). Keys: label, t_start, t_end, t_peak (s), load at the peak
+    coupling.windows.quantity_arrays). Keys: label, t_start, t_end, t_peak (s), load at the peak
     (N, (3,)), converged, the quasi-static largest Hertz pressure at the outer race and at the
     loaded inner half (Pa); the one-DOF expectation: ring_mass (kg, the model's), radial_stiffness
     (N/m: the secant from the quasi-static equilibrium before the pulse to the one at its peak, along
@@ -109,8 +109,8 @@ def impact_amplification(scene, t: np.ndarray, arrays: dict, control: str = "jon
     impact and the run's end: a short pulse's largest response comes after it, in free vibration);
     and for each recorded contact stress the run's peak over that window (worst ball) and its ratio
     to the quasi-static value (module docstring)."""
-    from coupling.report import envelope, impact_windows
-    from multibody.cli import scene_instant, solve_scene
+    from coupling.windows import envelope, impact_windows
+    from coupling.quasi_static_scene import scene_instant, solve_scene
     from multibody.model import P_MI, build_model
 
     ring_mass = float(build_model(scene.bearing, scene.oil, scene.model_options).p[P_MI])

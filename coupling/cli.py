@@ -1,28 +1,30 @@
-"""`flexbearing` command line: one dispatcher, each command defined in the module that owns it.
+"""`flexbearing` command line: one dispatcher over the command modules `coupling/cli_*.py`.
 
-A command module exposes `register(subparsers)`, which adds its parser(s) and sets
-`func=callable(args) -> int`. Command modules import the heavy stacks (gmsh, dolfinx, numba)
-inside their functions, so `flexbearing --help` and runs with a cached reduced cage stay light.
+A command module only parses arguments, calls library functions and prints (docs/architecture.md).
+It exposes `register(subparsers)`, which adds its parser(s) and sets `func=callable(args) -> int`,
+and imports the heavy stacks (gmsh, dolfinx, numba) inside its functions, so `flexbearing --help`
+and runs with a cached reduced cage stay light. A new command: a new `coupling/cli_<name>.py`,
+listed below.
 """
 from __future__ import annotations
 
 import argparse
-import importlib
-import importlib.util
 import sys
 
 from common.validation import InputError
+from coupling import (cli_demo, cli_mesh, cli_modes, cli_quasi_static, cli_reduce, cli_report, cli_run,
+                      cli_study)
 
-# Order = order in --help. A module that does not exist yet is skipped.
+# Order = order in --help.
 COMMAND_MODULES = (
-    "mesh.cli",            # mesh
-    "fem_cage.cli",        # modes, mesh-study, calibrate-cage
-    "fem_cage.reduce_cli",  # reduce
-    "coupling.run_cli",    # run, validate
-    "multibody.cli",       # quasi-static
-    "coupling.report",     # report
-    "coupling.study",      # study
-    "coupling.demo",       # demo
+    cli_mesh,            # mesh
+    cli_modes,           # modes, mesh-study, calibrate-cage
+    cli_reduce,          # reduce
+    cli_run,             # run, validate
+    cli_quasi_static,    # quasi-static
+    cli_report,          # report
+    cli_study,           # study
+    cli_demo,            # demo
 )
 
 
@@ -31,10 +33,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog="flexbearing",
         description="Flexible multibody simulation of three-point-contact ball bearings with a flexible cage.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in COMMAND_MODULES:
-        if importlib.util.find_spec(name) is None:
-            continue
-        importlib.import_module(name).register(sub)
+    for module in COMMAND_MODULES:
+        module.register(sub)
     return parser
 
 

@@ -139,7 +139,7 @@ def auto_frames(t: np.ndarray, vm: np.ndarray, phases: list[dict], impacts: list
     each impact window (the impact's stress peak) and in each phase of the speed profile outside
     the impact windows (the phase's own running peak, which an impact would otherwise hide); the
     whole run's maximum when the scene has neither. Sorted by time, duplicates merged."""
-    from coupling.report import window_mask
+    from coupling.windows import window_mask
     picks: dict[int, list[str]] = {}
     ok = np.isfinite(vm)
     in_impact = np.zeros(len(t), bool)
@@ -200,8 +200,9 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
     maximum over the nodes (equal: the run searches the same nodes)."""
     import h5py
 
-    from coupling.report import _check_run, _sample_interval, impact_windows, run_scene, speed_phases
-    path = _check_run(run_h5)
+    from coupling.results import check_run, sample_interval, scene_of_run
+    from coupling.windows import impact_windows, speed_phases
+    path = check_run(run_h5)
     with h5py.File(path, "r") as f:
         _require_modal_coordinates(path, f)
         out = f["outputs"]
@@ -212,8 +213,8 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
         # monitor): its modal coordinates are what cage_modal_coordinates_full holds
         t_peak = out["von_mises_max_time"][...] if "von_mises_max_time" in out else None
         rc_path, rc_hash = _run_cage_file(f, reduced_cage)
-        scene = run_scene(f)
-        dt = _sample_interval(f, t)
+        scene = scene_of_run(f)
+        dt = sample_interval(f, t)
         idx = parse_frames(frames, t, dt)
         reasons = {}
         if idx is None:
@@ -436,15 +437,15 @@ def _read_series(run_h5, series: str, reduced_cage) -> dict:
     """What the series needs from the run, with a note for each part it did not record."""
     import h5py
 
-    from coupling.report import _check_run, _sample_interval, run_scene
-    path = _check_run(run_h5)
+    from coupling.results import check_run, sample_interval, scene_of_run
+    path = check_run(run_h5)
     notes = []
     with h5py.File(path, "r") as f:
         out = f["outputs"]
         t = out["time"][...]
-        idx = parse_series(series, t, _sample_interval(f, t))
+        idx = parse_series(series, t, sample_interval(f, t))
         d = {"path": path, "idx": idx, "t": t[idx], "notes": notes, "rc": None, "balls": None,
-             "bearing": getattr(run_scene(f), "bearing", None)}
+             "bearing": getattr(scene_of_run(f), "bearing", None)}
         if "cage_modal_coordinates_full" in out:
             d["q_full"] = out["cage_modal_coordinates_full"][idx, :]
             d["vm_rec"] = out["von_mises_max"][idx] if "von_mises_max" in out else None

@@ -136,7 +136,7 @@ def reduced_cage_path(scene, quiet: bool = False):
                         rcf.DEFAULT_N_FIXED, degree, True)
     path = rcf.find_cached(key)
     if path is None:
-        from fem_cage.reduce_cli import build
+        from fem_cage.reduction import build
         if not quiet:
             print(f"building the reduced cage (mesh {size * 1e3:g} mm, P{degree}, Craig–Bampton; "
                   "a few minutes, once): " + str(rcf.cache_path(key)), flush=True)

@@ -302,3 +302,46 @@ def read_outputs(path) -> dict[str, np.ndarray]:
     import h5py
     with h5py.File(path, "r") as f:
         return {k: ds[...] for k, ds in f["outputs"].items()}
+
+
+def check_run(path) -> Path:
+    """`path` as a Path if it is a flexbearing results file (InputError naming it otherwise)."""
+    import h5py
+    from common.validation import InputError
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"run file {str(path)!r} does not exist (a results file written by "
+                         f"`flexbearing run`, .h5)")
+    try:
+        with h5py.File(path, "r") as f:
+            fmt = f.attrs.get("format")
+            ok = "outputs/time" in f
+    except OSError as exc:
+        raise InputError(f"run file {str(path)!r} is not an HDF5 file ({exc})") from None
+    if fmt != "flexbearing-results" or not ok:
+        raise InputError(f"{path} is not a flexbearing results file (format attribute {fmt!r}, "
+                         f"expected 'flexbearing-results' with /outputs/time)")
+    return path
+
+
+def scene_of_run(f):
+    """The Scene a run was made from (its stored TOML text; f an open results file), or None if it
+    cannot be parsed."""
+    from coupling.scene import loads_scene, parse_scene
+    if "scene" not in f:
+        return None
+    raw = f["scene"][()]
+    text = raw.decode() if isinstance(raw, bytes) else str(raw)
+    try:
+        return loads_scene(text, str(f.attrs.get("scene_path", "")))
+    except Exception:
+        pass
+    try:   # results.py stores the parsed scene as JSON when it has no TOML text (case sets)
+        return parse_scene(json.loads(text), path=str(f.attrs.get("scene_path", "")))
+    except Exception:
+        return None
+
+
+def sample_interval(f, t) -> float:
+    """The run's sample interval, s: its attribute, else the mean spacing of the samples t."""
+    return float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))

@@ -106,8 +106,8 @@ def peak_sample(run_h5, settle: float = 0.0):
     import h5py
 
     from coupling.field_export import _require_modal_coordinates
-    from coupling.report import _check_run
-    path = _check_run(run_h5)
+    from coupling.results import check_run
+    path = check_run(run_h5)
     with h5py.File(path, "r") as f:
         _require_modal_coordinates(path, f)
         out = f["outputs"]
@@ -161,7 +161,7 @@ def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0
     body frame), "azimuth_deg", "radius", "surface", "hottest_pocket"}. yield_strength (Pa):
     marked on the colour bar when the field reaches it."""
     from coupling.field_export import nodal_field, open_reduced_cage
-    from coupling.report import _style
+    from coupling.plots import plot_style
     k, tk, vm_rec, node_rec, q, rc_path, rc_hash = peak_sample(run_h5, settle)
     rc, _ = open_reduced_cage(run_h5, reduced_cage or rc_path, rc_hash, len(q))
     vm, _ = nodal_field(rc, q)
@@ -186,7 +186,7 @@ def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0
              "azimuth_deg": float(theta[n_max]), "radius": float(r[n_max]), "surface": surface,
              "hottest_pocket": hot + 1}
 
-    plt = _style()
+    plt = plot_style()
     from matplotlib.colors import Normalize
     cmap = plt.get_cmap("turbo")
     norm = Normalize(0.0, float(vm[n_max]) * 1e-6)

@@ -1,6 +1,6 @@
-"""`flexbearing study`: one scene run over a range of a parameter (the paper's §4.4 studies).
+"""One scene run over a range of a parameter (the paper's §4.4 studies): the work of `flexbearing study`.
 
-    flexbearing study STUDY.toml [-o DIR] [--workers N] [--quiet]
+    flexbearing study STUDY.toml [-o DIR] [--workers N] [--quiet]        (coupling.cli_study)
 
 The paper (Yang, Liu & Deng 2025, §4.4, Figs. 23–34) varies one parameter of its unsteady case
 at a time (axial load 45–65 kN, radial load 4–8 kN, speed 11,000–15,000 rpm, groove curvature
@@ -30,9 +30,9 @@ fork; each run is the same deterministic integration whatever N).
 
 Results, in DIR/<name>/:
 
-    study.json   every window statistic of every run (coupling.report.phase_table: the whole run,
+    study.json   every window statistic of every run (coupling.windows.phase_table: the whole run,
                  each phase of the speed profile, each impact; peak, p99 and mean of each quantity;
-                 the cage's motion, coupling.report.cage_motion_table, as cage_<key>: eccentricity
+                 the cage's motion, coupling.windows.cage_motion_table, as cage_<key>: eccentricity
                  ratio, share on the rim, whirl ratio, centre speed, velocity dispersion, time held
                  at one azimuth), SI, with
                  the value of the parameter and the run's wall time
@@ -51,7 +51,6 @@ import copy
 import json
 import math
 import re
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -270,7 +269,7 @@ def window_ids(scene) -> dict:
     """Names of a run's report windows that are the same in every run of a study, by position:
     'whole run', 'phase k: <kind>' (k-th phase of the speed profile), 'impact k'; keyed by
     (kind group, t_end), which the settle time does not change (it moves t_start)."""
-    from coupling.report import impact_windows, speed_phases
+    from coupling.windows import impact_windows, speed_phases
     ids = {}
     for k, ph in enumerate(speed_phases(scene), 1):
         ids[("phase", round(ph["t_end"], 12))] = f"phase {k}: {ph['kind']}"
@@ -287,8 +286,8 @@ def window_id(row: dict, ids: dict) -> str:
 
 
 def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
-    """study.json content from the runs' results files (coupling.report.phase_table each)."""
-    from coupling.report import MOTION_ROWS, cage_motion_table, phase_table
+    """study.json content from the runs' results files (coupling.windows.phase_table each)."""
+    from coupling.windows import MOTION_ROWS, cage_motion_table, phase_table
     runs = []
     for i, (v, x) in enumerate(zip(study.values, study.parameter)):
         path = run_path(out_dir, study, i)
@@ -308,8 +307,8 @@ def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
 
 
 def _quantity_columns(result: dict) -> list[tuple[str, str]]:
-    """(quantity key, statistic suffix) present in every run, in coupling.report's order."""
-    from coupling.report import QUANTITIES
+    """(quantity key, statistic suffix) present in every run, in coupling.windows's order."""
+    from coupling.windows import QUANTITIES
     out = []
     for q in QUANTITIES:
         for stat in q.stats:
@@ -345,10 +344,10 @@ def _markdown_rows(study: Study, result: dict, title: str, column: str, cell) ->
 
 
 def study_markdown(study: Study, result: dict) -> str:
-    from coupling.report import MOTION_ROWS, QUANTITY
+    from coupling.windows import MOTION_ROWS, QUANTITY
     lines = [f"# Study {study.name}", "", study.description, "",
              f"Base scene `{study.scene_path}`; varied: {', '.join(f'`{k}`' for k in study.keys)}; "
-             f"statistics after {study.settle:g} s (coupling.report: peak = worst ball and instant, "
+             f"statistics after {study.settle:g} s (coupling.windows: peak = worst ball and instant, "
              f"p99 = 99th percentile over the window's samples of the worst ball (p1 of the "
              f"thinnest film), mean = over balls and time; cage motion as coupling.cage_motion: "
              f"eccentricity ratio, whirl ratio, velocity dispersion std/mean of the centre's speed, "
@@ -370,7 +369,7 @@ def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from coupling.report import QUANTITY
+    from coupling.windows import QUANTITY
     folder = Path(folder)
     x = [r["parameter"] * study.display_scale for r in result["runs"]]
     paths = []
@@ -396,33 +395,3 @@ def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
         plt.close(fig)
         paths.append(p)
     return paths
-
-
-# ---------------------------------------------------------------- command line
-
-def register(subparsers) -> None:
-    p = subparsers.add_parser("study", help="a scene over a range of one parameter (the paper's §4.4 studies)",
-                              description=__doc__.split("\n\n")[0])
-    p.add_argument("study", help="study file (TOML), e.g. scenes/study_axial_load.toml")
-    p.add_argument("-o", "--output", default="out/study", help="output folder (default out/study)")
-    p.add_argument("--workers", type=int, default=1, help="runs at once (default 1)")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
-    p.set_defaults(func=cmd_study)
-
-
-def cmd_study(args) -> int:
-    from coupling.run import RunInterrupted
-    study = load_study(args.study)
-    print(f"== study {study.name}: {len(study.scenes)} runs of {study.scene_path} "
-          f"({', '.join(study.keys)}) -> {Path(args.output) / study.name}", flush=True)
-    try:
-        result = run_study(study, args.output, workers=args.workers, quiet=args.quiet)
-    except RunInterrupted as exc:
-        print(f"flexbearing study: {exc} (run the same command again to continue)", file=sys.stderr)
-        return 130 if isinstance(exc.__cause__, KeyboardInterrupt) else 1
-    except KeyboardInterrupt:
-        print("flexbearing study: interrupted; run the same command again to continue", file=sys.stderr)
-        return 130
-    print(study_markdown(study, result))
-    print(f"wall {result['wall_time_s']:.1f} s; results in {Path(args.output) / study.name}")
-    return 0

@@ -10,14 +10,14 @@ Load cases (fem_cage.calculix builds the decks):
 
 * spin: the cage spinning at omega about its axis x. CalculiX computes its own body load
   (*DLOAD CENTRIF: rho omega^2 r_perp, integrated with its 4-point rule); the project uses the
-  consistent load f = omega^2 M x_perp (fem_cage.reduce_cli.centrifugal_load). Self-equilibrated
+  consistent load f = omega^2 M x_perp (fem_cage.reduction.centrifugal_load). Self-equilibrated
   by symmetry: both are held by the same statically determinate 3-2-1 support (support_dofs: six
   displacement components at three nodes far apart; it removes the six rigid motions and nothing
   else), whose reactions are reported: the out-of-balance of each code's discrete load (measured
   ~1e-7 of sum |f| for the project's consistent load, ~3e-5 for ccx's 4-point CENTRIF). The project's inertia-relief solution (K u = f - M R a, R^T M u = 0, as
-  fem_cage.reduce_cli.check_centrifugal) is solved as well: its stress must equal the 3-2-1 one.
+  fem_cage.reduction_check.check_centrifugal) is solved as well: its stress must equal the 3-2-1 one.
 * pocket: a ball force F (1 kN) on pocket k_load, pocket k_held's interface node held: the load
-  case of fem_cage.reduce_cli.check_stress, solved as it does (RBE3 coupling of both pockets,
+  case of fem_cage.reduction_check.check_stress, solved as it does (RBE3 coupling of both pockets,
   fem_cage.interface, the saddle LU of fem_cage.craig_bampton.full_static). Holding an RBE3 node
   only fixes the rigid motions: the held pocket takes a force and moment (mu) that the equilibrium
   of the free cage fixes, mu = (F, (x_load - x_held) x F) — so the same stress field is the free
@@ -223,7 +223,7 @@ def _ref_points() -> np.ndarray:
 
 def inertia_relief(model: ProjectModel, f: np.ndarray) -> dict:
     """Free–free quasi-static response K u = f - M R a, R^T M u = 0 (R the rigid fields), as
-    fem_cage.reduce_cli.check_centrifugal solves it."""
+    fem_cage.reduction_check.check_centrifugal solves it."""
     from .craig_bampton import SaddleSolver
     from .interface import rigid_field
     X = model.V.tabulate_dof_coordinates()[:, :3]
@@ -310,7 +310,7 @@ def spin_case(model: ProjectModel, material, omega: float, support, threads: int
               n_pockets: int | None = None) -> dict:
     """The spinning cage (module docstring): project 3-2-1 and inertia relief vs CalculiX CENTRIF.
     n_pockets: the cage's Z-fold symmetry (with the mirror x -> -x) for the peak distance."""
-    from .reduce_cli import centrifugal_load
+    from .reduction import centrifugal_load
     X = model.V.tabulate_dof_coordinates()[:, :3]
     f = omega ** 2 * centrifugal_load(model.M, X)
     p = project_static(model, f, support)

@@ -149,7 +149,7 @@ class Evaluator:
             return np.array(self.memo[key])
         from mpi4py import MPI
         from mesh.cage_mesh import cached_cage_mesh
-        from .cli import run_modes
+        from .modes import run_modes
         g = self.geometry(p)
         size, ps, order, degree = self.mesh
         t0 = time.perf_counter()
@@ -296,7 +296,7 @@ def verify(geometry, classify=True):
     """27 modes of `geometry` at the default (converged) mesh; dict with RMS, max, modes."""
     from mesh.cage_mesh import (cached_cage_mesh, DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER,
                                 DEFAULT_DEGREE)
-    from .cli import run_modes
+    from .modes import run_modes
     t0 = time.perf_counter()
     path = cached_cage_mesh(geometry, DEFAULT_MESH_SIZE, DEFAULT_ORDER, DEFAULT_POCKET_SIZE)
     res, _, vecs = run_modes(geometry, path, DEFAULT_DEGREE, 27, classify=classify)
@@ -352,7 +352,7 @@ def run_calibration(outdir: Path, size=None, pocket_size=None, order=2, degree=3
 
 
 def calibration_markdown(report) -> str:
-    from .cli import format_table
+    from .modes import mode_table
     lines = ["# Cage calibration against Table 8", "",
              f"Fitted parameters (box {report.get('box', 'stated')!r}, bounds):", ""]
     for n, v in report["params"].items():
@@ -365,7 +365,7 @@ def calibration_markdown(report) -> str:
             continue
         rep = report[label]
         lines += [f"## {label} geometry at the default mesh ({rep['ndofs']} dofs)", "", "```",
-                  format_table(rep["frequencies_hz"], [m["label"] for m in rep["modes"]]), "```", ""]
+                  mode_table(rep["frequencies_hz"], [m["label"] for m in rep["modes"]]), "```", ""]
         lines += family_summary(rep)
     lines += ["The paper (§4.1, Fig. 16) calls modes 7, 11, 15, 17 in-plane bending, 14 and 20 "
               "bending–torsion coupling, 24–25 end-face tilting / out-of-plane torsion, 26 irregular "
@@ -495,8 +495,8 @@ def main(argv=None) -> int:
         g = geometry_of(list(s), list(s.values()))
         rep = verify(g)
         rep["set_mm"] = {n: v / MM for n, v in s.items()}
-        from .cli import format_table
-        print(format_table(rep["frequencies_hz"], [m["label"] for m in rep["modes"]]))
+        from .modes import mode_table
+        print(mode_table(rep["frequencies_hz"], [m["label"] for m in rep["modes"]]))
         print("\n".join(family_summary(rep)))
         print(f"{rep['ndofs']} dofs, mass {rep['mass_kg']:.4f} kg, wall {rep['wall_s']:.0f} s")
         if args.json:

@@ -27,7 +27,7 @@ The Craig–Bampton basis (Craig & Bampton, AIAA J. 6(7):1313, 1968) is u = Psi 
   u = Psi C u + w with C w = 0 and v^T K w = v^T f for every v with C v = 0 (the Psi part drops
   out: v^T K Psi = -v^T C^T Lambda = 0), i.e. w = U from (2): [Psi U] holds it exactly.
   Used for the centrifugal load of the spinning cage, f_cf = M x_perp (per unit Omega^2, x the
-  bearing axis; fem_cage.reduce_cli.centrifugal_load): a thin ring's
+  bearing axis; fem_cage.reduction.centrifugal_load): a thin ring's
   axisymmetric stretching lies far above the 30 fixed-interface modes, and without U the hoop
   stress of the full CB basis is off by tens of percent (measured -33 %...+24 % on a 6-pocket
   test ring; tests/test_cb_centrifugal.py). This is the "modal truncation augmentation" /

@@ -183,7 +183,7 @@ def compare(red: dict, load_node: int = 1, n_keep: int = 26, n_elastic: int = 10
             n_freq: int = 60, exclude: float = 0.02, beta: float = 0.0, full_hz=None,
             progress=None, at_resonances: bool = False) -> dict:
     """Full FE (1) vs reduced cage (2)–(3) at interface node load_node of an in-memory reduction
-    (fem_cage.reduce_cli.reduce_model), unit circumferential, radial and axial pocket forces.
+    (fem_cage.reduction.reduce_model), unit circumferential, radial and axial pocket forces.
 
     Grid: frequency_grid up to the n_elastic-th elastic natural frequency of the full model
     (full_hz: its elastic frequencies, Hz, at least n_elastic; computed when None), +-exclude

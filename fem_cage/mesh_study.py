@@ -61,7 +61,7 @@ def richardson(f1, f2, f3, h1, h2, h3, p_default=2.0):
 def run_level(g, level, n_modes=27):
     from mpi4py import MPI
     from mesh.cage_mesh import cached_cage_mesh, cache_path
-    from .cli import run_modes
+    from .modes import run_modes
     size, ps, order, degree = level
     t0 = time.perf_counter()
     if MPI.COMM_WORLD.rank == 0:

@@ -11,6 +11,8 @@ Eigenvectors are M-normalised: phi^T M phi = 1.
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 # Paper Table 8 (Yang, Liu, Deng, Lubricants 2025, 13, 249): free cage, modes 7..27, Hz.
@@ -106,3 +108,56 @@ def cage_modes(mesh_path, material, degree: int = 2, n_modes: int = 27, comm=Non
     freqs, vecs, info = free_free_modes(K, M, n_modes, return_info=True, **kw)
     info["facet_tags"] = facet_tags
     return freqs, vecs, V, domain, names, info
+
+
+def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True):
+    """The free-free modal analysis of cage geometry `g` on a mesh file: assemble, solve, classify
+    the mode families (fem_cage.classify). Returns a result dict (frequencies_hz, ndofs, mass_kg,
+    timing_s, eigensolver, and with classify "modes": family, n, label of each) and the solution
+    objects (V, vecs) for writing."""
+    from mpi4py import MPI
+    from .elasticity import load_cage_mesh, assemble_stiffness_mass, global_ndofs, total_mass
+    comm = MPI.COMM_WORLD
+    t0 = time.perf_counter()
+    domain, _, _, names = load_cage_mesh(mesh_path, comm)
+    t1 = time.perf_counter()
+    V, K, M = assemble_stiffness_mass(domain, g.material, degree)
+    t2 = time.perf_counter()
+    freqs, vecs, info = free_free_modes(K, M, n_modes, return_info=True)
+    K.destroy()
+    M.destroy()
+    t3 = time.perf_counter()
+    res = {"frequencies_hz": [float(f) for f in freqs], "ndofs": global_ndofs(V),
+           "mass_kg": total_mass(domain, g.material),
+           "timing_s": {"read_mesh": t1 - t0, "assemble": t2 - t1, "eigensolve": t3 - t2},
+           "eigensolver": {k: v for k, v in info.items() if k != "facet_tags"},
+           "mpi_ranks": comm.size}
+    if classify:
+        from .classify import classify_modes, short_label
+        rigid_tol = 1e-3 * max(abs(freqs[min(6, len(freqs) - 1)]), 1.0)
+        cl = classify_modes(V, vecs, freqs, rigid_tol_hz=rigid_tol)
+        res["modes"] = [{"mode": i + 1, "frequency_hz": float(f), "family": c["family"], "n": c["n"],
+                         "shares": {k: round(x, 4) for k, x in c["shares"].items()},
+                         "label": short_label(c)} for i, (f, c) in enumerate(zip(freqs, cl))]
+        res["timing_s"]["classify"] = time.perf_counter() - t3
+    return res, V, vecs
+
+
+def mode_table(freqs, labels=None) -> str:
+    """The frequencies beside the paper's Table 8 (relative error of modes 7-27, RMS and max)."""
+    lines = [f"{'mode':>4} {'f (Hz)':>10} {'Table 8 (Hz)':>12} {'rel.err':>8}  family"]
+    errs = []
+    for i, f in enumerate(freqs):
+        m = i + 1
+        ref = PAPER_TABLE8_HZ.get(m)
+        e = (f - ref) / ref if ref else None
+        if e is not None:
+            errs.append(e)
+        lab = labels[i] if labels else ""
+        lines.append(f"{m:>4} {f:>10.2f} {ref if ref else '':>12} "
+                     f"{'' if e is None else f'{100 * e:+7.2f}%':>8}  {lab}")
+    if errs:
+        errs = np.array(errs)
+        lines.append(f"modes 7-27: RMS relative error {100 * np.sqrt(np.mean(errs ** 2)):.2f} %, "
+                     f"max |error| {100 * np.max(np.abs(errs)):.2f} %")
+    return "\n".join(lines)

@@ -47,7 +47,7 @@ Root attributes
                 land load L = (F_y, F_z, M_x) is G @ L. f_y, f_z, f_t: consistent nodal loads of
                 a radial traction c cos(theta) e_r, c sin(theta) e_r and a uniform shear c_t
                 e_theta on the guide surface (facet tag 200), theta = atan2(z, y), with exact unit
-                resultant force / torque (fem_cage.reduce_cli.guide_load_vectors: the equations,
+                resultant force / torque (fem_cage.reduction.guide_load_vectors: the equations,
                 and the caveat that they keep the resultant and torque of the film load but not
                 its local pressure peak near the minimum film). attrs: columns (JSON list
                 ["land force y N", "land force z N", "land torque x N m"]), units,
@@ -66,7 +66,7 @@ not for body loads — the spinning cage's hoop stress was off by tens of percen
 ring; constraint modes + u_cf hold the exact free–free static centrifugal response
 (tests/test_cb_centrifugal.py). 4 = /loads/guide_modal_loads, and the basis is augmented
 (default) with the fixed-interface static responses to the three unit land loads and to the six
-rigid-body inertia loads (fem_cage.reduce_cli.reduce_model): nine more modes, root attributes
+rigid-body inertia loads (fem_cage.reduction.reduce_model): nine more modes, root attributes
 guide_load_vectors and inertia_relief_vectors, both flags in parameters/cache key. Why: the land
 force of the outer-ring-guided cage acts on the guide surface, and it (like a single pocket
 force) has a net force, so its quasi-static response in the free cage is the inertia-relief

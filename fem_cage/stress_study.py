@@ -3,13 +3,13 @@
 Load cases (body frame: x the bearing axis, pocket k at azimuth theta_k = 2 pi k / Z from +y):
 
     spin              the cage spinning at Omega about x: body force rho Omega^2 x_perp, nodal load
-                      f = Omega^2 M x_perp (fem_cage.reduce_cli.centrifugal_load)
+                      f = Omega^2 M x_perp (fem_cage.reduction.centrifugal_load)
     pocket_circ/_axial/_radial
                       a force F on pocket k's interface node, circumferential e_theta, axial e_x or
                       radial e_r, spread over the pocket wall by the RBE3 distributing coupling the
                       reduced cage uses: f = C_k^T (F, 0) (fem_cage.interface, Eq. (2))
     land              a radial land force F along body z on the guide surface, the sine
-                      traction of fem_cage.reduce_cli.guide_load_vectors (G2), centred on pocket 5
+                      traction of fem_cage.reduction.guide_load_vectors (G2), centred on pocket 5
                       (azimuth 90 deg), so the refined zone of the study holds its maximum
 
 Each is solved for the FREE cage by inertia relief, the quasi-static answer of an unsupported body
@@ -56,7 +56,7 @@ def pocket_direction(theta: float, kind: str) -> np.ndarray:
 def load_vectors(V, facet_tags, M, geometry, cases=CASES, pocket: int = POCKET) -> dict:
     """Nodal load vector (n,) of each case (module docstring), body frame, N."""
     from . import interface as itf
-    from .reduce_cli import centrifugal_load, guide_load_vectors
+    from .reduction import centrifugal_load, guide_load_vectors
     X = V.tabulate_dof_coordinates()[:, :3]
     n = 3 * len(X)
     out = {}

@@ -155,3 +155,7 @@ PAPER_CAGE = NOMINAL_CAGE
 """The paper preset used by multibody. Deliberately still the nominal geometry, not
 CALIBRATED_CAGE: the calibration misses its target and its 2.5 mm guide lands would cut the
 short-bearing guide force ~180x (L^3) — a change for the lead to decide (see the report)."""
+
+# the presets by name (`flexbearing mesh|modes|mesh-study --preset NAME`)
+CAGE_PRESETS = {"paper": PAPER_CAGE, "nominal": NOMINAL_CAGE, "calibrated": CALIBRATED_CAGE,
+                "table8": TABLE8_EQUIVALENT_CAGE}

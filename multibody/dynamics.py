@@ -643,7 +643,7 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     Qext[5] += A[0, 2] * land_mx
     # ... and distributed over the guide surface for the elastic coordinates: the file's
     # statically equivalent land loads (cosine pressure for the force, uniform shear for the
-    # torque; fem_cage.reduce_cli) per unit body-frame force y, z and torque x, Q_q += Gᵀ·L_b.
+    # torque; fem_cage.reduction) per unit body-frame force y, z and torque x, Q_q += Gᵀ·L_b.
     # Kept in row Z of node_load for the stress recovery's residual modes.
     zl = node_load.shape[0] - 1
     lby = A[1, 1] * land_fy + A[2, 1] * land_fz

@@ -37,7 +37,7 @@ def paper_reduced_cage():
     with dolfinx once per session (a few minutes; slow tests only)."""
     import mesh.cage_mesh as cm
     from mesh.cage_geometry import PAPER_CAGE
-    from fem_cage.reduce_cli import build
+    from fem_cage.reduction import build
     from fem_cage import reduced_cage as rcf
     key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
                         rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE, True)

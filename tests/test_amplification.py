@@ -17,7 +17,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from coupling.amplification import half_sine_daf, impact_amplification, pulse_scene
-from coupling.report import quantity_arrays, run_scene
+from coupling.results import scene_of_run as run_scene
+from coupling.windows import quantity_arrays
 
 
 def _integrated_daf(r):

@@ -1,5 +1,5 @@
 """The Craig–Bampton basis augmented with the fixed-interface centrifugal response (fem_cage.
-craig_bampton Eq. (2), fem_cage.reduce_cli.reduce_model(centrifugal=True)).
+craig_bampton Eq. (2), fem_cage.reduction.reduce_model(centrifugal=True)).
 
 Claim: constraint modes + the fixed-interface static response to a body load hold the exact
 free–free static response to that load (the plain CB basis holds it only for interface loads).
@@ -85,7 +85,7 @@ def coarse_ring():
 
 @pytest.fixture(scope="module")
 def coarse_reduced(coarse_ring):
-    from fem_cage.reduce_cli import reduce_model
+    from fem_cage.reduction import reduce_model
     g, domain, ft, V, K, M = coarse_ring
     # the centrifugal vector alone (the schema-3 basis): the land-load and inertia-relief vectors
     # (schema 4, tests/test_guide_loads.py) are switched off to isolate its effect
@@ -101,7 +101,7 @@ def test_full_basis_static_centrifugal_exact(coarse_reduced):
     here) — the
     defect this augmentation removes. The augmentation keeps the rest: one more mode, interface
     loads still exact (check_static <= 1e-6), mean-axis elastic modes, identity modal mass."""
-    from fem_cage.reduce_cli import check_centrifugal, check_static
+    from fem_cage.reduction_check import check_centrifugal, check_static
     on, off = coarse_reduced[True], coarse_reduced[False]
     assert len(on["omega"]) == len(off["omega"]) + 1 == 6 * 6 + 10 + 1
     r_on, r_off = check_centrifugal(on, SPIN), check_centrifugal(off, SPIN)
@@ -189,7 +189,8 @@ def test_thin_ring_hoop_stress_vs_rotating_disc():
         the disc formula is plane stress, the ring is 12 mm wide for 5 mm radial thickness — the
         same pattern appears at P3 on a 4 mm mesh (-2.05 %...+0.68 % all nodes, edges included),
         i.e. it is the 3D ring vs the plane-stress model, not discretisation. ~90 s: slow."""
-    from fem_cage.reduce_cli import reduce_model, check_centrifugal
+    from fem_cage.reduction import reduce_model
+    from fem_cage.reduction_check import check_centrifugal
     g, domain, ft, V, K, M = _ring(2.5e-3, 1.0e-3)
     red = reduce_model(domain, ft, V, K, M, g, "rbe3", 20, centrifugal=True)
     assert check_centrifugal(red, SPIN)["stress_rel_error_full"] <= 1e-6

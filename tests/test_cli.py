@@ -55,7 +55,7 @@ def test_quasi_static_sweep_follows_the_profile(tmp_path, capsys):
     import numpy as np
     from coupling.cli import main
     from coupling.scene import load_scene
-    from multibody.cli import solve_scene
+    from coupling.quasi_static_scene import solve_scene
     from multibody.quasi_static import bearing_stiffness, grooves_from_bearing
     out = tmp_path / "sweep.json"
     assert main(["quasi-static", "scenes/paper_unsteady_rigid.toml", "--times", "0:0.6:7", "--stiffness", "updated",

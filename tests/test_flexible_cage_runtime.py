@@ -23,7 +23,7 @@ SPIN = 1000.0   # rad/s
 @pytest.fixture(scope="module")
 def thin_ring():
     from mesh.cage_geometry import CageGeometry
-    from fem_cage.reduce_cli import build
+    from fem_cage.reduction import build
     from fem_cage import reduced_cage as rcf
     g = CageGeometry(**RING).validate()
     path, _, _ = build(g, 2.5e-3, 2, 1.0e-3, "rbe3", 20, degree=2, centrifugal=True)

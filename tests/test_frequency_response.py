@@ -65,7 +65,7 @@ def small_cage():
     from mesh.cage_geometry import CageGeometry
     from mesh.cage_mesh import cached_cage_mesh
     from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
-    from fem_cage.reduce_cli import reduce_model
+    from fem_cage.reduction import reduce_model
     from tests.test_craig_bampton import SMALL
     g = CageGeometry(**SMALL).validate()
     domain, _, ft, _ = load_cage_mesh(cached_cage_mesh(g, 3e-3, 2, 2e-3), MPI.COMM_SELF)

@@ -1,5 +1,5 @@
 """Land (guide-surface) loads on the reduced cage (issue 5): the unit load vectors
-(fem_cage.reduce_cli.guide_load_vectors), the basis augmentation that makes the full basis
+(fem_cage.reduction.guide_load_vectors), the basis augmentation that makes the full basis
 statically exact for them (reduce_model(guide_loads=True, inertia_relief=True)), and the file's
 /loads/guide_modal_loads.
 
@@ -51,7 +51,7 @@ class _Reduced(dict):
         self.model = model
 
     def __missing__(self, key):
-        from fem_cage.reduce_cli import reduce_model
+        from fem_cage.reduction import reduce_model
         g, domain, ft, V, K, M = self.model
         gl, ir = self.FLAGS[key]
         self[key] = reduce_model(domain, ft, V, K, M, g, "rbe3", 10, guide_loads=gl,
@@ -71,7 +71,7 @@ def test_unit_resultants_exact(small_model):
     1e-12 (N, N m; rounding). f_y and f_z are radial: their axial (x) nodal components are zero up
     to the (G4) correction (< 1e-6 of the largest nodal load; measured 2.2e-9). The correction (G4) that removes the mesh asymmetry is tiny (< 1e-6 relative; measured
     8e-9) — it fixes rounding-level asymmetry, not the distribution."""
-    from fem_cage.reduce_cli import guide_load_vectors, resultant
+    from fem_cage.reduction import guide_load_vectors, resultant
     g, domain, ft, V, K, M = small_model
     F, info = guide_load_vectors(V, ft)
     X = V.tabulate_dof_coordinates()[:, :3]
@@ -97,7 +97,7 @@ def test_plain_ring_matches_cylinder_formulas():
     from mesh.cage_geometry import CageGeometry
     from mesh.cage_mesh import cached_ring_mesh
     from fem_cage.elasticity import load_cage_mesh
-    from fem_cage.reduce_cli import guide_load_vectors
+    from fem_cage.reduction import guide_load_vectors
     g = CageGeometry(**SMALL).validate()
     domain, _, ft, _ = load_cage_mesh(cached_ring_mesh(g, 3e-3, 2), MPI.COMM_SELF)
     V = fem.VectorFunctionSpace(domain, ("Lagrange", 3))
@@ -127,7 +127,7 @@ def test_land_load_static_exact_with_augmentation(reduced):
     (47 modes: constraint + 10 fixed-interface + centrifugal) the full basis is off by 7.7 %
     (displacement), 24 % (stress), 7.8 % (max von Mises), asserted > 1 %; with the land-load
     vectors but without the inertia-relief vectors still off (test below, slow)."""
-    from fem_cage.reduce_cli import check_guide
+    from fem_cage.reduction_check import check_guide
     full = check_guide(reduced["all"], 100.0, 0.0, 1.0)
     assert len(reduced["all"]["omega"]) == 6 * 6 + 10 + 1 + 3 + 6
     for k in ("displacement_rel_error_full", "stress_rel_error_full", "vm_max_rel_error_full"):
@@ -146,7 +146,7 @@ def test_land_load_vectors_alone_are_not_enough(reduced):
     force, and the inertia load M R a it causes has a fixed-interface response outside the basis:
     measured 7.2 % (displacement), 22 % (stress), 6.4 % (max von Mises) off; asserted > 1 %.
     Slow only because it is one more reduction (~10 s)."""
-    from fem_cage.reduce_cli import check_guide
+    from fem_cage.reduction_check import check_guide
     r = check_guide(reduced["guide_only"], 100.0, 0.0, 1.0)
     assert r["displacement_rel_error_full"] > 0.01 and r["vm_max_rel_error_full"] > 0.01, r
 
@@ -186,7 +186,7 @@ def test_augmentation_keeps_the_other_properties(reduced):
     (check_static <= 1e-6), centrifugal still exact (<= 1e-6; measured 2e-13 vs 4e-9 without the
     inertia-relief vectors: the mesh's tiny net centrifugal force is now relieved exactly),
     identity modal mass, mean-axis elastic modes, ascending frequencies."""
-    from fem_cage.reduce_cli import check_static, check_centrifugal
+    from fem_cage.reduction_check import check_static, check_centrifugal
     red = reduced["all"]
     assert check_static(red, [1, 3], 0)["max_rel_error_full"] <= 1e-6
     assert check_centrifugal(red, 1000.0)["stress_rel_error_full"] <= 1e-6
@@ -215,7 +215,7 @@ def test_guide_modal_loads_rigid_rows_are_the_resultant(reduced):
 def test_file_round_trip(reduced, tmp_path):
     """file_arrays -> write -> read: /loads/guide_modal_loads (M, 3) comes back as
     ReducedCage.guide_modal_loads, and truncation keeps its first rows."""
-    from fem_cage.reduce_cli import file_arrays
+    from fem_cage.reduction import file_arrays
     from fem_cage import reduced_cage as rcf
     red = reduced["all"]
     p = rcf.write(tmp_path / "c.h5", file_arrays(red), {"guide_load_vectors": True})
@@ -231,7 +231,7 @@ def test_build_writes_guide_loads_with_attrs():
     import h5py
     import json
     from mesh.cage_geometry import CageGeometry
-    from fem_cage.reduce_cli import build
+    from fem_cage.reduction import build
     from fem_cage import reduced_cage as rcf
     g = CageGeometry(**SMALL).validate()
     path, red, summary = build(g, 3e-3, 2, 2e-3, "rbe3", 10, checks=True, degree=2)

@@ -100,7 +100,7 @@ def test_modes_under_mpirun_match_serial(tmp_path):
 def test_mode_shapes_xdmf(coarse_ring, tmp_path):
     # ParaView output: one step per mode, displacement + von Mises, and a JSON sidecar whose
     # frequencies are the solver's.
-    from fem_cage.mode_xdmf import write_modes_xdmf
+    from fem_cage.xdmf import write_modes_xdmf
     f, vecs, V, cl = coarse_ring
     path = write_modes_xdmf(tmp_path / "modes", V, vecs[:8], f[:8], NOMINAL_CAGE.material)
     assert path.exists() and path.with_suffix(".h5").exists()

@@ -1,4 +1,4 @@
-"""coupling.report on small synthetic run files whose statistics are known in closed form.
+"""coupling.report (with coupling.windows, coupling.plots) on small synthetic run files whose statistics are known in closed form.
 
 The synthetic run: Z = 4 balls, dt = 1 ms, 0.6 s in three phases (acceleration 0–0.2 s, uniform
 0.2–0.4 s, deceleration 0.4–0.6 s), one 20 ms impact centred at 0.3 s. Signals:
@@ -27,7 +27,7 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling import field_export, report
+from coupling import field_export, plots, report, windows
 from coupling.results import ResultsWriter
 from coupling.scene import loads_scene
 from common.validation import InputError
@@ -113,11 +113,11 @@ def write_run(path, cage="rigid", film=True, n=601, status="complete"):
 
 def test_phases_and_impacts_from_scene():
     scene = loads_scene(SCENE.format(cage="rigid", record='["contact_stress"]'))
-    ph = report.speed_phases(scene)
+    ph = windows.speed_phases(scene)
     assert [p["kind"] for p in ph] == ["acceleration", "uniform speed", "deceleration"]
     assert [(p["t_start"], p["t_end"]) for p in ph] == [(0.0, 0.2), (0.2, 0.4), (0.4, 0.6)]
     assert ph[0]["speed_start_rpm"] == pytest.approx(10000) and ph[2]["speed_end_rpm"] == pytest.approx(10000)
-    imp = report.impact_windows(scene)
+    imp = windows.impact_windows(scene)
     assert len(imp) == 1
     assert imp[0]["t_start"] == pytest.approx(0.29) and imp[0]["t_peak"] == pytest.approx(0.3)
     assert imp[0]["magnitude"] == pytest.approx(50e3)
@@ -130,14 +130,14 @@ def test_table_rpm_segments_of_one_kind_are_merged():
   { kind = "uniform", duration = 0.2, rpm = 14000 },
   { kind = "ramp", duration = 0.2, start_rpm = 14000, end_rpm = 10000 },
 ]""", "table_rpm = [[0.0, 10000], [0.1, 12000], [0.2, 14000], [0.3, 14000]]")
-    ph = report.speed_phases(loads_scene(text))
+    ph = windows.speed_phases(loads_scene(text))
     # two acceleration segments -> one phase; constant after the last knot up to the duration
     assert [(p["kind"], p["t_start"], p["t_end"]) for p in ph] == [
         ("acceleration", 0.0, 0.2), ("uniform speed", 0.2, 0.6)]
 
 
 def test_phase_table_equals_hand_computed(tmp_path):
-    rows = report.phase_table(write_run(tmp_path / "run.h5"))
+    rows = windows.phase_table(write_run(tmp_path / "run.h5"))
     assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed", "deceleration", "impact"]
     assert [r["n_samples"] for r in rows] == [601, 200, 200, 201, 21]
     rel = 1e-9
@@ -175,9 +175,9 @@ def test_phase_table_equals_hand_computed(tmp_path):
 
 
 def test_percentile_is_the_interpolated_order_statistic(tmp_path):
-    """p99 / p1 (coupling.report module doc, Hyndman & Fan definition 7): position h = q (n - 1)
+    """p99 / p1 (coupling.windows module doc, Hyndman & Fan definition 7): position h = q (n - 1)
     in the sorted worst-ball values, linear between the two order statistics around it."""
-    rows = report.phase_table(write_run(tmp_path / "run.h5"))
+    rows = windows.phase_table(write_run(tmp_path / "run.h5"))
     rel = 1e-9
     n = [200, 200, 201]
     for p, r in enumerate(rows[1:4]):
@@ -203,27 +203,27 @@ def test_percentile_is_the_interpolated_order_statistic(tmp_path):
                       "Minimum film thickness, mean (µm)"]
 
 def test_interrupted_run_reports_the_phases_it_reached(tmp_path):
-    rows = report.phase_table(write_run(tmp_path / "cut.h5", n=251, status="interrupted"))
+    rows = windows.phase_table(write_run(tmp_path / "cut.h5", n=251, status="interrupted"))
     assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed"]
     assert rows[2]["n_samples"] == 51
 
 
 def test_settle_leaves_the_start_out(tmp_path):
-    rows = report.phase_table(write_run(tmp_path / "run.h5"), settle=0.25)
+    rows = windows.phase_table(write_run(tmp_path / "run.h5"), settle=0.25)
     assert [r["kind"] for r in rows] == ["run", "uniform speed", "deceleration", "impact"]
     assert rows[1]["n_samples"] == 150 and rows[0]["n_samples"] == 351
     with pytest.raises(InputError, match=r"settle = 0.7 s .*allowed range \[0, 0.6\) s"):
-        report.phase_table(tmp_path / "run.h5", settle=0.7)
+        windows.phase_table(tmp_path / "run.h5", settle=0.7)
 
 
 def test_bad_run_file_is_refused(tmp_path):
     with pytest.raises(InputError, match="does not exist"):
-        report.phase_table(tmp_path / "missing.h5")
+        windows.phase_table(tmp_path / "missing.h5")
     other = tmp_path / "other.h5"
     with h5py.File(other, "w") as f:
         f["x"] = 1.0
     with pytest.raises(InputError, match="not a flexbearing results file"):
-        report.phase_table(other)
+        windows.phase_table(other)
 
 
 # ---------------------------------------------------------------- plots and report
@@ -240,7 +240,7 @@ def test_plots_only_recorded_quantities(tmp_path):
     # compared run has a film
     run = write_run(tmp_path / "nofilm.h5", film=False)
     other = write_run(tmp_path / "withfilm.h5")
-    paths = report.write_plots(run, tmp_path / "plots", compare=other)
+    paths = plots.write_plots(run, tmp_path / "plots", compare=other)
     assert sorted(p.name for p in paths) == sorted([
         "speed.png", "outer_contact_stress.png", "inner_contact_stress.png", "pocket_force.png",
         "guiding_force.png", "slip_rate.png", "overview.png"])
@@ -379,11 +379,11 @@ def write_orbit_run(path, n=601):
 def test_cage_motion_table_per_phase(tmp_path):
     """Whirl ratio of each window = (whirl angle swept)/(cage angle ∫(450 + 40 t) dt), exact for the
     piecewise-linear angle and the linear speed (1e-9: rounding); circular orbit: dispersion 0."""
-    rows = report.cage_motion_table(write_orbit_run(tmp_path / "orbit.h5"))
+    rows = windows.cage_motion_table(write_orbit_run(tmp_path / "orbit.h5"))
     assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed", "deceleration", "impact"]
     t_all = np.arange(601) * DT
     for r in rows:
-        sel = report.window_mask(t_all, r["t_start"], r["t_end"], r["kind"] in ("run", "deceleration", "impact"), DT)
+        sel = windows.window_mask(t_all, r["t_start"], r["t_end"], r["kind"] in ("run", "deceleration", "impact"), DT)
         ta, tb = t_all[sel][0], t_all[sel][-1]
         cage_angle = 450.0 * (tb - ta) + 20.0 * (tb * tb - ta * ta)
         assert r["whirl_ratio"] == pytest.approx((_whirl_angle(tb) - _whirl_angle(ta)) / cage_angle, rel=1e-9)
@@ -441,7 +441,7 @@ def test_power_loss_table_per_phase(tmp_path):
     """Window means: traction split outer/inner, drive torque, and the sampled energy balance
     (drive − loss − dE/dt) closes to rounding because the synthetic E grows at exactly the
     drive − loss of every sample (1e-9: sums of ~200 floating-point terms)."""
-    rows = report.power_loss_table(write_power_run(tmp_path / "power.h5"))
+    rows = windows.power_loss_table(write_power_run(tmp_path / "power.h5"))
     assert [r["kind"] for r in rows] == ["run", "acceleration", "uniform speed", "deceleration", "impact"]
     for r, p in zip(rows[1:4], range(3)):
         assert r["drive_torque"] == pytest.approx(TORQUE[p], rel=1e-12)
@@ -543,9 +543,9 @@ def test_cage_strength_against_the_yield_strength(tmp_path):
     vm = 400e6 + 600e6 * np.clip(bump, 0.0, None)
     with h5py.File(run, "r+") as f:
         f["outputs/von_mises_max"] = vm
-    t_, arrays, scene, dt = report._read_run(run)
+    t_, arrays, scene, dt = windows.read_run(run)
     assert scene.flexible["yield_strength"] == 835e6
-    rows = report.cage_strength_rows(t_, arrays, scene, dt)
+    rows = windows.cage_strength_rows(t_, arrays, scene, dt)
     whole, impact = rows[0], rows[-1]
     assert impact["kind"] == "impact"
     assert impact["utilization_peak"] == pytest.approx(1000e6 / 835e6, rel=1e-12)
@@ -560,7 +560,7 @@ def test_cage_strength_against_the_yield_strength(tmp_path):
     assert "## Cage stress against the yield strength" in md and "R_e = 835 MPa" in md
     assert "| Utilization peak / R_e | 1.20 |" in md
     # a rigid cage has no stress: no section; a scene with its own material and no R_e: none either
-    assert report.cage_strength_rows(*report._read_run(write_run(tmp_path / "rigid.h5"))) == []
+    assert windows.cage_strength_rows(*windows.read_run(write_run(tmp_path / "rigid.h5"))) == []
 
 
 def test_yield_strength_in_the_scene():

@@ -213,7 +213,7 @@ def test_case_set_and_slip_rate_validation(tmp_path, capsys):
     from pathlib import Path
 
     from coupling.run import run_case_set_slip_rate
-    from coupling.run_cli import parse_cases, print_slip_rate_table
+    from coupling.cli_run import parse_cases, print_slip_rate_table
     from coupling.scene import load_case_set
     path = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
     full = load_case_set(path)

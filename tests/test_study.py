@@ -83,9 +83,9 @@ def test_each_run_carries_its_value(thrust_study):
 
 
 def test_tables_are_the_runs_report_windows(thrust_study):
-    """study.json holds coupling.report.phase_table of each run unchanged (same settle), and the
+    """study.json holds coupling.windows.phase_table of each run unchanged (same settle), and the
     tables index the windows by position: whole run, phase 1 (the ramp), phase 2."""
-    from coupling.report import cage_motion_table, phase_table
+    from coupling.windows import cage_motion_table, phase_table
     study, out, result = thrust_study
     saved = json.loads((out / "fa" / "study.json").read_text())
     for r in saved["runs"]:

@@ -1,14 +1,22 @@
-"""`flexbearing mesh`: mesh the cage, write FILE.msh and FILE.xdmf (+ .h5) beside it."""
+"""`flexbearing mesh`: mesh the cage, write FILE.msh and FILE.xdmf (+ .h5) beside it.
+
+Also the cage geometry and mesh options that `modes` and `mesh-study` share (coupling.cli_modes).
+The work: mesh.cage_mesh (gmsh, quality check and repair, mesh.quality), fem_cage.xdmf.
+"""
 from __future__ import annotations
 
 import time
 from pathlib import Path
 
+from common.validation import InputError
+from mesh.cage_geometry import CAGE_PRESETS
+from mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_ORDER, DEFAULT_POCKET_SIZE
+
 
 def add_geometry_arguments(p):
     """Cage geometry options shared by mesh/modes/mesh-study (lengths in mm on the command line)."""
     g = p.add_argument_group("cage geometry (mm; default: the paper preset)")
-    g.add_argument("--preset", choices=("paper", "nominal", "calibrated", "table8"), default="paper",
+    g.add_argument("--preset", choices=tuple(CAGE_PRESETS), default="paper",
                    help="paper = PAPER_CAGE (multibody's preset), nominal = SPEC §1 defaults, "
                         "calibrated = fitted to Table 8 inside the Table 3 envelope (CALIBRATED_CAGE), "
                         "table8 = 7.0 mm-wall ring that reproduces Table 8, outside the envelope "
@@ -22,9 +30,8 @@ def add_geometry_arguments(p):
 
 
 def geometry_from_args(args):
-    from .cage_geometry import PAPER_CAGE, NOMINAL_CAGE, CALIBRATED_CAGE, TABLE8_EQUIVALENT_CAGE
-    g = {"paper": PAPER_CAGE, "nominal": NOMINAL_CAGE, "calibrated": CALIBRATED_CAGE,
-         "table8": TABLE8_EQUIVALENT_CAGE}[args.preset]
+    """The preset's geometry with the options' changes (mm on the command line), validated."""
+    g = CAGE_PRESETS[args.preset]
     ch = {}
     for opt, field in (("pocket_diameter_mm", "pocket_diameter"), ("land_width_mm", "land_width"),
                        ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer"),
@@ -38,30 +45,12 @@ def geometry_from_args(args):
 
 
 def add_mesh_arguments(p):
-    from .cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER
     p.add_argument("--size", type=float, default=DEFAULT_MESH_SIZE * 1e3,
                    help=f"global element size, mm (default {DEFAULT_MESH_SIZE * 1e3:g})")
     p.add_argument("--pocket-size", type=float, default=DEFAULT_POCKET_SIZE * 1e3,
                    help=f"element size on the pocket walls, mm (default {DEFAULT_POCKET_SIZE * 1e3:g})")
     p.add_argument("--order", type=int, default=DEFAULT_ORDER, choices=(1, 2),
                    help="1 = linear tets, 2 = curved quadratic tets (default)")
-
-
-def write_mesh_xdmf(msh_path) -> Path:
-    """Read the .msh with dolfinx and write mesh + cell/facet tags to the same stem .xdmf."""
-    from mpi4py import MPI
-    from dolfinx.io import XDMFFile
-    from fem_cage.elasticity import load_cage_mesh
-    domain, cell_tags, facet_tags, names = load_cage_mesh(msh_path, MPI.COMM_WORLD)
-    out = Path(msh_path).with_suffix(".xdmf")
-    domain.topology.create_connectivity(domain.topology.dim - 1, domain.topology.dim)
-    with XDMFFile(domain.comm, str(out), "w") as xf:
-        xf.write_mesh(domain)
-        cell_tags.name = "cell_tags"
-        facet_tags.name = "facet_tags"
-        xf.write_meshtags(cell_tags)
-        xf.write_meshtags(facet_tags)
-    return out
 
 
 def quality_line(summary: dict, repair: dict | None) -> str:
@@ -80,8 +69,7 @@ def quality_line(summary: dict, repair: dict | None) -> str:
 
 def cmd_check(path) -> int:
     """`flexbearing mesh --check FILE`: the quality of any mesh file; exit 1 if it would be refused."""
-    from .quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
-    from common.validation import InputError
+    from mesh.quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
     q = mesh_file_quality(path)
     print(f"{path}: {quality_line(q.summary(), None)}")
     try:
@@ -95,11 +83,11 @@ def cmd_check(path) -> int:
 
 def cmd_mesh(args) -> int:
     from mpi4py import MPI
-    from .cage_mesh import build_cage_mesh, mesh_quality_of
+    from fem_cage.xdmf import write_mesh_xdmf
+    from mesh.cage_mesh import build_cage_mesh, mesh_quality_of
     if args.check:
         return cmd_check(Path(args.check))
     if not args.output:
-        from common.validation import InputError
         raise InputError("flexbearing mesh: give -o/--output FILE.msh (or --check FILE to check a mesh)")
     g = geometry_from_args(args)
     out = Path(args.output)
@@ -118,7 +106,7 @@ def cmd_mesh(args) -> int:
     return 0
 
 
-def register(subparsers):
+def register(subparsers) -> None:
     p = subparsers.add_parser("mesh", help="mesh the cage (gmsh): FILE.msh + FILE.xdmf",
                               description="Mesh the cage with gmsh (tagged pockets, guide, volume). "
                               "Every mesh is checked (Jacobian of each curved tetrahedron) and its "

@@ -1,11 +1,15 @@
-"""`flexbearing modes | mesh-study | calibrate-cage`: the cage's free–free modal analysis."""
+"""`flexbearing modes | mesh-study | calibrate-cage`: the cage's free–free modal analysis.
+
+The work: fem_cage.modes (run_modes, mode_table), fem_cage.mesh_study, fem_cage.calibrate.
+"""
 from __future__ import annotations
 
 import json
 import time
 from pathlib import Path
 
-import numpy as np
+from coupling.cli_mesh import add_geometry_arguments, add_mesh_arguments, geometry_from_args
+from mesh.cage_mesh import DEFAULT_DEGREE
 
 
 def _comm():
@@ -26,59 +30,8 @@ def mesh_for(args, g) -> Path:
     return cache_path(g, size, args.order, ps)
 
 
-def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True):
-    """Assemble, solve, classify; return a result dict (frequencies, ndofs, timings) and the
-    solution objects (V, vecs) for writing."""
-    from .elasticity import load_cage_mesh, assemble_stiffness_mass, global_ndofs, total_mass
-    from .modes import free_free_modes
-    comm = _comm()
-    t0 = time.perf_counter()
-    domain, _, _, names = load_cage_mesh(mesh_path, comm)
-    t1 = time.perf_counter()
-    V, K, M = assemble_stiffness_mass(domain, g.material, degree)
-    t2 = time.perf_counter()
-    freqs, vecs, info = free_free_modes(K, M, n_modes, return_info=True)
-    K.destroy()
-    M.destroy()
-    t3 = time.perf_counter()
-    res = {"frequencies_hz": [float(f) for f in freqs], "ndofs": global_ndofs(V),
-           "mass_kg": total_mass(domain, g.material),
-           "timing_s": {"read_mesh": t1 - t0, "assemble": t2 - t1, "eigensolve": t3 - t2},
-           "eigensolver": {k: v for k, v in info.items() if k != "facet_tags"},
-           "mpi_ranks": comm.size}
-    if classify:
-        from .classify import classify_modes, short_label
-        rigid_tol = 1e-3 * max(abs(freqs[min(6, len(freqs) - 1)]), 1.0)
-        cl = classify_modes(V, vecs, freqs, rigid_tol_hz=rigid_tol)
-        res["modes"] = [{"mode": i + 1, "frequency_hz": float(f), "family": c["family"], "n": c["n"],
-                         "shares": {k: round(x, 4) for k, x in c["shares"].items()},
-                         "label": short_label(c)} for i, (f, c) in enumerate(zip(freqs, cl))]
-        res["timing_s"]["classify"] = time.perf_counter() - t3
-    return res, V, vecs
-
-
-def format_table(freqs, labels=None) -> str:
-    from .modes import PAPER_TABLE8_HZ
-    lines = [f"{'mode':>4} {'f (Hz)':>10} {'Table 8 (Hz)':>12} {'rel.err':>8}  family"]
-    errs = []
-    for i, f in enumerate(freqs):
-        m = i + 1
-        ref = PAPER_TABLE8_HZ.get(m)
-        e = (f - ref) / ref if ref else None
-        if e is not None:
-            errs.append(e)
-        lab = labels[i] if labels else ""
-        lines.append(f"{m:>4} {f:>10.2f} {ref if ref else '':>12} "
-                     f"{'' if e is None else f'{100 * e:+7.2f}%':>8}  {lab}")
-    if errs:
-        errs = np.array(errs)
-        lines.append(f"modes 7-27: RMS relative error {100 * np.sqrt(np.mean(errs ** 2)):.2f} %, "
-                     f"max |error| {100 * np.max(np.abs(errs)):.2f} %")
-    return "\n".join(lines)
-
-
 def cmd_modes(args) -> int:
-    from mesh.cli import geometry_from_args
+    from fem_cage.modes import mode_table, run_modes
     comm = _comm()
     t0 = time.perf_counter()
     g = geometry_from_args(args)
@@ -91,12 +44,12 @@ def cmd_modes(args) -> int:
                    "order": args.order, "degree": args.degree, "geometry": g.to_dict()}
     labels = [m["label"] for m in res["modes"]] if "modes" in res else None
     if args.xdmf:
-        from .mode_xdmf import write_modes_xdmf
+        from fem_cage.xdmf import write_modes_xdmf
         x = write_modes_xdmf(args.xdmf, V, vecs, res["frequencies_hz"], g.material, labels)
         res["xdmf"] = str(x)
     if comm.rank == 0:
         if not args.quiet:
-            print(format_table(res["frequencies_hz"], labels))
+            print(mode_table(res["frequencies_hz"], labels))
             print(f"{res['ndofs']} dofs, P{args.degree} on order-{args.order} mesh, {comm.size} MPI rank(s), "
                   f"wall {res['wall_s']:.1f} s (mesh {tm:.1f}, assemble {res['timing_s']['assemble']:.1f}, "
                   f"eigensolve {res['timing_s']['eigensolve']:.1f})")
@@ -109,8 +62,7 @@ def cmd_modes(args) -> int:
 
 
 def cmd_mesh_study(args) -> int:
-    from mesh.cli import geometry_from_args
-    from .mesh_study import run_mesh_study, DEFAULT_STUDY
+    from fem_cage.mesh_study import run_mesh_study, DEFAULT_STUDY
     g = geometry_from_args(args)
     levels = DEFAULT_STUDY if not args.levels else [tuple(float(x) for x in s.split(","))
                                                     for s in args.levels]
@@ -119,16 +71,14 @@ def cmd_mesh_study(args) -> int:
 
 
 def cmd_calibrate(args) -> int:
-    from .calibrate import run_calibration
+    from fem_cage.calibrate import run_calibration
     run_calibration(Path(args.output), size=args.size * 1e-3, pocket_size=args.pocket_size * 1e-3,
                     order=args.order, degree=args.degree, params=args.params, quiet=args.quiet,
                     max_evals=args.max_evals)
     return 0
 
 
-def register(subparsers):
-    from mesh.cli import add_geometry_arguments, add_mesh_arguments
-    from mesh.cage_mesh import DEFAULT_DEGREE
+def register(subparsers) -> None:
     p = subparsers.add_parser("modes", help="free-free modes of the cage vs the paper's Table 8",
                               description="Free-free modal analysis of the cage (dolfinx + SLEPc).")
     add_geometry_arguments(p)

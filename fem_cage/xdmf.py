@@ -1,6 +1,9 @@
-"""Mode shapes for ParaView: one XDMF/HDF5 pair, one "time step" per mode.
+"""XDMF files for ParaView: the tagged cage mesh, its FE mode shapes, the reduced cage's kept modes.
 
-Fields per step: "displacement" (the M-normalised mode shape phi, phi^T M phi = 1, so its
+`write_mesh_xdmf`: the .msh read with dolfinx, mesh + cell and facet tags (`flexbearing mesh`).
+
+`write_modes_xdmf`: mode shapes, one XDMF/HDF5 pair, one "time step" per mode (`flexbearing modes
+--xdmf`). Fields per step: "displacement" (the M-normalised mode shape phi, phi^T M phi = 1, so its
 unit is m/sqrt(kg)) and "von_mises" (sigma_vM of that displacement field, Pa/sqrt(kg)).
 The step value is the mode number (1-based), so ParaView's time slider walks the modes;
 a JSON sidecar lists the frequency of each step.
@@ -9,6 +12,9 @@ and written on that space's own nodes as tetra10 cells with meshio: dolfinx 0.5.
 XDMFFile.write_function re-evaluates fields by Newton pull-back, which fails on coarse
 curved cells. Under MPI each rank's cells (with their ghost nodes duplicated) are gathered to
 rank 0: fine for viewing.
+
+`write_reduced_cage_xdmf`: the kept modes of a reduced cage file (vertex displacement and von
+Mises per mode; `flexbearing reduce --xdmf`), from the file alone.
 """
 from __future__ import annotations
 
@@ -21,6 +27,23 @@ import numpy as np
 # basix P2 tetrahedron dof order (vertices, then edges (2,3),(1,3),(1,2),(0,3),(0,2),(0,1))
 # to VTK/XDMF tetra10 (vertices, then edges (0,1),(1,2),(0,2),(0,3),(1,3),(2,3)).
 _TET10_FROM_BASIX = [0, 1, 2, 3, 9, 6, 8, 7, 5, 4]
+
+
+def write_mesh_xdmf(msh_path) -> Path:
+    """Read the .msh with dolfinx and write mesh + cell/facet tags to the same stem .xdmf."""
+    from mpi4py import MPI
+    from dolfinx.io import XDMFFile
+    from .elasticity import load_cage_mesh
+    domain, cell_tags, facet_tags, names = load_cage_mesh(msh_path, MPI.COMM_WORLD)
+    out = Path(msh_path).with_suffix(".xdmf")
+    domain.topology.create_connectivity(domain.topology.dim - 1, domain.topology.dim)
+    with XDMFFile(domain.comm, str(out), "w") as xf:
+        xf.write_mesh(domain)
+        cell_tags.name = "cell_tags"
+        facet_tags.name = "facet_tags"
+        xf.write_meshtags(cell_tags)
+        xf.write_meshtags(facet_tags)
+    return out
 
 
 def write_modes_xdmf(path, V, vecs, freqs_hz, material, labels=None) -> Path:
@@ -87,4 +110,23 @@ def write_modes_xdmf(path, V, vecs, freqs_hz, material, labels=None) -> Path:
                            "von_mises": "von Mises stress of the mode shape, Pa/sqrt(kg)"}}
         path.with_suffix(".json").write_text(json.dumps(meta, indent=1))
     comm.barrier()
+    return path
+
+
+def write_reduced_cage_xdmf(rc, path, n_keep: int | None = None) -> Path:
+    """Mode shapes (vertex displacement, m per unit q) and von Mises of each kept mode on the
+    vertex mesh, one XDMF (+ .h5) readable by ParaView. Reads only the reduced cage object."""
+    import meshio
+    from .stress_modes import von_mises
+    m = rc.n_modes if n_keep is None else min(n_keep, rc.n_modes)
+    pd = {}
+    for k in range(m):
+        tag = f"mode_{k + 1:03d}_{rc.frequency_hz[k]:.1f}Hz"
+        pd[f"{tag}_displacement"] = rc.vertex_displacement[:, :, k]
+        pd[f"{tag}_von_mises"] = von_mises(rc.stress_modes[:, :, k])
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    cells = rc.tets10 if rc.tets10 is not None else rc.tets
+    kind = {4: "tetra", 10: "tetra10"}[cells.shape[1]]
+    meshio.write(path, meshio.Mesh(rc.vertices, [(kind, cells)], point_data=pd))
     return path

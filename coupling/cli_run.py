@@ -19,8 +19,6 @@ from pathlib import Path
 
 from common.validation import InputError
 
-DEFAULT_CASE_SET = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
-
 # printed tables only: SI -> engineer's units (the files stay SI)
 _PRINT_UNITS = {"Pa": (1e-6, "MPa"), "m": (1e6, "um"), "rad/s": (60.0 / (2 * 3.141592653589793), "rpm"),
                 "1": (100.0, "%")}
@@ -155,56 +153,18 @@ def cmd_validate_slip_rate(args) -> int:
     from coupling.run import RunInterrupted, run_case_set_slip_rate
     from coupling.scene import load_case_set
 
-    if args.case_set is not None:
-        # these shape coupling.validate's procedure; a case set's scenes carry their own [bearing],
-        # [model] and durations, so they would be ignored without a word
-        given = [flag for flag, value, default in (
-            ("--t-max", args.t_max, None), ("--start", args.start, None), ("--workers", args.workers, None),
-            ("--ball-attitude", args.ball_attitude, None), ("--transverse-traction", args.transverse_traction, "on"),
-            ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None))
-            if value != default]
-        if given:
-            raise InputError(f"{', '.join(given)} cannot be used with --case-set (they set coupling.validate's "
-                             f"procedure; a case set's scenes carry their own bearing, model and durations)")
     if args.case_set is None:
-        import importlib.util
-        if importlib.util.find_spec("coupling.validate") is not None:
-            import coupling.validate as val
-            cases = parse_cases(args.cases, len(val.slip_rate_cases()))
-            kw = {} if getattr(args, "t_max", None) is None else {"t_max": args.t_max}
-            if getattr(args, "start", None) is not None:
-                kw["start"] = args.start
-            workers = getattr(args, "workers", None)
-            kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
-            kw["bearing"] = val.validation_bearing(getattr(args, "shim_angle", None),
-                                                   getattr(args, "radial_clearance", None))
-            kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),
-                                                         getattr(args, "transverse_traction", "on"))
-            def table_of(raw, file):
-                rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
-                         "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],
-                         "slip_ours": r["slip_pct"] / 100.0, "slip_test": r["test_slip_pct"] / 100.0,
-                         "slip_paper": r["paper_slip_pct"] / 100.0, "settled": r.get("settled"),
-                         "t_end_s": r.get("t_end"), "wall_time_s": r.get("wall_s"), "n_steps": r.get("steps"),
-                         "oil_temperature_c": r.get("oil_temperature_c")} for r in raw]
-                table = print_slip_rate_table(rows, file=file)
-                table["summary_by_group"] = val.summarise(raw)
-                return table
-
-            def stream(raw):                   # every finished case is on disk at once
-                if args.json:
-                    import io
-                    _write_json({**table_of(raw, io.StringIO()), "complete": False}, args.json, quiet=True)
-
-            try:
-                raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, on_row=stream, **kw)
-            except val.ValidationInterrupted as exc:
-                table_of(exc.rows, sys.stdout)
-                print(f"flexbearing validate: {exc}" + (f"; the finished cases are in {args.json}" if args.json else ""),
-                      file=sys.stderr)
-                return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
-            return _write_json({**table_of(raw, sys.stdout), "complete": True}, args.json)
-        args.case_set = str(DEFAULT_CASE_SET)
+        return _validate_procedure(args)
+    # these shape coupling.validate's procedure; a case set's scenes carry their own [bearing],
+    # [model] and durations, so they would be ignored without a word
+    given = [flag for flag, value, default in (
+        ("--t-max", args.t_max, None), ("--start", args.start, None), ("--workers", args.workers, None),
+        ("--ball-attitude", args.ball_attitude, None), ("--transverse-traction", args.transverse_traction, "on"),
+        ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None))
+        if value != default]
+    if given:
+        raise InputError(f"{', '.join(given)} cannot be used with --case-set (they set coupling.validate's "
+                         f"procedure; a case set's scenes carry their own bearing, model and durations)")
     case_set = load_case_set(args.case_set)
     cases = parse_cases(args.cases, max(c["id"] for c in case_set.cases))
     try:
@@ -214,6 +174,47 @@ def cmd_validate_slip_rate(args) -> int:
               f"--case-set {args.case_set} --cases {args.cases} --resume", file=sys.stderr)
         return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
     return _write_json(print_slip_rate_table(rows), args.json)
+
+
+def _validate_procedure(args) -> int:
+    """`validate slip-rate` without --case-set: coupling.validate's own procedure (module docstring
+    of cmd_validate_slip_rate)."""
+    import coupling.validate as val
+    cases = parse_cases(args.cases, len(val.slip_rate_cases()))
+    kw = {} if getattr(args, "t_max", None) is None else {"t_max": args.t_max}
+    if getattr(args, "start", None) is not None:
+        kw["start"] = args.start
+    workers = getattr(args, "workers", None)
+    kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
+    kw["bearing"] = val.validation_bearing(getattr(args, "shim_angle", None),
+                                           getattr(args, "radial_clearance", None))
+    kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),
+                                                 getattr(args, "transverse_traction", "on"))
+
+    def table_of(raw, file):
+        rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
+                 "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],
+                 "slip_ours": r["slip_pct"] / 100.0, "slip_test": r["test_slip_pct"] / 100.0,
+                 "slip_paper": r["paper_slip_pct"] / 100.0, "settled": r.get("settled"),
+                 "t_end_s": r.get("t_end"), "wall_time_s": r.get("wall_s"), "n_steps": r.get("steps"),
+                 "oil_temperature_c": r.get("oil_temperature_c")} for r in raw]
+        table = print_slip_rate_table(rows, file=file)
+        table["summary_by_group"] = val.summarise(raw)
+        return table
+
+    def stream(raw):                   # every finished case is on disk at once
+        if args.json:
+            import io
+            _write_json({**table_of(raw, io.StringIO()), "complete": False}, args.json, quiet=True)
+
+    try:
+        raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, on_row=stream, **kw)
+    except val.ValidationInterrupted as exc:
+        table_of(exc.rows, sys.stdout)
+        print(f"flexbearing validate: {exc}" + (f"; the finished cases are in {args.json}" if args.json else ""),
+              file=sys.stderr)
+        return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
+    return _write_json({**table_of(raw, sys.stdout), "complete": True}, args.json)
 
 
 def _write_json(table: dict, path, quiet: bool = False) -> int:

@@ -34,17 +34,13 @@ def _scene_path(name: str, rigid: bool) -> Path:
 
 
 def run(args) -> int:
-    from coupling.run import RunInterrupted, flexible_backend_available, run_scene
+    from coupling.run import RunInterrupted, run_scene
     from coupling.scene import load_scene
     from coupling.report import write_report
 
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     rigid = bool(args.rigid)
-    if not rigid and not flexible_backend_available():
-        print("flexbearing demo: the flexible cage coupling is not available in this version; "
-              "running the rigid-cage scenes")
-        rigid = True
     t0 = time.perf_counter()
     results = {}
     for name in ("paper_steady", "paper_unsteady"):

@@ -1,0 +1,38 @@
+"""`flexbearing study`: one scene run over a range of a parameter (the paper's §4.4 studies).
+
+    flexbearing study STUDY.toml [-o DIR] [--workers N] [--quiet]
+
+The work: coupling.study (its docstring describes the study file and what is written).
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("study", help="a scene over a range of one parameter (the paper's §4.4 studies)",
+                              description=__doc__.split("\n\n")[0])
+    p.add_argument("study", help="study file (TOML), e.g. scenes/study_axial_load.toml")
+    p.add_argument("-o", "--output", default="out/study", help="output folder (default out/study)")
+    p.add_argument("--workers", type=int, default=1, help="runs at once (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=cmd_study)
+
+
+def cmd_study(args) -> int:
+    from coupling.run import RunInterrupted
+    from coupling.study import load_study, run_study, study_markdown
+    study = load_study(args.study)
+    print(f"== study {study.name}: {len(study.scenes)} runs of {study.scene_path} "
+          f"({', '.join(study.keys)}) -> {Path(args.output) / study.name}", flush=True)
+    try:
+        result = run_study(study, args.output, workers=args.workers, quiet=args.quiet)
+    except RunInterrupted as exc:
+        print(f"flexbearing study: {exc} (run the same command again to continue)", file=sys.stderr)
+        return 130 if isinstance(exc.__cause__, KeyboardInterrupt) else 1
+    except KeyboardInterrupt:
+        print("flexbearing study: interrupted; run the same command again to continue", file=sys.stderr)
+        return 130
+    print(study_markdown(study, result))
+    print(f"wall {result['wall_time_s']:.1f} s; results in {Path(args.output) / study.name}")
+    return 0

@@ -1,0 +1,126 @@
+"""The layer rule, read from the imports (docs/architecture.md).
+
+The packages form a stack, each importing only the ones below it:
+
+    common  <  mesh  <  fem_cage  <  multibody  <  coupling
+
+Every `import` and `from ... import` of every module is parsed with `ast` (module level and
+inside functions alike; `importlib.import_module("name")` with a literal name too), so a lazy
+import that reaches up a layer is caught as well as a top-level one. Two rules:
+
+1. no module imports a module of a package above its own (an upward arrow);
+2. the module graph has no circle (Tarjan's strongly connected components; a circle inside one
+   package is a module pair that should be one module, or a seam in the wrong place).
+
+A third check keeps the CLI apart from the libraries: argparse is imported only by the command
+modules `coupling/cli*.py` (and the two developer entry points named below), so no library grows a
+command line.
+"""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+LAYERS = ("common", "mesh", "fem_cage", "multibody", "coupling")
+# `python -m` entry points of two library modules (developer tools documented in their results
+# files, not `flexbearing` commands): their main() only parses and prints
+ARGPARSE_ALLOWED = {"fem_cage.calibrate", "coupling.validate"}
+
+
+def modules() -> dict[str, Path]:
+    out = {}
+    for pkg in LAYERS:
+        for f in sorted((ROOT / pkg).glob("*.py")):
+            out[pkg if f.stem == "__init__" else f"{pkg}.{f.stem}"] = f
+    return out
+
+
+def imported_names(name: str, path: Path) -> set[str]:
+    """Every dotted name module `name` imports (absolute form; `from a import b` gives a and a.b)."""
+    pkg = name.split(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                base = pkg + ("." + base if base else "")
+            found.add(base)
+            found.update(f"{base}.{a.name}" for a in node.names)
+        elif (isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "import_module"
+              and node.args and isinstance(node.args[0], ast.Constant)):
+            found.add(node.args[0].value)
+    return found
+
+
+def import_graph() -> dict[str, set[str]]:
+    mods = modules()
+    return {m: {n for n in imported_names(m, p) if n in mods and n != m} for m, p in mods.items()}
+
+
+def layer(module: str) -> int:
+    return LAYERS.index(module.split(".")[0])
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan)."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_module_imports_a_layer_above_its_own():
+    graph = import_graph()
+    upward = sorted(f"{m} -> {t}" for m, ts in graph.items() for t in ts if layer(t) > layer(m))
+    assert upward == [], "imports that reach up a layer:\n" + "\n".join(upward)
+
+
+def test_the_import_graph_has_no_circle():
+    assert cycles(import_graph()) == []
+
+
+def test_the_graph_reader_sees_lazy_and_relative_imports(tmp_path):
+    """The checks above are only as good as the import reader: a function-level import, a
+    relative import and importlib.import_module must all count."""
+    src = ("import numpy\nfrom . import hertz\n\ndef f():\n    from coupling.scene import load_scene\n"
+           "    import importlib\n    importlib.import_module('fem_cage.modes')\n")
+    p = tmp_path / "x.py"
+    p.write_text(src)
+    names = imported_names("multibody.x", p)
+    assert {"multibody.hertz", "coupling.scene", "fem_cage.modes"} <= names
+    g = {"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}, "a.w": {"a.x"}}
+    assert cycles(g) == [["a.x", "a.y", "a.z"]]
+
+
+def test_only_command_modules_parse_arguments():
+    mods = modules()
+    parsing = sorted(m for m, p in mods.items()
+                     if "argparse" in imported_names(m, p) and not m.startswith("coupling.cli")
+                     and m not in ARGPARSE_ALLOWED)
+    assert parsing == [], f"library modules with a command line: {parsing}"
