@@ -180,11 +180,11 @@ def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0
     x_m = X[n_max]
     where = [name for name, m in groups.items() if np.isin(n_max, faces[m]).any()]
     in_wall = [p for p in range(Z) if np.isin(n_max, wall_nodes[p]).any()]
-    surface = ", ".join(where + [f"wall of pocket {p + 1}" for p in in_wall]) or "side face"
+    surface = ", ".join(where + [f"wall of pocket {p} (pocket_{p:02d})" for p in in_wall]) or "side face"
     facts = {"time": tk, "sample": k, "von_mises_max": float(vm[n_max]), "recorded_von_mises_max": vm_rec,
              "node": n_max, "recorded_node": node_rec, "position": [float(v) for v in x_m],
              "azimuth_deg": float(theta[n_max]), "radius": float(r[n_max]), "surface": surface,
-             "hottest_pocket": hot + 1}
+             "hottest_pocket": hot}
 
     plt = plot_style()
     from matplotlib.colors import Normalize
@@ -202,11 +202,11 @@ def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0
         ax.set_xticks(np.arange(0.0, 360.0 + lo, 2 * math.degrees(pitch)))
         ax.set_xlim(lo, lo + 360.0)
         top = ax.secondary_xaxis("top")
-        top.set_xticks(np.degrees(np.mod(pa - theta0, 2 * math.pi) + theta0), [str(p + 1) for p in range(Z)])
+        top.set_xticks(np.degrees(np.mod(pa - theta0, 2 * math.pi) + theta0), [str(p) for p in range(Z)])
         top.tick_params(labelsize=7, length=2)
         ax.set_ylabel("Axial position x (mm)")
         ax.set_xlabel("Azimuth θ (°)")
-        ax.set_title(f"{name.capitalize()} surface, unrolled; pocket numbers on top", loc="left", fontsize=9)
+        ax.set_title(f"{name.capitalize()} surface, unrolled; pocket numbers (mesh groups pocket_00 ...) on top", loc="left", fontsize=9)
         ax.grid(False)
         if name in where:
             ax.plot([theta[n_max]], [x_m[0] * 1e3], marker="*", ms=14, mfc="none", mec="k", mew=1.2)
@@ -223,7 +223,7 @@ def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0
     ax.set_xlim(-180.0, 180.0)
     ax.set_xlabel("Angle about the pocket axis α (°):\n0 towards +x, 90 towards increasing θ")
     ax.set_ylabel("Radius r (mm)")
-    ax.set_title(f"Wall of pocket {hot + 1} (θ = {math.degrees(tj) % 360:.0f}°), the most stressed pocket",
+    ax.set_title(f"Wall of pocket {hot} (θ = {math.degrees(tj) % 360:.0f}°), the most stressed pocket",
                  loc="left", fontsize=9)
     ax.grid(False)
     if hot in in_wall:
