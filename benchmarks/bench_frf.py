@@ -23,6 +23,8 @@ import json
 import time
 from pathlib import Path
 
+from fem_cage.reduced_cage import DEFAULT_N_KEEP
+
 RESULTS = Path(__file__).parent / "results" / "frf_paper.json"
 
 
@@ -32,7 +34,7 @@ def main(argv=None):
     ap.add_argument("--exclude", type=float, default=0.02)
     ap.add_argument("--load-node", type=int, default=1)
     ap.add_argument("--n-fixed", type=int, default=30, help="fixed-interface modes of the CB basis")
-    ap.add_argument("--n-keep", type=int, default=26, help="modes kept dynamic (rigid included)")
+    ap.add_argument("--n-keep", type=int, default=DEFAULT_N_KEEP, help="modes kept dynamic (rigid included)")
     ap.add_argument("--beta", type=float, default=0.0,
                     help="stiffness-proportional damping D = beta K (s); the runtime's default is 1e-5")
     ap.add_argument("--at-resonances", action="store_true",

@@ -34,10 +34,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from multibody.floating_frame import FlexibleBody
 from common.validation import require_range
-
-N_RIGID = 6
+from fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
+from multibody.floating_frame import FlexibleBody
 
 
 class CageModalBasis(NamedTuple):
@@ -92,7 +91,7 @@ def load_point_modes(rc) -> np.ndarray:
     return out
 
 
-def flexible_cage_body(rc, n_keep: int = 26, beta: float = 0.0,
+def flexible_cage_body(rc, n_keep: int = DEFAULT_N_KEEP, beta: float = 0.0,
                        centrifugal_correction: bool = False) -> CageModalBasis:
     """Floating-frame arrays of the reduced cage `rc` (fem_cage.reduced_cage.ReducedCage, full
     basis) for a run keeping n_keep modes (rigid included), damping D = beta·K."""
@@ -203,15 +202,16 @@ class StressRecovery:
 
 def backend(scene):
     """The flexible-cage physics for coupling.run: the multibody model with the reduced cage as
-    its floating-frame body (26 modes by default), its initial state with the cage's quasi-static
-    centrifugal deformation, and outputs extended by the cage stress."""
+    its floating-frame body (the scene's cage.n_modes, by default DEFAULT_N_KEEP = 26), its initial
+    state with the cage's quasi-static centrifugal deformation, and outputs extended by the cage
+    stress."""
     from types import SimpleNamespace
     from fem_cage import reduced_cage as rcf
     from multibody import dynamics, initial, integrator, model as mb, outputs
 
     path = reduced_cage_path(scene)
     rc = rcf.read(path)
-    n_keep = int(scene.flexible.get("n_modes", 26))
+    n_keep = int(scene.flexible.get("n_modes", DEFAULT_N_KEEP))
     beta = float(scene.flexible.get("damping_beta", 1e-5))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
     stress = StressRecovery(rc, n_keep) if "von_mises" in scene.outputs else None

@@ -77,9 +77,10 @@ from pathlib import Path
 import numpy as np
 
 from common.materials import YIELD_STRENGTH_40CrNiMoA, Material
+from fem_cage.reduced_cage import DEFAULT_N_KEEP
 from mesh.cage_geometry import CageGeometry
 from common.cache import content_hash
-from common.validation import InputError, require_finite, require_range
+from common.validation import InputError, require_range
 from multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
 from multibody.model import DEFAULT_OPTIONS
 from multibody.output_registry import GROUPS
@@ -257,7 +258,7 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         else:
             flexible[k] = _number("cage.damping_beta", v, 0.0, 1e-2, unit="s")
     if cage_model == "flexible":
-        flexible.setdefault("n_modes", 26)   # the paper keeps 26 modes (§4.1)
+        flexible.setdefault("n_modes", DEFAULT_N_KEEP)   # the paper keeps 26 modes (§4.1)
         if "material" not in c:              # the paper's 40CrNiMoA; another material names its own
             flexible.setdefault("yield_strength", YIELD_STRENGTH_40CrNiMoA)
     return bearing, cage_model, flexible

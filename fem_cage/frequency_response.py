@@ -39,6 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from common.validation import require_range
+from fem_cage.reduced_cage import DEFAULT_N_KEEP
 
 
 class _LU:
@@ -179,7 +180,7 @@ def pocket_directions(x_node: np.ndarray) -> np.ndarray:
     return F
 
 
-def compare(red: dict, load_node: int = 1, n_keep: int = 26, n_elastic: int = 10,
+def compare(red: dict, load_node: int = 1, n_keep: int = DEFAULT_N_KEEP, n_elastic: int = 10,
             n_freq: int = 60, exclude: float = 0.02, beta: float = 0.0, full_hz=None,
             progress=None, at_resonances: bool = False) -> dict:
     """Full FE (1) vs reduced cage (2)–(3) at interface node load_node of an in-memory reduction

@@ -119,7 +119,7 @@ DEFAULT_N_FIXED = 30
 DEFAULT_COUPLING = "rbe3"
 COUPLINGS = ("rbe2", "rbe3")
 TRUNCATION_NOTE = ("Full orthonormalised CB basis stored; statically exact for interface loads "
-                   "only with all modes. Truncation to n_keep (default 26) is not statically "
+                   f"only with all modes. Truncation to n_keep (default {DEFAULT_N_KEEP}) is not statically "
                    "exact: see /checks static_error_truncated.")
 
 
