@@ -103,7 +103,7 @@ import numpy as np
 
 from coupling.parallel import require_workers, run_in_processes
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.model import BALL_ATTITUDES, build_model, P_GRAV
+from multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
 from multibody import traction as TR
 from multibody.initial import initial_state
 from multibody.geometry import nominal_cage_speed
@@ -281,8 +281,8 @@ def build_validation_model(bearing, oil, options: dict | None = None, traction_l
     options = {"gravity": VALIDATION_GRAVITY, "ball_attitude": VALIDATION_BALL_ATTITUDE, **(options or {})}
     if (VALIDATION_TRACTION_LAW if traction_law is None else traction_law) == "ehl":
         return build_model(bearing, oil, {"traction_law": "ehl", "traction_scale": traction_scale, **options})
-    model = build_model(bearing, oil, options)
-    return model._replace(traction_table=traction_table_for(traction_law, traction_scale, oil))
+    return with_traction_table(build_model(bearing, oil, options),
+                               traction_table_for(traction_law, traction_scale, oil), "fit")
 
 
 def steady_case_start(model, case: dict):

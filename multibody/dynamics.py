@@ -21,8 +21,8 @@ triad (e_x, e_r, e_t), whose angular velocity is psi'·e_x (de_r/dt = psi'·e_t,
 F and M collect, for each ball: the Hertz loads of the outer and the two inner half-grooves
 (Q = K·delta^1.5, K from the exact Hertz solution at the current contact angle, tabulated in
 cos(alpha)), optional viscous contact damping, the sliced EHL traction of every loaded contact
-(multibody.traction: the paper's 4106 fit, or the EHL film-shear law when the model's traction
-table is `ehl_traction_table`, with the Hamrock–Dowson central film at the contact's inlet
+(multibody.traction: the paper's 4106 fit, or the EHL film-shear law when the model's flag
+F_TRACTION_LAW says "ehl" (model option traction_law), with the Hamrock–Dowson central film at the contact's inlet
 viscosity; transverse traction on by default, see below), the EHL rolling resistance F_R at each contact and the pressure rolling force F_H through
 the ball centre (multibody.drag), the ball–pocket force (paper §2.3.1: linear Kc·Z up to the
 pocket clearance, Hertz beyond) with the lubricated pocket's Poiseuille rolling and Couette
@@ -139,6 +139,7 @@ from multibody.model import (
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_CD, P_SLIN, P_UMIN,
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
+    F_TRACTION_LAW,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
     WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING, W_P_POCKET,
     W_P_CHURNING, WR_P_LAND, WR_P_STRUCTURAL, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
@@ -150,7 +151,7 @@ from multibody.profiles import load_at, speed_at
 from multibody.guide_land import guide_land_force
 from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
-from multibody.traction import EHL_TABLE_ROWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
+from multibody.traction import TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
 from multibody.film import film_thickness as hamrock_dowson_film
 from multibody.floating_frame import accelerations as ffrf_accelerations
 from multibody.floating_frame import add_node_load, node_kinematics, deformed_moments, mass_matrix
@@ -204,6 +205,7 @@ def _invalidate_stale_numba_cache() -> None:
 _invalidate_stale_numba_cache()
 
 # status codes written into work[Z, WR_STATUS] (first offence wins)
+TRACTION_EHL = TRACTION_LAWS.index("ehl")   # flags[F_TRACTION_LAW] of the EHL film-shear law
 STATUS_OK = 0
 STATUS_DEEP_RACE = 1        # race approach beyond DELTA_MAX_FRAC·Dw
 STATUS_DEEP_POCKET = 2      # ball beyond the pocket clearance by more than DELTA_MAX_FRAC·Dw
@@ -350,7 +352,7 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         urr = abs(ur)
         if urr < p[P_UMIN]:
             urr = p[P_UMIN]
-        if ttab.shape[0] == EHL_TABLE_ROWS:
+        if flags[F_TRACTION_LAW] == TRACTION_EHL:
             # EHL film-shear law (multibody.traction): the film at the contact's inlet viscosity
             eta_in = p[P_ETA0] * math.exp(-ttab[7, 3] * ttab[7, 0])
             h_c = hamrock_dowson_film(rx, ry, p[P_EBR], q_el, urr, eta_in, p[P_ALPHA_P])[1]

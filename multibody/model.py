@@ -110,7 +110,8 @@ F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 
 F_HERTZ_FIXED, F_ROLLRES, F_LAND = 7, 8, 9
 F_ATTITUDE = 10                        # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
 F_ATT_RING = 11                        # race control / no pivoting: gyroscopic friction reaction on the inner ring
-N_FLAGS = 12
+F_TRACTION_LAW = 12                    # the traction law of traction_table: index in TRACTION_LAWS
+N_FLAGS = 13
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
@@ -156,7 +157,8 @@ class Model(NamedTuple):
     p: np.ndarray            # float64 (N_PARAMS,)
     flags: np.ndarray        # int64 (N_FLAGS,)
     hertz_table: np.ndarray  # float64 (2, N_HGRID, N_HCOLS)
-    traction_table: np.ndarray  # float64: the traction law's table (multibody.traction: fit (4, 4), EHL (8, 4))
+    traction_table: np.ndarray  # float64: the table of the law flags[F_TRACTION_LAW] names (multibody.traction:
+                                # fit (4, 4) or its bounded forms (6, 4), EHL (8, 4))
     scale: np.ndarray        # float64 (n_state,): absolute error scale of each state component
     relmask: np.ndarray      # float64 (n_state,): 1 where the relative tolerance applies
     n_balls: int
@@ -409,12 +411,24 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
                 raise InputError(f"model.{key} = {options[key]!r} applies to traction_law = 'ehl' only "
                                  f"(this model has {law!r})")
         ttab = np.array(TRACTION_FIT_4106, dtype=np.float64)
+    flags[F_TRACTION_LAW] = TRACTION_LAWS.index(law)
     htab = _hertz_tables(bearing, e_br)
     n_state = 9 * z + 11 + 12 + 2 * n_modes
     scale, relmask = _error_scales(z, n_modes, dw)
     return Model(p=p, flags=flags, hertz_table=htab, traction_table=ttab,
                  scale=scale, relmask=relmask, n_balls=z, n_modes=n_modes, n_state=n_state,
                  cage=cage_arrays(cage_body))
+
+
+def with_traction_table(model: Model, table: np.ndarray, law: str = "fit") -> Model:
+    """`model` with another traction table of the named law (multibody.traction: "fit" for the
+    4106 fit and its bounded and origin forms, "ehl" for `ehl_traction_table`): the table and the
+    flag F_TRACTION_LAW that tells the right-hand side how to read it change together."""
+    if law not in TRACTION_LAWS:
+        raise InputError(f"traction law = {law!r} is not known; allowed: {list(TRACTION_LAWS)}")
+    flags = model.flags.copy()
+    flags[F_TRACTION_LAW] = TRACTION_LAWS.index(law)
+    return model._replace(traction_table=np.ascontiguousarray(table, dtype=np.float64), flags=flags)
 
 
 def _error_scales(z: int, n_modes: int, dw: float) -> tuple[np.ndarray, np.ndarray]:

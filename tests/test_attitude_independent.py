@@ -39,6 +39,7 @@ from coupling import validate as V
 from multibody import traction as TR
 from multibody.geometry import inner_groove_centres, outer_groove_centre
 from multibody.hertz import effective_modulus, hertz_point_contact, hertz_stiffness, race_curvature_radii
+from multibody.model import with_traction_table
 
 CREEP = 2000.0      # 1/slip: mu reaches 63 % of mu_0 at s = 5e-4
 # The Coulomb-like curve makes the traction a near-step across the ellipse: the model's default 8
@@ -174,9 +175,9 @@ def pitch_deg(omega_c, wx, wr):
 
 
 def _model(mu0, n_slices=N_SLICES):
-    return V.build_validation_model(V.VALIDATION_BEARING, V.validation_oil(None, None),
-                                     {"gravity": 0.0, "drag": False, "n_slices": n_slices}
-                                     )._replace(traction_table=coulomb_table(mu0))
+    return with_traction_table(V.build_validation_model(V.VALIDATION_BEARING, V.validation_oil(None, None),
+                                                        {"gravity": 0.0, "drag": False, "n_slices": n_slices}),
+                               coulomb_table(mu0), "fit")
 
 
 def independent_state(case, mu0):
