@@ -260,12 +260,12 @@ def backend(scene):
             mon = monitor_of(model)
             pk = stress_peak.peak(mon)
             if pk is None:
-                A = model.cage[17]
+                A = model.cage.A
                 dynamics.cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
                 w = np.zeros(3)
                 dynamics.cage_body_angular_velocity(A, y, lay["cage"], w)
                 spin = w[0]                                         # body-frame spin component
-                qf = stress.full_coordinates(q, model.cage[19], spin)
+                qf = stress.full_coordinates(q, model.cage.node_load, spin)
                 vm, node = stress(qf)
                 t_peak, n_eval = t, 1
             else:

@@ -620,14 +620,17 @@ def _cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az):
 @njit(cache=True)
 def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     """Cage equations: the floating-frame equations of multibody.floating_frame with the applied
-    generalised forces cage[16] (pocket loads, added by `rhs`), the guide-land force and torque
+    generalised forces cage.Qext (pocket loads, added by `rhs`), the guide-land force and torque
     at the frame origin and gravity; rigid cage = zero modes (module docstring).
 
     State: (x, y, z) frame origin, theta = (phi, by, bz) with A = R_z(bz)R_y(by)R_x(phi), their
     rates, then q and q' (block MODES)."""
-    (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr, node_load, land_modes) = cage
-    n = stiff.shape[0]
+    A = cage.A
+    Qext = cage.Qext
+    acc = cage.acc
+    node_load = cage.node_load
+    land_modes = cage.land_modes
+    n = cage.stiffness.shape[0]
     phi = y[c0 + 3]
     by = y[c0 + 4]
     bz = y[c0 + 5]
@@ -635,11 +638,11 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     dby = y[c0 + 10]
     dbz = y[c0 + 11]
     cage_rotation(phi, by, bz, A)
-    w = scr[0]
+    w = cage.scratch[0]
     cage_body_angular_velocity(A, y, c0, w)
     # guide land: resultant force (0, fy, fz) and torque about X on the frame; gravity along −Z
     Qext[1] += land_fy
-    Qext[2] += land_fz - mass[0] * grav
+    Qext[2] += land_fz - cage.mass[0] * grav
     Qext[3] += A[0, 0] * land_mx
     Qext[4] += A[0, 1] * land_mx
     Qext[5] += A[0, 2] * land_mx
@@ -658,8 +661,8 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
         Qext[6 + k] += land_modes[0, k] * lby + land_modes[1, k] * lbz + land_modes[2, k] * lbx
     q = y[m0:m0 + n]
     qd = y[m0 + n:m0 + 2 * n]
-    ffrf_accelerations(A, w, q, qd, Qext, mass[0], first, second, S1, Sx, SS, Mff, stiff, damp,
-                       Mmat, rvec, U, Wab, acc)
+    ffrf_accelerations(A, w, q, qd, Qext, cage.mass[0], cage.first, cage.second, cage.S1, cage.Sx, cage.SS,
+                       cage.Mff, cage.stiffness, cage.damping, cage.Mmat, cage.rhs, cage.U, cage.Wab, acc)
     for k in range(6):
         dydt[c0 + k] = y[c0 + 6 + k]
     dydt[c0 + 6] = acc[0]
@@ -682,16 +685,17 @@ def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
 def _pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
     """Pocket j of the (flexible) cage: centre pos, its velocity vel, axis (unit, radial in the
     undeformed cage, turned by the interface node's small elastic rotation) and the node's
-    angular velocity wnode, all inertial. The cage rotation must be in cage[17] (A) and its
+    angular velocity wnode, all inertial. The cage rotation must be in cage.A and its
     body-frame angular velocity in w (`cage_body_angular_velocity`)."""
-    (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr, node_load, land_modes) = cage
-    n = stiff.shape[0]
+    A = cage.A
+    npos = cage.node_position
+    nmodes = cage.node_modes
+    n = cage.stiffness.shape[0]
     q = y[m0:m0 + n]
     qd = y[m0 + n:m0 + 2 * n]
     R = y[c0:c0 + 3]
     Rd = y[c0 + 6:c0 + 9]
-    rot = scr[2]
+    rot = cage.scratch[2]
     node_kinematics(R, A, Rd, w, q, qd, npos, nmodes, j, pos, vel, rot)
     # undeformed radial axis through the node, turned by the node rotation: e + rot × e
     ny = npos[j, 1]
@@ -746,9 +750,9 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     r0 = 9 * z
     c0 = r0 + 11
     m0 = c0 + 12
-    A = cage[17]
-    scr = cage[18]
-    Qext = cage[16]
+    A = cage.A
+    scr = cage.scratch
+    Qext = cage.Qext
     for k in range(Qext.shape[0]):
         Qext[k] = 0.0
     cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
@@ -994,8 +998,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         Tn[0] = l1 - pk[3] - b1
         Tn[1] = l2 - pk[4] - b2
         Tn[2] = l3 - pk[5] - b3
-        add_node_load(A, y[m0:m0 + cage[7].shape[0]], cage[9], cage[10], j, Fc, Tn, Qext)
-        nl = cage[19]
+        add_node_load(A, y[m0:m0 + cage.stiffness.shape[0]], cage.node_position, cage.node_modes, j, Fc, Tn, Qext)
+        nl = cage.node_load
         for i in range(3):
             nl[j, i] = A[0, i] * Fc[0] + A[1, i] * Fc[1] + A[2, i] * Fc[2]
             nl[j, 3 + i] = A[0, i] * Tn[0] + A[1, i] * Tn[1] + A[2, i] * Tn[2]
@@ -1110,15 +1114,16 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     if frim > 0.0:
         e_c = math.sqrt(yc * yc + zc * zc)
         p_land += frim * (yc * vyc + zc * vzc) / e_c
-    land_modes = cage[20]
-    damp = cage[8]
+    land_modes = cage.land_modes
+    damp = cage.damping
     n_m = damp.shape[0]
-    zl = cage[19].shape[0] - 1
+    node_load = cage.node_load
+    zl = node_load.shape[0] - 1
     p_struct = 0.0
     for k in range(n_m):
         qd_k = y[m0 + n_m + k]
-        p_land += qd_k * (land_modes[0, k] * cage[19][zl, 0] + land_modes[1, k] * cage[19][zl, 1]
-                          + land_modes[2, k] * cage[19][zl, 2])
+        p_land += qd_k * (land_modes[0, k] * node_load[zl, 0] + land_modes[1, k] * node_load[zl, 1]
+                          + land_modes[2, k] * node_load[zl, 2])
         p_struct += damp[k] * qd_k * qd_k
     work[zb, WR_P_LAND] = -p_land
     work[zb, WR_P_STRUCTURAL] = p_struct
@@ -1142,8 +1147,8 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     r0 = 9 * z
     c0 = r0 + 11
     m0 = c0 + 12
-    A = cage[17]
-    scr = cage[18]
+    A = cage.A
+    scr = cage.scratch
     cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
     cage_body_angular_velocity(A, y, c0, scr[1])
     mb = p[P_MB]
@@ -1204,13 +1209,12 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
             ev += 0.5 * kc * cp * cp + kc * cp * (zz - cp) + 0.4 * p[P_KN] * (zz - cp) ** 2.5
     # ring (translation + tilt) and cage
     ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
-    ev += p[P_GRAV] * (p[P_MI] * zi + cage[0][0] * y[c0 + 2])
+    ev += p[P_GRAV] * (p[P_MI] * zi + cage.mass[0] * y[c0 + 2])
     ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
-    (mass, first, second, S1, Sx, SS, Mff, stiff, damp, npos, nmodes, Mmat, rvec, U, Wab, acc,
-     Qext, A, scr, node_load, land_modes) = cage
+    stiff = cage.stiffness
     n = stiff.shape[0]
     q = y[m0:m0 + n]
-    v = rvec
+    v = cage.rhs                 # work array: the velocity (R', w_body, q')
     v[0] = y[c0 + 6]
     v[1] = y[c0 + 7]
     v[2] = y[c0 + 8]
@@ -1220,8 +1224,9 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     for k in range(n):
         v[6 + k] = y[m0 + n + k]
         ev += 0.5 * stiff[k] * q[k] * q[k]
-    deformed_moments(q, second, Sx, SS, U, Wab)
-    mass_matrix(A, q, mass[0], first, S1, Mff, U, Wab, Mmat)
+    Mmat = cage.Mmat
+    deformed_moments(q, cage.second, cage.Sx, cage.SS, cage.U, cage.Wab)
+    mass_matrix(A, q, cage.mass[0], cage.first, cage.S1, cage.Mff, cage.U, cage.Wab, Mmat)
     for i in range(6 + n):
         for k in range(6 + n):
             ek += 0.5 * v[i] * Mmat[i, k] * v[k]

@@ -83,6 +83,37 @@ class FlexibleBody(NamedTuple):
         return int(self.stiffness.shape[0])
 
 
+class CageArrays(NamedTuple):
+    """The cage body as the compiled right-hand side takes it (multibody.model.Model.cage): the
+    FlexibleBody arrays, then the work arrays of `accelerations` and of the pocket coupling. Fields
+    are read by name in the kernels (numba compiles an attribute of a named tuple to the same
+    static item access as a constant index). n modes, P interface nodes (one per pocket)."""
+    mass: np.ndarray           # (1,)   kg (an array, so that every field is one)
+    first: np.ndarray          # (3,)
+    second: np.ndarray         # (3,3)
+    S1: np.ndarray             # (3,n)
+    Sx: np.ndarray             # (3,3,n)
+    SS: np.ndarray             # (3,3,n,n)
+    Mff: np.ndarray            # (n,n)
+    stiffness: np.ndarray      # (n,)
+    damping: np.ndarray        # (n,)
+    node_position: np.ndarray  # (P,3)
+    node_modes: np.ndarray     # (P,6,n)
+    Mmat: np.ndarray           # (6+n, 6+n) work: the mass matrix
+    rhs: np.ndarray            # (6+n,)  work: right-hand side, and the velocity in the energy
+    U: np.ndarray              # (3,3)   work: deformed second moment
+    Wab: np.ndarray            # (3,3,n) work
+    acc: np.ndarray            # (6+n,)  the accelerations (R'', w', q'')
+    Qext: np.ndarray           # (6+n,)  applied generalised forces
+    A: np.ndarray              # (3,3)   rotation body -> inertial
+    scratch: np.ndarray        # (8,3)   rows: 0 w (body), 1 w of rhs, 2 node rotation / moment,
+                               #         3 node position, 4 its velocity, 5 pocket axis,
+                               #         6 node angular velocity, 7 node force
+    node_load: np.ndarray      # (P+1,6) each pocket node's force and moment on the cage (body
+                               #         frame); row P the guide-land load (force y, z, torque x)
+    land_modes: np.ndarray     # (3,n)   modal loads of the distributed land load per unit of row P
+
+
 def rigid_body(mass: float, center_of_mass, inertia_com, node_position=None) -> FlexibleBody:
     """A rigid body in the same form (n = 0): second moment from the inertia about the CoM.
 

@@ -77,6 +77,7 @@ import numpy as np
 
 from common.validation import InputError, require_range
 from multibody.bearing import Bearing, Oil
+from multibody.floating_frame import CageArrays, new_workspace, rigid_body
 from multibody.hertz import effective_modulus, ellipticity, hertz_stiffness, race_curvature_radii
 from multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table
 from multibody.geometry import inner_groove_centres, outer_groove_centre
@@ -164,15 +165,10 @@ class Model(NamedTuple):
     n_balls: int
     n_modes: int
     n_state: int
-    # The cage body in floating-frame form (multibody.floating_frame.FlexibleBody arrays followed by
-    # its work arrays, `cage_arrays`): mass (1,), first, second, S1, Sx, SS, Mff, stiffness,
-    # damping, node_position, node_modes, Mmat, rhs, U, Wab, acc, Qext, A (3,3), scratch (8,3),
-    # node_load (Z + 1, 6): each pocket node's force and moment on the cage in the body frame,
-    # and in row Z the guide-land load (force y, z, torque x, body frame; the rest 0),
-    # land_modes (3, n): the modal loads of the distributed land load per unit of row Z.
-    # A rigid cage is the same
-    # body with zero modes, so rigid and flexible cages run through the same equations.
-    cage: tuple = ()
+    # The cage body in floating-frame form with its work arrays (multibody.floating_frame.CageArrays,
+    # `cage_arrays`). A rigid cage is the same body with zero modes, so rigid and flexible cages
+    # run through the same equations.
+    cage: CageArrays | tuple = ()
 
 
 DEFAULT_OPTIONS = {
@@ -205,25 +201,23 @@ DEFAULT_OPTIONS = {
 }
 
 
-def cage_arrays(body) -> tuple:
-    """The numba argument tuple of a cage body (multibody.floating_frame.FlexibleBody)."""
-    from multibody.floating_frame import new_workspace
+def cage_arrays(body) -> CageArrays:
+    """The numba argument of a cage body (multibody.floating_frame.FlexibleBody)."""
     Mmat, rvec, U, Wab = new_workspace(body.n_modes)
     d = 6 + body.n_modes
     land = getattr(body, "land_modes", None)
     land = np.zeros((3, body.n_modes)) if land is None else np.ascontiguousarray(land, dtype=np.float64)
     if land.shape != (3, body.n_modes):
         raise ValueError(f"cage body land_modes must be (3, {body.n_modes}), got {land.shape}")
-    return (np.array([body.mass]), *(np.ascontiguousarray(a, dtype=np.float64) for a in body[1:11]),
-            Mmat, rvec, U, Wab, np.zeros(d), np.zeros(d), np.zeros((3, 3)), np.zeros((8, 3)),
-            np.zeros((body.node_position.shape[0] + 1, 6)), land)
+    return CageArrays(np.array([body.mass]), *(np.ascontiguousarray(a, dtype=np.float64) for a in body[1:11]),
+                      Mmat, rvec, U, Wab, np.zeros(d), np.zeros(d), np.zeros((3, 3)), np.zeros((8, 3)),
+                      np.zeros((body.node_position.shape[0] + 1, 6)), land)
 
 
 def rigid_cage_body(cage, pitch_diameter: float):
     """The rigid cage as a floating-frame body with zero modes: mass and inertia of the annulus
     minus the pockets (`cage_mass_properties`), CoM at the frame origin, one interface node per
     pocket on its axis at the pitch radius (the ball centres' radius)."""
-    from multibody.floating_frame import rigid_body
     mc, icp, icd = cage_mass_properties(cage)
     psi = 2.0 * math.pi * np.arange(cage.n_pockets) / cage.n_pockets
     r = 0.5 * pitch_diameter
