@@ -30,7 +30,7 @@ Placement of the series (the bearing frame: x the bearing axis, y and z radial, 
 bearing centre, outer ring fixed; the frame of every position the results file records). The
 floating frame puts a cage node X (body frame) at
 
-    x = c + A (X + u),   A = R_z(beta_z) R_y(beta_y) R_x(phi)     (multibody.dynamics.cage_rotation)
+    x = c + A (X + u),   A = R_z(beta_z) R_y(beta_y) R_x(phi)     (multibody.cage_body.cage_rotation)
 
 with c the recorded cage centre and (beta_y, beta_z) its tilt (/outputs/cage_centre, cage_tilt:
 scene output "cage_orbit"), and a ball at (x_b, r_b cos psi_b, r_b sin psi_b) (ball_axial_position,
@@ -364,7 +364,7 @@ def cage_spin_angle(ball_positions: np.ndarray, centre: np.ndarray, A_tilt: np.n
 
 
 def _rotation(phi, by, bz) -> np.ndarray:
-    from multibody.dynamics import cage_rotation
+    from multibody.cage_body import cage_rotation
     A = np.empty((3, 3))
     cage_rotation(float(phi), float(by), float(bz), A)
     return A

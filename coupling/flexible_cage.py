@@ -207,7 +207,8 @@ def backend(scene):
     stress."""
     from types import SimpleNamespace
     from fem_cage import reduced_cage as rcf
-    from multibody import dynamics, initial, integrator, model as mb, outputs
+    from multibody import initial, integrator, model as mb, outputs
+    from multibody.cage_body import cage_body_angular_velocity, cage_rotation
 
     path = reduced_cage_path(scene)
     rc = rcf.read(path)
@@ -261,9 +262,9 @@ def backend(scene):
             pk = stress_peak.peak(mon)
             if pk is None:
                 A = model.cage.A
-                dynamics.cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
+                cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
                 w = np.zeros(3)
-                dynamics.cage_body_angular_velocity(A, y, lay["cage"], w)
+                cage_body_angular_velocity(A, y, lay["cage"], w)
                 spin = w[0]                                         # body-frame spin component
                 qf = stress.full_coordinates(q, model.cage.node_load, spin)
                 vm, node = stress(qf)

@@ -98,12 +98,12 @@ Inner ring (mass m_i, diametral/polar inertia I_d, I_p, spin omega_i(t) prescrib
     I_d·theta_y'' = M_y − I_p·omega_i·theta_z'
     I_d·theta_z'' = M_z + I_p·omega_i·theta_y'          (gyroscopic coupling of the spinning ring)
 
-Cage (rigid; `_cage_body_rhs`): the same six equations with the cage's own spin as a degree of
+Cage (rigid; `multibody.cage_body.cage_equations`): the same six equations with the cage's own spin as a degree of
 freedom, I_p·omega_c' = M_x, forces from the pockets (computed in `_pocket_interface`) and from
 the guide land (`_guide_land`). Hook for the flexible cage (floating frame + modal coordinates,
 state block MODES of multibody.model): `rhs` stores per pocket j the interface force on the cage
 (work[j, W_PK_FX:W_PK_FZ+1], inertial) and its cage-fixed lever (W_PK_LY, W_PK_LZ), and
-`_cage_body_rhs` is the only function that turns the resultants into accelerations; a flexible
+`cage_equations` is the only function that turns the resultants into accelerations; a flexible
 cage replaces it by M(zeta)·zeta'' + ... = Q_flex with the modal forces Phi^T·F built from those
 columns (and adds the elastic pocket displacements to the pocket centres). With zero modes the
 equations are these rigid ones exactly.
@@ -134,9 +134,9 @@ from numba import njit
 
 from multibody import model as M
 from multibody.model import (
-    P_DW, P_DM, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID,
-    P_IIP, P_MC, P_ICP, P_ICD, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_RCAGE_POCKET, P_R1, P_CG,
-    P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_CD, P_SLIN, P_UMIN,
+    P_DW, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID,
+    P_IIP, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_R1, P_CG,
+    P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
     F_TRACTION_LAW,
@@ -146,15 +146,15 @@ from multibody.model import (
     WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
     WR_STATUS, WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE,
 )
-from multibody.geometry import race_contact, ring_point_in_plane, ring_velocity_at, ring_velocity_in_plane
+from multibody.geometry import cross, race_contact, ring_point_in_plane, ring_velocity_at, ring_velocity_in_plane
 from multibody.profiles import load_at, speed_at
 from multibody.guide_land import guide_land_force
 from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from multibody.traction import TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
 from multibody.film import film_thickness as hamrock_dowson_film
-from multibody.floating_frame import accelerations as ffrf_accelerations
-from multibody.floating_frame import add_node_load, node_kinematics, deformed_moments, mass_matrix
+from multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose
+from multibody.floating_frame import add_node_load
 
 
 
@@ -395,11 +395,6 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
 
 
 @njit(cache=True)
-def _cross(ax, ay, az, bx, by, bz):
-    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-
-
-@njit(cache=True)
 def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
                       px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags):
     """Ball–pocket force of one pocket (paper §2.3.1), inertial components.
@@ -472,11 +467,11 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
         rxi, reta = pocket_curvature_radii(rb, p[P_RPOCKET])
         cp_gap = p[P_CP]
         for side in (1.0, -1.0):
-            sx, sy, sz = _cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
+            sx, sy, sz = cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
             wx_ = px + da * ax + side * rp * ux
             wy_ = py + da * ay + side * rp * uy
             wz_ = pz + da * az + side * rp * uz
-            ox, oy, oz = _cross(wcx, wcy, wcz, wx_ - px, wy_ - py, wz_ - pz)
+            ox, oy, oz = cross(wcx, wcy, wcz, wx_ - px, wy_ - py, wz_ - pz)
             gx = vbx + sx - (vpx + ox)
             gy = vby + sy - (vpy + oy)
             gz = vbz + sz - (vpz + oz)
@@ -498,12 +493,12 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
             fx -= tf * gx
             fy -= tf * gy
             fz -= tf * gz
-            m1, m2, m3 = _cross(side * rb * ux, side * rb * uy, side * rb * uz, -tf * gx, -tf * gy, -tf * gz)
+            m1, m2, m3 = cross(side * rb * ux, side * rb * uy, side * rb * uz, -tf * gx, -tf * gy, -tf * gz)
             mx += m1
             my += m2
             mz += m3
     # dissipated power (docstring): relative velocity of the ball centre to the cage point there
-    r1, r2, r3 = _cross(wcx, wcy, wcz, dx, dy, dz)
+    r1, r2, r3 = cross(wcx, wcy, wcz, dx, dy, dz)
     pw = ((fx + q_el * ux) * (vbx - vpx - r1) + (fy + q_el * uy) * (vby - vpy - r2)
           + (fz + q_el * uz) * (vbz - vpz - r3)
           + mx * (wbx - wcx) + my * (wby - wcy) + mz * (wbz - wcz))
@@ -531,197 +526,6 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
                                   eta, p[P_EPSMAX], True, p[P_KRIM], mu, n_lands)
     frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
     return fy, fz, mx, e / cg, frim
-
-
-@njit(cache=True)
-def cage_rotation(phi, by, bz, A):
-    """A = R_z(bz)·R_y(by)·R_x(phi): cage body -> inertial (spin phi about the cage axis, then the
-    tilts about Y and Z; for small tilts A ≈ (I + [beta]x)·R_x(phi), beta = (0, by, bz))."""
-    cf = math.cos(phi)
-    sf = math.sin(phi)
-    cy = math.cos(by)
-    sy = math.sin(by)
-    cz = math.cos(bz)
-    sz = math.sin(bz)
-    # R_z R_y
-    a00 = cz * cy
-    a01 = -sz
-    a02 = cz * sy
-    a10 = sz * cy
-    a11 = cz
-    a12 = sz * sy
-    a20 = -sy
-    a21 = 0.0
-    a22 = cy
-    # · R_x(phi) = [[1,0,0],[0,cf,-sf],[0,sf,cf]]
-    A[0, 0] = a00
-    A[0, 1] = a01 * cf + a02 * sf
-    A[0, 2] = -a01 * sf + a02 * cf
-    A[1, 0] = a10
-    A[1, 1] = a11 * cf + a12 * sf
-    A[1, 2] = -a11 * sf + a12 * cf
-    A[2, 0] = a20
-    A[2, 1] = a21 * cf + a22 * sf
-    A[2, 2] = -a21 * sf + a22 * cf
-
-
-@njit(cache=True)
-def cage_angular_velocity(by, bz, dphi, dby, dbz):
-    """Inertial angular velocity w = G(theta)·theta' of A = R_z(bz)R_y(by)R_x(phi):
-    w = e_z·bz' + R_z e_y·by' + R_z R_y e_x·phi'."""
-    cy = math.cos(by)
-    sy = math.sin(by)
-    cz = math.cos(bz)
-    sz = math.sin(bz)
-    wx = cz * cy * dphi - sz * dby
-    wy = sz * cy * dphi + cz * dby
-    wz = -sy * dphi + dbz
-    return wx, wy, wz
-
-
-@njit(cache=True)
-def cage_body_angular_velocity(A, y, c0, w):
-    """w[:] = Aᵀ·G(theta)·theta': the cage's angular velocity in its body frame (A current)."""
-    wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])
-    w[0] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
-    w[1] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
-    w[2] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
-
-
-@njit(cache=True)
-def _cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az):
-    """theta'' = G⁻¹·(w' − G'·theta') for the inertial angular acceleration w' = (ax, ay, az).
-
-    G = [g1, g2, e_z], g1 = R_z R_y e_x = (cz·cy, sz·cy, −sy), g2 = R_z e_y = (−sz, cz, 0);
-    G'·theta' = phi'·(w_zy × g1) + by'·(bz'·e_z × g2), w_zy = e_z·bz' + g2·by' (the frame R_z R_y).
-    """
-    cy = math.cos(by)
-    sy = math.sin(by)
-    cz = math.cos(bz)
-    sz = math.sin(bz)
-    g1x, g1y, g1z = cz * cy, sz * cy, -sy
-    g2x, g2y = -sz, cz
-    wzx = g2x * dby
-    wzy = g2y * dby
-    wzz = dbz
-    c1x, c1y, c1z = _cross(wzx, wzy, wzz, g1x, g1y, g1z)
-    # e_z × g2 = (−g2y, g2x, 0)
-    rx = ax - dphi * c1x - dby * dbz * (-g2y)
-    ry = ay - dphi * c1y - dby * dbz * g2x
-    rz = az - dphi * c1z
-    # solve [g1 g2 e_z] (u, v, w) = r: the first two rows involve u, v only
-    det = g1x * g2y - g2x * g1y            # = cy
-    u = (rx * g2y - g2x * ry) / det
-    v = (g1x * ry - g1y * rx) / det
-    w = rz - g1z * u
-    return u, v, w
-
-
-@njit(cache=True)
-def _cage_body_rhs(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
-    """Cage equations: the floating-frame equations of multibody.floating_frame with the applied
-    generalised forces cage.Qext (pocket loads, added by `rhs`), the guide-land force and torque
-    at the frame origin and gravity; rigid cage = zero modes (module docstring).
-
-    State: (x, y, z) frame origin, theta = (phi, by, bz) with A = R_z(bz)R_y(by)R_x(phi), their
-    rates, then q and q' (block MODES)."""
-    A = cage.A
-    Qext = cage.Qext
-    acc = cage.acc
-    node_load = cage.node_load
-    land_modes = cage.land_modes
-    n = cage.stiffness.shape[0]
-    phi = y[c0 + 3]
-    by = y[c0 + 4]
-    bz = y[c0 + 5]
-    dphi = y[c0 + 9]
-    dby = y[c0 + 10]
-    dbz = y[c0 + 11]
-    cage_rotation(phi, by, bz, A)
-    w = cage.scratch[0]
-    cage_body_angular_velocity(A, y, c0, w)
-    # guide land: resultant force (0, fy, fz) and torque about X on the frame; gravity along −Z
-    Qext[1] += land_fy
-    Qext[2] += land_fz - cage.mass[0] * grav
-    Qext[3] += A[0, 0] * land_mx
-    Qext[4] += A[0, 1] * land_mx
-    Qext[5] += A[0, 2] * land_mx
-    # ... and distributed over the guide surface for the elastic coordinates: the file's
-    # statically equivalent land loads (cosine pressure for the force, uniform shear for the
-    # torque; fem_cage.reduction) per unit body-frame force y, z and torque x, Q_q += Gᵀ·L_b.
-    # Kept in row Z of node_load for the stress recovery's residual modes.
-    zl = node_load.shape[0] - 1
-    lby = A[1, 1] * land_fy + A[2, 1] * land_fz
-    lbz = A[1, 2] * land_fy + A[2, 2] * land_fz
-    lbx = A[0, 0] * land_mx
-    node_load[zl, 0] = lby
-    node_load[zl, 1] = lbz
-    node_load[zl, 2] = lbx
-    for k in range(n):
-        Qext[6 + k] += land_modes[0, k] * lby + land_modes[1, k] * lbz + land_modes[2, k] * lbx
-    q = y[m0:m0 + n]
-    qd = y[m0 + n:m0 + 2 * n]
-    ffrf_accelerations(A, w, q, qd, Qext, cage.mass[0], cage.first, cage.second, cage.S1, cage.Sx, cage.SS,
-                       cage.Mff, cage.stiffness, cage.damping, cage.Mmat, cage.rhs, cage.U, cage.Wab, acc)
-    for k in range(6):
-        dydt[c0 + k] = y[c0 + 6 + k]
-    dydt[c0 + 6] = acc[0]
-    dydt[c0 + 7] = acc[1]
-    dydt[c0 + 8] = acc[2]
-    # w' (inertial) = A·w'_body
-    ax = A[0, 0] * acc[3] + A[0, 1] * acc[4] + A[0, 2] * acc[5]
-    ay = A[1, 0] * acc[3] + A[1, 1] * acc[4] + A[1, 2] * acc[5]
-    az = A[2, 0] * acc[3] + A[2, 1] * acc[4] + A[2, 2] * acc[5]
-    u, v, ww = _cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az)
-    dydt[c0 + 9] = u
-    dydt[c0 + 10] = v
-    dydt[c0 + 11] = ww
-    for k in range(n):
-        dydt[m0 + k] = qd[k]
-        dydt[m0 + n + k] = acc[6 + k]
-
-
-@njit(cache=True)
-def _pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
-    """Pocket j of the (flexible) cage: centre pos, its velocity vel, axis (unit, radial in the
-    undeformed cage, turned by the interface node's small elastic rotation) and the node's
-    angular velocity wnode, all inertial. The cage rotation must be in cage.A and its
-    body-frame angular velocity in w (`cage_body_angular_velocity`)."""
-    A = cage.A
-    npos = cage.node_position
-    nmodes = cage.node_modes
-    n = cage.stiffness.shape[0]
-    q = y[m0:m0 + n]
-    qd = y[m0 + n:m0 + 2 * n]
-    R = y[c0:c0 + 3]
-    Rd = y[c0 + 6:c0 + 9]
-    rot = cage.scratch[2]
-    node_kinematics(R, A, Rd, w, q, qd, npos, nmodes, j, pos, vel, rot)
-    # undeformed radial axis through the node, turned by the node rotation: e + rot × e
-    ny = npos[j, 1]
-    nz = npos[j, 2]
-    nr = math.sqrt(ny * ny + nz * nz)
-    ey = ny / nr
-    ez = nz / nr
-    bx = rot[1] * ez - rot[2] * ey
-    by_ = ey - rot[0] * ez
-    bz_ = ez + rot[0] * ey
-    bn = math.sqrt(bx * bx + by_ * by_ + bz_ * bz_)
-    bx /= bn
-    by_ /= bn
-    bz_ /= bn
-    for i in range(3):
-        axis[i] = A[i, 0] * bx + A[i, 1] * by_ + A[i, 2] * bz_
-    # node angular velocity: A (w + Psi_j q')
-    o0 = w[0]
-    o1 = w[1]
-    o2 = w[2]
-    for k in range(n):
-        o0 += nmodes[j, 3, k] * qd[k]
-        o1 += nmodes[j, 4, k] * qd[k]
-        o2 += nmodes[j, 5, k] * qd[k]
-    for i in range(3):
-        wnode[i] = A[i, 0] * o0 + A[i, 1] * o1 + A[i, 2] * o2
 
 
 @njit(cache=True)
@@ -932,11 +736,11 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     lx = res[16] - xi
                     ly = res[17] * cs - yi
                     lz = res[17] * sn - zi
-                    m1, m2, m3 = _cross(lx, ly, lz, gx, gy, gz)
+                    m1, m2, m3 = cross(lx, ly, lz, gx, gy, gz)
                     # and the reaction to the traction's spin couple (Cx, Cr) on the ball, and
                     # the couple (b − p) × (−F_H·e_t) that moves the ring's share of the pressure
                     # rolling force onto the line through the ball centre (_race docstring)
-                    h1, h2, h3 = _cross(xb - res[16], (rb - res[17]) * cs, (rb - res[17]) * sn,
+                    h1, h2, h3 = cross(xb - res[16], (rb - res[17]) * cs, (rb - res[17]) * sn,
                                         0.0, res[23] * sn, -res[23] * cs)
                     rmx += m1 - res[18] + h1
                     rmy += m2 - res[19] * cs + h2
@@ -946,7 +750,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         vel = scr[4]
         axv = scr[5]
         wn = scr[6]
-        _pocket_pose(j, y, c0, m0, cage, scr[1], pos, vel, axv, wn)
+        pocket_pose(j, y, c0, m0, cage, scr[1], pos, vel, axv, wn)
         ppx = pos[0]
         ppy = pos[1]
         ppz = pos[2]
@@ -992,8 +796,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         Fc[0] = -pfx
         Fc[1] = -pfy
         Fc[2] = -pfz
-        l1, l2, l3 = _cross(da_ * ax, da_ * ay, da_ * az, -pfx, -pfy, -pfz)
-        b1, b2, b3 = _cross(bx - wpx, byy - wpy, bzz - wpz, pfx, pfy, pfz)
+        l1, l2, l3 = cross(da_ * ax, da_ * ay, da_ * az, -pfx, -pfy, -pfz)
+        b1, b2, b3 = cross(bx - wpx, byy - wpy, bzz - wpz, pfx, pfy, pfz)
         Tn = scr[2]
         Tn[0] = l1 - pk[3] - b1
         Tn[1] = l2 - pk[4] - b2
@@ -1047,7 +851,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     rfx += gx
                     rfy += gy
                     rfz += gz
-                    m1, m2, m3 = _cross(xpi - xi, rpi * cs - yi, rpi * sn - zi, gx, gy, gz)
+                    m1, m2, m3 = cross(xpi - xi, rpi * cs - yi, rpi * sn - zi, gx, gy, gz)
                     rmx += m1
                     rmy += m2
                     rmz += m3
@@ -1104,7 +908,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     work[zb, WR_EPS] = eps
     if eps > 2.0:
         _flag(work, zb, STATUS_RIM, -1, 4, eps)
-    _cage_body_rhs(y, dydt, c0, m0, cage, lfy, lfz, lmx, p[P_GRAV])
+    cage_equations(y, dydt, c0, m0, cage, lfy, lfz, lmx, p[P_GRAV])
     # ---- dissipated power of the guide land and of the cage's modal damping
     # (multibody.power_loss): the land's force, torque and distributed modal loads on the cage,
     # less the rim's normal force, which is conservative (potential k_rim·(e − Cg)²/2)
@@ -1127,116 +931,6 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         p_struct += damp[k] * qd_k * qd_k
     work[zb, WR_P_LAND] = -p_land
     work[zb, WR_P_STRUCTURAL] = p_struct
-
-
-# ---------------------------------------------------------------- energy (conservative runs)
-@njit(cache=True)
-def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
-    """Kinetic energy of balls, ring and cage + elastic energy of the contacts − work potential
-    of the (constant) external load, J. Conserved when traction, drag and damping are off and the
-    Hertz constants are fixed (model option hertz_fixed_angle; otherwise K(alpha) makes the Hertz
-    force field very slightly non-conservative). The ring spin is prescribed (constant speed in a
-    free run), its kinetic energy is constant and left out.
-
-    Hertz: V = (2/5)·K·delta^2.5. Pocket: V = Kc·Z²/2 (Z <= Cp), Kc·Cp²/2 + Kc·Cp·(Z − Cp) +
-    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: K_rim·(e − Cg)²/2. Load: −F·x_ring. Gravity (along −Z):
-    g·(m_b·Σ z_ball + m_i·z_ring + m_cage·z_cage). Cage: ½·vᵀM(q)v of the floating-frame body,
-    v = (R', w_body, q'), plus the modal strain energy ½·Σ omega_k²·q_k².
-    """
-    z = int(p[P_Z])
-    r0 = 9 * z
-    c0 = r0 + 11
-    m0 = c0 + 12
-    A = cage.A
-    scr = cage.scratch
-    cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
-    cage_body_angular_velocity(A, y, c0, scr[1])
-    mb = p[P_MB]
-    ib = p[P_IB]
-    dw = p[P_DW]
-    ek = 0.0
-    ev = 0.0
-    xi = y[r0]
-    yi = y[r0 + 1]
-    zi = y[r0 + 2]
-    ty = y[r0 + 3]
-    tz = y[r0 + 4]
-    for j in range(z):
-        o = 9 * j
-        xb = y[o]
-        rb = y[o + 1]
-        psi = y[o + 2]
-        ek += 0.5 * mb * (y[o + 3] ** 2 + y[o + 4] ** 2 + (rb * y[o + 5]) ** 2)
-        ev += mb * p[P_GRAV] * rb * math.sin(psi)
-        ek += 0.5 * ib * (y[o + 6] ** 2 + y[o + 7] ** 2 + y[o + 8] ** 2)
-        for c in range(3):
-            if c == 0:
-                xc_g = p[P_XO]
-                rc_g = p[P_RO]
-                f = p[P_FE]
-                kind = 0
-            else:
-                x0 = p[P_XIL] if c == 1 else p[P_XIR]
-                rr0 = p[P_RIL] if c == 1 else p[P_RIR]
-                xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
-                f = p[P_FI]
-                kind = 1
-            delta, ca, sa = race_contact(xb, rb, xc_g, rc_g, f, dw)
-            if delta > 0.0:
-                if flags[F_HERTZ_FIXED]:
-                    K = _hertz_lookup(htab, kind, math.cos(p[P_ALPHA0]))[0]
-                else:
-                    K = _hertz_lookup(htab, kind, ca)[0]
-                ev += 0.4 * K * delta ** 2.5
-        # pocket (exact pose of its interface node, as in rhs)
-        _pocket_pose(j, y, c0, m0, cage, scr[1], scr[3], scr[4], scr[5], scr[6])
-        ax = scr[5, 0]
-        ay = scr[5, 1]
-        az = scr[5, 2]
-        dx = xb - scr[3, 0]
-        dy = rb * math.cos(psi) - scr[3, 1]
-        dz = rb * math.sin(psi) - scr[3, 2]
-        da = dx * ax + dy * ay + dz * az
-        ux = dx - da * ax
-        uy = dy - da * ay
-        uz = dz - da * az
-        zz = math.sqrt(ux * ux + uy * uy + uz * uz)
-        cp = p[P_CP]
-        kc = p[P_KC]
-        if zz <= cp:
-            ev += 0.5 * kc * zz * zz
-        else:
-            ev += 0.5 * kc * cp * cp + kc * cp * (zz - cp) + 0.4 * p[P_KN] * (zz - cp) ** 2.5
-    # ring (translation + tilt) and cage
-    ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
-    ev += p[P_GRAV] * (p[P_MI] * zi + cage.mass[0] * y[c0 + 2])
-    ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
-    stiff = cage.stiffness
-    n = stiff.shape[0]
-    q = y[m0:m0 + n]
-    v = cage.rhs                 # work array: the velocity (R', w_body, q')
-    v[0] = y[c0 + 6]
-    v[1] = y[c0 + 7]
-    v[2] = y[c0 + 8]
-    v[3] = scr[1, 0]
-    v[4] = scr[1, 1]
-    v[5] = scr[1, 2]
-    for k in range(n):
-        v[6 + k] = y[m0 + n + k]
-        ev += 0.5 * stiff[k] * q[k] * q[k]
-    Mmat = cage.Mmat
-    deformed_moments(q, cage.second, cage.Sx, cage.SS, cage.U, cage.Wab)
-    mass_matrix(A, q, cage.mass[0], cage.first, cage.S1, cage.Mff, cage.U, cage.Wab, Mmat)
-    for i in range(6 + n):
-        for k in range(6 + n):
-            ek += 0.5 * v[i] * Mmat[i, k] * v[k]
-    e = math.sqrt(y[c0 + 1] ** 2 + y[c0 + 2] ** 2)
-    if e > p[P_CG]:
-        ev += 0.5 * p[P_KRIM] * (e - p[P_CG]) ** 2
-    f3 = np.empty(3)
-    load_at(t, load_table, impacts, f3)
-    ev -= f3[0] * xi + f3[1] * yi + f3[2] * zi
-    return ek, ev
 
 
 # ---------------------------------------------------------------- the work array of `rhs`

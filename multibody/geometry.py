@@ -69,6 +69,12 @@ from numba import njit
 
 # ---------------------------------------------------------------- groove curvature centres
 @njit(cache=True)
+def cross(ax, ay, az, bx, by, bz):
+    """The cross product a × b of two vectors given by their components (a tuple)."""
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@njit(cache=True)
 def outer_groove_centre(pitch_diameter, ball_diameter, fe):
     """Nominal outer-groove curvature centre (x, r) in a ball's plane, m (SPEC §2).
 

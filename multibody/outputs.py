@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from multibody import model as M
-from multibody.dynamics import mechanical_energy, new_work, rhs
+from multibody.dynamics import new_work, rhs
+from multibody.energy import mechanical_energy
 from multibody.film import film_thickness as hd
 from multibody.geometry import nominal_cage_speed
 from multibody.model import (N_WC, P_EBR, P_ETA0, W_DRAG, W_PK_FX, W_PK_FZ, W_POCKET_Q, W_POCKET_T,

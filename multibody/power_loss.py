@@ -21,7 +21,7 @@ WR_P_*). The sources:
     cage_damping  modal damping of a flexible cage, Σ d_k·q_k'²
 
 Power balance. The work–energy theorem of the model's equations, with E = kinetic energy + Hertz,
-pocket and rim potentials + gravity − F_ext·x_ring (multibody.dynamics.mechanical_energy), the
+pocket and rim potentials + gravity − F_ext·x_ring (multibody.energy.mechanical_energy), the
 external load held at its value at t and the ring spin prescribed:
 
     dE/dt = T_drive·omega_i − Σ_s P_s,     T_drive = −(moment of the races on the inner ring about X)
@@ -42,6 +42,7 @@ from __future__ import annotations
 import numpy as np
 
 from multibody import dynamics as D
+from multibody.energy import mechanical_energy
 from multibody import model as M
 
 SOURCES = ("traction", "rolling", "damping", "pocket", "churning", "guide_land", "cage_damping")
@@ -75,7 +76,7 @@ def power_balance(model, t: float, y: np.ndarray, speed_table, load_table, impac
     """Both sides of the energy theorem at the state (t, y) (module docstring), W.
 
     energy_rate = dE/dt along the motion, the central difference (E(y + h·y') − E(y − h·y'))/(2h)
-    of dynamics.mechanical_energy at fixed t (the external load's potential −F(t)·x is part of E,
+    of energy.mechanical_energy at fixed t (the external load's potential −F(t)·x is part of E,
     so the load's own power needs no separate term); drive_power = T_drive·omega_i; loss = Σ P_s;
     residual = energy_rate − (drive_power − loss). h = 1e-8 s: the state moves by ~1 nm, the
     difference's truncation (h²·E''') and rounding (1e-16·E/h) errors are both ~1e-8 of the loss.
@@ -93,7 +94,7 @@ def power_balance(model, t: float, y: np.ndarray, speed_table, load_table, impac
     omega_i = float(work[z, M.WR_OMEGA_I])
 
     def energy(state):
-        ek, ev = D.mechanical_energy(t, state, model.p, model.flags, model.hertz_table, load_table,
+        ek, ev = mechanical_energy(t, state, model.p, model.flags, model.hertz_table, load_table,
                                      impacts, model.cage)
         return ek + ev
 

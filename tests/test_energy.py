@@ -3,7 +3,7 @@
 With traction, drag (churning, land film, pocket/rim friction) and contact damping switched off,
 and the Hertz constants held at the free contact angle (model option hertz_fixed_angle: with
 K(alpha) the Hertz force is not exactly a gradient), the bearing is a conservative system under
-a constant load and a constant prescribed ring speed. Its energy (dynamics.mechanical_energy:
+a constant load and a constant prescribed ring speed. Its energy (multibody.energy.mechanical_energy:
 kinetic energy of balls, ring translation/tilt and cage + Hertz, pocket and rim potentials − F·x)
 may only drift by the integration error.
 """
@@ -15,7 +15,7 @@ import pytest
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody.model import build_model
 from multibody.initial import initial_state
-from multibody import dynamics as D
+from multibody import energy as E
 from multibody import integrator as I
 
 CONSERVATIVE = {"traction": False, "drag": False, "damping": False, "hertz_fixed_angle": True}
@@ -30,12 +30,12 @@ def _free_run(tol, duration, rpm=10000.0, fa=5000.0, fr=1000.0, n_out=10):
     imp = np.zeros((0, 6))
     ws = I.Workspace(m)
     t, h = 0.0, 1e-6
-    ek0, ev0 = D.mechanical_energy(0.0, y, m.p, m.flags, m.hertz_table, ld, imp, m.cage)
+    ek0, ev0 = E.mechanical_energy(0.0, y, m.p, m.flags, m.hertz_table, ld, imp, m.cage)
     energies = [ek0 + ev0]
     elastic = []
     for k in range(1, n_out + 1):
         y, t, h, _, _ = I.advance(m, y, t, duration * k / n_out, sp, ld, imp, tol, h, ws)
-        ek, ev = D.mechanical_energy(t, y, m.p, m.flags, m.hertz_table, ld, imp, m.cage)
+        ek, ev = E.mechanical_energy(t, y, m.p, m.flags, m.hertz_table, ld, imp, m.cage)
         energies.append(ek + ev)
     return np.array(energies), ev0
 

@@ -7,7 +7,7 @@ Synthetic runs: a Kuhn cube (6 tetrahedra, 10 nodes each: 27 nodes) as the "cage
 and displacement modes, random modal coordinates; the recorded maximum of each sample is computed
 here independently (sqrt(3/2 s:s) of the deviator of the full tensor). The placement is checked
 against rotations built by scipy (intrinsic Z-Y-X Euler angles), independent of
-multibody.dynamics.cage_rotation which the code uses.
+multibody.cage_body.cage_rotation which the code uses.
 
 Tolerances: fields 1e-12 relative (HDF5 keeps float64 unchanged; only the summation order of S q
 differs); positions 1e-12 m (coordinates of 0.05 m, a few roundings); the brief's readback

@@ -2,7 +2,7 @@
 
 The check is the work–energy theorem of the model's own equations,
     dE/dt = T_drive·omega_i − Σ_s P_s,
-evaluated at single states (dE/dt by a central difference of dynamics.mechanical_energy along
+evaluated at single states (dE/dt by a central difference of energy.mechanical_energy along
 dy/dt) and along a run (ΔE against the time integral of the right-hand side). Every source is
 switched on alone and all together, so a force applied to one body and not to the other, a wrong
 surface velocity or a sign error in one source shows up as a residual. Closed forms for single

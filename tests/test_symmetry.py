@@ -33,6 +33,7 @@ import math
 import numpy as np
 import pytest
 
+from multibody import cage_body as CB
 from multibody import dynamics as D
 from multibody import model as M
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
@@ -128,7 +129,7 @@ def _euler_zyx(A):
 
 
 def _rate_matrix(by, bz):
-    """G with w = G·(phi', by', bz') (dynamics.cage_angular_velocity)."""
+    """G with w = G·(phi', by', bz') (multibody.cage_body.cage_angular_velocity)."""
     cy, sy, cz, sz = math.cos(by), math.sin(by), math.cos(bz), math.sin(bz)
     return np.array([[cz * cy, -sz, 0.0], [sz * cy, cz, 0.0], [-sy, 0.0, 1.0]])
 
@@ -159,9 +160,9 @@ def _rotate_cage_angles(y_src, y_dst, c0, gamma):
     c, s = math.cos(gamma), math.sin(gamma)
     Rx = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
     A = np.zeros((3, 3))
-    D.cage_rotation(y_src[c0 + 3], y_src[c0 + 4], y_src[c0 + 5], A)
+    CB.cage_rotation(y_src[c0 + 3], y_src[c0 + 4], y_src[c0 + 5], A)
     phi, by, bz = _euler_zyx(Rx @ A)
-    w = np.array(D.cage_angular_velocity(y_src[c0 + 4], y_src[c0 + 5], *y_src[c0 + 9:c0 + 12]))
+    w = np.array(CB.cage_angular_velocity(y_src[c0 + 4], y_src[c0 + 5], *y_src[c0 + 9:c0 + 12]))
     y_dst[c0 + 3:c0 + 6] = (phi, by, bz)
     y_dst[c0 + 9:c0 + 12] = np.linalg.solve(_rate_matrix(by, bz), Rx @ w)
     return Rx
@@ -174,7 +175,7 @@ def _cage_angular_acceleration(y, dydt, c0):
 
     def w_at(sign):
         yy = y + sign * h * dydt
-        return np.array(D.cage_angular_velocity(yy[c0 + 4], yy[c0 + 5], *yy[c0 + 9:c0 + 12]))
+        return np.array(CB.cage_angular_velocity(yy[c0 + 4], yy[c0 + 5], *yy[c0 + 9:c0 + 12]))
     return (w_at(1.0) - w_at(-1.0)) / (2.0 * h)
 
 
