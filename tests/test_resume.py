@@ -146,9 +146,6 @@ def test_sigkill_then_resume_equals_uninterrupted(tmp_path, reference):
 @pytest.mark.slow
 def test_real_model_interrupt_and_resume_bitwise(tmp_path):
     """The same with the real rigid-cage dynamics (multibody): paper steady loads, 2 ms."""
-    import importlib.util
-    if importlib.util.find_spec("multibody.initial") is None:
-        pytest.skip("multibody dynamics not available")
     from coupling.run import default_backend
     from coupling.scene import loads_scene
     text = """
