@@ -77,7 +77,6 @@ from pathlib import Path
 import numpy as np
 
 from common.materials import YIELD_STRENGTH_40CrNiMoA, Material
-from fem_cage.reduced_cage import DEFAULT_N_KEEP
 from mesh.cage_geometry import CageGeometry
 from common.cache import content_hash
 from common.validation import InputError, require_range
@@ -258,7 +257,9 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         else:
             flexible[k] = _number("cage.damping_beta", v, 0.0, 1e-2, unit="s")
     if cage_model == "flexible":
-        flexible.setdefault("n_modes", DEFAULT_N_KEEP)   # the paper keeps 26 modes (§4.1)
+        # the paper keeps 26 modes (§4.1); imported here: a rigid scene loads nothing of fem_cage
+        from fem_cage.reduced_cage import DEFAULT_N_KEEP
+        flexible.setdefault("n_modes", DEFAULT_N_KEEP)
         if "material" not in c:              # the paper's 40CrNiMoA; another material names its own
             flexible.setdefault("yield_strength", YIELD_STRENGTH_40CrNiMoA)
     return bearing, cage_model, flexible
