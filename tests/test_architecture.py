@@ -12,9 +12,10 @@ import that reaches up a layer is caught as well as a top-level one. Two rules:
 2. the module graph has no circle (Tarjan's strongly connected components; a circle inside one
    package is a module pair that should be one module, or a seam in the wrong place).
 
-A third check keeps the CLI apart from the libraries: argparse is imported only by the command
+Two more keep the command line apart from the libraries: argparse is imported only by the command
 modules `coupling/cli*.py` (and the two developer entry points named below), so no library grows a
-command line.
+command line, and no library imports a command module (the work a command does is a library
+function the command calls, never the other way round).
 """
 from __future__ import annotations
 
@@ -124,3 +125,10 @@ def test_only_command_modules_parse_arguments():
                      if "argparse" in imported_names(m, p) and not m.startswith("coupling.cli")
                      and m not in ARGPARSE_ALLOWED)
     assert parsing == [], f"library modules with a command line: {parsing}"
+
+
+def test_no_library_imports_a_command_module():
+    graph = import_graph()
+    is_cli = lambda m: m.startswith("coupling.cli")            # noqa: E731
+    back = sorted(f"{m} -> {t}" for m, ts in graph.items() if not is_cli(m) for t in ts if is_cli(t))
+    assert back == [], "libraries that import a command module:\n" + "\n".join(back)
