@@ -63,30 +63,20 @@ def _append(rec):
         f.write(json.dumps(rec) + "\n")
 
 
-def uniform_levels(done, quick):
+def run_levels(done, kind, table, quick):
+    """The levels of one family ("uniform": sizes in mm everywhere; "local": 4 mm elsewhere and
+    the size in mm around LOCAL_POCKETS), each computed once (done: the JSONL records)."""
     from mesh.cage_geometry import PAPER_CAGE
     from fem_cage.stress_study import run_level
     out = []
-    for mm, deg in (UNIFORM[:1] if quick else UNIFORM):
-        k = _key("uniform", mm, deg)
+    for mm, deg in (table[:1] if quick else table):
+        k = _key(kind, mm, deg)
         if k not in done:
-            r = run_level(PAPER_CAGE, mm * 1e-3, mm * 1e-3, deg, quiet=False)
-            r["key"] = k
-            _append(r)
-            done[k] = r
-        out.append(done[k])
-    return out
-
-
-def local_levels(done, quick):
-    from mesh.cage_geometry import PAPER_CAGE
-    from fem_cage.stress_study import run_level
-    out = []
-    H = LOCAL_BASE_MM * 1e-3
-    for mm, deg in (LOCAL[:1] if quick else LOCAL):
-        k = _key("local", mm, deg)
-        if k not in done:
-            r = run_level(PAPER_CAGE, H, H, deg, quiet=False, local=(LOCAL_POCKETS, mm * 1e-3))
+            if kind == "uniform":
+                r = run_level(PAPER_CAGE, mm * 1e-3, mm * 1e-3, deg, quiet=False)
+            else:
+                H = LOCAL_BASE_MM * 1e-3
+                r = run_level(PAPER_CAGE, H, H, deg, quiet=False, local=(LOCAL_POCKETS, mm * 1e-3))
             r["key"] = k
             _append(r)
             done[k] = r
@@ -296,8 +286,8 @@ def main(argv=None):
     done = _load_done()
     sec = set(args.sections.split(","))
     t0 = time.perf_counter()
-    local = local_levels(done, args.quick) if "2" in sec else []
-    uniform = uniform_levels(done, args.quick) if "1" in sec else []
+    local = run_levels(done, "local", LOCAL, args.quick) if "2" in sec else []
+    uniform = run_levels(done, "uniform", UNIFORM, args.quick) if "1" in sec else []
     sweep = quality_sweep(done, args.quick) if "4" in sec else []
     ext = extrapolated(local, CASES) if local else {}
     default = (cm.DEFAULT_MESH_SIZE, cm.DEFAULT_DEGREE)
