@@ -508,27 +508,32 @@ def _dot_abs(a, row, y):
 
 @njit(cache=True)
 def _axpy(acc, row, a):
-    """acc += a row (its own function: LLVM vectorises it here, not when inlined in a loop nest)."""
+    """acc += a row (its own function: LLVM vectorises it here, not inside the loop nest)."""
     for k in range(acc.shape[0]):
         acc[k] += row[k] * a
 
 
 @njit(cache=True)
-def _refresh_leaf(Dz, leaf, y, T, n0, n1, acc):
-    """T[n0:n1] = |D_n z| of the leaf's nodes, z = y[:nz]; Dz[leaf] is (nz, 6 L) with row r of
-    node i at r L + i (the six stress rows of all L nodes accumulate in one contiguous loop).
-    Returns max T."""
+def _add_squares(acc, row):
+    for k in range(acc.shape[0]):
+        acc[k] += row[k] * row[k]
+
+
+@njit(cache=True)
+def _refresh_leaf(Dz, leaf, z32, T, n0, n1, acc, sq):
+    """T[n0:n1] = |D_n z| of the leaf's nodes in float32 (Dz, z32 float32 copies; the caller adds
+    the rounding slack); Dz[leaf] is (nz, 6 L) with row r of node i at r L + i, so the six stress
+    rows of all L nodes accumulate in one contiguous (vectorised) loop. Returns max T."""
     L = Dz.shape[2] // 6
     acc[:] = 0.0
     for j in range(Dz.shape[1]):
-        _axpy(acc, Dz[leaf, j], y[j])
+        _axpy(acc, Dz[leaf, j], z32[j])
+    sq[:] = 0.0
+    for r in range(6):
+        _add_squares(sq, acc[r * L:(r + 1) * L])
     u = 0.0
     for i in range(n1 - n0):
-        s = 0.0
-        for r in range(6):
-            a = acc[r * L + i]
-            s += a * a
-        t = np.sqrt(s)
+        t = np.sqrt(np.float64(sq[i]))
         T[n0 + i] = t
         if t > u:
             u = t
@@ -536,18 +541,15 @@ def _refresh_leaf(Dz, leaf, y, T, n0, n1, acc):
 
 
 @njit(cache=True)
-def _slot_distance(y, ring, slot, zstart, dz, stamp, call):
-    """dz[slot, b] = SAFETY |y_b - ring[slot]_b| over the tracked blocks b, computed once per call
-    (stamp) and only for the slots a bound needs."""
-    if stamp[slot] == call:
-        return
-    for b in range(zstart.shape[0] - 1):
-        s = 0.0
-        for j in range(zstart[b], zstart[b + 1]):
-            d = y[j] - ring[slot, j]
-            s += d * d
-        dz[slot, b] = np.sqrt(s) * SAFETY
-    stamp[slot] = call
+def _slot_distances(y, ring, n_used, zstart, dz):
+    """dz[r, b] = SAFETY |z_b - ring[r]_b| for every used slot r and tracked block b."""
+    for r in range(n_used):
+        for b in range(zstart.shape[0] - 1):
+            s = 0.0
+            for j in range(zstart[b], zstart[b + 1]):
+                d = y[j] - ring[r, j]
+                s += d * d
+            dz[r, b] = np.sqrt(s) * SAFETY
 
 
 @njit(cache=True)
@@ -558,11 +560,13 @@ def tracking_max_sq(arrays, y, best_in, seed):
     diagnostics count = [groups opened, leaves refreshed, leaves scanned, exact evaluations]).
     seed: rows evaluated exactly first (negative = none)."""
     (W, Dz, Cl, zstart, xstart, Pn, Pl, Pg, El, EgT, gstart, lstart, alpha, T, Ul, Sl, lref, Ug,
-     Sg, gref, ring, ring_info, stamp, dz, xbn, eg, acc, count) = arrays
+     Sg, gref, ring, ring_info, dz, xbn, eg, z32, acc, sq, count) = arrays
     K = y.shape[0]
     nz = zstart[zstart.shape[0] - 1]
+    nbz = zstart.shape[0] - 1
     nbx = xstart.shape[0] - 1
     R = ring.shape[0]
+    G = gstart.shape[0] - 1
     for i in range(4):
         count[i] = 0
     gam = K * U_ROUND / (1.0 - K * U_ROUND)
@@ -574,15 +578,17 @@ def tracking_max_sq(arrays, y, best_in, seed):
     for c in range(nz):
         hz += alpha[c] * abs(y[c])
     eta_z = 2.5 * gam * hz                # ... of a stored T_n
+    for j in range(nz):
+        z32[j] = y[j]                     # the leaf refresh works in float32
+    # distances to the reference slots; every group's load bound E_g . |x|_b (vectorised over
+    # the groups)
     nused = ring_info[1]
-    ring_info[2] += 1
-    call = ring_info[2]
+    _slot_distances(y, ring, nused, zstart, dz)
     for b in range(nbx):
         s = 0.0
         for j in range(xstart[b], xstart[b + 1]):
             s += y[j] * y[j]
         xbn[b] = np.sqrt(s) * SAFETY
-    G = gstart.shape[0] - 1
     eg[:] = 0.0
     for b in range(nbx):
         _axpy(eg, EgT[b], xbn[b])
@@ -600,20 +606,22 @@ def tracking_max_sq(arrays, y, best_in, seed):
     for g in range(G):
         rg = gref[g]
         if rg >= 0:
-            _slot_distance(y, ring, rg, zstart, dz, stamp, call)
-            ub = (Ug[g] + Sg[g] + _dot_row(Pg, g, dz[rg]) + eg[g]) * SAFETY + eta
+            d = 0.0
+            for b in range(nbz):
+                d += Pg[g, b] * dz[rg, b]
+            ub = (Ug[g] + Sg[g] + d + eg[g]) * SAFETY + eta
             if ub * ub <= best:
                 continue
         count[0] += 1
         if cur < 0:
             cur = ring_info[0]
             if cur < nused:
-                _slot_distance(y, ring, cur, zstart, dz, stamp, call)
                 # overwrite the oldest slot: whatever refers to it keeps a valid bound with the
-                # slack P . |z_now - z_old|_b (dz[cur] is that distance)
-                for h2 in range(Ug.shape[0]):
+                # slack P . |z_now - z_old|_b (dz[cur]: that distance)
+                for h2 in range(G):
                     if gref[h2] == cur:
-                        Sg[h2] += _dot_row(Pg, h2, dz[cur])
+                        for b in range(nbz):
+                            Sg[h2] += Pg[h2, b] * dz[cur, b]
                 for l2 in range(Ul.shape[0]):
                     if lref[l2] == cur:
                         Sl[l2] += _dot_row(Pl, l2, dz[cur])
@@ -622,16 +630,13 @@ def tracking_max_sq(arrays, y, best_in, seed):
                 ring_info[1] = nused
             for j in range(nz):
                 ring[cur, j] = y[j]
-            for b in range(zstart.shape[0] - 1):
-                dz[cur, b] = 0.0
-            stamp[cur] = call
+            dz[cur, :] = 0.0
             ring_info[0] = (cur + 1) % R
         ug = 0.0
         for leaf in range(gstart[g], gstart[g + 1]):
             rl = lref[leaf]
             el = _dot_row(El, leaf, xbn)
             if rl >= 0:
-                _slot_distance(y, ring, rl, zstart, dz, stamp, call)
                 drift = _dot_row(Pl, leaf, dz[rl])
                 ul = Ul[leaf] + Sl[leaf] + drift
                 ub = (ul + el) * SAFETY + eta
@@ -641,9 +646,11 @@ def tracking_max_sq(arrays, y, best_in, seed):
                 ub = np.inf
             if ub * ub > best and drift > 0.0:
                 count[1] += 1
-                Ul[leaf] = _refresh_leaf(Dz, leaf, y, T, lstart[leaf], lstart[leaf + 1], acc)
-                # + the float32 storage of D: |(D - fl32(D)) z| <= 2^-24 sum_c ||D[:, c]|| |z_c|
-                Sl[leaf] = eta_z + _F32 * _dot_abs(Cl, leaf, y)
+                Ul[leaf] = _refresh_leaf(Dz, leaf, z32, T, lstart[leaf], lstart[leaf + 1], acc,
+                                         sq)
+                # float32: D and z rounded (2^-24 each), nz products summed, six squares, a
+                # square root: |T - |D z|| <= (nz + 10) 2^-24 sum_c ||D[:, c]|| |z_c|
+                Sl[leaf] = eta_z + (nz + 10) * _F32 * _dot_abs(Cl, leaf, y)
                 lref[leaf] = cur
                 rl = cur
                 drift = 0.0
@@ -676,10 +683,11 @@ def empty_tracking_arrays() -> tuple:
     """A tuple with the types of TrackingMaxVonMises.arrays and no node (for a disabled caller:
     the compiled loop keeps one signature)."""
     f1, f2, i1 = np.zeros(1), np.zeros((1, 1)), np.zeros(2, dtype=np.int64)
+    f32 = np.zeros(1, dtype=np.float32)
     return (np.zeros((1, 1, 6)), np.zeros((1, 1, 6), dtype=np.float32), f2, i1, i1, f2, f2, f2,
             f2, f2, i1, i1, f1, f1, f1, f1, -np.ones(1, dtype=np.int64), f1, f1,
-            -np.ones(1, dtype=np.int64), f2, np.zeros(3, dtype=np.int64),
-            np.zeros(1, dtype=np.int64), f2, f1, f1, f1, np.zeros(4, dtype=np.int64))
+            -np.ones(1, dtype=np.int64), f2, np.zeros(2, dtype=np.int64), f2, f1, f1, f32,
+            f32, f32, np.zeros(4, dtype=np.int64))
 
 
 class TrackingMaxVonMises:
@@ -695,7 +703,7 @@ class TrackingMaxVonMises:
 
     def __init__(self, W: np.ndarray, n_tracked: int, tracked_blocks: np.ndarray,
                  load_blocks: np.ndarray, coords: np.ndarray | None = None,
-                 node_ids: np.ndarray | None = None, leaf_size: int = 16, group_leaves: int = 4,
+                 node_ids: np.ndarray | None = None, leaf_size: int = 48, group_leaves: int = 2,
                  ring: int = 16):
         W = np.asarray(W, dtype=np.float64)
         if W.ndim != 3 or W.shape[1] != 6:
@@ -731,15 +739,17 @@ class TrackingMaxVonMises:
             Dz[leaf, :, :, :blk.shape[0]] = blk.transpose(1, 2, 0)
         G = len(gs) - 1
         nbz = len(zstart) - 1
+        R = int(ring)
         self.arrays = (Wt, np.ascontiguousarray(Dz.reshape(NL, n_tracked, 6 * Lmax)), Cl, zstart,
-                       xstart, Pn, Pl, Pg, El, np.ascontiguousarray(Eg.T), gs, ls,
-                       np.abs(Wt).max(axis=(0, 2)),
+                       xstart, Pn, Pl, Pg, El, np.ascontiguousarray(Eg.T),
+                       gs, ls, np.abs(Wt).max(axis=(0, 2)),
                        np.zeros(n), np.zeros(NL), np.zeros(NL), -np.ones(NL, dtype=np.int64),
                        np.zeros(G), np.zeros(G), -np.ones(G, dtype=np.int64),
-                       np.zeros((int(ring), n_tracked)), np.zeros(3, dtype=np.int64),
-                       np.zeros(int(ring), dtype=np.int64),
-                       np.zeros((int(ring), nbz)), np.zeros(len(xstart) - 1), np.zeros(G),
-                       np.zeros(6 * Lmax), np.zeros(4, dtype=np.int64))
+                       np.zeros((R, n_tracked)), np.zeros(2, dtype=np.int64),
+                       np.zeros((R, nbz)), np.zeros(len(xstart) - 1),
+                       np.zeros(G), np.zeros(n_tracked, dtype=np.float32),
+                       np.zeros(6 * Lmax, dtype=np.float32), np.zeros(Lmax, dtype=np.float32),
+                       np.zeros(4, dtype=np.int64))
         ids = np.arange(n) if node_ids is None else np.asarray(node_ids)
         self.node_ids = ids[order]
         self.n_tracked = int(n_tracked)
@@ -763,8 +773,7 @@ class TrackingMaxVonMises:
         a = self.arrays
         a[16][:] = -1          # leaf references
         a[19][:] = -1          # group references
-        a[21][:] = 0           # ring: next slot, slots used, calls
-        a[22][:] = 0           # slot stamps
+        a[21][:] = 0           # ring: next slot, slots used
 
     def __call__(self, y: np.ndarray, best_in: float = -1.0, seed: int = -1):
         """(max von Mises Pa, node id) if some node beats best_in (Pa), else (None, -1)."""
