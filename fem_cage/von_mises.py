@@ -43,28 +43,33 @@ that the nodes they do not evaluate cannot beat it.
        vm_n(y) <= |D_n z_r| + sum_b ||D_n,b||_2 |z_b - z_r,b| + sum_b ||E_n,b||_2 |x_b|    (T)
 
    (triangle inequality and Cauchy–Schwarz per block; D_n, E_n the tracked and load columns of
-   W_n). The first term is stored: T_n = |D_n z_r| is evaluated (6 x 21 multiply-adds instead of
-   6 x 147) when the node's leaf is refreshed; the bound then only costs the block distances.
-   Nodes are grouped spatially (principal-direction bisection of the node coordinates) into
-   leaves of 16 and leaves into groups of 4; a leaf or group bound is (T) with the maxima over its
+   A_n = L W_n). The first term is stored: T_n = |D_n z_r| is evaluated (6 x 21 multiply-adds
+   instead of 6 x 147, in float32 from a float32 copy of D) when the node's leaf is refreshed;
+   the bound then only costs the block distances. Nodes are grouped spatially (principal-direction
+   bisection of the node coordinates) into leaves of at most 48 nodes (~36 on the 4 mm cage) and
+   consecutive leaves into groups of 2; a leaf or group bound is (T) with the maxima over its
    nodes: U (max T_n) + P (max ||D_n,b||) . |z - z_r|_b + E (max ||E_n,b||) . |x|_b. Every leaf
-   and group keeps its own reference slot r in a ring of the last R tracked vectors; when a slot
-   is overwritten, every item referring to it adds P . |z_new - z_old|_b to its slack (the bound
-   stays valid: triangle inequality). Per call:
+   and group keeps its own reference slot r in a ring of the last R = 16 tracked vectors; when a
+   slot is overwritten, every item referring to it adds P . |z_new - z_old|_b to its slack (the
+   bound stays valid: triangle inequality). Per call:
 
      a. the threshold `best` starts at the caller's value (the monitor passes the peak of the
         current sample interval: a node that cannot beat it cannot change the recorded maximum)
-        raised by the exact value of the seed node (the last step's maximum: by time coherence
-        close to the current maximum);
+        raised by the exact value of the seed node (the last new maximum's node: by time
+        coherence close to the current maximum);
      b. each group whose bound (T) cannot beat `best` is skipped; an open group bounds its leaves;
         a leaf that can beat `best` with a stale reference is refreshed (T_n at the current z,
         reference = now) and bounded again; nodes of a leaf that still can are evaluated exactly;
      c. the group's bound is rebuilt from its leaves' bounds at the current z (reference = now).
 
-   On 15,872 steps of the paper unsteady scene on the 4 mm mesh (18,247 nodes) this opens ~75 of
-   285 groups, refreshes ~25 leaves and evaluates ~14 nodes exactly per step
-   (benchmarks/bench_von_mises.py). It is exact for any sequence of vectors, but fast only along
-   a trajectory: independent random vectors refresh nearly every leaf.
+   Why it is fast: between two accepted steps z moves little (the drift term is ~1 % of the
+   maximum), so only the leaves whose stored value is within the drift plus the load bound of the
+   threshold are refreshed, and only their nodes within the load bound are evaluated exactly.
+   Measured on every step of the paper unsteady scene on the 4 mm mesh (18,247 nodes, 512 leaves,
+   256 groups; benchmarks/results/von_mises.md): per call ~32 groups opened, ~19 leaves refreshed,
+   ~13 exact node evaluations, 25 us (the previous centre-bound search: ~2 ms). It is exact for any
+   sequence of vectors, but fast only along a trajectory: independent random vectors refresh
+   nearly every leaf they open.
 
 Rounding. The kernel computes s_r = fl(sum_c W_rc y_c) with |fl(s_r) - s_r| <= gamma_K sum_c
 |W_rc||y_c| <= gamma_K H, H = sum_c alpha_c |y_c|, alpha_c = max_n,r |W_n,rc|, gamma_K = K u/(1 - K u)
@@ -72,7 +77,9 @@ Rounding. The kernel computes s_r = fl(sum_c W_rc y_c) with |fl(s_r) - s_r| <= g
 at most (1 + 4u)(b + √6 gamma_K H) for any exact upper bound b. Every skip test therefore
 compares (b SAFETY + 2.5 gamma_K H)^2 with best (SAFETY = 1 + 1e-9 covers the relative rounding of
 the bound's own sums of non-negative terms and of the stored norms); the stored T_n carry the same
-absolute term for the tracked part. A skipped node cannot beat the computed maximum.
+absolute term for the tracked part, plus (nz + 10) 2^-24 sum_c ||D_n,c|| |z_c| for the float32
+refresh (D and z rounded to float32, nz products summed, six squares and a square root). A
+skipped node cannot beat the computed maximum.
 
 numpy + numba only (no dolfinx): the runtime imports this with the reduced-cage file. The numba
 kernels are allocation-free; `tracking_max_sq` takes the tuple `TrackingMaxVonMises.arrays` so it
@@ -244,11 +251,12 @@ class MaxVonMisesSorted:
 # ------------------------------------------------------------------ leaf (cluster) bound
 
 @njit(cache=True)
-def _residual_bound(radius, k, qb):
-    r = 0.0
-    for b in range(qb.shape[0]):
-        r += radius[k, b] * qb[b]
-    return r
+def _dot_row(a, row, b):
+    """sum_i a[row, i] b[i] of non-negative terms (any summation order: SAFETY covers it)."""
+    s = 0.0
+    for i in range(b.shape[0]):
+        s += a[row, i] * b[i]
+    return s
 
 
 @njit(cache=True)
@@ -258,11 +266,11 @@ def _open_group(A, centres, leaf_start, leaf_radius, node_radius, q, qb, g0, g1,
     for c in range(g0, g1):
         v = np.sqrt(node_vm_sq(centres, c, q)) * SAFETY
         count[0] += 1
-        b = v + _residual_bound(leaf_radius, c, qb)
+        b = v + _dot_row(leaf_radius, c, qb)
         if b * b <= best:
             continue
         for k in range(leaf_start[c], leaf_start[c + 1]):
-            bn = v + _residual_bound(node_radius, k, qb)
+            bn = v + _dot_row(node_radius, k, qb)
             if bn * bn <= best:
                 continue
             count[1] += 1
@@ -291,7 +299,7 @@ def max_von_mises_leaves_sq(A, gcentres, group_start, group_radius, centres, lea
     top = 0
     topb = -1.0
     for g in range(n_groups):
-        b = np.sqrt(node_vm_sq(gcentres, g, q)) * SAFETY + _residual_bound(group_radius, g, qb)
+        b = np.sqrt(node_vm_sq(gcentres, g, q)) * SAFETY + _dot_row(group_radius, g, qb)
         work[g] = b
         if b > topb:
             topb = b
@@ -487,15 +495,6 @@ def _block_spectral_norms(W: np.ndarray, starts: np.ndarray) -> np.ndarray:
         gram = np.einsum("nir,njr->nij", blk, blk)
         out[:, b] = np.sqrt(np.maximum(np.linalg.eigvalsh(gram)[:, -1], 0.0))
     return out
-
-
-@njit(cache=True)
-def _dot_row(a, row, b):
-    """sum_i a[row, i] b[i] of non-negative terms (any summation order: SAFETY covers it)."""
-    s = 0.0
-    for i in range(b.shape[0]):
-        s += a[row, i] * b[i]
-    return s
 
 
 @njit(cache=True)

@@ -107,8 +107,9 @@ def test_monitor_refuses_a_mismatched_search(setup):
 
 @pytest.mark.slow
 def test_recorded_maximum_is_the_exhaustive_maximum_over_a_real_run(paper_reduced_cage, tmp_path):
-    """The paper cage spinning at 14,000 rpm under 55 kN / 4 kN with a 1 ms, 50 kN impact, run by
-    coupling.run for 3 ms (30 samples of 0.1 ms), every accepted step traced by the monitor: for
+    """The paper's steady scene (flexible cage, 14,000 rpm, 55 kN / 4 kN) cut to 3 ms with a 1 ms,
+    50 kN impact, run by coupling.run (30 samples of 0.1 ms), every accepted step traced by the
+    monitor: for
     each sample interval the recorded maximum, its time and vertex and the step count equal those
     of brute force (fem_cage.von_mises.brute_force_max_sq, every node, the same node kernel) over
     the traced steps of that interval, bitwise; the peak's full modal coordinates give the same
@@ -117,25 +118,12 @@ def test_recorded_maximum_is_the_exhaustive_maximum_over_a_real_run(paper_reduce
     from coupling import flexible_cage as fc
     from coupling.run import run_scene
     from coupling.scene import loads_scene
-    scene = loads_scene("""
-name = "short_flexible_peak"
-[cage]
-model = "flexible"
-[operation]
-duration = 0.003
-[operation.speed]
-phases = [{ kind = "uniform", duration = 0.003, rpm = 14000 }]
-[operation.load]
-axial_load = 55e3
-radial_load = 4e3
-[[operation.load.impacts]]
-t_center = 0.0015
-duration = 0.001
-magnitude = 50e3
-[output]
-sample_interval = 1e-4
-record = ["von_mises"]
-""", "short_flexible_peak.toml")
+    from pathlib import Path
+    # the paper's steady scene cut to 3 ms, with a 1 ms, 50 kN impact in the middle
+    path = Path(__file__).resolve().parents[1] / "scenes" / "paper_steady.toml"
+    scene = loads_scene(path.read_text().replace("duration = 0.6", "duration = 0.003")
+                        + "\n[[operation.load.impacts]]\nt_center = 0.0015\nduration = 0.001\n"
+                        "magnitude = 50e3\n", str(path))
     made = []
     monitor = fc.StressRecovery.monitor
 
@@ -168,3 +156,33 @@ record = ["von_mises"]
         sig = np.einsum("nsm,m->ns", S, o["cage_modal_coordinates_full"][k])
         vm = np.sqrt((np.einsum("rs,ns->nr", L_VM, sig) ** 2).sum(axis=1))
         assert vm.max() == pytest.approx(o["von_mises_max"][k], rel=1e-12)
+
+
+def test_stress_recovery_load_space_round_trip():
+    """coupling.flexible_cage.StressRecovery on a synthetic reduced cage: the load-space vector
+    y = (Omega^2, q_kept, node loads) the monitor builds maps back to the same full modal
+    coordinates as the direct formula (full_coordinates_of vs full_coordinates, exact up to the
+    square root of Omega^2: 1e-15), and the search's maximum on y equals the textbook evaluation
+    of S q_full over every vertex (__call__, numpy) at the same vertex (1e-12: summation order)."""
+    from types import SimpleNamespace
+    from coupling.flexible_cage import StressRecovery
+    rng = np.random.default_rng(11)
+    Z, m, n = 4, 30, 500
+    S = rng.normal(size=(n, 6, m)) * 1e8
+    S[:, :, :6] = 0.0
+    omega = np.r_[np.zeros(6), np.sort(rng.uniform(3e3, 3e5, m - 6))]
+    Sx = np.zeros((3, 3, m))
+    Sx[1, 1], Sx[2, 2] = rng.normal(size=m) * 1e-3, rng.normal(size=m) * 1e-3
+    rc = SimpleNamespace(stress_modes=S, omega=omega, n_modes=m, invariants={"Sx": Sx},
+                         interface_modes=rng.normal(size=(Z, 6, m)),
+                         guide_modal_loads=rng.normal(size=(m, 3)), vertices=rng.normal(size=(n, 3)))
+    rec = StressRecovery(rc, 14)
+    q_kept, spin = rng.normal(size=8) * 1e-6, 700.0
+    node_load = rng.normal(size=(Z + 1, 6)) * 50.0
+    node_load[Z, 3:] = 0.0                        # the land row carries force y, z and torque x
+    qf = rec.full_coordinates(q_kept, node_load, spin)
+    y = rec.load_vector(q_kept, node_load, spin)
+    np.testing.assert_allclose(rec.full_coordinates_of(y), qf, rtol=1e-15, atol=0)
+    vm, vertex = rec(qf)
+    v2, row = rec.search.row(y)
+    assert np.sqrt(v2) == pytest.approx(vm, rel=1e-12) and rec.vertex(row) == vertex
