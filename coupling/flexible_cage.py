@@ -155,26 +155,29 @@ class StressRecovery:
 
     F_nodes the pocket-node loads (body frame), L the guide-land force y, z and torque x (body
     frame) with G its modal loads (load_point_modes), Omega_x the cage's spin, Q_cf the
-    centrifugal modal load. The stress field is sigma = S·q_full (stress modes of the full basis) and its
-    maximum von Mises value over the nodes comes from the exact bounded search of
-    fem_cage.von_mises.MaxVonMises (no node can be missed).
+    centrifugal modal load. The stress field is sigma = S·q_full (stress modes of the full basis).
 
-    `monitor(cage_offset, modes_offset)` gives the same evaluation as a compiled peak-hold the
-    integrator runs after every accepted step (multibody.stress_peak).
+    The run evaluates it in load space, sigma_n = W_n·y with y = (Omega_x², q_kept, F_nodes and L)
+    (fem_cage.von_mises.load_space_stress, built here once: ~2 s on the 4 mm paper cage), by the
+    exact tracking search fem_cage.von_mises.TrackingMaxVonMises inside a compiled peak-hold the
+    integrator runs after every accepted step (`monitor`, multibody.stress_peak). `__call__`
+    evaluates a full modal vector directly (numpy, every vertex: the textbook formula, an
+    independent path for the first sample of a run and for checks).
     """
 
     def __init__(self, rc, n_keep: int):
-        from fem_cage.von_mises import MaxVonMises
+        from fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress
         self.rc = rc
         self.n_keep = int(n_keep)
         self.omega = np.asarray(rc.omega, dtype=float)
         self.q_cf = centrifugal_generalised_force(rc.invariants["Sx"])
-        # group nodes by their stress per typical modal amplitude (1/omega; rigid modes carry none)
-        scale = np.zeros_like(self.omega)
-        scale[N_RIGID:] = 1.0 / np.maximum(self.omega[N_RIGID:], 1e-30)
-        self.evaluator = MaxVonMises(rc.stress_modes, mode_scale=scale)
         self.M = rc.n_modes
         self.load_modes = load_point_modes(rc)     # pockets + the guide surface (row Z)
+        self.n_elastic = self.n_keep - N_RIGID
+        W = load_space_stress(rc.stress_modes, self.omega, self.load_modes, self.q_cf, self.n_keep)
+        tracked, loads = load_space_blocks(self.n_elastic, self.load_modes.shape[0])
+        self.search = TrackingMaxVonMises(W, 1 + self.n_elastic, tracked, loads,
+                                          coords=rc.vertices)
 
     def full_coordinates(self, q_kept, node_load, spin) -> np.ndarray:
         from fem_cage.reduced_cage import static_correction
@@ -187,17 +190,34 @@ class StressRecovery:
                            + spin ** 2 * self.q_cf[self.n_keep:] / w2)
         return q
 
+    def load_vector(self, q_kept, node_load, spin) -> np.ndarray:
+        """y = (Omega_x², q_kept, node loads) of the load-space form (what the monitor builds)."""
+        nl = np.zeros((self.load_modes.shape[0], 6))
+        nl[:len(node_load)] = node_load
+        return np.concatenate([[spin * spin], np.asarray(q_kept, dtype=float)[:self.n_elastic],
+                               nl.ravel()])
+
+    def full_coordinates_of(self, y) -> np.ndarray:
+        """The full modal coordinates of a load-space vector y (inverse of load_vector)."""
+        e = self.n_elastic
+        return self.full_coordinates(y[1:1 + e], y[1 + e:].reshape(-1, 6), np.sqrt(max(y[0], 0.0)))
+
     def __call__(self, q_full) -> tuple[float, int]:
-        return self.evaluator(q_full)
+        """(max von Mises Pa, vertex) of the full modal vector q_full: sigma = S·q_full at every
+        vertex, von Mises by the textbook formula (numpy)."""
+        from fem_cage.stress_modes import von_mises
+        vm = von_mises(np.einsum("nsm,m->ns", self.rc.stress_modes, q_full))
+        k = int(np.argmax(vm))
+        return float(vm[k]), k
 
     def vertex(self, row: int) -> int:
-        """Mesh vertex of an evaluator row (what the compiled monitor returns)."""
-        return int(self.evaluator.node_ids[row])
+        """Mesh vertex of a search row (what the compiled monitor returns)."""
+        return int(self.search.node_ids[row])
 
-    def monitor(self, cage_offset: int, modes_offset: int) -> tuple:
+    def monitor(self, cage_offset: int, modes_offset: int, trace: int = 0) -> tuple:
         from multibody.stress_peak import new_monitor
-        return new_monitor(self.evaluator, self.load_modes, self.omega, self.q_cf,
-                           self.n_keep, cage_offset, modes_offset, self.n_keep - N_RIGID)
+        return new_monitor(self.search.arrays, self.load_modes.shape[0], cage_offset,
+                           modes_offset, self.n_elastic, trace)
 
 
 def backend(scene):
@@ -270,8 +290,9 @@ def backend(scene):
                 vm, node = stress(qf)
                 t_peak, n_eval = t, 1
             else:
-                vm, row, t_peak, n_eval, qf = pk
+                vm, row, t_peak, n_eval, y_pk = pk
                 node = stress.vertex(row)
+                qf = stress.full_coordinates_of(y_pk)
             stress_peak.reset(mon)
             out["von_mises_max"] = float(vm)
             out["von_mises_max_vertex"] = int(node)
