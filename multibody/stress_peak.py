@@ -11,7 +11,7 @@ the discarded ones, q_k = (Phi_b,k^T F_nodes + Omega_x^2 Q_cf,k)/omega_k^2 (mode
 residual flexibility, Craig & Kurdila, "Fundamentals of Structural Dynamics", 2006, §14.3; the
 same coordinates as fem_cage.reduced_cage.static_correction and coupling.flexible_cage.
 StressRecovery), written in load space (fem_cage.von_mises.load_space_stress). F_nodes: the node
-loads the right-hand side wrote into the cage tuple (cage[19]: the Z pocket nodes and, as load
+loads the right-hand side wrote into the cage arrays (cage.node_load: the Z pocket nodes and, as load
 point Z, the guide-surface land load) when it evaluated the FSAL stage at exactly this state;
 Omega_x the cage's spin about its own axis (body frame). The maximum von Mises value over every
 node of the mesh comes from the exact tracking search fem_cage.von_mises.tracking_max_sq
@@ -59,13 +59,13 @@ def stress_peak_step(t, y, cage, mon):
     c0 = idx[0]
     m0 = idx[1]
     n_el = idx[2]
-    R = cage[17]
+    R = cage.A
     cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], R)
     cage_body_angular_velocity(R, y, c0, w)
     yv[0] = w[0] * w[0]
     for k in range(n_el):
         yv[1 + k] = y[m0 + k]
-    node_load = cage[19]
+    node_load = cage.node_load
     o = 1 + n_el
     for j in range(idx[3]):
         for i in range(6):

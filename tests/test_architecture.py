@@ -132,3 +132,20 @@ def test_no_library_imports_a_command_module():
     is_cli = lambda m: m.startswith("coupling.cli")            # noqa: E731
     back = sorted(f"{m} -> {t}" for m, ts in graph.items() if not is_cli(m) for t in ts if is_cli(t))
     assert back == [], "libraries that import a command module:\n" + "\n".join(back)
+
+
+def test_the_cage_arrays_are_read_by_name():
+    """Model.cage is a multibody.floating_frame.CageArrays named tuple: no module indexes it by
+    position (`cage[17]`, `model.cage[19]`), which silently reads the wrong array when a field is
+    added. The state slice called `cage` in multibody.outputs (y[cage block], 12 numbers) is the
+    one `cage[...]` subscript allowed, and only with slices or that module's state offsets."""
+    import re
+    bare = re.compile(r"\bcage\[\s*\d+\s*\]")
+    found = []
+    for name, path in modules().items():
+        if name == "multibody.outputs":
+            continue
+        for i, line in enumerate(path.read_text().splitlines(), 1):
+            if bare.search(line):
+                found.append(f"{name}:{i}: {line.strip()}")
+    assert found == [], "cage arrays read by position:\n" + "\n".join(found)

@@ -40,8 +40,7 @@ def setup():
                              loads, coords=rng.normal(size=(NV, 3)))
     # the state: cage block at 0 (12), modes at 12 (2·(N_KEEP-6)); trace the first 10 steps
     mon = sp.new_monitor(ev.arrays, P, 0, 12, n_el, trace=10)
-    cage = tuple([np.zeros(1)] * 17 + [np.eye(3), np.zeros((8, 3)), np.zeros((P, 6)),
-                                           np.zeros((3, N_KEEP - 6))])
+    cage = _cage_arrays(P, N_KEEP - 6)
     return S, omega, phi_b, q_cf, mon, cage, rng, n_el, ev
 
 
@@ -67,8 +66,8 @@ def test_monitor_equals_brute_force_and_holds_the_peak(setup):
     values = []
     for i, t in enumerate((1e-4, 2e-4, 3e-4, 4e-4)):
         y = _state(rng, n_el, 1500.0 + 100 * i)
-        cage[19][:] = rng.normal(size=(P, 6)) * 100.0
-        ref, node, q = _reference(S, omega, phi_b, q_cf, y, cage[19], y[9], n_el)
+        cage.node_load[:] = rng.normal(size=(P, 6)) * 100.0
+        ref, node, q = _reference(S, omega, phi_b, q_cf, y, cage.node_load, y[9], n_el)
         sp.reset(mon)
         sp.stress_peak_step(t, y, cage, mon)
         vm, row, t_pk, n_eval, y_pk = sp.peak(mon)
@@ -76,13 +75,13 @@ def test_monitor_equals_brute_force_and_holds_the_peak(setup):
         assert int(ev.node_ids[row]) == node
         assert t_pk == t and n_eval == 1
         # the kept load-space vector: (Omega^2, q_kept, node loads)
-        np.testing.assert_array_equal(y_pk, np.r_[y[9] ** 2, y[12:12 + n_el], cage[19].ravel()])
-        values.append((ref, t, y.copy(), cage[19].copy()))
+        np.testing.assert_array_equal(y_pk, np.r_[y[9] ** 2, y[12:12 + n_el], cage.node_load.ravel()])
+        values.append((ref, t, y.copy(), cage.node_load.copy()))
     # peak-hold over the four states
     sp.reset(mon)
     assert sp.peak(mon) is None
     for ref, t, y, nl in values:
-        cage[19][:] = nl
+        cage.node_load[:] = nl
         sp.stress_peak_step(t, y, cage, mon)
     vm, row, t_pk, n_eval, _ = sp.peak(mon)
     best = max(values, key=lambda v: v[0])
@@ -91,10 +90,18 @@ def test_monitor_equals_brute_force_and_holds_the_peak(setup):
     assert len(t_tr) == 8 and t_tr[-1] == values[-1][1]
 
 
+def _cage_arrays(n_nodes, n_modes):
+    """The monitor reads only the rotation A, the scratch rows and node_load of the cage arrays."""
+    from multibody.floating_frame import CageArrays
+    fields = dict.fromkeys(CageArrays._fields, np.zeros(1))
+    fields.update(A=np.eye(3), scratch=np.zeros((8, 3)), node_load=np.zeros((n_nodes, 6)),
+                  land_modes=np.zeros((3, n_modes)))
+    return CageArrays(**fields)
+
+
 def test_disabled_monitor_does_nothing():
     mon = sp.disabled_monitor()
-    cage = tuple([np.zeros(1)] * 17 + [np.eye(3), np.zeros((8, 3)), np.zeros((1, 6)),
-                                           np.zeros((3, 0))])
+    cage = _cage_arrays(1, 0)
     sp.stress_peak_step(0.1, np.zeros(12), cage, mon)
     assert sp.peak(mon) is None
 
