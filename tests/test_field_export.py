@@ -364,29 +364,10 @@ def test_series_size_is_capped(tmp_path, monkeypatch):
 
 # ---------------------------------------------------------------- the real thing (slow)
 
-SHORT_FLEXIBLE = """
-name = "short_flexible_series"
-[cage]
-model = "flexible"
-[operation]
-duration = 0.003
-[operation.speed]
-phases = [{ kind = "uniform", duration = 0.003, rpm = 14000 }]
-[operation.load]
-axial_load = 55e3
-radial_load = 4e3
-[[operation.load.impacts]]
-t_center = 0.0015
-duration = 0.001
-magnitude = 50e3
-[output]
-sample_interval = 1e-4
-record = ["pocket_force", "cage_speed", "von_mises", "kinematics", "cage_orbit"]
-"""
 
 
 @pytest.mark.slow
-def test_report_series_of_a_real_flexible_run(paper_reduced_cage, tmp_path):
+def test_report_series_of_a_real_flexible_run(paper_reduced_cage, short_flexible_impact, tmp_path):
     """A 3 ms run of the paper bearing with the flexible cage (default reduced cage) through a
     50 kN impact, then `flexbearing report --series 0:0.003`. Read back with meshio: tetra10 cells
     holding every node, each frame's von Mises maximum = the run's von_mises_max of that sample
@@ -398,9 +379,9 @@ def test_report_series_of_a_real_flexible_run(paper_reduced_cage, tmp_path):
 
     from coupling.cli import main
     from coupling.run import run_scene
-    from coupling.scene import loads_scene
     run = tmp_path / "run.h5"
-    run_scene(loads_scene(SHORT_FLEXIBLE, "short_flexible_series.toml"), run, quiet=True)
+    record = ["pocket_force", "cage_speed", "von_mises", "kinematics", "cage_orbit"]
+    run_scene(short_flexible_impact("short_flexible_series", record), run, quiet=True)
     out = tmp_path / "report"
     assert main(["report", str(run), "-o", str(out), "--series", "0:0.003", "--quiet"]) == 0
     with h5py.File(run, "r") as f:

@@ -182,7 +182,7 @@ checkpoint_every = 5
     assert_same_results(tmp_path / "a.h5", tmp_path / "b.h5")
 
 
-def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage):
+def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage, short_flexible_impact):
     """Issue 5: the recorded max von Mises of a sample interval is the maximum over every accepted
     integrator step of that interval (multibody.stress_peak), not the value at the sampling
     instant. Through a 50 kN impact, for each 0.1 ms interval: the monitor evaluated exactly the
@@ -193,27 +193,8 @@ def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage)
     full stress field (numpy, every vertex). Somewhere in the impact the per-step peak must exceed
     the sampled value, or the test would not tell the two apart."""
     from coupling.flexible_cage import backend as flexible_backend
-    from coupling.scene import loads_scene
     from fem_cage.von_mises import L_VM
-    scene = loads_scene("""
-name = "short_flexible_peak"
-[cage]
-model = "flexible"
-[operation]
-duration = 0.003
-[operation.speed]
-phases = [{ kind = "uniform", duration = 0.003, rpm = 14000 }]
-[operation.load]
-axial_load = 55e3
-radial_load = 4e3
-[[operation.load.impacts]]
-t_center = 0.0015
-duration = 0.001
-magnitude = 50e3
-[output]
-sample_interval = 1e-4
-record = ["von_mises"]
-""", "short_flexible_peak.toml")
+    scene = short_flexible_impact("short_flexible_peak", ["von_mises"])
     be = flexible_backend(scene)
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))
     Fa, Fr = scene.initial_loads()
