@@ -35,6 +35,7 @@ import numpy as np
 
 from coupling.progress import RunProgress
 from coupling.results import ResultsWriter, write_summary
+from common.file_lock import exclusive_file
 from common.validation import InputError
 from multibody import output_registry as R
 from multibody.profiles import load_at, speed_at
@@ -83,14 +84,26 @@ def _accepted_kwargs(func, available: dict) -> dict:
 
 
 def _prepare_output(out_path: Path, resume: bool, force: bool) -> str:
-    """'new' or 'resume'; refuse to overwrite an existing file unless forced."""
+    """'new' or 'resume'; refuse to overwrite an existing file unless forced. Touches no file
+    (the folder is created if missing)."""
+    if resume and force:
+        raise InputError("--resume and --force exclude each other: --resume continues the run in the "
+                         "file, --force starts it again from t = 0 (overwriting it); give one")
     if out_path.suffix not in (".h5", ".hdf5"):
         raise InputError(f"-o {out_path}: the results file must end in .h5 or .hdf5")
+    if out_path.is_dir():
+        raise InputError(f"-o {out_path} is a directory: give a results file name (e.g. {out_path / 'run.h5'})")
     if resume and out_path.exists():
         return "resume"
     if out_path.exists() and not force:
         raise InputError(f"{out_path} exists: pass --resume to continue that run or --force to overwrite it")
-    out_path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        blocker = next((q for q in (out_path.parent, *out_path.parent.parents) if q.exists()), None)
+        why = f"{blocker} is a file, not a folder" if blocker and not blocker.is_dir() else exc.strerror
+        raise InputError(f"-o {out_path}: its folder {out_path.parent} cannot be created ({why}); "
+                         f"choose a file in a writable folder") from None
     return "new"
 
 
@@ -100,10 +113,20 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
 
     resume: continue the run in `out_path` from its last checkpoint (start afresh if the file does
     not exist). On Ctrl-C or an error the file keeps every sample computed so far and a checkpoint
-    at the last one, and RunInterrupted is raised.
+    at the last one, and RunInterrupted is raised. The file is claimed (common.file_lock) before it
+    is touched: a file another process is writing is refused (InputError) and left as it is.
     """
     out_path = Path(out_path)
     mode = _prepare_output(out_path, resume, force)
+    with exclusive_file(out_path):
+        try:
+            return _run_claimed(scene, out_path, mode, quiet, backend)
+        except KeyboardInterrupt as exc:       # Ctrl-C during the setup, before the first step
+            raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed", 0.0, str(out_path), exc) from None
+
+
+def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend) -> dict:
+    """run_scene once the output file is claimed."""
     wall_start = time.perf_counter()
     if backend is None:
         backend = default_backend(scene)

@@ -1,0 +1,314 @@
+"""A user's mistake gives one clear line and a non-zero exit code, never a traceback, and no run
+damages a file: the defects of issue 22 (item 2), each reproduced on the code before its fix.
+
+The runs use the fake physics backend of tests/test_run.py (streaming and files are what is
+tested); the command line is driven through coupling.cli.main, which is what `flexbearing` calls.
+"""
+import hashlib
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import pytest
+
+from common.validation import InputError
+from coupling import cli
+from coupling.results import read_checkpoint
+from coupling.run import RunInterrupted, run_scene
+from coupling.scene import load_scene, loads_scene
+from test_run import SCENE, fake_backend, fake_scene
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+
+TINY = """
+name = "tiny"
+[operation]
+duration = 0.0002
+[operation.speed]
+phases = [{kind = "uniform", duration = 0.0002, rpm = 10000}]
+[operation.load]
+axial_load = 55e3
+[output]
+sample_interval = 1e-4
+record = ["cage_speed"]
+"""
+
+
+def run_cli(argv, capsys):
+    """(exit code, stderr) of `flexbearing argv`; a traceback would escape as an exception here."""
+    code = cli.main([str(a) for a in argv])
+    err = capsys.readouterr().err
+    return code, err
+
+
+def one_line(err: str) -> str:
+    lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+@pytest.fixture
+def tiny(tmp_path):
+    p = tmp_path / "tiny.toml"
+    p.write_text(TINY)
+    return p
+
+
+def digest(path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+# ---------------------------------------------------------------- the results file's lock
+
+def test_second_force_run_refuses_a_file_another_process_writes(tmp_path, capsys):
+    """Before: the second `run --force` truncated the file (0 bytes) and both runs died. Now it is
+    refused before it touches the file, and the first run finishes a complete, valid file."""
+    out = tmp_path / "run.h5"
+    scene_file = tmp_path / "fake.toml"
+    scene_file.write_text(SCENE)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(ROOT)]))
+    first = subprocess.Popen([sys.executable, str(HERE / "test_run.py"), str(out)], stdout=subprocess.PIPE,
+                             text=True, env=env)
+    try:
+        for line in first.stdout:                    # the first run is writing (a checkpoint is on disk)
+            if line.startswith("CHECKPOINT") and int(line.split()[1]) >= 14:
+                break
+        else:
+            pytest.fail(f"the first run ended early (rc {first.wait()})")
+        size = out.stat().st_size
+        assert size > 0
+        # the library refuses ...
+        with pytest.raises(InputError, match="being written by another flexbearing process"):
+            run_scene(fake_scene(), out, force=True, quiet=True, backend=fake_backend())
+        assert out.stat().st_size >= size            # not truncated (the first run may have grown it)
+        # ... and so does the command line, with one line and exit code 2
+        code, err = run_cli(["run", scene_file, "-o", out, "--force"], capsys)
+        assert code == 2 and "being written by another flexbearing process" in one_line(err)
+        code, err = run_cli(["run", scene_file, "-o", out, "--resume"], capsys)
+        assert code == 2 and "being written by another flexbearing process" in one_line(err)
+        assert first.wait(timeout=120) == 0          # the first run was not disturbed
+    finally:
+        if first.poll() is None:
+            first.kill()
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"] == "complete"
+        assert f["outputs/time"].shape[0] == fake_scene().n_samples
+        assert read_checkpoint(f)["n_samples"] == fake_scene().n_samples
+
+
+def test_lock_is_released_after_a_run_and_a_failed_setup_leaves_no_empty_file(tmp_path):
+    out = tmp_path / "run.h5"
+    run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
+    run_scene(fake_scene(), out, force=True, quiet=True, backend=fake_backend())   # the claim was released
+
+    def broken(*a, **k):
+        raise RuntimeError("model cannot be built")
+    fresh = tmp_path / "fresh.h5"
+    with pytest.raises(RuntimeError):
+        run_scene(fake_scene(), fresh, quiet=True, backend=fake_backend(build_model=broken))
+    assert not fresh.exists()
+
+
+# ---------------------------------------------------------------- the scene's name
+
+@pytest.mark.parametrize("name", ["../x", "a/b", "/tmp/evil", "..", "a\\b", "x\ny", " "])
+def test_scene_name_cannot_leave_the_output_folder(name):
+    """Before: name = "../x" wrote out/../x.h5 (and an absolute name anywhere)."""
+    text = TINY.replace('name = "tiny"', f"name = {json.dumps(name)}")   # a TOML basic string
+    with pytest.raises(InputError, match="name"):
+        loads_scene(text, "s.toml")
+
+
+def test_plain_scene_names_are_accepted():
+    for name in ("paper_steady", "case 1", "run-2.b", "café"):
+        assert loads_scene(TINY.replace('"tiny"', f'"{name}"')).name == name
+
+
+# ---------------------------------------------------------------- one line instead of a traceback
+
+@pytest.mark.parametrize("content", [b'name = "caf\xe9"\n', bytes(range(256)) * 4],
+                         ids=["latin-1", "binary"])
+def test_scene_file_that_is_not_utf8(tmp_path, capsys, content):
+    """Before: UnicodeDecodeError traceback, exit 1."""
+    p = tmp_path / "s.toml"
+    p.write_bytes(content)
+    code, err = run_cli(["run", p, "-o", tmp_path / "r.h5"], capsys)
+    assert code == 2 and "is not UTF-8 text" in one_line(err) and str(p) in err
+
+
+@pytest.mark.parametrize("content", [b"", b"hello\n", b"\x89HDF\r\n\x1a\n" + b"\0" * 50,
+                                     bytes(range(256)) * 20], ids=["zero-byte", "text", "truncated", "garbage"])
+def test_resume_of_a_file_that_is_not_a_results_file(tmp_path, capsys, tiny, content):
+    """Before: OSError traceback (text, garbage, truncated), and h5py rewrote a zero-byte file into an
+    800-byte HDF5 file before refusing it. Now: one line, exit 2, the file byte for byte unchanged."""
+    out = tmp_path / "r.h5"
+    out.write_bytes(content)
+    code, err = run_cli(["run", tiny, "-o", out, "--resume"], capsys)
+    line = one_line(err)
+    assert code == 2 and str(out) in line and "cannot be resumed" in line
+    assert out.read_bytes() == content
+
+
+def test_truncated_results_file(tmp_path, capsys, tiny):
+    """A real results file cut in half (a full disk, a copy stopped): refused, untouched."""
+    out = tmp_path / "r.h5"
+    run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
+    data = out.read_bytes()[: out.stat().st_size // 2]
+    out.write_bytes(data)
+    code, err = run_cli(["run", tiny, "-o", out, "--resume"], capsys)
+    assert code == 2 and "cannot be resumed" in one_line(err)
+    assert out.read_bytes() == data
+
+
+def test_output_paths_that_cannot_be_written(tmp_path, capsys, tiny):
+    """Before: FileExistsError / FileNotFoundError / IsADirectoryError tracebacks."""
+    a_file = tmp_path / "plain.txt"
+    a_file.write_text("x")
+    code, err = run_cli(["run", tiny, "-o", a_file / "sub" / "r.h5"], capsys)
+    assert code == 2 and f"{a_file} is a file, not a folder" in one_line(err)
+    code, err = run_cli(["run", tiny, "-o", "/proc/flexbearing_test.h5"], capsys)
+    assert code == 2 and "/proc/flexbearing_test.h5 cannot be written" in one_line(err)
+    folder = tmp_path / "folder.h5"
+    folder.mkdir()
+    code, err = run_cli(["run", tiny, "-o", folder, "--force"], capsys)
+    assert code == 2 and "is a directory" in one_line(err)
+    assert folder.is_dir()
+
+
+def test_read_only_folder(tmp_path, capsys, tiny):
+    """A folder the user may not write to (as root, whom permissions do not stop: sysfs, which
+    refuses new files to everyone)."""
+    if os.geteuid() == 0:
+        target = Path("/sys/flexbearing_test.h5")
+    else:
+        ro = tmp_path / "ro"
+        ro.mkdir()
+        ro.chmod(0o555)
+        target = ro / "r.h5"
+    code, err = run_cli(["run", tiny, "-o", target], capsys)
+    assert code == 2 and f"{target} cannot be written: Permission denied" in one_line(err)
+    assert not target.exists()
+
+
+def test_ctrl_c_during_setup(tmp_path, capsys, tiny, monkeypatch):
+    """Before: a KeyboardInterrupt traceback from the model build. Now: one line and exit 130
+    (the run's own Ctrl-C code), no empty file left."""
+    import coupling.run
+
+    def interrupted(scene):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(coupling.run, "default_backend", interrupted)
+    out = tmp_path / "r.h5"
+    code, err = run_cli(["run", tiny, "-o", out], capsys)
+    assert code == 130 and "interrupted during setup" in err and "Traceback" not in err
+    assert not out.exists()
+    with pytest.raises(RunInterrupted, match="during setup"):
+        run_scene(load_scene(tiny), out, quiet=True)
+
+
+# ---------------------------------------------------------------- the load, --resume/--force, --frames
+
+def test_missing_load_is_refused_and_zero_load_is_explicit():
+    """Before: a scene without [operation.load] ran with zero load without a word."""
+    no_load = TINY.replace("[operation.load]\naxial_load = 55e3\n", "")
+    with pytest.raises(InputError, match="operation.load is missing"):
+        loads_scene(no_load)
+    only_impact = TINY.replace("axial_load = 55e3", "[[operation.load.impacts]]\nt_start = 0.0\n"
+                                                    "duration = 1e-4\nmagnitude = 1e3")
+    with pytest.raises(InputError, match="no static load"):
+        loads_scene(only_impact)
+    zero = loads_scene(TINY.replace("axial_load = 55e3", "axial_load = 0"))
+    assert zero.load_table[:, 1:].max() == 0.0
+
+
+def test_resume_and_force_together_are_refused(tmp_path, capsys, tiny):
+    """Before: accepted silently (and the run restarted from t = 0)."""
+    out = tmp_path / "r.h5"
+    run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
+    before = digest(out)
+    code, err = run_cli(["run", tiny, "-o", out, "--resume", "--force"], capsys)
+    assert code == 2 and "exclude each other" in one_line(err)
+    assert digest(out) == before
+
+
+def test_report_frames_that_are_not_times(tmp_path, capsys):
+    """Before: `report --frames abc` exited 0 having written no von Mises frames."""
+    run = tmp_path / "r.h5"
+    run_scene(fake_scene(), run, quiet=True, backend=fake_backend())
+    out = tmp_path / "rep"
+    code, err = run_cli(["report", run, "-o", out, "--frames", "abc"], capsys)
+    assert code == 2 and "--frames = 'abc'" in one_line(err)
+    assert not out.exists()                            # refused before anything was written
+    code, err = run_cli(["report", run, "-o", out, "--frames", "0.01"], capsys)
+    assert code == 2 and "no flexible-cage field" in one_line(err)
+
+
+# ---------------------------------------------------------------- README and --help
+
+def _readme_commands() -> dict[str, set[str]]:
+    """{command: options} from the first cell of each row of README's "## Commands" table: every
+    `flexbearing <command> ...` in backticks there, the options being the -x / --xyz words."""
+    text = (ROOT / "README.md").read_text()
+    table = text.split("## Commands", 1)[1].split("\n\n", 1)[0]
+    found: dict[str, set[str]] = {}
+    for row in table.splitlines():
+        if not row.startswith("| `flexbearing"):
+            continue
+        first_cell = re.split(r"(?<!\\)\|", row)[1]
+        for usage in re.findall(r"`(flexbearing [^`]+)`", first_cell):
+            words = usage.split()
+            cmd = " ".join(words[1:3]) if words[1] == "validate" else words[1]
+            found.setdefault(cmd, set()).update(re.findall(r"(?<![\w-])(--?[a-z][a-z0-9-]*)", usage))
+    return found
+
+
+def _parser_options() -> dict[str, list[set[str]]]:
+    """{command: [option strings of each of its options]} from the argparse parsers (a nested
+    command such as `validate slip-rate` by its two words)."""
+    import argparse
+    out = {}
+    for name, p in _subparsers(cli.build_parser()).items():
+        nested = [a for a in p._actions if isinstance(a, argparse._SubParsersAction)]
+        for cmd, sp in ([(f"{name} {n}", s) for n, s in nested[0].choices.items()] if nested else [(name, p)]):
+            out[cmd] = [set(a.option_strings) for a in sp._actions
+                        if a.option_strings and not {"-h", "--help"} & set(a.option_strings)]
+    return out
+
+
+def test_readme_and_help_list_the_same_options():
+    """Every option of every command's --help is in README's Commands table (by one of its names,
+    e.g. -o for -o/--output), and README names no option --help does not have (before: run --force,
+    report -o/--settle/..., quasi-static --friction-share/--no-gyroscopic, validate's options and
+    the demo command were missing)."""
+    readme, parser = _readme_commands(), _parser_options()
+    assert sorted(readme) == sorted(parser), "commands in README vs --help"
+    for cmd, actions in parser.items():
+        missing = [sorted(a) for a in actions if not a & readme[cmd]]
+        unknown = sorted(readme[cmd] - set().union(*actions)) if actions else sorted(readme[cmd])
+        assert not missing and not unknown, (cmd, "not in README:", missing, "not in --help:", unknown)
+
+
+def test_every_size_option_is_in_metres(capsys):
+    """Before: `mesh --size` and `modes --size` took mm, `reduce --size` m."""
+    parser = cli.build_parser()
+    for argv in (["mesh", "--size", "4"], ["modes", "--size", "4"], ["reduce", "--size", "4"],
+                 ["calibrate-cage", "--pocket-size", "8"]):
+        with pytest.raises(SystemExit) as e:
+            parser.parse_args(argv)
+        assert e.value.code == 2 and "sizes are in metres" in capsys.readouterr().err
+    for argv in (["mesh", "--size", "4e-3"], ["modes", "--size", "4e-3"], ["reduce", "--size", "4e-3"],
+                 ["calibrate-cage", "--size", "8e-3"]):
+        assert parser.parse_args(argv).size == 4e-3 or parser.parse_args(argv).size == 8e-3
+    help_text = "\n".join(p.format_help() for p in _subparsers(parser).values())
+    sizes = re.findall(r"--(?:pocket-)?size \S+\s+(.*?element size[^,]*, (\w+))", help_text)
+    assert sizes and {unit for _, unit in sizes} == {"m"}
+
+
+def _subparsers(parser) -> dict:
+    import argparse
+    return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
