@@ -117,7 +117,8 @@ def cmd_run(args) -> int:
         summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet)
     except RunInterrupted as exc:
         print(f"flexbearing run: {exc}", file=sys.stderr)
-        print(f"  resume: flexbearing run {args.scene} -o {out} --resume", file=sys.stderr)
+        if exc.resumable:
+            print(f"  resume: flexbearing run {args.scene} -o {out} --resume", file=sys.stderr)
         return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
     print_summary(summary)
     print(f"results: {out}\nsummary: {summary_path(out)}")
@@ -170,8 +171,8 @@ def cmd_validate_slip_rate(args) -> int:
     try:
         rows = run_case_set_slip_rate(case_set, cases, args.out, resume=args.resume, quiet=args.quiet)
     except RunInterrupted as exc:
-        print(f"flexbearing validate: {exc}\n  continue with: flexbearing validate slip-rate "
-              f"--case-set {args.case_set} --cases {args.cases} --resume", file=sys.stderr)
+        print(f"flexbearing validate: {exc}" + (f"\n  continue with: flexbearing validate slip-rate "
+              f"--case-set {args.case_set} --cases {args.cases} --resume" if exc.resumable else ""), file=sys.stderr)
         return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
     return _write_json(print_slip_rate_table(rows), args.json)
 

@@ -53,11 +53,13 @@ def recorded_keys(requested, returned) -> list[str]:
 class RunInterrupted(Exception):
     """The run stopped early (Ctrl-C or an error); the results file holds a checkpoint to resume."""
 
-    def __init__(self, message: str, t: float, path: str, cause: BaseException | None = None):
+    def __init__(self, message: str, t: float, path: str, cause: BaseException | None = None,
+                 resumable: bool = True):
         super().__init__(message)
         self.t = t
         self.path = path
         self.cause = cause
+        self.resumable = resumable          # False: --resume would stop the same way
 
 
 def default_backend(scene) -> SimpleNamespace:
@@ -122,7 +124,8 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
         try:
             return _run_claimed(scene, out_path, mode, quiet, backend)
         except KeyboardInterrupt as exc:       # Ctrl-C during the setup, before the first step
-            raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed", 0.0, str(out_path), exc) from None
+            raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed",
+                                 0.0, str(out_path), exc) from exc
 
 
 def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend) -> dict:
@@ -194,6 +197,8 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend) -> dict
             n_steps, n_rejected, wall_before, k = cp["n_steps"], cp["n_rejected"], cp["wall_time"], cp["n_samples"]
     except BaseException:
         writer.close()
+        if cp is None:                     # nothing computed yet: leave no file that blocks a rerun
+            out_path.unlink(missing_ok=True)
         raise
     setup_time = time.perf_counter() - wall_start
 
@@ -231,9 +236,14 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend) -> dict
         finally:
             writer.close()
         what = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"stopped by {type(exc).__name__}: {exc}"
+        # a failure of the physics (multibody.integrator.SimulationUnstable) comes back from the same
+        # checkpoint the same way: the integrator is deterministic
+        resumable = not getattr(exc, "repeats_on_resume", False)
+        then = ("continue with --resume" if resumable else
+                "resuming would repeat it from the same state: change the scene and start a new run")
         raise RunInterrupted(f"run {what} at t = {last[1]:.6g} s; {out_path} holds {writer.n_written} "
-                             f"samples and a checkpoint (continue with --resume)", last[1], str(out_path),
-                             exc) from exc
+                             f"samples and a checkpoint ({then})", last[1], str(out_path),
+                             exc, resumable) from exc
     progress.close()
     wall = wall_before + time.perf_counter() - loop_start
     writer.set_status("complete")

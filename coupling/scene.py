@@ -40,7 +40,9 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     # ... or a table of (t [s], speed [rpm]) points, piecewise linear, constant after the last:
     # table_rpm = [[0.0, 10000], [0.2, 14000]]
     [operation.load]          # required (no load is axial_load = 0): either constant loads ...
-    axial_load = 55e3         # N, along +x
+    axial_load = 55e3         # N, along +x (up to MAX_LOAD here; the run's setup refuses a load whose
+                              #   equilibrium is deeper than the contacts' limit, 2.3 MN axial for the
+                              #   paper bearing: multibody.initial.check_contact_range)
     radial_load = 4e3         # N, in the y–z plane along radial_direction (default -z)
     radial_direction = [0.0, 0.0, -1.0]   # or radial_azimuth [rad] from +y towards +z
     # ... or points = [{t = 0.0, axial_load = 0, radial_load = 0}, {t = 0.1, ...}] (ramps)

@@ -312,3 +312,66 @@ def test_every_size_option_is_in_metres(capsys):
 def _subparsers(parser) -> dict:
     import argparse
     return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+
+
+# ---------------------------------------------------------------- loads beyond the contacts (item 2 of issue 22)
+
+def test_axial_load_beyond_the_contacts_is_refused_before_the_run(tmp_path, capsys, monkeypatch):
+    """Before: axial_load = 1e7 N (the top of the scene's range) was accepted, failed at t = 1.8e-8 s
+    (ball 0, outer race: approach 498.9 um > 0.01·Dw) and advised --resume, which failed the same
+    way. Cause: the quasi-static equilibrium the run starts from already puts the contacts 2.3x
+    deeper than the dynamics' plausibility limit DELTA_MAX_FRAC·Dw = 220 um (Hertz pressure
+    9.6 GPa). Now the setup refuses the load (exit 2, no file left), naming the contact, the
+    approach and the largest load of that direction the model carries."""
+    import numpy as np
+
+    import multibody.initial as I
+    from multibody import model as M
+    from multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from multibody.dynamics import DELTA_MAX_FRAC
+    from multibody.outputs import evaluate_outputs
+    scene = tmp_path / "big.toml"
+    scene.write_text(TINY.replace("axial_load = 55e3", "axial_load = 1e7"))
+    out = tmp_path / "big.h5"
+    code, err = run_cli(["run", scene, "-o", out], capsys)
+    line = one_line(err)
+    assert code == 2 and "beyond what the model's contacts carry" in line and "--resume" not in line
+    assert not out.exists()
+    limit = float(re.search(r"up to about ([0-9.e+]+) N", line).group(1))
+    assert 2.0e6 < limit < 2.6e6          # the paper bearing: 202 um at 2 MN, 257 um at 3 MN
+    # the limit against another path: the dynamics' own recorded approach (multibody.outputs, not
+    # initial.deepest_contact) at the equilibria of 0.97x and 1.03x that load; the bisection stops
+    # within 1 % and the limit is printed to 3 digits, hence the 3 % margins
+    model = M.build_model(PAPER_BEARING, PAPER_OIL, {})
+    monkeypatch.setattr(I, "check_contact_range", lambda *a, **k: None)
+    w = 10000 * np.pi / 30
+    deepest = []
+    for f in (0.97 * limit, 1.03 * limit):
+        y = I.initial_state(model, w, f, 0.0, load=np.array([f, 0.0, 0.0]))
+        o = evaluate_outputs(model, 0.0, y, np.array([[0.0, w]]), np.array([[0.0, f, 0.0, 0.0]]), np.zeros((0, 6)))
+        deepest.append(float(o["approach"].max()))
+    dmax = DELTA_MAX_FRAC * PAPER_BEARING.ball_diameter
+    assert deepest[0] <= dmax < deepest[1], (deepest, dmax)
+
+
+def test_a_run_the_physics_stops_does_not_advise_resume(tmp_path, capsys):
+    """A SimulationUnstable stop comes back from the checkpoint the same way (the integrator is
+    deterministic): the message says so instead of advising --resume."""
+    from multibody.integrator import SimulationUnstable
+    calls = {"n": 0}
+
+    def unstable(*a, **k):
+        calls["n"] += 1
+        if calls["n"] == 5:
+            raise SimulationUnstable("simulation unstable at t = 1e-3 s: ball 3, outer race: ...", 1e-3, 3,
+                                     "outer race")
+        from test_run import fake_advance
+        return fake_advance(*a, **k)
+    with pytest.raises(RunInterrupted) as exc:
+        run_scene(fake_scene(), tmp_path / "r.h5", quiet=True, backend=fake_backend(advance=unstable))
+    assert not exc.value.resumable and "resuming would repeat it" in str(exc.value)
+    assert "continue with --resume" not in str(exc.value)
+    with pytest.raises(RunInterrupted) as exc:         # Ctrl-C stays resumable
+        run_scene(fake_scene(), tmp_path / "k.h5", quiet=True,
+                  backend=fake_backend(advance=lambda *a, **k: (_ for _ in ()).throw(KeyboardInterrupt())))
+    assert exc.value.resumable and "continue with --resume" in str(exc.value)
