@@ -35,6 +35,7 @@ import numpy as np
 
 from coupling.progress import RunProgress
 from coupling.results import ResultsWriter, write_summary
+from coupling.wall_budget import WallBudget
 from common.file_lock import exclusive_file
 from common.validation import InputError
 from multibody import output_registry as R
@@ -110,25 +111,27 @@ def _prepare_output(out_path: Path, resume: bool, force: bool) -> str:
 
 
 def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet: bool = False,
-              backend=None) -> dict:
+              backend=None, max_wall_time: float | None = None) -> dict:
     """Run `scene` (a validated coupling.scene.Scene), stream results to `out_path`, return the summary.
 
     resume: continue the run in `out_path` from its last checkpoint (start afresh if the file does
     not exist). On Ctrl-C or an error the file keeps every sample computed so far and a checkpoint
-    at the last one, and RunInterrupted is raised. The file is claimed (common.file_lock) before it
+    at the last one, and RunInterrupted is raised. A run predicted to need more than an hour warns
+    (coupling.wall_budget.SlowRunWarning); with `max_wall_time` [s] one predicted to need more stops
+    (RunInterrupted, resumable). The file is claimed (common.file_lock) before it
     is touched: a file another process is writing is refused (InputError) and left as it is.
     """
     out_path = Path(out_path)
     mode = _prepare_output(out_path, resume, force)
     with exclusive_file(out_path):
         try:
-            return _run_claimed(scene, out_path, mode, quiet, backend)
+            return _run_claimed(scene, out_path, mode, quiet, backend, max_wall_time)
         except KeyboardInterrupt as exc:       # Ctrl-C during the setup, before the first step
             raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed",
                                  0.0, str(out_path), exc) from exc
 
 
-def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend) -> dict:
+def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:
     """run_scene once the output file is claimed."""
     wall_start = time.perf_counter()
     if backend is None:
@@ -207,6 +210,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend) -> dict
     every = scene.checkpoint_every
     last = (y.copy(), t, h, n_steps, n_rejected)      # state at the last recorded sample
     progress = RunProgress(scene.duration, t0=t, quiet=quiet, desc=scene.name, n_steps0=n_steps)
+    budget = WallBudget(scene.duration, t0=t, n_steps0=n_steps, name=scene.name, max_wall_time=max_wall_time)
     loop_start = time.perf_counter()
     try:
         while k < n_total:
@@ -227,6 +231,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend) -> dict
             if k % every == 0 or k == n_total:
                 writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start)
             progress.update(t, n_steps)
+            budget.update(t, n_steps)
     except BaseException as exc:
         progress.close()
         status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
