@@ -3,10 +3,12 @@
 A run's cost is set by its step size, which the physics chooses: at 0–100 rpm the steps fall to
 about 1e-8 s (issue 22: a 5 ms run took 457,000–576,000 steps, 82–123 s), and a long scene at
 such speeds would run for hours without a word. The run
-loop calls `WallBudget.update(t, n_steps)` after every sample; once `warn_after` seconds of wall
-time have passed it predicts the total from the simulated-time rate so far,
+loop calls `WallBudget.update(t, n_steps)` after every sample; from the first sample on (whose
+wall time holds the compilation of the kernels), once `warn_after` seconds of wall time have
+passed, it predicts the total from the simulated-time rate since the first sample,
 
-    T_total = W + W·(T − t)/(t − t0)       (W wall time since the start or resume at t0, T the duration)
+    T_total = W + W1·(T − t)/(t − t1)     (W wall time since the start or resume, W1 since the first
+                                          sample at t1, T the duration)
 
 and, the first time T_total exceeds `warn_above` (default one hour), issues a `SlowRunWarning`
 with the prediction, the step rate and the mean step, and how to stop. With `max_wall_time` set,
@@ -47,18 +49,24 @@ class WallBudget:
         self.warn_after = WARN_AFTER_S if warn_after is None else warn_after
         self.wall0 = time.perf_counter()
         self.warned = False
+        self.ref = None                 # (wall, t, steps) at the first sample: the rate is measured from it
         self.predicted = None           # s, the latest prediction of the total wall time
 
     def update(self, t: float, n_steps: int) -> None:
-        wall = time.perf_counter() - self.wall0
-        done = t - self.t0
-        if wall < self.warn_after or done <= 0.0:
+        now = time.perf_counter()
+        if self.ref is None:            # the first sample: its wall time holds the compilation of the
+            self.ref = (now, t, n_steps)    # kernels (tens of s on a busy machine), not a step rate
             return
-        total = wall + wall * (self.duration - t) / done
+        wall0, t_ref, steps_ref = self.ref
+        wall_rate, done = now - wall0, t - t_ref
+        if wall_rate < self.warn_after or done <= 0.0:
+            return
+        wall = now - self.wall0
+        total = wall + wall_rate * (self.duration - t) / done
         self.predicted = total
-        steps = n_steps - self.n_steps0
-        what = (f"{self.name}: {steps:,} steps in {wall:.0f} s of wall time for {done:.3g} s simulated "
-                f"({steps / wall:,.0f} steps/s, mean step {done / max(steps, 1):.2g} s); at this rate the "
+        steps = n_steps - steps_ref
+        what = (f"{self.name}: {steps:,} steps in {wall_rate:.0f} s of wall time for {done:.3g} s simulated "
+                f"({steps / wall_rate:,.0f} steps/s, mean step {done / max(steps, 1):.2g} s); at this rate the "
                 f"run needs about {_hours(total)} in all ({_hours(total - wall)} more) for its "
                 f"{self.duration:g} s")
         if self.max_wall_time is not None and total > self.max_wall_time:

@@ -71,8 +71,8 @@ def check_contact_range(model, speed_rad_s: float, load, qs=None) -> None:
     """InputError if the quasi-static equilibrium under `load` (Fx, Fy, Fz, N) puts a race contact
     deeper than the dynamics' plausibility limit delta_max = DELTA_MAX_FRAC·Dw (multibody.dynamics:
     beyond it the right-hand side stops the run at its first step, and a resume from the same state
-    stops again). The message gives the largest multiple of the load inside the limit, found by
-    bisection on the load factor with the same solver (only on this failure path: ~0.35 s a solve)."""
+    stops again). The message gives the largest multiple of the load inside the limit (within 2 %),
+    found with the same solver (only on this failure path: 2-4 solves of ~0.35 s)."""
     from multibody.dynamics import CONTACT_NAMES, DELTA_MAX_FRAC
     load = np.asarray(load, dtype=float)
     qs = quasi_static(model, speed_rad_s, load) if qs is None else qs
@@ -80,17 +80,17 @@ def check_contact_range(model, speed_rad_s: float, load, qs=None) -> None:
     d, j, c, Q = deepest_contact(model, qs)
     if d <= limit:
         return
-    lo, hi = (limit / d) ** 1.5, 1.0          # Hertz scaling Q ~ delta^1.5: a first inside guess
-    while lo > 1e-6 and deepest_contact(model, quasi_static(model, speed_rad_s, lo * load))[0] > limit:
-        lo *= 0.5
-    for _ in range(6):                          # to within 1 % of the load
-        if hi / lo < 1.01:
-            break
-        mid = math.sqrt(lo * hi)
-        if deepest_contact(model, quasi_static(model, speed_rad_s, mid * load))[0] <= limit:
-            lo = mid
-        else:
-            hi = mid
+    # the largest load factor inside the limit: fixed-point iteration on the Hertz scaling
+    # delta ~ Q^(2/3) ~ s^(2/3) (the contact angle's growth makes it converge in 2-4 solves), aimed at
+    # 0.995 of the limit, keeping the largest factor found inside
+    lo, s_k, d_k = 0.0, 1.0, d
+    for _ in range(8):
+        s_k *= (0.995 * limit / d_k) ** 1.5
+        d_k = deepest_contact(model, quasi_static(model, speed_rad_s, s_k * load))[0]
+        if d_k <= limit:
+            lo = max(lo, s_k)
+            if d_k > 0.985 * limit:
+                break
     f = ", ".join(f"{v + 0.0:.4g}" for v in load)      # + 0.0: no "-0"
     raise InputError(
         f"operation.load = ({f}) N is beyond what the model's contacts carry: in its quasi-static "
