@@ -129,8 +129,9 @@ def cases() -> list[dict]:
         load={"axial_load": 1e3, "radial_load": 0})
     add("skid", "skid_ehl_law_20000rpm_light", rpm=20000, model={"traction_law": "ehl"},
         load={"axial_load": 500, "radial_load": 200})
-    # integrator tolerances 1e-3 ... 1e-9 on the paper's 14,000 rpm case with an impact
-    for tol in (1e-3, 1e-4, 1e-5, 1e-7, 1e-8, 1e-9):
+    # integrator tolerances 1e-3 ... 1e-9 on the paper's 14,000 rpm case with an impact, and the
+    # ends of the scene's range (0.1 and coupling.scene.MIN_TOLERANCE)
+    for tol in (1e-1, 1e-3, 1e-4, 1e-5, 1e-7, 1e-8, 1e-9, 1e-12):
         add("tolerance", f"tol_{tol:g}", rpm=14000, tol=tol, duration=1e-3,
             impacts=[_impact(50e3, 2e-4)])
     # the flexible cage at high spin (the paper's 26-mode reduced cage, from the cache)
