@@ -127,8 +127,9 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
         try:
             return _run_claimed(scene, out_path, mode, quiet, backend, max_wall_time)
         except KeyboardInterrupt as exc:       # Ctrl-C during the setup, before the first step
-            raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed",
-                                 0.0, str(out_path), exc) from exc
+            raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed, "
+                                 "nothing to resume (run it again)", 0.0, str(out_path), exc,
+                                 resumable=False) from exc
 
 
 def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:

@@ -211,6 +211,29 @@ def test_ctrl_c_during_setup(tmp_path, capsys, tiny, monkeypatch):
         run_scene(load_scene(tiny), out, quiet=True)
 
 
+def test_real_ctrl_c_during_setup(tmp_path):
+    """The same with a real SIGINT to a `flexbearing run` process, 1 s after its imports, inside a
+    setup that takes seconds (the model, the quasi-static start and, for this load beyond the
+    contacts, the search of the largest load): exit 130, one line, no traceback, no file."""
+    import signal
+    import time
+    scene = tmp_path / "big.toml"
+    scene.write_text(TINY.replace("axial_load = 55e3", "axial_load = 1e7"))
+    out = tmp_path / "big.h5"
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    code = ("import sys; from coupling import cli; print('READY', flush=True); "
+            f"sys.exit(cli.main(['run', {str(scene)!r}, '-o', {str(out)!r}, '--quiet']))")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, env=env)
+    assert proc.stdout.readline().strip() == "READY"
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "interrupted" in one_line(err)
+    assert not out.exists()
+
+
 # ---------------------------------------------------------------- the load, --resume/--force, --frames
 
 def test_missing_load_is_refused_and_zero_load_is_explicit():
