@@ -324,9 +324,13 @@ def test_every_size_option_is_in_metres(capsys):
         with pytest.raises(SystemExit) as e:
             parser.parse_args(argv)
         assert e.value.code == 2 and "sizes are in metres" in capsys.readouterr().err
-    for argv in (["mesh", "--size", "4e-3"], ["modes", "--size", "4e-3"], ["reduce", "--size", "4e-3"],
-                 ["calibrate-cage", "--size", "8e-3"]):
-        assert parser.parse_args(argv).size == 4e-3 or parser.parse_args(argv).size == 8e-3
+    for cmd in ("mesh", "modes", "reduce", "calibrate-cage"):
+        args = parser.parse_args([cmd, "--size", "4e-3", "--pocket-size", "2e-3"])
+        assert (args.size, args.pocket_size) == (4e-3, 2e-3)
+    from coupling.cli_modes import _level           # mesh-study --levels: metres in, mm to fem_cage.mesh_study
+    with pytest.raises(InputError, match="sizes are in metres"):
+        _level("4,2,2,3")
+    assert _level("4e-3,2e-3,2,3") == (4.0, 2.0, 2, 3)
     help_text = "\n".join(p.format_help() for p in _subparsers(parser).values())
     sizes = re.findall(r"--(?:pocket-)?size \S+\s+(.*?element size[^,]*, (\w+))", help_text)
     assert sizes and {unit for _, unit in sizes} == {"m"}
