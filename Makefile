@@ -3,6 +3,7 @@
 #   make test      the fast test suite
 #   make test-all  every test, the slow verification included
 #   make bench     the benchmarks in benchmarks/ (work–precision, wall times)
+#   make stress    the numerical stability stress test (benchmarks/results/stress_test.{md,json})
 
 SHELL := /bin/bash
 SYSPY := /usr/bin/python3
@@ -19,7 +20,7 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy p
     python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
     calculix-ccx
 
-.PHONY: setup demo test test-all bench clean
+.PHONY: setup demo test test-all bench stress clean
 
 $(VENV)/.apt-stamp:
 	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
@@ -48,6 +49,9 @@ test-all: setup
 
 bench: setup
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
+
+stress: setup
+	nice -n 5 $(PY) benchmarks/stress_test.py
 
 clean:
 	rm -rf $(VENV) out cache *.egg-info

@@ -49,6 +49,13 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"flexbearing {args.command}: invalid input: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:          # Ctrl-C outside a run's own handling (imports, setup, reports)
+        print(f"flexbearing {args.command}: interrupted (Ctrl-C)", file=sys.stderr)
+        return 130
+    except OSError as exc:             # a file the command could not read or write: one line, no traceback
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"flexbearing {args.command}: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

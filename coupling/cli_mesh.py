@@ -44,11 +44,27 @@ def geometry_from_args(args):
     return g.with_(**ch).validate()
 
 
-def add_mesh_arguments(p):
-    p.add_argument("--size", type=float, default=DEFAULT_MESH_SIZE * 1e3,
-                   help=f"global element size, mm (default {DEFAULT_MESH_SIZE * 1e3:g})")
-    p.add_argument("--pocket-size", type=float, default=DEFAULT_POCKET_SIZE * 1e3,
-                   help=f"element size on the pocket walls, mm (default {DEFAULT_POCKET_SIZE * 1e3:g})")
+MAX_ELEMENT_SIZE = 0.05     # m: coarser than the cage's section; a larger number is a size in mm
+
+
+def element_size(text: str) -> float:
+    """argparse type of --size/--pocket-size: an element size in metres, in (0, MAX_ELEMENT_SIZE]."""
+    import argparse
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (an element size in m, e.g. 4e-3)") from None
+    if not 0.0 < v <= MAX_ELEMENT_SIZE:
+        raise argparse.ArgumentTypeError(f"{v:g} m is outside the allowed range (0, {MAX_ELEMENT_SIZE:g}] m; "
+                                         f"sizes are in metres (4 mm = 4e-3)")
+    return v
+
+
+def add_mesh_arguments(p, size: float = DEFAULT_MESH_SIZE, pocket_size: float = DEFAULT_POCKET_SIZE):
+    p.add_argument("--size", type=element_size, default=size,
+                   help=f"global element size, m (default {size:g})")
+    p.add_argument("--pocket-size", type=element_size, default=pocket_size,
+                   help=f"element size on the pocket walls, m (default {pocket_size:g})")
     p.add_argument("--order", type=int, default=DEFAULT_ORDER, choices=(1, 2),
                    help="1 = linear tets, 2 = curved quadratic tets (default)")
 
@@ -95,12 +111,12 @@ def cmd_mesh(args) -> int:
         out = out.with_suffix(".msh")
     t0 = time.perf_counter()
     if MPI.COMM_WORLD.rank == 0:
-        build_cage_mesh(g, args.size * 1e-3, args.order, out, pocket_size=args.pocket_size * 1e-3)
+        build_cage_mesh(g, args.size, args.order, out, pocket_size=args.pocket_size)
     MPI.COMM_WORLD.barrier()
     x = write_mesh_xdmf(out)
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
         print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} mm, "
-              f"pocket size {args.pocket_size:g} mm, order {args.order})")
+              f"pocket size {args.pocket_size:g} m, order {args.order})")
         rep = mesh_quality_of(out)
         print("quality: " + quality_line(rep["quality"], rep["repair"]))
     return 0

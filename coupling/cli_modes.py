@@ -8,7 +8,7 @@ import json
 import time
 from pathlib import Path
 
-from coupling.cli_mesh import add_geometry_arguments, add_mesh_arguments, geometry_from_args
+from coupling.cli_mesh import MAX_ELEMENT_SIZE, add_geometry_arguments, add_mesh_arguments, geometry_from_args
 from mesh.cage_mesh import DEFAULT_DEGREE
 
 
@@ -23,7 +23,7 @@ def mesh_for(args, g) -> Path:
     comm = _comm()
     if getattr(args, "mesh", None):
         return Path(args.mesh)
-    size, ps = args.size * 1e-3, args.pocket_size * 1e-3
+    size, ps = args.size, args.pocket_size
     if comm.rank == 0:
         cached_cage_mesh(g, size, args.order, ps)
     comm.barrier()
@@ -40,7 +40,7 @@ def cmd_modes(args) -> int:
     res, V, vecs = run_modes(g, path, args.degree, args.n_modes, classify=not args.no_classify)
     res["timing_s"]["mesh"] = tm
     res["wall_s"] = time.perf_counter() - t0
-    res["mesh"] = {"file": str(path), "size_m": args.size * 1e-3, "pocket_size_m": args.pocket_size * 1e-3,
+    res["mesh"] = {"file": str(path), "size_m": args.size, "pocket_size_m": args.pocket_size,
                    "order": args.order, "degree": args.degree, "geometry": g.to_dict()}
     labels = [m["label"] for m in res["modes"]] if "modes" in res else None
     if args.xdmf:
@@ -64,15 +64,29 @@ def cmd_modes(args) -> int:
 def cmd_mesh_study(args) -> int:
     from fem_cage.mesh_study import run_mesh_study, DEFAULT_STUDY
     g = geometry_from_args(args)
-    levels = DEFAULT_STUDY if not args.levels else [tuple(float(x) for x in s.split(","))
-                                                    for s in args.levels]
+    levels = DEFAULT_STUDY if not args.levels else [_level(s) for s in args.levels]
     run_mesh_study(g, levels, Path(args.output), n_modes=args.n_modes, quiet=args.quiet)
     return 0
 
 
+def _level(text: str) -> tuple:
+    """--levels SIZE,POCKET,ORDER,DEGREE (sizes in m, as every --size) -> fem_cage.mesh_study's level
+    (sizes in mm)."""
+    from common.validation import InputError
+    try:
+        size, pocket, order, degree = (float(x) for x in text.split(","))
+    except ValueError:
+        raise InputError(f"--levels {text!r}: give SIZE,POCKET,ORDER,DEGREE, sizes in m (e.g. 4e-3,2e-3,2,3)") from None
+    for v in (size, pocket):
+        if not 0.0 < v <= MAX_ELEMENT_SIZE:
+            raise InputError(f"--levels {text!r}: size {v:g} m is outside the allowed range "
+                             f"(0, {MAX_ELEMENT_SIZE:g}] m; sizes are in metres (4 mm = 4e-3)")
+    return (size * 1e3, pocket * 1e3, int(order), int(degree))
+
+
 def cmd_calibrate(args) -> int:
     from fem_cage.calibrate import run_calibration
-    run_calibration(Path(args.output), size=args.size * 1e-3, pocket_size=args.pocket_size * 1e-3,
+    run_calibration(Path(args.output), size=args.size, pocket_size=args.pocket_size,
                     order=args.order, degree=args.degree, params=args.params, quiet=args.quiet,
                     max_evals=args.max_evals)
     return 0
@@ -97,7 +111,7 @@ def register(subparsers) -> None:
                               description="Mesh convergence study of the cage modes.")
     add_geometry_arguments(p)
     p.add_argument("--levels", nargs="+", metavar="SIZE,POCKET,ORDER,DEGREE",
-                   help="mesh levels, sizes in mm (default: the built-in sequence)")
+                   help="mesh levels, sizes in m (default: the built-in sequence)")
     p.add_argument("--n-modes", type=int, default=27)
     p.add_argument("-o", "--output", default="out/mesh-study", help="output folder")
     p.add_argument("--quiet", action="store_true")
@@ -106,9 +120,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("calibrate-cage",
                               help="fit unknown cage geometry to the paper's Table 8 (least squares)",
                               description="Model updating of the cage geometry against Table 8.")
-    p.add_argument("--size", type=float, default=8.0, help="calibration mesh element size, mm (default 8)")
-    p.add_argument("--pocket-size", type=float, default=8.0, help="pocket element size, mm (default 8)")
-    p.add_argument("--order", type=int, default=2, choices=(1, 2))
+    add_mesh_arguments(p, size=8e-3, pocket_size=8e-3)        # the calibration's coarse mesh
     p.add_argument("--degree", type=int, default=3, choices=(1, 2, 3))
     p.add_argument("--params", nargs="+", default=None,
                    help="parameters to fit (default: pocket_diameter chamfer land_width relief_depth)")

@@ -11,14 +11,15 @@ from pathlib import Path
 
 import numpy as np
 
+from coupling.cli_mesh import element_size
 from fem_cage.reduced_cage import DEFAULT_N_KEEP
 
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("reduce", help="build the reduced (Craig–Bampton) cage file, or find it in the cache",
                               description=__doc__.split("\n\n")[0])
-    p.add_argument("--size", type=float, default=None, help="global element size, m (default: mesh default)")
-    p.add_argument("--pocket-size", type=float, default=None, help="element size on the pocket walls, m")
+    p.add_argument("--size", type=element_size, default=None, help="global element size, m (default: mesh default)")
+    p.add_argument("--pocket-size", type=element_size, default=None, help="element size on the pocket walls, m")
     p.add_argument("--order", type=int, default=None, help="geometric mesh order 1|2 (default 2, curved)")
     p.add_argument("--degree", type=int, default=None, help="Lagrange degree of the FE space (default: mesh.cage_mesh.DEFAULT_DEGREE)")
     p.add_argument("--coupling", choices=("rbe2", "rbe3"), default=None,

@@ -1,6 +1,6 @@
 """`flexbearing run` and `flexbearing validate`.
 
-    flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--quiet]
+    flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--max-wall-time S] [--quiet]
     flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--ball-attitude A]
                                    [--transverse-traction on|off] [--shim-angle DEG]
                                    [--radial-clearance M] [--quiet]
@@ -33,6 +33,10 @@ def register(subparsers) -> None:
     p.add_argument("--resume", action="store_true",
                    help="continue the run in the results file from its last checkpoint")
     p.add_argument("--force", action="store_true", help="overwrite an existing results file")
+    p.add_argument("--max-wall-time", type=float, default=None, metavar="S",
+                   help="stop (at a checkpoint, resumable) a run whose step rate predicts more than S "
+                        "seconds of wall time; without it such a run only warns when it predicts more "
+                        "than an hour")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_run)
 
@@ -114,10 +118,12 @@ def cmd_run(args) -> int:
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
     out = Path(args.output) if args.output else Path("out") / f"{scene.name}.h5"
     try:
-        summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet)
+        summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet,
+                            max_wall_time=args.max_wall_time)
     except RunInterrupted as exc:
         print(f"flexbearing run: {exc}", file=sys.stderr)
-        print(f"  resume: flexbearing run {args.scene} -o {out} --resume", file=sys.stderr)
+        if exc.resumable:
+            print(f"  resume: flexbearing run {args.scene} -o {out} --resume", file=sys.stderr)
         return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
     print_summary(summary)
     print(f"results: {out}\nsummary: {summary_path(out)}")
@@ -170,8 +176,8 @@ def cmd_validate_slip_rate(args) -> int:
     try:
         rows = run_case_set_slip_rate(case_set, cases, args.out, resume=args.resume, quiet=args.quiet)
     except RunInterrupted as exc:
-        print(f"flexbearing validate: {exc}\n  continue with: flexbearing validate slip-rate "
-              f"--case-set {args.case_set} --cases {args.cases} --resume", file=sys.stderr)
+        print(f"flexbearing validate: {exc}" + (f"\n  continue with: flexbearing validate slip-rate "
+              f"--case-set {args.case_set} --cases {args.cases} --resume" if exc.resumable else ""), file=sys.stderr)
         return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
     return _write_json(print_slip_rate_table(rows), args.json)
 

@@ -114,6 +114,25 @@ def _markdown_table(columns: list[tuple[str, dict]], keys, increase_from: int | 
     return "\n".join(lines)
 
 
+def _check_frames(path, frames) -> None:
+    """InputError if `frames` (--frames) is not 'auto' or times inside the run, or names times of a
+    run without a flexible cage (whose von Mises field they would select)."""
+    import h5py
+
+    from coupling import field_export
+    from coupling.results import sample_interval
+    if frames is None or (isinstance(frames, str) and frames.strip() == "auto"):
+        return
+    with h5py.File(path, "r") as f:
+        t = f["outputs/time"][...]
+        dt = sample_interval(f, t)
+        flexible = "cage_modal_coordinates_full" in f["outputs"]
+    field_export.parse_frames(frames, t, dt)
+    if not flexible:
+        raise InputError(f"--frames = {frames!r}: {path} has no flexible-cage field (rigid cage, no modal "
+                         f"coordinates); --frames selects von Mises frames of a flexible-cage run")
+
+
 def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
                  quiet: bool = True, settle: float = 0.0, series: str | None = None,
                  displacement_scale: float | None = None) -> dict:
@@ -128,6 +147,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     from coupling import field_export
     path = check_run(run_h5)
     cmp_path = check_run(compare) if compare is not None else None
+    _check_frames(path, frames)                  # a bad --frames stops the report before any file
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))

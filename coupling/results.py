@@ -112,7 +112,16 @@ class ResultsWriter:
         import h5py
 
         from common.validation import InputError
-        f = h5py.File(path, "r+")
+        # checked before HDF5 opens it for writing: h5py's "r+" writes a superblock into an empty file
+        if not h5py.is_hdf5(path):
+            raise InputError(f"--resume: {path} is not an HDF5 results file ({Path(path).stat().st_size} "
+                             f"bytes); it cannot be resumed and was left untouched: start a new run with "
+                             f"--force (overwrites it) or write to another file with -o")
+        try:
+            f = h5py.File(path, "r+")
+        except OSError as exc:
+            raise InputError(f"--resume: {path} is damaged ({exc}); it cannot be resumed and was left "
+                             f"untouched: start a new run with --force or write to another file with -o") from None
         try:
             if f.attrs.get("format") != FORMAT:
                 raise InputError(f"{path} is not a flexbearing results file (format attribute "

@@ -35,6 +35,8 @@ import numpy as np
 
 from coupling.progress import RunProgress
 from coupling.results import ResultsWriter, write_summary
+from coupling.wall_budget import WallBudget
+from common.file_lock import exclusive_file
 from common.validation import InputError
 from multibody import output_registry as R
 from multibody.profiles import load_at, speed_at
@@ -52,11 +54,13 @@ def recorded_keys(requested, returned) -> list[str]:
 class RunInterrupted(Exception):
     """The run stopped early (Ctrl-C or an error); the results file holds a checkpoint to resume."""
 
-    def __init__(self, message: str, t: float, path: str, cause: BaseException | None = None):
+    def __init__(self, message: str, t: float, path: str, cause: BaseException | None = None,
+                 resumable: bool = True):
         super().__init__(message)
         self.t = t
         self.path = path
         self.cause = cause
+        self.resumable = resumable          # False: --resume would stop the same way
 
 
 def default_backend(scene) -> SimpleNamespace:
@@ -83,27 +87,53 @@ def _accepted_kwargs(func, available: dict) -> dict:
 
 
 def _prepare_output(out_path: Path, resume: bool, force: bool) -> str:
-    """'new' or 'resume'; refuse to overwrite an existing file unless forced."""
+    """'new' or 'resume'; refuse to overwrite an existing file unless forced. Touches no file
+    (the folder is created if missing)."""
+    if resume and force:
+        raise InputError("--resume and --force exclude each other: --resume continues the run in the "
+                         "file, --force starts it again from t = 0 (overwriting it); give one")
     if out_path.suffix not in (".h5", ".hdf5"):
         raise InputError(f"-o {out_path}: the results file must end in .h5 or .hdf5")
+    if out_path.is_dir():
+        raise InputError(f"-o {out_path} is a directory: give a results file name (e.g. {out_path / 'run.h5'})")
     if resume and out_path.exists():
         return "resume"
     if out_path.exists() and not force:
         raise InputError(f"{out_path} exists: pass --resume to continue that run or --force to overwrite it")
-    out_path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        blocker = next((q for q in (out_path.parent, *out_path.parent.parents) if q.exists()), None)
+        why = f"{blocker} is a file, not a folder" if blocker and not blocker.is_dir() else exc.strerror
+        raise InputError(f"-o {out_path}: its folder {out_path.parent} cannot be created ({why}); "
+                         f"choose a file in a writable folder") from None
     return "new"
 
 
 def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet: bool = False,
-              backend=None) -> dict:
+              backend=None, max_wall_time: float | None = None) -> dict:
     """Run `scene` (a validated coupling.scene.Scene), stream results to `out_path`, return the summary.
 
     resume: continue the run in `out_path` from its last checkpoint (start afresh if the file does
     not exist). On Ctrl-C or an error the file keeps every sample computed so far and a checkpoint
-    at the last one, and RunInterrupted is raised.
+    at the last one, and RunInterrupted is raised. A run predicted to need more than an hour warns
+    (coupling.wall_budget.SlowRunWarning); with `max_wall_time` [s] one predicted to need more stops
+    (RunInterrupted, resumable). The file is claimed (common.file_lock) before it
+    is touched: a file another process is writing is refused (InputError) and left as it is.
     """
     out_path = Path(out_path)
     mode = _prepare_output(out_path, resume, force)
+    with exclusive_file(out_path):
+        try:
+            return _run_claimed(scene, out_path, mode, quiet, backend, max_wall_time)
+        except KeyboardInterrupt as exc:       # Ctrl-C during the setup, before the first step
+            raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed, "
+                                 "nothing to resume (run it again)", 0.0, str(out_path), exc,
+                                 resumable=False) from exc
+
+
+def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:
+    """run_scene once the output file is claimed."""
     wall_start = time.perf_counter()
     if backend is None:
         backend = default_backend(scene)
@@ -171,6 +201,8 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
             n_steps, n_rejected, wall_before, k = cp["n_steps"], cp["n_rejected"], cp["wall_time"], cp["n_samples"]
     except BaseException:
         writer.close()
+        if cp is None:                     # nothing computed yet: leave no file that blocks a rerun
+            out_path.unlink(missing_ok=True)
         raise
     setup_time = time.perf_counter() - wall_start
 
@@ -179,6 +211,7 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     every = scene.checkpoint_every
     last = (y.copy(), t, h, n_steps, n_rejected)      # state at the last recorded sample
     progress = RunProgress(scene.duration, t0=t, quiet=quiet, desc=scene.name, n_steps0=n_steps)
+    budget = WallBudget(scene.duration, t0=t, n_steps0=n_steps, name=scene.name, max_wall_time=max_wall_time)
     loop_start = time.perf_counter()
     try:
         while k < n_total:
@@ -199,6 +232,7 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
             if k % every == 0 or k == n_total:
                 writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start)
             progress.update(t, n_steps)
+            budget.update(t, n_steps)
     except BaseException as exc:
         progress.close()
         status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
@@ -208,9 +242,14 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
         finally:
             writer.close()
         what = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"stopped by {type(exc).__name__}: {exc}"
+        # a failure of the physics (multibody.integrator.SimulationUnstable) comes back from the same
+        # checkpoint the same way: the integrator is deterministic
+        resumable = not getattr(exc, "repeats_on_resume", False)
+        then = ("continue with --resume" if resumable else
+                "resuming would repeat it from the same state: change the scene and start a new run")
         raise RunInterrupted(f"run {what} at t = {last[1]:.6g} s; {out_path} holds {writer.n_written} "
-                             f"samples and a checkpoint (continue with --resume)", last[1], str(out_path),
-                             exc) from exc
+                             f"samples and a checkpoint ({then})", last[1], str(out_path),
+                             exc, resumable) from exc
     progress.close()
     wall = wall_before + time.perf_counter() - loop_start
     writer.set_status("complete")

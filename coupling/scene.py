@@ -39,8 +39,10 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
               {kind = "uniform", duration = 0.2, rpm = 14000}]
     # ... or a table of (t [s], speed [rpm]) points, piecewise linear, constant after the last:
     # table_rpm = [[0.0, 10000], [0.2, 14000]]
-    [operation.load]          # either constant loads ...
-    axial_load = 55e3         # N, along +x
+    [operation.load]          # required (no load is axial_load = 0): either constant loads ...
+    axial_load = 55e3         # N, along +x (up to MAX_LOAD here; the run's setup refuses a load whose
+                              #   equilibrium is deeper than the contacts' limit, 2.3 MN axial for the
+                              #   paper bearing: multibody.initial.check_contact_range)
     radial_load = 4e3         # N, in the y–z plane along radial_direction (default -z)
     radial_direction = [0.0, 0.0, -1.0]   # or radial_azimuth [rad] from +y towards +z
     # ... or points = [{t = 0.0, axial_load = 0, radial_load = 0}, {t = 0.1, ...}] (ramps)
@@ -53,7 +55,7 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     # direction = [x, y, z] or azimuth [rad] (radial); default: the radial load direction
 
     [integrator]
-    tolerance = 1e-6          # local error tolerance (relative)
+    tolerance = 1e-6          # local error tolerance (relative), in [1e-12, 0.1]
     initial_step = 1e-7       # s
     max_step = 1e-5           # s
 
@@ -96,6 +98,10 @@ DEFAULT_RADIAL_DIRECTION = (0.0, 0.0, -1.0)   # radial load on the inner ring: v
 MAX_SPEED_RPM = 60000.0      # above any aero-engine main-shaft bearing (DN ~ 3.6e6 for this one)
 MAX_LOAD = 1e7               # N
 MAX_DURATION = 1000.0        # s of simulated time
+# Below this the integrator's error estimate is at the rounding level of the state: at 1e-13 and
+# 1e-14 the step collapses to 1e-12 s within 0.6 ms of the 14,000 rpm case with an impact, at 3e-13
+# and 1e-12 it finishes (benchmarks/results/stress_test.md)
+MIN_TOLERANCE = 1e-12
 
 _MATERIAL_KEYS = tuple(f.name for f in dataclasses.fields(Material))
 _BEARING_SCALARS = tuple(f.name for f in dataclasses.fields(Bearing)
@@ -193,6 +199,20 @@ def _vector3(field_: str, value) -> np.ndarray:
     if n == 0.0:
         raise InputError(f"{field_} = {value!r} must not be the zero vector")
     return v / n
+
+
+def _file_name(field_: str, value) -> str:
+    """A name that becomes a file name (the default results file is out/<name>.h5): one path
+    component, so a scene cannot write outside its output folder."""
+    if not isinstance(value, str) or not value.strip():
+        raise InputError(f"{field_} = {value!r} must be a non-empty string")
+    bad = [c for c in ("/", "\\") if c in value]
+    if bad or value in (".", "..") or any(ord(c) < 32 for c in value):
+        why = f"contains {bad[0]!r}" if bad else "is not a file name"
+        raise InputError(f"{field_} = {value!r} {why}: the name becomes the results file's name "
+                         f"(out/<name>.h5), so it must be one plain file name without '/', '\\', "
+                         f"control characters, '.' or '..' (give the folder with -o instead)")
+    return value
 
 
 def _one_of(d: dict, where: str, keys) -> str | None:
@@ -377,6 +397,9 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
     if form == "table" and ("radial_direction" in d or "radial_azimuth" in d):
         raise InputError("operation.load: table = [[t, Fx, Fy, Fz], ...] gives components; "
                          "radial_direction/radial_azimuth do not apply")
+    if form is None and not const:
+        raise InputError("operation.load gives no static load: give axial_load and/or radial_load in N "
+                         "(0 for none, explicitly), points = [...] or table = [...]")
     radial = _radial_direction(d, "operation.load", "radial_")
     if form is None:
         fa = load("operation.load.axial_load", d.get("axial_load", 0.0))
@@ -465,9 +488,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                          f"scene: it is run by `flexbearing study`")
     d = _table(data, "scene", ("name", "description", "bearing", "oil", "cage", "model", "operation",
                                "integrator", "output"))
-    name = d.get("name", Path(path).stem if path else "scene")
-    if not isinstance(name, str) or not name:
-        raise InputError(f"name = {name!r} must be a non-empty string")
+    name = _file_name("name", d.get("name", Path(path).stem if path else "scene"))
     description = d.get("description", "")
     if not isinstance(description, str):
         raise InputError(f"description = {description!r} must be a string")
@@ -484,10 +505,16 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     if "speed" not in op:
         raise InputError("operation.speed is missing ([operation.speed] with phases or table_rpm)")
     speed_table, duration = _speed_table(op["speed"], duration)
-    load_table, impacts = _load(op.get("load", {}), duration)
+    if "load" not in op:
+        # refused rather than read as zero: an unloaded bearing is a rare scene and a forgotten
+        # table looks the same; zero load is one explicit line
+        raise InputError("operation.load is missing: give the loads on the inner ring, [operation.load] "
+                         "with axial_load and/or radial_load in N (axial_load = 0 for an unloaded bearing), "
+                         "points = [...] or table = [...]")
+    load_table, impacts = _load(op["load"], duration)
 
     integ = _table(d.get("integrator", {}), "integrator", ("tolerance", "initial_step", "max_step"))
-    tolerance = _number("integrator.tolerance", integ.get("tolerance", 1e-6), 1e-14, 1e-1)
+    tolerance = _number("integrator.tolerance", integ.get("tolerance", 1e-6), MIN_TOLERANCE, 1e-1)
     max_step = None
     if "max_step" in integ:
         max_step = _number("integrator.max_step", integ["max_step"], 0.0, duration, lo_open=True, unit="s")
@@ -522,11 +549,19 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
 def load_scene(path) -> Scene:
     """Read and validate a scene file. TOML syntax errors are reported with their line."""
     path = Path(path)
+    return loads_scene(_read_text(path, "scene file"), str(path))
+
+
+def _read_text(path: Path, what: str) -> str:
+    """The UTF-8 text of `path` (TOML is UTF-8 by definition); InputError naming the file otherwise."""
     try:
-        text = path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise InputError(f"scene file {str(path)!r} cannot be read: {exc.strerror}") from None
-    return loads_scene(text, str(path))
+        raise InputError(f"{what} {str(path)!r} cannot be read: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{what} {str(path)!r} is not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
+                         f"offset {exc.start}): a TOML file must be UTF-8; save it as UTF-8 (or it is "
+                         f"not a {what})") from None
 
 
 def loads_scene(text: str, path: str = "") -> Scene:
@@ -571,10 +606,9 @@ def read_toml(path, what: str) -> dict:
     """The parsed TOML file `path`; an unreadable file or a syntax error is an InputError that
     names `what` it was meant to be (e.g. "case set") and the path."""
     path = Path(path)
+    text = _read_text(path, what)
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{what} {str(path)!r} cannot be read: {exc.strerror}") from None
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{what} {path} is not valid TOML: {exc}") from None
 

@@ -51,6 +51,56 @@ def _semi_major_axis(model, kind, Q, ca):
     return ell * b
 
 
+def deepest_contact(model, qs) -> tuple[float, int, int, float]:
+    """(approach [m], ball, contact 0 outer / 1 inner-left / 2 inner-right, load [N]) of the race
+    contact with the largest Hertz approach delta = (Q/K(alpha))^(2/3) in the equilibrium `qs`
+    (Q = K·delta^1.5 with the dynamics' Hertz tables, Harris & Kotzalas Vol. 1 eq. 6.41)."""
+    best = (0.0, 0, 0, 0.0)
+    for j, res in enumerate(qs["contacts"]):
+        for c in range(3):
+            Q, ca = res[c][0], res[c][1]
+            if Q > 0.0:
+                K = _hertz_lookup(model.hertz_table, 0 if c == 0 else 1, ca)[0]
+                d = (Q / K) ** (2.0 / 3.0)
+                if d > best[0]:
+                    best = (d, j, c, Q)
+    return best
+
+
+def check_contact_range(model, speed_rad_s: float, load, qs=None) -> None:
+    """InputError if the quasi-static equilibrium under `load` (Fx, Fy, Fz, N) puts a race contact
+    deeper than the dynamics' plausibility limit delta_max = DELTA_MAX_FRAC·Dw (multibody.dynamics:
+    beyond it the right-hand side stops the run at its first step, and a resume from the same state
+    stops again). The message gives the largest multiple of the load inside the limit (within 2 %),
+    found with the same solver (only on this failure path: 2-4 solves of ~0.35 s)."""
+    from multibody.dynamics import CONTACT_NAMES, DELTA_MAX_FRAC
+    load = np.asarray(load, dtype=float)
+    qs = quasi_static(model, speed_rad_s, load) if qs is None else qs
+    limit = DELTA_MAX_FRAC * model.p[M.P_DW]
+    d, j, c, Q = deepest_contact(model, qs)
+    if d <= limit:
+        return
+    # the largest load factor inside the limit: fixed-point iteration on the Hertz scaling
+    # delta ~ Q^(2/3) ~ s^(2/3) (the contact angle's growth makes it converge in 2-4 solves), aimed at
+    # 0.995 of the limit, keeping the largest factor found inside
+    lo, s_k, d_k = 0.0, 1.0, d
+    for _ in range(8):
+        s_k *= (0.995 * limit / d_k) ** 1.5
+        d_k = deepest_contact(model, quasi_static(model, speed_rad_s, s_k * load))[0]
+        if d_k <= limit:
+            lo = max(lo, s_k)
+            if d_k > 0.985 * limit:
+                break
+    f = ", ".join(f"{v + 0.0:.4g}" for v in load)      # + 0.0: no "-0"
+    raise InputError(
+        f"operation.load = ({f}) N is beyond what the model's contacts carry: in its quasi-static "
+        f"equilibrium ball {j}'s {CONTACT_NAMES[c]} contact has a Hertz approach of {d * 1e6:.0f} um "
+        f"(Q = {Q:.3g} N), beyond the model's limit {DELTA_MAX_FRAC:g}·Dw = {limit * 1e6:.0f} um (Hertz's "
+        f"small-strain range; the rings would yield long before). This bearing carries this load "
+        f"direction up to about {lo * np.linalg.norm(load):.3g} N within the model (allowed range "
+        f"[0, {lo * np.linalg.norm(load):.3g}] N): reduce the load")
+
+
 def control_contact(model, res) -> int:
     """Contact index (0 outer, 1/2 inner halves) of the race that controls the ball's attitude under
     the model option ball_attitude (multibody.dynamics docstring, "Ball attitude"), −1 for free
@@ -256,6 +306,7 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
                    if k is not None]
             if oms:
                 qs = quasi_static(model, speed_rad_s, load, ring_guess=qs["ring"], omega_orbit=float(np.mean(oms)))
+    check_contact_range(model, speed_rad_s, load, qs)
     if not qs["converged"] and np.max(np.abs(qs["residual"])) > 1e-3 * (1.0 + np.linalg.norm(load)):
         raise InputError(f"quasi-static initial state did not converge for load {tuple(load)} N "
                          f"(residual {qs['residual']})")

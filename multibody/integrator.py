@@ -83,6 +83,8 @@ OK, UNSTABLE_STATUS, UNSTABLE_NONFINITE, STEP_TOO_SMALL, TOO_MANY_STEPS = 0, 1, 
 class SimulationUnstable(RuntimeError):
     """The integration left the physically plausible range; the message names ball, contact, time."""
 
+    repeats_on_resume = True     # deterministic: a resume from the last checkpoint meets it again
+
     def __init__(self, message: str, t: float, ball: int | None, contact: str | None):
         super().__init__(message)
         self.t = t
@@ -246,14 +248,40 @@ def _raise_unstable(model, code, y, ws, t, h, speed_table, load_table, impacts):
                 D.STATUS_DEEP_POCKET: f"penetration beyond the pocket clearance {val * 1e6:.1f} um",
                 D.STATUS_RIM: f"cage eccentricity ratio {val:.2f} beyond the guide clearance"}.get(status, "")
         bname = f"ball {ball}" if ball >= 0 else "cage"
-        raise SimulationUnstable(f"simulation unstable at t = {t:.6e} s: {bname}, {contact}: {what}",
+        raise SimulationUnstable(f"simulation unstable at t = {t:.6e} s: {bname}, {contact}: {what}; "
+                                 f"{_likely_cause(status, t, load_table, impacts)}",
                                  t, ball if ball >= 0 else None, contact)
     # non-finite or step collapse: find the worst contact at the last accepted state
     ball, contact, detail = _worst_contact(model, t, y, speed_table, load_table, impacts)
     reason = {UNSTABLE_NONFINITE: "non-finite state", STEP_TOO_SMALL: f"step size collapsed to {h:.1e} s",
               TOO_MANY_STEPS: "step budget exhausted"}[code]
     raise SimulationUnstable(f"simulation unstable at t = {t:.6e} s ({reason}); most suspicious: ball {ball}, "
-                             f"{contact} ({detail})", t, ball, contact)
+                             f"{contact} ({detail}); {_likely_cause(-code, t, load_table, impacts)}",
+                             t, ball, contact)
+
+
+def _likely_cause(status: int, t: float, load_table, impacts) -> str:
+    """The likely cause of an instability, for the user (status: dynamics.STATUS_*, or minus the
+    loop's return code for a non-finite state, a collapsed step or an exhausted step budget)."""
+    from multibody.profiles import load_at
+    f = np.zeros(3)
+    load_at(t, load_table, impacts, f)
+    load = f"the load on the inner ring is |F| = {np.linalg.norm(f):.4g} N at this instant"
+    return "likely cause: " + {
+        D.STATUS_DEEP_RACE: f"{load}, beyond what the Hertz contacts carry within the model "
+                            f"(multibody.initial.check_contact_range gives a load's limit), or an impact too "
+                            f"short for the integrator tolerance (tighten integrator.tolerance / max_step)",
+        D.STATUS_DEEP_POCKET: "a ball–pocket collision too violent for the pocket law at this speed: tighten "
+                              "integrator.tolerance or set integrator.max_step, or reduce the speed change rate",
+        D.STATUS_RIM: "the cage left its guide clearance (the guide land's film cannot hold it at this speed, "
+                      "oil and clearance)",
+        -UNSTABLE_NONFINITE: f"a force beyond the explicit integrator's stability at this step; {load}: "
+                             f"tighten integrator.tolerance or set integrator.max_step",
+        -STEP_TOO_SMALL: f"a discontinuity or a contact too stiff for the step; {load}: "
+                         f"check the load and speed profiles for jumps, tighten integrator.tolerance",
+        -TOO_MANY_STEPS: "the step budget of one sample interval was exhausted: a stiff contact forces "
+                         "tiny steps (see the step rate), or shorten output.sample_interval",
+    }.get(status, "unknown")
 
 
 def _worst_contact(model, t, y, speed_table, load_table, impacts):

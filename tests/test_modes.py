@@ -86,7 +86,7 @@ def test_modes_under_mpirun_match_serial(tmp_path):
     exe = str(Path(sys.executable).with_name("flexbearing"))
     # yield_when_idle: on an oversubscribed box a busy-polling rank starves its partner.
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_MCA_mpi_yield_when_idle="1")
-    common = ["modes", "--preset", "nominal", "--size", "8", "--pocket-size", "4", "--no-classify", "--quiet"]
+    common = ["modes", "--preset", "nominal", "--size", "8e-3", "--pocket-size", "4e-3", "--no-classify", "--quiet"]
     subprocess.run([exe, *common, "--json", str(tmp_path / "s.json")], check=True, env=env, cwd=ROOT)
     subprocess.run([mpirun, "-n", "2", "--allow-run-as-root", "--oversubscribe", exe, *common,
                     "--json", str(tmp_path / "p.json")], check=True, env=env, cwd=ROOT)

@@ -57,6 +57,7 @@ def test_registry_entries_are_consistent():
     from common.validation import InputError
     with pytest.raises(InputError, match=", ".join(repr(g) for g in R.GROUPS)):
         loads_scene('[operation]\nduration = 0.1\n[operation.speed]\ntable_rpm = [[0.0, 1000]]\n'
+                    '[operation.load]\naxial_load = 0\n'
                     '[output]\nsample_interval = 0.01\nrecord = ["no_such_output"]\n')
 
 

@@ -1,0 +1,56 @@
+"""The wall-time guard of a run (coupling.wall_budget): a run whose step rate predicts more than the
+threshold warns early with the estimate; with max_wall_time it stops at a checkpoint and resumes.
+
+The fake backend of tests/test_run.py with a fixed sleep per integrator call makes the wall time
+proportional to the simulated time, so the linear prediction must be close to the real total.
+"""
+import time
+import warnings
+
+import pytest
+
+import coupling.wall_budget as WB
+from coupling.results import read_outputs
+from coupling.run import RunInterrupted, run_scene
+from test_run import fake_advance, fake_backend, fake_scene
+
+
+def slow_backend(pause=0.004):
+    return fake_backend(advance=lambda *a, **k: (time.sleep(pause), fake_advance(*a, **k))[1])
+
+
+def test_prediction_warns_early_and_is_close_to_the_real_total(tmp_path, monkeypatch):
+    monkeypatch.setattr(WB, "WARN_AFTER_S", 0.1)
+    monkeypatch.setattr(WB, "WARN_ABOVE_S", 0.05)
+    predictions = []
+    real_update = WB.WallBudget.update
+
+    def spy(self, t, n):
+        real_update(self, t, n)
+        if self.predicted is not None:
+            predictions.append((time.perf_counter() - self.wall0, self.predicted))
+    monkeypatch.setattr(WB.WallBudget, "update", spy)
+    t0 = time.perf_counter()
+    with pytest.warns(WB.SlowRunWarning, match=r"needs about .* in all") as rec:
+        run_scene(fake_scene(), tmp_path / "r.h5", quiet=True, backend=slow_backend())
+    total = time.perf_counter() - t0
+    assert len(rec) == 1                                  # once, not at every sample
+    first_at, first = predictions[0]
+    assert first_at < 0.5 * total                         # early: in the first half of the run
+    # the fake's cost per simulated second varies with its step size and the breakpoints: within 50 %
+    assert 0.5 * total < first < 1.5 * total, (first, total)
+
+
+def test_max_wall_time_stops_at_a_checkpoint_and_resume_finishes(tmp_path, monkeypatch):
+    monkeypatch.setattr(WB, "WARN_AFTER_S", 0.1)
+    out = tmp_path / "r.h5"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", WB.SlowRunWarning)
+        with pytest.raises(RunInterrupted) as exc:
+            run_scene(fake_scene(), out, quiet=True, backend=slow_backend(), max_wall_time=0.15)
+    assert isinstance(exc.value.cause, WB.WallTimeExceeded) and exc.value.resumable
+    assert "more than the allowed" in str(exc.value) and "continue with --resume" in str(exc.value)
+    n_stopped = len(read_outputs(out)["time"])
+    assert 1 < n_stopped < fake_scene().n_samples
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert len(read_outputs(out)["time"]) == fake_scene().n_samples
