@@ -141,8 +141,10 @@ def load_study(path) -> Study:
         if k not in s:
             raise InputError(f"study.{k} is missing")
     name = s["name"]
-    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.-]+", name):
-        raise InputError(f"study.name = {name!r} is not allowed; allowed: letters, digits, '_', '-', '.'")
+    # the name is a folder under the output directory: '.' and '..' would put the runs outside it
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.-]+", name) or set(name) == {"."}:
+        raise InputError(f"study.name = {name!r} is not allowed; allowed: letters, digits, '_', '-', '.' "
+                         f"(not '.' or '..' alone: the name is the study's folder under the output directory)")
     keys = s["keys"]
     if isinstance(keys, str):
         keys = [keys]

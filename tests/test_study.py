@@ -178,6 +178,8 @@ def test_keys_into_lists_and_paired_values(tmp_path):
     (('keys = ["operation.load.axial_load"]', 'keys = ["operation.load.bogus"]'), "bogus"),
     (("settle = 0.0005", "settle = 0.01"), "study.settle"),
     (('name = "fa"', 'name = "a b"'), "study.name"),
+    (('name = "fa"', 'name = ".."'), "study.name"),     # the runs would land beside the output folder
+    (('name = "fa"', 'name = "a/b"'), "study.name"),
 ])
 def test_bad_study_files_are_refused_naming_the_field(tmp_path, change, message):
     with pytest.raises(InputError, match=message):
