@@ -110,53 +110,6 @@ def test_ctrl_c_cancels_and_closes_the_cluster():
         script.unlink(missing_ok=True)
 
 
-class DaskCluster:
-    """A scheduler and `n` single-thread worker processes, each its own subprocess, as on a cluster
-    (`python -m distributed.cli.dask_scheduler` / `dask_worker`: the `dask scheduler` and `dask
-    worker` commands run by this environment's Python, which has flexbearing installed)."""
-
-    def __init__(self, folder: Path, n: int = 2):
-        self.folder = folder
-        self.procs = []
-        env = dict(os.environ, PYTHONPATH=str(ROOT))
-        sched_file = folder / "scheduler.json"
-        log = (folder / "scheduler.log").open("w")
-        self.procs.append(subprocess.Popen(
-            [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
-             "--no-dashboard", "--scheduler-file", str(sched_file)], stdout=log, stderr=log, env=env))
-        deadline = time.monotonic() + 60
-        while not sched_file.exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
-        import json
-        time.sleep(0.2)
-        self.address = json.loads(sched_file.read_text())["address"]
-        for i in range(n):
-            wlog = (folder / f"worker{i}.log").open("w")
-            self.procs.append(subprocess.Popen(
-                [sys.executable, "-m", "distributed.cli.dask_worker", self.address, "--nthreads", "1",
-                 "--nworkers", "1", "--no-dashboard", "--memory-limit", "0", "--name", f"w{i}",
-                 "--local-directory", str(folder / f"w{i}")], stdout=wlog, stderr=wlog, env=env))
-        from distributed import Client
-        with Client(self.address, timeout="60s") as c:
-            c.wait_for_workers(n, timeout=120)
-
-    def close(self):
-        for p in reversed(self.procs):
-            p.terminate()
-        for p in reversed(self.procs):
-            try:
-                p.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                p.kill()
-
-
-@pytest.fixture(scope="module")
-def dask_cluster(tmp_path_factory):
-    cluster = DaskCluster(tmp_path_factory.mktemp("dask"))
-    yield cluster
-    cluster.close()
-
-
 def test_a_cluster_of_separate_processes(dask_cluster):
     """--scheduler: the jobs run on the cluster's two workers, the failure is reported."""
     _check(*_run(scheduler=dask_cluster.address))
