@@ -84,14 +84,16 @@ def _attach_dimensions(out, name: str, ds, dims) -> None:
     """Make /outputs/time the `time` dimension scale, and attach to a new dataset's axes the scales of
     its dimensions (time first, then multibody.output_registry's dims, each a scale dataset in
     /outputs created at its first use: the labels of its columns, or the index 0..n-1), so that
-    `xarray.open_dataset(run.h5, group="outputs")` names them. A dataset the registry does not
-    know gets the time scale only."""
+    `xarray.open_dataset(run.h5, group="outputs")` names them. The axes of a dataset the registry
+    does not know (a test's backend) are `<name>_dim1`, ... ."""
     import h5py
     if name == "time":
         ds.make_scale("time")
         return
     ds.dims[0].attach_scale(out["time"])
-    for axis, dim in enumerate(dims or (), start=1):
+    if dims is None:           # not in the registry: its own dimensions (netCDF needs every axis named)
+        dims = tuple(f"{name}_dim{i}" for i in range(1, ds.ndim))
+    for axis, dim in enumerate(dims, start=1):
         n = ds.shape[axis]
         if dim not in out:
             labels = R.DIMENSION_LABELS.get(dim)
@@ -108,8 +110,9 @@ def _attach_dimensions(out, name: str, ds, dims) -> None:
 
 def output_items(out):
     """(name, dataset) of the recorded outputs in a results file's /outputs group, time included:
-    every dataset but the dimension scales of multibody.output_registry.DIMENSIONS."""
-    return [(k, ds) for k, ds in out.items() if k not in R.DIMENSIONS]
+    every dataset but the dimension scales (ball, contact, ...)."""
+    from h5py import h5ds
+    return [(k, ds) for k, ds in out.items() if k == "time" or not h5ds.is_scale(ds.id)]
 
 
 class ResultsWriter:

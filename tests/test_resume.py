@@ -175,3 +175,24 @@ checkpoint_every = 5
         run_scene(scene, tmp_path / "b.h5", quiet=True, backend=backend)
     run_scene(scene, tmp_path / "b.h5", quiet=True, resume=True)
     assert_same_results(tmp_path / "a.h5", tmp_path / "b.h5")
+
+
+def test_a_resumed_file_keeps_its_dimension_scales_and_compression(tmp_path, reference):
+    """Resume truncates and extends compressed, dimension-scaled datasets (coupling.results format
+    2): the resumed file still opens in xarray with its named dimensions, and holds the
+    uninterrupted run's numbers."""
+    xr = pytest.importorskip("xarray")
+    ref, _ = reference
+    out = tmp_path / "run.h5"
+    with pytest.raises(RunInterrupted):
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance=stopping_after(41, KeyboardInterrupt())))
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
+    with h5py.File(out, "r") as f:
+        load = f["outputs/external_load"]
+        assert load.compression == "gzip" and load.dims[1][0].name == "/outputs/axis"
+        n = f["outputs/time"].shape[0]
+    with xr.open_dataset(out, group="outputs") as ds:
+        assert ds["external_load"].dims == ("time", "axis") and ds.sizes["time"] == n
+        assert list(ds["axis"].values) == ["x", "y", "z"]
+        assert np.array_equal(ds["external_load"].values, read_outputs(ref)["external_load"])
