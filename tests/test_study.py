@@ -278,3 +278,34 @@ def test_a_failed_run_is_reported_the_others_finish_and_a_rerun_does_only_it(tmp
     result = run_study(study, out, workers=1, quiet=True)
     assert calls == ["fa_0"]
     assert [r["parameter"] for r in result["runs"]] == [30e3, 55e3]
+
+
+def test_the_reduced_cage_is_built_once_per_distinct_cage_and_reaches_the_runs_by_path(tmp_path, monkeypatch):
+    """Three flexible-cage runs over two distinct cages (mesh sizes 6, 6 and 7 mm): two builds,
+    before any run; each run gets the path of its own cage (content hash,
+    coupling.flexible_cage.reduced_cage_hash). No FE work here: the build and the runs are
+    stand-ins that record what they were given."""
+    import coupling.study as S
+    from coupling.flexible_cage import reduced_cage_hash
+    base = BASE.replace('model = "rigid"', 'model = "flexible"')
+    study_text = STUDY.replace('keys = ["operation.load.axial_load"]', 'keys = ["cage.mesh_size"]').replace(
+        "values = [30e3, 55e3]", "values = [6e-3, 6e-3, 7e-3]")
+    study = load_study(_write(tmp_path, study_text, base))
+    built, given = [], []
+
+    def build(scene, quiet):
+        built.append(reduced_cage_hash(scene))
+        return f"/cache/{built[-1]}.h5"
+
+    def run(scene, path, quiet, cage=None):
+        given.append((scene.name, cage))
+        raise RuntimeError("not run here")
+
+    monkeypatch.setattr(S, "_build_reduced_cage", build)
+    monkeypatch.setattr(S, "_run_one", run)
+    with pytest.raises(S.StudyIncomplete, match="3 of 3 runs failed"):
+        run_study(study, tmp_path / "out", workers=1, quiet=True)
+    h = [reduced_cage_hash(sc) for sc in study.scenes]
+    assert h[0] == h[1] != h[2]
+    assert sorted(built) == sorted({h[0], h[2]})
+    assert given == [(f"fa_{i}", f"/cache/{h[i]}.h5") for i in range(3)]
