@@ -153,6 +153,11 @@ def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,
                 raise InputError(f"--scheduler = {scheduler!r}: no Dask scheduler answers there "
                                  f"({_message(exc)}); start one with `dask scheduler` and workers with "
                                  f"`dask worker {scheduler}`") from None
+            try:
+                client.wait_for_workers(1, timeout=CONNECT_TIMEOUT)
+            except (OSError, TimeoutError):
+                raise InputError(f"--scheduler = {scheduler!r}: the scheduler has no worker; start them with "
+                                 f"`dask worker {scheduler}`") from None
         tag = uuid.uuid4().hex[:8]
         index = {}
         for k, job in enumerate(jobs):

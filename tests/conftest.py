@@ -124,9 +124,10 @@ class DaskCluster:
                 [sys.executable, "-m", "distributed.cli.dask_worker", self.address, "--nthreads", "1",
                  "--nworkers", "1", "--no-dashboard", "--memory-limit", "0", "--name", f"w{i}",
                  "--local-directory", str(folder / f"w{i}")], stdout=wlog, stderr=wlog, env=env))
-        from distributed import Client
-        with Client(self.address, timeout="60s") as c:
-            c.wait_for_workers(n, timeout=120)
+        if n:
+            from distributed import Client
+            with Client(self.address, timeout="60s") as c:
+                c.wait_for_workers(n, timeout=120)
 
     def close(self):
         for p in reversed(self.procs):

@@ -116,3 +116,15 @@ def test_a_cluster_of_separate_processes(dask_cluster):
     pids = {}
     J.run_jobs(os.getpid, [()] * 3, pids.__setitem__, scheduler=dask_cluster.address, progress=False)
     assert os.getpid() not in pids.values()
+
+
+def test_a_scheduler_without_workers_is_a_clear_error(tmp_path, monkeypatch):
+    """Jobs sent to a scheduler no worker has joined would wait for ever: refused, naming it."""
+    from conftest import DaskCluster
+    monkeypatch.setattr(J, "CONNECT_TIMEOUT", "2s")
+    lonely = DaskCluster(tmp_path, n=0)
+    try:
+        with pytest.raises(InputError, match="the scheduler has no worker"):
+            J.run_jobs(operator.truediv, JOBS, lambda k, r: None, scheduler=lonely.address)
+    finally:
+        lonely.close()
