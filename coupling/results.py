@@ -108,6 +108,14 @@ def _attach_dimensions(out, name: str, ds, dims) -> None:
         ds.dims[axis].attach_scale(scale)
 
 
+def different_scene(path, file_hash, scene):
+    """The InputError for a results file that another scene wrote (resume, or a study's re-run)."""
+    from common.validation import InputError
+    return InputError(f"--resume: {path} was written by a different scene (scene hash {file_hash} in the "
+                      f"file, {scene.content_hash()} for {scene.path or scene.name}); resume needs the same "
+                      f"scene, or write a new file")
+
+
 def output_items(out):
     """(name, dataset) of the recorded outputs in a results file's /outputs group, time included:
     every dataset but the dimension scales (ball, contact, ...)."""
@@ -172,9 +180,7 @@ class ResultsWriter:
                 raise InputError(f"{path} is not a flexbearing results file (format attribute "
                                  f"{f.attrs.get('format')!r}, expected {FORMAT!r})")
             if f.attrs["scene_hash"] != scene.content_hash():
-                raise InputError(f"--resume: {path} was written by a different scene (scene hash "
-                                 f"{f.attrs['scene_hash']} in the file, {scene.content_hash()} for "
-                                 f"{scene.path or scene.name}); resume needs the same scene, or write a new file")
+                raise different_scene(path, f.attrs["scene_hash"], scene)
             cp = read_checkpoint(f)
         except Exception:
             f.close()

@@ -139,7 +139,7 @@ def finished_run(scene, out_path) -> dict | None:
     file written by a different scene is refused (InputError), as `run_scene(..., resume=True)`
     refuses it. Lets a study or a job list skip its finished runs before sending any job out."""
     import h5py
-    from coupling.results import FORMAT
+    from coupling.results import FORMAT, different_scene
     out_path = Path(out_path)
     if not out_path.is_file() or not h5py.is_hdf5(out_path):
         return None
@@ -148,9 +148,7 @@ def finished_run(scene, out_path) -> dict | None:
             if f.attrs.get("format") != FORMAT:
                 return None
             if f.attrs.get("scene_hash") != scene.content_hash():
-                raise InputError(f"--resume: {out_path} was written by a different scene (scene hash "
-                                 f"{f.attrs.get('scene_hash')} in the file, {scene.content_hash()} for "
-                                 f"{scene.path or scene.name}); resume needs the same scene, or write a new file")
+                raise different_scene(out_path, f.attrs.get("scene_hash"), scene)
             if str(f.attrs.get("status", "")) != "complete" or "summary" not in f.attrs:
                 return None
             return json.loads(f.attrs["summary"])
