@@ -129,8 +129,11 @@ def _local_cluster(n_workers: int):
     import dask
     from distributed import LocalCluster
     with dask.config.set({"distributed.worker.daemon": False}):
-        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None, memory_limit=0, silence_logs=logging.ERROR)
+        # no dashboard; the scheduler's small HTTP server (health, metrics) on a free port, not on
+        # 8787, which another cluster on the machine may hold
+        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                            dashboard_address=None, scheduler_kwargs={"dashboard_address": ":0"},
+                            memory_limit=0, silence_logs=logging.ERROR)
 
 
 def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,

@@ -126,7 +126,7 @@ def test_mean_contact_stress_follows_the_quasi_static_solution(thrust_study):
 
 
 def test_parallel_runs_and_resume_give_the_same_study(thrust_study, tmp_path):
-    """--workers 2 (forked processes) gives the same windows to the last bit; running the study
+    """--workers 2 (a Dask LocalCluster) gives the same windows to the last bit; running the study
     again reuses the finished runs (nothing is integrated twice); a study changed under the same
     output folder is refused instead of mixing old runs into it."""
     study, out, result = thrust_study
