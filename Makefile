@@ -17,12 +17,13 @@ SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # benchmarks/calculix_check.py) runs CalculiX on the project's own mesh.
 APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy python3-scipy \
     python3-numba python3-h5py python3-matplotlib python3-tqdm python3-dask python3-distributed \
+    python3-xarray python3-netcdf4 python3-h5netcdf \
     python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
     calculix-ccx
 
 .PHONY: setup demo test test-all bench stress clean
 
-$(VENV)/.apt-stamp:
+$(VENV)/.apt-stamp: Makefile
 	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "installing Debian packages: $$missing"; \
@@ -33,7 +34,7 @@ $(VENV)/.apt-stamp:
 $(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
 	@[ -x $(PY) ] || $(SYSPY) -m venv --system-site-packages $(VENV)
 	@$(PY) -m pip install -q --no-build-isolation --no-deps -e .
-	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
+	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py, distributed, xarray; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
 	@touch $@
 
 setup: $(VENV)/.install-stamp

@@ -12,8 +12,8 @@ import argparse
 import sys
 
 from common.validation import InputError
-from coupling import (cli_demo, cli_mesh, cli_modes, cli_quasi_static, cli_reduce, cli_report, cli_run,
-                      cli_study)
+from coupling import (cli_demo, cli_export, cli_mesh, cli_modes, cli_quasi_static, cli_reduce, cli_report,
+                      cli_run, cli_study)
 
 # Order = order in --help.
 COMMAND_MODULES = (
@@ -24,14 +24,26 @@ COMMAND_MODULES = (
     cli_quasi_static,    # quasi-static
     cli_report,          # report
     cli_study,           # study
+    cli_export,          # export
     cli_demo,            # demo
 )
+
+
+def version() -> str:
+    """The installed package's version (pyproject.toml's [project] version, the one place it is
+    written), or "unknown" when flexbearing runs from a source tree that was not installed."""
+    from importlib.metadata import PackageNotFoundError, version as installed
+    try:
+        return installed("flexbearing")
+    except PackageNotFoundError:
+        return "unknown"
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="flexbearing",
         description="Flexible multibody simulation of three-point-contact ball bearings with a flexible cage.")
+    parser.add_argument("--version", action="version", version=f"flexbearing {version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for module in COMMAND_MODULES:
         module.register(sub)

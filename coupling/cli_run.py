@@ -1,7 +1,8 @@
 """`flexbearing run` and `flexbearing validate`.
 
     flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--max-wall-time S] [--quiet]
-    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--ball-attitude A]
+    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--scheduler ADDRESS]
+                                   [--ball-attitude A]
                                    [--transverse-traction on|off] [--shim-angle DEG]
                                    [--radial-clearance M] [--quiet]
 
@@ -60,8 +61,11 @@ def register(subparsers) -> None:
                         "steady thrust state (multibody.steady), which spares the light-load high-speed cases "
                         "their seconds of settling")
     s.add_argument("--workers", type=int, default=None,
-                   help="cases run at once in separate processes (default: the number of CPUs; "
-                        "coupling.validate's procedure only)")
+                   help="cases run at once on a local Dask cluster (default: the number of CPUs; 1 = one "
+                        "after the other in this process)")
+    s.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run the cases on the existing Dask cluster whose scheduler is at ADDRESS, e.g. "
+                        "tcp://10.0.0.5:8786")
     # multibody.model.BALL_ATTITUDES, written out so that the CLI starts without importing numba
     # (tests/test_slip_rate.py checks that it takes every one of them)
     s.add_argument("--ball-attitude", default=None, choices=("free", "outer", "inner", "jones", "no_pivot"),
@@ -156,7 +160,7 @@ def cmd_validate_slip_rate(args) -> int:
     runs until the cage speed settles, oil temperature VALIDATION_OIL_TEMPERATURE_C). With
     --case-set FILE: every case of FILE is run as a scene through coupling.run (one resumable
     results file per case in --out, fixed duration, slip averaged from average_from)."""
-    from coupling.run import RunInterrupted, run_case_set_slip_rate
+    from coupling.run import CasesIncomplete, RunInterrupted, run_case_set_slip_rate
     from coupling.scene import load_case_set
 
     if args.case_set is None:
@@ -164,7 +168,7 @@ def cmd_validate_slip_rate(args) -> int:
     # these shape coupling.validate's procedure; a case set's scenes carry their own [bearing],
     # [model] and durations, so they would be ignored without a word
     given = [flag for flag, value, default in (
-        ("--t-max", args.t_max, None), ("--start", args.start, None), ("--workers", args.workers, None),
+        ("--t-max", args.t_max, None), ("--start", args.start, None),
         ("--ball-attitude", args.ball_attitude, None), ("--transverse-traction", args.transverse_traction, "on"),
         ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None))
         if value != default]
@@ -173,8 +177,16 @@ def cmd_validate_slip_rate(args) -> int:
                          f"procedure; a case set's scenes carry their own bearing, model and durations)")
     case_set = load_case_set(args.case_set)
     cases = parse_cases(args.cases, max(c["id"] for c in case_set.cases))
+    workers = (os.cpu_count() or 1) if args.workers is None else args.workers
     try:
-        rows = run_case_set_slip_rate(case_set, cases, args.out, resume=args.resume, quiet=args.quiet)
+        rows = run_case_set_slip_rate(case_set, cases, args.out, resume=args.resume, quiet=args.quiet,
+                                      workers=workers, scheduler=args.scheduler)
+    except CasesIncomplete as exc:
+        print_slip_rate_table(exc.rows)
+        print(f"flexbearing validate: {exc}\n  the failed cases again, the finished ones read back: "
+              f"flexbearing validate slip-rate --case-set {args.case_set} --cases {args.cases} --resume",
+              file=sys.stderr)
+        return 1
     except RunInterrupted as exc:
         print(f"flexbearing validate: {exc}" + (f"\n  continue with: flexbearing validate slip-rate "
               f"--case-set {args.case_set} --cases {args.cases} --resume" if exc.resumable else ""), file=sys.stderr)
@@ -192,6 +204,7 @@ def _validate_procedure(args) -> int:
         kw["start"] = args.start
     workers = getattr(args, "workers", None)
     kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
+    kw["scheduler"] = getattr(args, "scheduler", None)
     kw["bearing"] = val.validation_bearing(getattr(args, "shim_angle", None),
                                            getattr(args, "radial_clearance", None))
     kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),

@@ -8,9 +8,16 @@ Layout (SI units in the `unit` attribute of every dataset):
     /scene                 the scene's TOML text, as loaded
     /outputs/time          (n,) s
     /outputs/<name>        (n, ...) one row per sample, e.g. contact_stress (n, Z, 3) Pa; attrs
-                           unit, dims (names of the axes, e.g. "time, ball, contact") and, for
+                           unit, units (the same in CF/udunits spelling: "N m" for "N·m", "1" for
+                           counts), dims (names of the axes, e.g. "time, ball, contact") and, for
                            labelled last axes, columns ("outer, inner_left, inner_right"), from
-                           multibody.output_registry
+                           multibody.output_registry; chunks of CHUNK_ROWS samples, deflate +
+                           shuffle (COMPRESSION)
+    /outputs/<dimension>   HDF5 dimension scales (format 2): time is /outputs/time itself; ball,
+                           contact, axis, ... (output_registry.DIMENSIONS) hold their labels or
+                           indices and are attached to every output's axes, so that
+                           xarray.open_dataset(run.h5, group="outputs") gives named dimensions
+                           with time as a coordinate (output_items() skips them)
     /checkpoint/slot0, slot1   y (state), attrs t, h, n_samples, n_steps, n_rejected, wall_time, seq
 
 Crash safety. Samples are buffered in memory and written in blocks: each block is appended to the
@@ -37,8 +44,11 @@ import numpy as np
 from multibody import output_registry as R
 
 FORMAT = "flexbearing-results"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2        # 2: dimension scales, CF `units`, compressed chunks (1 is still read)
 CHUNK_ROWS = 256          # rows per HDF5 chunk along time (a chunk of (256, 20) float64 is 40 kB)
+# Every output dataset's filters (HDF5 deflate + byte shuffle: readable by any HDF5 or netCDF-4
+# reader, no plugin). Measured on the paper's steady flexible run: benchmarks/bench_results_file.py.
+COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 
 # Units, dimension names and column labels of the recorded quantities: multibody.output_registry
 # (a backend's OUTPUT_UNITS dict wins; name fragments are the last resort for names it does not
@@ -68,6 +78,49 @@ def summary_path(results_path) -> Path:
     """run.h5 -> run.summary.json (beside the results; one per run, so runs in one folder coexist)."""
     p = Path(results_path)
     return p.with_name(p.stem + ".summary.json")
+
+
+def _attach_dimensions(out, name: str, ds, dims) -> None:
+    """Make /outputs/time the `time` dimension scale, and attach to a new dataset's axes the scales of
+    its dimensions (time first, then multibody.output_registry's dims, each a scale dataset in
+    /outputs created at its first use: the labels of its columns, or the index 0..n-1), so that
+    `xarray.open_dataset(run.h5, group="outputs")` names them. The axes of a dataset the registry
+    does not know (a test's backend) are `<name>_dim1`, ... ."""
+    import h5py
+    if name == "time":
+        ds.make_scale("time")
+        return
+    ds.dims[0].attach_scale(out["time"])
+    if dims is None:           # not in the registry: its own dimensions (netCDF needs every axis named)
+        dims = tuple(f"{name}_dim{i}" for i in range(1, ds.ndim))
+    for axis, dim in enumerate(dims, start=1):
+        n = ds.shape[axis]
+        if dim not in out:
+            labels = R.DIMENSION_LABELS.get(dim)
+            if labels is not None and len(labels) == n:
+                scale = out.create_dataset(dim, data=np.array(labels, dtype=object), dtype=h5py.string_dtype())
+            else:
+                scale = out.create_dataset(dim, data=np.arange(n, dtype=np.int64))
+            scale.make_scale(dim)
+        scale = out[dim]
+        if scale.shape != (n,):
+            raise RuntimeError(f"output {name!r}: dimension {dim!r} has {n} entries, {scale.shape[0]} elsewhere")
+        ds.dims[axis].attach_scale(scale)
+
+
+def different_scene(path, file_hash, scene):
+    """The InputError for a results file that another scene wrote (resume, or a study's re-run)."""
+    from common.validation import InputError
+    return InputError(f"--resume: {path} was written by a different scene (scene hash {file_hash} in the "
+                      f"file, {scene.content_hash()} for {scene.path or scene.name}); resume needs the same "
+                      f"scene, or write a new file")
+
+
+def output_items(out):
+    """(name, dataset) of the recorded outputs in a results file's /outputs group, time included:
+    every dataset but the dimension scales (ball, contact, ...)."""
+    from h5py import h5ds
+    return [(k, ds) for k, ds in out.items() if k == "time" or not h5ds.is_scale(ds.id)]
 
 
 class ResultsWriter:
@@ -127,9 +180,7 @@ class ResultsWriter:
                 raise InputError(f"{path} is not a flexbearing results file (format attribute "
                                  f"{f.attrs.get('format')!r}, expected {FORMAT!r})")
             if f.attrs["scene_hash"] != scene.content_hash():
-                raise InputError(f"--resume: {path} was written by a different scene (scene hash "
-                                 f"{f.attrs['scene_hash']} in the file, {scene.content_hash()} for "
-                                 f"{scene.path or scene.name}); resume needs the same scene, or write a new file")
+                raise different_scene(path, f.attrs["scene_hash"], scene)
             cp = read_checkpoint(f)
         except Exception:
             f.close()
@@ -138,7 +189,7 @@ class ResultsWriter:
         w.previous_status = str(f.attrs.get("status", ""))
         w.n_written = 0 if cp is None else cp["n_samples"]
         if "outputs" in f:
-            for name, ds in f["outputs"].items():
+            for name, ds in output_items(f["outputs"]):
                 ds.resize(w.n_written, axis=0)      # drop samples written after the checkpoint
         f.attrs["status"] = "running"
         f.attrs["n_resumes"] = int(f.attrs.get("n_resumes", 0)) + 1
@@ -171,14 +222,19 @@ class ResultsWriter:
                 if n0 != 0:
                     raise RuntimeError(f"output {k!r} appeared after {n0} samples")
                 ds = out.create_dataset(k, shape=(0,) + block.shape[1:], maxshape=(None,) + block.shape[1:],
-                                        dtype=np.float64, chunks=(CHUNK_ROWS,) + block.shape[1:])
-                ds.attrs["unit"] = unit_for(k, self.units)
+                                        dtype=np.float64, chunks=(CHUNK_ROWS,) + block.shape[1:],
+                                        **COMPRESSION)
+                ds.attrs["unit"] = unit = unit_for(k, self.units)
+                ds.attrs["units"] = R.cf_units(unit)           # CF spelling, for xarray/netCDF tools
                 entry = R.OUTPUT.get(k)
+                dims = None
                 if entry is not None and len(entry.dims) == block.ndim - 1:
+                    dims = entry.dims
                     ds.attrs["dims"] = ", ".join(("time",) + entry.dims)
                 cols = entry.columns if entry is not None else None
                 if cols and block.ndim >= 2 and block.shape[-1] == len(cols):
                     ds.attrs["columns"] = ", ".join(cols)
+                _attach_dimensions(out, k, ds, dims)
             ds = out[k]
             if ds.shape[1:] != block.shape[1:]:
                 raise RuntimeError(f"output {k!r} changed shape from {ds.shape[1:]} to {block.shape[1:]}")
@@ -271,7 +327,7 @@ def output_statistics(f, block_rows: int = 65536) -> dict:
     out = f["outputs"]
     time = out["time"][...]
     stats = {}
-    for name, ds in out.items():
+    for name, ds in output_items(out):
         if name == "time" or ds.shape[0] == 0:
             continue
         cols = [c.strip() for c in str(ds.attrs.get("columns", "")).split(",") if c.strip()]
@@ -310,7 +366,7 @@ def read_outputs(path) -> dict[str, np.ndarray]:
     """All recorded outputs of a results file as arrays (small runs, tests, reports)."""
     import h5py
     with h5py.File(path, "r") as f:
-        return {k: ds[...] for k, ds in f["outputs"].items()}
+        return {k: ds[...] for k, ds in output_items(f["outputs"])}
 
 
 def check_run(path) -> Path:

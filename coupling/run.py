@@ -27,6 +27,7 @@ are always recorded. Vectors of mixed units are split into SI datasets (the regi
 from __future__ import annotations
 
 import inspect
+import json
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -130,6 +131,29 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
             raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed, "
                                  "nothing to resume (run it again)", 0.0, str(out_path), exc,
                                  resumable=False) from exc
+
+
+def finished_run(scene, out_path) -> dict | None:
+    """The summary of a finished run of `scene` in `out_path`, read without claiming or writing the
+    file; None when it holds no finished run (no file, not HDF5, interrupted, being written). A
+    file written by a different scene is refused (InputError), as `run_scene(..., resume=True)`
+    refuses it. Lets a study or a job list skip its finished runs before sending any job out."""
+    import h5py
+    from coupling.results import FORMAT, different_scene
+    out_path = Path(out_path)
+    if not out_path.is_file() or not h5py.is_hdf5(out_path):
+        return None
+    try:
+        with h5py.File(out_path, "r") as f:
+            if f.attrs.get("format") != FORMAT:
+                return None
+            if f.attrs.get("scene_hash") != scene.content_hash():
+                raise different_scene(out_path, f.attrs.get("scene_hash"), scene)
+            if str(f.attrs.get("status", "")) != "complete" or "summary" not in f.attrs:
+                return None
+            return json.loads(f.attrs["summary"])
+    except OSError:                    # locked or damaged: the run itself will say what is wrong
+        return None
 
 
 def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:
@@ -307,31 +331,79 @@ def _slip_and_drift(d: dict) -> dict:
     return {"slip_ours": d["slip"], "slip_drift": d["drift"]}
 
 
+class CasesIncomplete(RuntimeError):
+    """Some cases of a case set failed (coupling.jobs.JobFailure each, in `failures`); `rows` holds
+    the finished ones (case order). Their results files stay: --resume reads them back."""
+
+    def __init__(self, message: str, rows: list[dict], failures: list):
+        super().__init__(message)
+        self.rows, self.failures = rows, failures
+
+
+def _run_case(scene, path: str, resume: bool, quiet: bool) -> dict:
+    """One case of a case set (a job of coupling.jobs.run_jobs, on a Dask worker)."""
+    return run_scene(scene, path, resume=resume, force=not resume, quiet=quiet)
+
+
 def run_case_set_slip_rate(case_set, case_ids, out_dir, resume: bool = False, quiet: bool = False,
-                           backend=None) -> list[dict]:
+                           backend=None, workers: int = 1, scheduler: str | None = None) -> list[dict]:
     """Run the selected cases of a slip-rate case set (one results file per case in out_dir,
     caseNN.h5) and return rows: case, group, axial_load, radial_load, speed_rpm, slip_ours,
     slip_test, slip_paper (slip rates as fractions), slip_drift (see slip_rate_from_results),
-    wall_time_s, n_steps."""
+    wall_time_s, n_steps.
+
+    The cases are jobs of coupling.jobs.run_jobs: `workers` at once on a Dask LocalCluster (1: one
+    after the other in this process) or on the cluster at `scheduler`. With resume, a finished
+    case (finished_run) is read back without sending it out. A case that fails does not stop the
+    others: CasesIncomplete then carries the finished rows. `backend` (tests' stand-in physics)
+    runs in this process only, workers = 1."""
+    from coupling.jobs import require_scheduler, require_workers, run_jobs
+    require_workers(workers)
+    require_scheduler(scheduler)
+    if backend is not None and (workers != 1 or scheduler is not None):
+        raise InputError("a backend object runs in this process only: workers = 1 and no scheduler")
     by_id = {c["id"]: c for c in case_set.cases}
     unknown = [i for i in case_ids if i not in by_id]
     if unknown:
         raise InputError(f"--cases: case {unknown[0]} is not in {case_set.path} "
                          f"(allowed: {', '.join(str(i) for i in sorted(by_id))})")
     out_dir = Path(out_dir)
+    summaries, todo = {}, []
+    for cid in case_ids:
+        path = out_dir / f"case{cid:02d}.h5"
+        summary = finished_run(case_set.scenes[cid], path) if resume else None
+        if summary is None:
+            todo.append(cid)
+        else:
+            summaries[cid] = summary
+    here = scheduler is None and (workers == 1 or len(todo) == 1)
+    if not quiet:
+        for cid in case_ids:
+            c = by_id[cid]
+            done = "finished, read back" if cid in summaries else "to run"
+            print(f"case {cid}: Fa {c['axial_load']:g} N, Fr {c['radial_load']:g} N, "
+                  f"{c['speed_rpm']:g} rpm -> {out_dir / f'case{cid:02d}.h5'} ({done})", flush=True)
+    if backend is not None:
+        func = lambda scene, path, resume, quiet: run_scene(scene, path, resume=resume,  # noqa: E731
+                                                            force=not resume, quiet=quiet, backend=backend)
+    else:
+        func = _run_case
+    jobs = [(case_set.scenes[cid], str(out_dir / f"case{cid:02d}.h5"), resume, quiet or not here) for cid in todo]
+    failures = run_jobs(func, jobs, lambda k, summary: summaries.__setitem__(todo[k], summary),
+                        workers=workers, scheduler=scheduler, names=[f"case {cid}" for cid in todo],
+                        description="slip-rate cases", progress=not (quiet or here))
     rows = []
     for cid in case_ids:
-        c = by_id[cid]
-        scene = case_set.scenes[cid]
-        path = out_dir / f"case{cid:02d}.h5"
-        if not quiet:
-            print(f"case {cid}: Fa {c['axial_load']:g} N, Fr {c['radial_load']:g} N, "
-                  f"{c['speed_rpm']:g} rpm -> {path}", flush=True)
-        summary = run_scene(scene, path, resume=resume, force=not resume, quiet=quiet, backend=backend)
+        if cid not in summaries:
+            continue
+        c, summary, path = by_id[cid], summaries[cid], out_dir / f"case{cid:02d}.h5"
         rows.append({"case": cid, "group": c["group"], "axial_load": c["axial_load"],
                      "radial_load": c["radial_load"], "speed_rpm": c["speed_rpm"],
                      **_slip_and_drift(slip_rate_from_results(path, case_set.average_from)),
                      "slip_test": c["test_slip_percent"] / 100.0,
                      "slip_paper": c["paper_slip_percent"] / 100.0,
                      "wall_time_s": summary["wall_time_s"], "n_steps": summary["n_steps"]})
+    if failures:
+        raise CasesIncomplete(f"{len(failures)} of {len(case_ids)} cases failed ({'; '.join(map(str, failures))}); "
+                              f"the others are in {out_dir}", rows, failures)
     return rows

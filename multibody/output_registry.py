@@ -126,6 +126,28 @@ OUTPUTS = (
 )
 OUTPUT = {o.name: o for o in OUTPUTS}
 
+# The dimensions after time, each written once into the results file's /outputs as an HDF5
+# dimension scale (coupling.results) so that xarray/netCDF readers see named dimensions: its
+# coordinate values are the labels of the entries' `columns` where they have them (contact ->
+# outer, inner_left, inner_right; axis -> x, y, z ...), else the index 0..n-1 (ball, mode).
+DIMENSIONS = ("ball", "contact", "axis", "radial_axis", "tilt", "ball_axis", "mode", "full_mode")
+DIMENSION_LABELS: dict[str, tuple] = {}
+for _out in OUTPUTS:
+    assert set(_out.dims) <= set(DIMENSIONS), _out.name
+    if _out.columns:
+        assert DIMENSION_LABELS.setdefault(_out.dims[-1], _out.columns) == _out.columns, _out.name
+assert not set(DIMENSIONS) & set(OUTPUT) and "time" not in OUTPUT
+del _out
+
+# CF convention (udunits) spelling of the units that differ from ours; written as the `units`
+# attribute beside `unit` (counts and indices are dimensionless, "1", in CF)
+_CF_UNITS = {"N·m": "N m", "index": "1", "steps": "1"}
+
+
+def cf_units(unit: str) -> str:
+    """The CF/udunits `units` string of an SI unit of this registry ("N·m" -> "N m")."""
+    return _CF_UNITS.get(unit, unit)
+
 # the keys of the evaluation the entries come from (a split vector's key for its datasets)
 EVALUATED = frozenset(o.source[0] if o.source else o.name for o in OUTPUTS)
 # evaluated vectors of mixed units -> ((dataset, index along the last axis), ...)

@@ -13,6 +13,7 @@ import h5py
 import numpy as np
 import pytest
 
+from coupling.results import output_items
 from multibody import output_registry as R
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 
@@ -65,7 +66,7 @@ def _check_file(path, groups) -> set[str]:
     """Every dataset of the results file is the registry's, with its unit and dims; returns the names."""
     with h5py.File(path, "r") as f:
         out = f["outputs"]
-        names = set(out) - {"time"}
+        names = {k for k, _ in output_items(out)} - {"time"}
         for name in names:
             o = R.OUTPUT[name]
             ds = out[name]

@@ -13,7 +13,7 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling.results import read_checkpoint, read_outputs
+from coupling.results import output_items, read_checkpoint, read_outputs
 from coupling.run import RunInterrupted, run_scene
 from common.validation import InputError
 from test_run import SCENE, fake_advance, fake_backend, fake_scene
@@ -63,7 +63,7 @@ def test_ctrl_c_then_resume_equals_uninterrupted(tmp_path, reference, n_calls):
     with h5py.File(out, "r") as f:                       # a valid, readable file
         assert f.attrs["status"] == "interrupted"
         n = f["outputs/time"].shape[0]
-        assert all(ds.shape[0] == n for ds in f["outputs"].values())
+        assert all(ds.shape[0] == n for _, ds in output_items(f["outputs"]))
         assert read_checkpoint(f)["n_samples"] == n      # Ctrl-C checkpoints the last sample
     summary = run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
     assert_same_results(ref, out)
@@ -82,7 +82,7 @@ def test_crash_with_samples_after_the_checkpoint_is_truncated(tmp_path, referenc
     with h5py.File(out, "r+") as f:
         assert f.attrs["status"].startswith("failed: RuntimeError: boom")
         n = f["outputs/time"].shape[0]
-        for ds in f["outputs"].values():                 # simulate rows beyond the checkpoint
+        for _, ds in output_items(f["outputs"]):        # simulate rows beyond the checkpoint
             ds.resize(n + 5, axis=0)
             ds[n:] = 1e300
         slot = f["checkpoint/slot0"] if f["checkpoint/slot0"].attrs["seq"] < f["checkpoint/slot1"].attrs["seq"] \
@@ -175,3 +175,24 @@ checkpoint_every = 5
         run_scene(scene, tmp_path / "b.h5", quiet=True, backend=backend)
     run_scene(scene, tmp_path / "b.h5", quiet=True, resume=True)
     assert_same_results(tmp_path / "a.h5", tmp_path / "b.h5")
+
+
+def test_a_resumed_file_keeps_its_dimension_scales_and_compression(tmp_path, reference):
+    """Resume truncates and extends compressed, dimension-scaled datasets (coupling.results format
+    2): the resumed file still opens in xarray with its named dimensions, and holds the
+    uninterrupted run's numbers."""
+    xr = pytest.importorskip("xarray")
+    ref, _ = reference
+    out = tmp_path / "run.h5"
+    with pytest.raises(RunInterrupted):
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance=stopping_after(41, KeyboardInterrupt())))
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
+    with h5py.File(out, "r") as f:
+        load = f["outputs/external_load"]
+        assert load.compression == "gzip" and load.dims[1][0].name == "/outputs/axis"
+        n = f["outputs/time"].shape[0]
+    with xr.open_dataset(out, group="outputs") as ds:
+        assert ds["external_load"].dims == ("time", "axis") and ds.sizes["time"] == n
+        assert list(ds["axis"].values) == ["x", "y", "z"]
+        assert np.array_equal(ds["external_load"].values, read_outputs(ref)["external_load"])

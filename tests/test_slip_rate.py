@@ -112,19 +112,37 @@ def test_steady_start_of_the_light_load_high_speed_cases():
         V.run_slip_case(case1, V.VALIDATION_BEARING, V.validation_oil(), t_max=0.05, start="rest")
 
 
-def test_cases_in_parallel_give_the_same_rows_in_case_order():
-    """workers=2 runs the cases in two processes: each row is one deterministic integration, so the
-    rows must equal the serial ones bit for bit, and come back in case order (they are started
-    highest speed first). 0.1 s of cases 7 and 1; a bad worker count is refused with its name."""
+PARALLEL_KW = dict(cases=[7, 1], quiet=True, t_max=0.1, t_min=0.05)
+
+
+@pytest.fixture(scope="module")
+def serial_rows():
+    """0.1 s of cases 7 and 1, one after the other in this process."""
+    return V.run_slip_rate_validation(**PARALLEL_KW)
+
+
+def test_cases_in_parallel_give_the_same_rows_in_case_order(serial_rows):
+    """workers=2 runs the cases on a Dask LocalCluster of two processes: each row is one
+    deterministic integration, so the rows must equal the serial ones bit for bit, and come back
+    in case order (they are started highest speed first). 0.1 s of cases 7 and 1; a bad worker
+    count is refused with its name."""
     from common.validation import InputError
-    kw = dict(cases=[7, 1], quiet=True, t_max=0.1, t_min=0.05)
-    serial = V.run_slip_rate_validation(**kw)
+    kw = PARALLEL_KW
+    serial = serial_rows
     parallel = V.run_slip_rate_validation(workers=2, **kw)
     assert [r["case"] for r in parallel] == [1, 7]
     for a, b in zip(serial, parallel):
         assert a["slip_pct"] == b["slip_pct"] and a["steps"] == b["steps"] and a["window_means"] == b["window_means"]
     with pytest.raises(InputError, match="workers"):
         V.run_slip_rate_validation(workers=0, **kw)
+
+
+def test_cases_on_a_cluster_of_separate_processes(serial_rows, dask_cluster):
+    """The same two cases on a scheduler and two worker processes (`--scheduler`): the serial rows."""
+    rows = V.run_slip_rate_validation(scheduler=dask_cluster.address, **PARALLEL_KW)
+    assert [r["case"] for r in rows] == [1, 7]
+    for a, b in zip(serial_rows, rows):
+        assert a["slip_pct"] == b["slip_pct"] and a["steps"] == b["steps"] and a["window_means"] == b["window_means"]
 
 
 def test_an_interrupted_validation_keeps_the_finished_cases(tmp_path, monkeypatch, capsys):

@@ -126,7 +126,7 @@ def test_mean_contact_stress_follows_the_quasi_static_solution(thrust_study):
 
 
 def test_parallel_runs_and_resume_give_the_same_study(thrust_study, tmp_path):
-    """--workers 2 (forked processes) gives the same windows to the last bit; running the study
+    """--workers 2 (a Dask LocalCluster) gives the same windows to the last bit; running the study
     again reuses the finished runs (nothing is integrated twice); a study changed under the same
     output folder is refused instead of mixing old runs into it."""
     study, out, result = thrust_study
@@ -234,3 +234,80 @@ def test_trend_noise_from_the_scatter_study():
     row = next(l for l in trend_lines(rising, "axial_load", {"guiding_force_mean": 0.05})
                if l.startswith("| Guiding force [N] | mean"))
     assert row.endswith("| 5.0 % | falls | disagrees |")
+
+
+def test_a_study_on_a_cluster_of_separate_processes(thrust_study, dask_cluster, tmp_path, capsys):
+    """`flexbearing study --scheduler ADDRESS` on a scheduler and two worker processes started as a
+    cluster's are (tests/conftest.py DaskCluster): the same windows to the last bit as the runs
+    one after the other in this process (each run is one deterministic integration)."""
+    from coupling import cli
+    study, out, result = thrust_study
+    path = _write(tmp_path)
+    code = cli.main(["study", str(path), "-o", str(tmp_path / "out"), "--scheduler", dask_cluster.address,
+                     "--quiet"])
+    assert code == 0, capsys.readouterr().err
+    saved = json.loads((tmp_path / "out" / "fa" / "study.json").read_text())
+    for a, b in zip(saved["runs"], result["runs"]):
+        assert a["windows"] == b["windows"]
+    logs = " ".join((dask_cluster.folder / f"worker{i}.log").read_text() for i in range(2))
+    assert "Traceback" not in logs
+
+
+def test_a_failed_run_is_reported_the_others_finish_and_a_rerun_does_only_it(tmp_path, monkeypatch):
+    """A run that raises does not stop the study: the other run finishes (its file complete), the
+    study stops with StudyIncomplete naming the failed run; run again, only the failed run is sent
+    out (a finished run is read back, coupling.run.finished_run) and the study completes."""
+    import coupling.study as S
+    from coupling.run import finished_run
+    real = S._run_one
+    calls = []
+
+    def first_fails(scene, path, quiet, cage=None):
+        calls.append(scene.name)
+        if scene.name == "fa_0":
+            raise RuntimeError("disk full (simulated)")
+        return real(scene, path, quiet, cage)
+
+    monkeypatch.setattr(S, "_run_one", first_fails)
+    study = load_study(_write(tmp_path))
+    out = tmp_path / "out"
+    with pytest.raises(S.StudyIncomplete, match=r"1 of 2 runs failed \(run 0 \(fa_0\): RuntimeError: disk full"):
+        run_study(study, out, workers=1, quiet=True)
+    assert finished_run(study.scenes[1], S.run_path(out, study, 1))["status"] == "complete"
+    assert finished_run(study.scenes[0], S.run_path(out, study, 0)) is None
+    calls.clear()
+    monkeypatch.setattr(S, "_run_one", lambda *a: (calls.append(a[0].name), real(*a))[1])
+    result = run_study(study, out, workers=1, quiet=True)
+    assert calls == ["fa_0"]
+    assert [r["parameter"] for r in result["runs"]] == [30e3, 55e3]
+
+
+def test_the_reduced_cage_is_built_once_per_distinct_cage_and_reaches_the_runs_by_path(tmp_path, monkeypatch):
+    """Three flexible-cage runs over two distinct cages (mesh sizes 6, 6 and 7 mm): two builds,
+    before any run; each run gets the path of its own cage (content hash,
+    coupling.flexible_cage.reduced_cage_hash). No FE work here: the build and the runs are
+    stand-ins that record what they were given."""
+    import coupling.study as S
+    from coupling.flexible_cage import reduced_cage_hash
+    base = BASE.replace('model = "rigid"', 'model = "flexible"')
+    study_text = STUDY.replace('keys = ["operation.load.axial_load"]', 'keys = ["cage.mesh_size"]').replace(
+        "values = [30e3, 55e3]", "values = [6e-3, 6e-3, 7e-3]")
+    study = load_study(_write(tmp_path, study_text, base))
+    built, given = [], []
+
+    def build(scene, quiet):
+        built.append(reduced_cage_hash(scene))
+        return f"/cache/{built[-1]}.h5"
+
+    def run(scene, path, quiet, cage=None):
+        given.append((scene.name, cage))
+        raise RuntimeError("not run here")
+
+    monkeypatch.setattr(S, "_build_reduced_cage", build)
+    monkeypatch.setattr(S, "_run_one", run)
+    with pytest.raises(S.StudyIncomplete, match="3 of 3 runs failed"):
+        run_study(study, tmp_path / "out", workers=1, quiet=True)
+    h = [reduced_cage_hash(sc) for sc in study.scenes]
+    assert h[0] == h[1] != h[2]
+    assert sorted(built) == sorted({h[0], h[2]})
+    assert given == [(f"fa_{i}", f"/cache/{h[i]}.h5") for i in range(3)]
