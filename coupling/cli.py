@@ -13,7 +13,7 @@ import sys
 
 from common.validation import InputError
 from coupling import (cli_demo, cli_mesh, cli_modes, cli_quasi_static, cli_reduce, cli_report, cli_run,
-                      cli_study)
+                      cli_study, cli_uncertainty)
 
 # Order = order in --help.
 COMMAND_MODULES = (
@@ -24,6 +24,7 @@ COMMAND_MODULES = (
     cli_quasi_static,    # quasi-static
     cli_report,          # report
     cli_study,           # study
+    cli_uncertainty,     # uncertainty
     cli_demo,            # demo
 )
 
