@@ -1,7 +1,8 @@
 """`flexbearing run` and `flexbearing validate`.
 
     flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--max-wall-time S] [--quiet]
-    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--ball-attitude A]
+    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--scheduler ADDRESS]
+                                   [--ball-attitude A]
                                    [--transverse-traction on|off] [--shim-angle DEG]
                                    [--radial-clearance M] [--quiet]
 
@@ -60,8 +61,11 @@ def register(subparsers) -> None:
                         "steady thrust state (multibody.steady), which spares the light-load high-speed cases "
                         "their seconds of settling")
     s.add_argument("--workers", type=int, default=None,
-                   help="cases run at once in separate processes (default: the number of CPUs; "
-                        "coupling.validate's procedure only)")
+                   help="cases run at once on a local Dask cluster (default: the number of CPUs; 1 = one "
+                        "after the other in this process; coupling.validate's procedure only)")
+    s.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run the cases on the existing Dask cluster whose scheduler is at ADDRESS, e.g. "
+                        "tcp://10.0.0.5:8786 (coupling.validate's procedure only)")
     # multibody.model.BALL_ATTITUDES, written out so that the CLI starts without importing numba
     # (tests/test_slip_rate.py checks that it takes every one of them)
     s.add_argument("--ball-attitude", default=None, choices=("free", "outer", "inner", "jones", "no_pivot"),
@@ -165,6 +169,7 @@ def cmd_validate_slip_rate(args) -> int:
     # [model] and durations, so they would be ignored without a word
     given = [flag for flag, value, default in (
         ("--t-max", args.t_max, None), ("--start", args.start, None), ("--workers", args.workers, None),
+        ("--scheduler", args.scheduler, None),
         ("--ball-attitude", args.ball_attitude, None), ("--transverse-traction", args.transverse_traction, "on"),
         ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None))
         if value != default]
@@ -192,6 +197,7 @@ def _validate_procedure(args) -> int:
         kw["start"] = args.start
     workers = getattr(args, "workers", None)
     kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
+    kw["scheduler"] = getattr(args, "scheduler", None)
     kw["bearing"] = val.validation_bearing(getattr(args, "shim_angle", None),
                                            getattr(args, "radial_clearance", None))
     kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),

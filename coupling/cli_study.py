@@ -1,6 +1,6 @@
 """`flexbearing study`: one scene run over a range of a parameter (the paper's §4.4 studies).
 
-    flexbearing study STUDY.toml [-o DIR] [--workers N] [--quiet]
+    flexbearing study STUDY.toml [-o DIR] [--workers N] [--scheduler ADDRESS] [--quiet]
 
 The work: coupling.study (its docstring describes the study file and what is written).
 """
@@ -14,19 +14,29 @@ def register(subparsers) -> None:
                               description=__doc__.split("\n\n")[0])
     p.add_argument("study", help="study file (TOML), e.g. scenes/study_axial_load.toml")
     p.add_argument("-o", "--output", default="out/study", help="output folder (default out/study)")
-    p.add_argument("--workers", type=int, default=1, help="runs at once (default 1)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="runs at once on a local Dask cluster (default: the number of CPUs; 1 = one after "
+                        "the other in this process)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run on the existing Dask cluster whose scheduler is at ADDRESS, e.g. "
+                        "tcp://10.0.0.5:8786 (`dask scheduler` prints it); its workers must see the "
+                        "output folder and FLEXBEARING_CACHE at the same paths")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=cmd_study)
 
 
 def cmd_study(args) -> int:
     from coupling.run import RunInterrupted
-    from coupling.study import load_study, run_study, study_markdown
+    from coupling.study import StudyIncomplete, load_study, run_study, study_markdown
     study = load_study(args.study)
     print(f"== study {study.name}: {len(study.scenes)} runs of {study.scene_path} "
           f"({', '.join(study.keys)}) -> {Path(args.output) / study.name}", flush=True)
     try:
-        result = run_study(study, args.output, workers=args.workers, quiet=args.quiet)
+        result = run_study(study, args.output, workers=args.workers, quiet=args.quiet,
+                           scheduler=args.scheduler)
+    except StudyIncomplete as exc:
+        print(f"flexbearing study: {exc}", file=sys.stderr)
+        return 1
     except RunInterrupted as exc:
         print(f"flexbearing study: {exc} (run the same command again to continue)", file=sys.stderr)
         return 130 if isinstance(exc.__cause__, KeyboardInterrupt) else 1

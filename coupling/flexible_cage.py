@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from common.validation import require_range
+from common.validation import InputError, require_range
 from fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
 from multibody.floating_frame import FlexibleBody
 
@@ -122,17 +122,36 @@ def flexible_cage_body(rc, n_keep: int = DEFAULT_N_KEEP, beta: float = 0.0,
 
 
 # --------------------------------------------------------------------------- the run's backend
-def reduced_cage_path(scene, quiet: bool = False):
-    """The reduced cage file for the scene's cage: from the cache, or built once (imports the FE
-    stack only then). Key = every input that changes it (fem_cage.reduced_cage.cache_key)."""
+def reduced_cage_key(scene) -> dict:
+    """Every input that changes the scene's reduced cage (fem_cage.reduced_cage.cache_key); its
+    content hash names the cached file (fem_cage.reduced_cage.cache_path)."""
     from fem_cage import reduced_cage as rcf
     import mesh.cage_mesh as cm
     f = scene.flexible
     size = f.get("mesh_size", cm.DEFAULT_MESH_SIZE)
     degree = f.get("element_order", cm.DEFAULT_DEGREE)
     pocket = min(cm.DEFAULT_POCKET_SIZE, size)
-    key = rcf.cache_key(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
-                        rcf.DEFAULT_N_FIXED, degree, True)
+    return rcf.cache_key(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
+                         rcf.DEFAULT_N_FIXED, degree, True)
+
+
+def reduced_cage_hash(scene) -> str:
+    """The content hash of the scene's reduced cage (the cached file's stem): two scenes share a
+    reduced cage exactly when their hashes are equal."""
+    from common.cache import content_hash
+    return content_hash(reduced_cage_key(scene))
+
+
+def reduced_cage_path(scene, quiet: bool = False):
+    """The reduced cage file for the scene's cage: from the cache, or built once (imports the FE
+    stack only then). Key = every input that changes it (reduced_cage_key)."""
+    from fem_cage import reduced_cage as rcf
+    import mesh.cage_mesh as cm
+    f = scene.flexible
+    size = f.get("mesh_size", cm.DEFAULT_MESH_SIZE)
+    degree = f.get("element_order", cm.DEFAULT_DEGREE)
+    pocket = min(cm.DEFAULT_POCKET_SIZE, size)
+    key = reduced_cage_key(scene)
     path = rcf.find_cached(key)
     if path is None:
         from fem_cage.reduction import build
@@ -220,18 +239,31 @@ class StressRecovery:
                            modes_offset, self.n_elastic, trace)
 
 
-def backend(scene):
+def backend(scene, reduced_cage=None):
     """The flexible-cage physics for coupling.run: the multibody model with the reduced cage as
     its floating-frame body (the scene's cage.n_modes, by default DEFAULT_N_KEEP = 26), its initial
     state with the cage's quasi-static centrifugal deformation, and outputs extended by the cage
-    stress."""
+    stress.
+
+    reduced_cage: the reduced cage file to use (a study's jobs get the path of the file built once
+    for them, coupling.study); it must be the scene's cage (its content hash is checked). Default:
+    from the cache, built if missing (reduced_cage_path)."""
     from types import SimpleNamespace
     from fem_cage import reduced_cage as rcf
     from multibody import initial, integrator, model as mb, outputs
     from multibody.cage_body import cage_body_angular_velocity, cage_rotation
 
-    path = reduced_cage_path(scene)
+    if reduced_cage is None:
+        path = reduced_cage_path(scene)
+    else:
+        path = Path(reduced_cage)
+        if not path.is_file():
+            raise InputError(f"reduced cage file {path} does not exist here: the cache folder "
+                             f"(FLEXBEARING_CACHE) must be one every worker sees, at the same path")
     rc = rcf.read(path)
+    if reduced_cage is not None and str(rc.attrs.get("content_hash")) != reduced_cage_hash(scene):
+        raise InputError(f"reduced cage file {path} (hash {rc.attrs.get('content_hash')}) is not the "
+                         f"cage of scene {scene.name} (hash {reduced_cage_hash(scene)})")
     n_keep = int(scene.flexible.get("n_modes", DEFAULT_N_KEEP))
     beta = float(scene.flexible.get("damping_beta", 1e-5))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)

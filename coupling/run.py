@@ -27,6 +27,7 @@ are always recorded. Vectors of mixed units are split into SI datasets (the regi
 from __future__ import annotations
 
 import inspect
+import json
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -130,6 +131,31 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
             raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed, "
                                  "nothing to resume (run it again)", 0.0, str(out_path), exc,
                                  resumable=False) from exc
+
+
+def finished_run(scene, out_path) -> dict | None:
+    """The summary of a finished run of `scene` in `out_path`, read without claiming or writing the
+    file; None when it holds no finished run (no file, not HDF5, interrupted, being written). A
+    file written by a different scene is refused (InputError), as `run_scene(..., resume=True)`
+    refuses it. Lets a study or a job list skip its finished runs before sending any job out."""
+    import h5py
+    from coupling.results import FORMAT
+    out_path = Path(out_path)
+    if not out_path.is_file() or not h5py.is_hdf5(out_path):
+        return None
+    try:
+        with h5py.File(out_path, "r") as f:
+            if f.attrs.get("format") != FORMAT:
+                return None
+            if f.attrs.get("scene_hash") != scene.content_hash():
+                raise InputError(f"--resume: {out_path} was written by a different scene (scene hash "
+                                 f"{f.attrs.get('scene_hash')} in the file, {scene.content_hash()} for "
+                                 f"{scene.path or scene.name}); resume needs the same scene, or write a new file")
+            if str(f.attrs.get("status", "")) != "complete" or "summary" not in f.attrs:
+                return None
+            return json.loads(f.attrs["summary"])
+    except OSError:                    # locked or damaged: the run itself will say what is wrong
+        return None
 
 
 def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:

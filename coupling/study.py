@@ -1,6 +1,6 @@
 """One scene run over a range of a parameter (the paper's §4.4 studies): the work of `flexbearing study`.
 
-    flexbearing study STUDY.toml [-o DIR] [--workers N] [--quiet]        (coupling.cli_study)
+    flexbearing study STUDY.toml [-o DIR] [--workers N] [--scheduler ADDRESS] [--quiet]   (coupling.cli_study)
 
 The paper (Yang, Liu & Deng 2025, §4.4, Figs. 23–34) varies one parameter of its unsteady case
 at a time (axial load 45–65 kN, radial load 4–8 kN, speed 11,000–15,000 rpm, groove curvature
@@ -25,8 +25,12 @@ Each run is the base scene with the keys set (intermediate tables are created, l
 exist); every run's scene is validated before anything is integrated, and a value that makes it
 invalid is refused naming the value and the scene's own message. Runs stream to
 DIR/<name>/<name>_<i>.h5 and resume like `flexbearing run --resume`: a finished run is reused, an
-interrupted study continues where it stopped. `--workers N` runs N at once (separate processes,
-fork; each run is the same deterministic integration whatever N).
+interrupted study continues where it stopped. The runs are jobs on Dask (coupling.jobs):
+`--workers N` runs N at once on a LocalCluster (default: one per CPU; 1: one after the other in
+this process), `--scheduler tcp://HOST:PORT` on an existing Dask cluster; each run is the same
+deterministic integration wherever it runs. A flexible cage's reduced cage is built (or found in
+the cache) once per distinct cage before the runs start and reaches them by path. A run that
+fails is reported and the others go on.
 
 Results, in DIR/<name>/:
 
@@ -50,13 +54,13 @@ from __future__ import annotations
 import copy
 import json
 import math
+import os
 import re
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from coupling.html_page import write_html
-from coupling.parallel import require_workers, run_in_processes
 from common.validation import InputError
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
@@ -196,40 +200,71 @@ def run_path(out_dir, study: Study, i: int) -> Path:
     return Path(out_dir) / study.name / f"{study.name}_{i}.h5"
 
 
-def _run_one(scene, path: str, quiet: bool) -> dict:
+def _run_one(scene, path: str, quiet: bool, reduced_cage: str | None = None) -> dict:
+    """One run of a study (a job of coupling.jobs.run_jobs, on a Dask worker): run or resume it;
+    a flexible cage's reduced cage comes from the file built once for the study (by path)."""
     from coupling.run import run_scene
-    return run_scene(scene, path, resume=True, quiet=quiet)
+    backend = None
+    if reduced_cage is not None:
+        from coupling.flexible_cage import backend as flexible_backend
+        backend = flexible_backend(scene, reduced_cage=reduced_cage)
+    return run_scene(scene, path, resume=True, quiet=quiet, backend=backend)
 
 
-def _build_reduced_cage(scene, quiet: bool) -> None:
+def _build_reduced_cage(scene, quiet: bool) -> str:
+    """The reduced cage of the scene: from the cache or built (a job: on a worker, which imports the
+    FE stack; the file lock of the cache makes a second builder wait). Returns its path."""
     from coupling.flexible_cage import reduced_cage_path
-    reduced_cage_path(scene, quiet=quiet)
+    return str(Path(reduced_cage_path(scene, quiet=quiet)).resolve())
 
 
-def _prepare_reduced_cages(study: Study, quiet: bool) -> None:
-    """Build (or find in the cache) each distinct reduced cage of the study once, before parallel
-    runs start: otherwise every worker would build the same one. In a child process, so that the
-    FE stack (MPI) is never initialised in the process that forks the workers."""
-    import multiprocessing
-    seen = set()
-    for sc in study.scenes:
-        if sc.cage_model != "flexible":
-            continue
-        key = repr((sc.bearing.cage, sorted(sc.flexible.items())))
-        if key in seen:
-            continue
-        seen.add(key)
-        p = multiprocessing.get_context("fork").Process(target=_build_reduced_cage, args=(sc, quiet))
-        p.start()
-        p.join()
-        if p.exitcode != 0:
-            raise RuntimeError(f"building the reduced cage of {sc.name} failed (exit code {p.exitcode})")
+class StudyIncomplete(RuntimeError):
+    """Some runs of the study failed (coupling.jobs.JobFailure each, in `failures`); the others are
+    finished and on disk, and running the study again reuses them."""
+
+    def __init__(self, message: str, failures: list):
+        super().__init__(message)
+        self.failures = failures
 
 
-def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> dict:
+def _prepare_reduced_cages(study: Study, todo: list[int], quiet: bool, workers, scheduler) -> dict:
+    """Each distinct reduced cage of the runs `todo` (by content hash, coupling.flexible_cage.
+    reduced_cage_hash) built or found in the cache once, before the runs start (otherwise every
+    worker would build the same one). Returns {hash: path}: the runs reach it by path."""
+    from coupling.jobs import run_jobs
+    from coupling.flexible_cage import reduced_cage_hash
+    distinct = {}
+    for i in todo:
+        sc = study.scenes[i]
+        if sc.cage_model == "flexible":
+            distinct.setdefault(reduced_cage_hash(sc), sc)
+    if not distinct:
+        return {}
+    hashes = list(distinct)
+    paths = {}
+    failures = run_jobs(_build_reduced_cage, [(distinct[h], quiet) for h in hashes],
+                        lambda k, p: paths.__setitem__(hashes[k], p),
+                        workers=min(workers, len(hashes)), 
+                        scheduler=scheduler, names=[f"reduced cage {h}" for h in hashes],
+                        description="reduced cages", progress=False)
+    if failures:
+        raise StudyIncomplete("building the reduced cage failed: " + "; ".join(map(str, failures)), failures)
+    return paths
+
+
+def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = False,
+              scheduler: str | None = None) -> dict:
     """Run (or resume) every run of the study and write study.json, study.md and the plots.
-    Returns the study.json content."""
-    require_workers(workers)
+    Returns the study.json content.
+
+    The runs are jobs of coupling.jobs.run_jobs: `workers` at once on a LocalCluster (None: one per
+    CPU; 1: one after the other in this process) or on the Dask cluster at `scheduler`. A finished
+    run (its results file complete, coupling.run.finished_run) is not sent out again. A run that
+    fails does not stop the others: StudyIncomplete is raised once they are done."""
+    from coupling.jobs import require_scheduler, require_workers, run_jobs
+    from coupling.run import finished_run
+    workers = require_workers((os.cpu_count() or 1) if workers is None else workers)
+    require_scheduler(scheduler)
     folder = Path(out_dir) / study.name
     folder.mkdir(parents=True, exist_ok=True)
     n = len(study.scenes)
@@ -243,12 +278,32 @@ def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> d
             print(f"   run {i + 1}/{n} ({study.label} {v}): "
                   f"wall {summary.get('wall_time_s', float('nan')):.1f} s", flush=True)
 
-    parallel = workers > 1 and n > 1
-    if parallel:
-        _prepare_reduced_cages(study, quiet)
-    # in parallel each run is quiet (one progress bar per process would garble the terminal)
-    jobs = [(sc, str(run_path(out_dir, study, i)), quiet or parallel) for i, sc in enumerate(study.scenes)]
-    run_in_processes(_run_one, jobs, workers, done)
+    todo = []
+    for i, sc in enumerate(study.scenes):
+        summary = finished_run(sc, run_path(out_dir, study, i))
+        if summary is None:
+            todo.append(i)
+        else:
+            summaries[i] = summary
+    if not quiet and len(todo) < n:
+        print(f"   {n - len(todo)} of {n} runs already finished in {folder}: reused", flush=True)
+    here = scheduler is None and (workers == 1 or len(todo) == 1)
+    cages = _prepare_reduced_cages(study, todo, quiet, workers, scheduler) if todo else {}
+    jobs = []
+    for i in todo:
+        sc = study.scenes[i]
+        cage = cages.get(_cage_hash(sc)) if sc.cage_model == "flexible" else None
+        # on a cluster each run is quiet (one progress bar per process would garble the terminal);
+        # the bar of run_jobs counts the runs instead
+        jobs.append((sc, str(run_path(out_dir, study, i)), quiet or not here, cage))
+    failures = run_jobs(_run_one, jobs, lambda k, summary: done(todo[k], summary), workers=workers,
+                        scheduler=scheduler, names=[f"run {i} ({sc.name})" for i, sc in
+                                                    ((i, study.scenes[i]) for i in todo)],
+                        description=f"study {study.name}", progress=not (quiet or here))
+    if failures:
+        raise StudyIncomplete(f"{len(failures)} of {n} runs failed ({'; '.join(map(str, failures))}); "
+                              f"the other runs are finished in {folder}: run the study again to retry "
+                              f"the failed ones", failures)
     result = collect(study, out_dir, summaries)
     result["wall_time_s"] = time.perf_counter() - t0
     (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
@@ -257,6 +312,11 @@ def run_study(study: Study, out_dir, workers: int = 1, quiet: bool = False) -> d
                                      + "\n".join(f"![{p.stem}]({p.name})" for p in plots) + "\n")
     write_html(folder / "study.md")      # the tables and the plots in one self-contained page
     return result
+
+
+def _cage_hash(scene) -> str:
+    from coupling.flexible_cage import reduced_cage_hash
+    return reduced_cage_hash(scene)
 
 
 def _json_default(o):

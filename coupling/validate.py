@@ -101,7 +101,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from coupling.parallel import require_workers, run_in_processes
+from coupling.jobs import require_workers, run_jobs
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
 from multibody import traction as TR
@@ -411,18 +411,21 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
                              oil_air_fraction: float | None = None, bearing=None, oil=PAPER_OIL,
                              options: dict | None = None, tol: float = 1e-5, t_max: float = 15.0,
                              quiet: bool = False, oil_air_scaling: str | None = None, workers: int = 1,
-                             on_row=None, **kw) -> list[dict]:
+                             on_row=None, scheduler: str | None = None, **kw) -> list[dict]:
     """Run the steady slip-rate cases (all 15 by default); returns the rows (see `run_slip_case`).
 
     `summarise(rows)` gives the mean/max errors. oil_temperature_c, oil_air_fraction: the oil state
     of every case (defaults: VALIDATION_OIL_TEMPERATURE_C, VALIDATION_OIL_AIR_FRACTION, the values
     calibrated on cases 1–8, module docstring); bearing: VALIDATION_BEARING (design clearance).
-    workers: cases run at once in separate processes (the cases are independent; each row is the
-    same whatever the number, since a case is one deterministic integration). The fastest cases
-    are started last (highest speed first: the light-load high-speed cases settle slowest), so that
-    the processes finish together. Rows come back in case order.
+    workers, scheduler: the cases are jobs of coupling.jobs.run_jobs: `workers` at once on a Dask
+    LocalCluster (1: one after the other in this process) or on the Dask cluster at `scheduler`
+    (the cases are independent; each row is the same wherever it runs, since a case is one
+    deterministic integration). The fastest cases are started last (highest speed first: the
+    light-load high-speed cases settle slowest), so that the workers finish together. Rows come
+    back in case order.
     on_row: called with the rows done so far (case order) each time a case finishes, e.g. to write
-    them out as they come. A Ctrl-C or an error in a case stops the validation with
+    them out as they come. A case that fails does not stop the others; once they are done the
+    validation stops with `ValidationInterrupted`, as a Ctrl-C stops it at once; it carries
     `ValidationInterrupted`, which carries the finished rows (nothing computed is lost).
     """
     if bearing is None:
@@ -434,10 +437,6 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
     oil = validation_oil(oil_temperature_c, oil_air_fraction, oil)
     sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
     require_workers(workers)
-    bar = None
-    if not quiet:
-        from tqdm import tqdm
-        bar = tqdm(total=len(sel), desc="slip-rate cases", unit="case")
     if oil_air_scaling is None:
         oil_air_scaling = VALIDATION_OIL_AIR_SCALING
     args = (bearing, oil, options, tol, t_max, oil_air_scaling, kw)
@@ -448,26 +447,24 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
 
     def report(row):
         done[row["case"]] = row
-        if bar is not None:
-            bar.set_postfix_str(f"case {row['case']}: S={row['slip_pct']:.2f}% (test {row['test_slip_pct']}%)")
-            bar.update(1)
         if on_row is not None:
             on_row(in_case_order())
 
     # in parallel the slowest cases first (highest speed: the light-load high-speed cases settle
-    # slowest), so that the processes finish together
-    order = sel if workers == 1 or len(sel) < 2 else sorted(sel, key=lambda c: -c["speed_rpm"])
+    # slowest), so that the workers finish together
+    parallel = scheduler is not None or (workers > 1 and len(sel) > 1)
+    order = sorted(sel, key=lambda c: -c["speed_rpm"]) if parallel else sel
     try:
-        run_in_processes(_run_validation_case, [(c, *args) for c in order], workers,
-                         lambda k, row: report(row))
+        failures = run_jobs(_run_validation_case, [(c, *args) for c in order], lambda k, row: report(row),
+                            workers=workers, scheduler=scheduler, names=[f"case {c['case']}" for c in order],
+                            description="slip-rate cases", progress=not quiet)
+        if failures:
+            raise RuntimeError("; ".join(map(str, failures)))
     except (KeyboardInterrupt, Exception) as exc:
         missing = [c["case"] for c in sel if c["case"] not in done]
         why = "Ctrl-C" if isinstance(exc, KeyboardInterrupt) else f"{type(exc).__name__}: {exc}"
         raise ValidationInterrupted(f"slip-rate validation stopped ({why}); cases not finished: {missing}",
                                     in_case_order(), missing, exc) from exc
-    finally:
-        if bar is not None:
-            bar.close()
     return in_case_order()
 
 
@@ -589,7 +586,9 @@ def main(argv=None) -> None:
                     help="initial state: pure rolling at the quasi-static equilibrium, or the steady thrust state "
                          "(multibody.steady; skips the long settling of the light-load high-speed cases)")
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                    help="cases run at once in separate processes (default: the number of CPUs)")
+                    help="cases run at once on a local Dask cluster (default: the number of CPUs)")
+    ap.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                    help="run the cases on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:PORT)")
     ap.add_argument("--json", default=None)
     ap.add_argument("--out-dir", default=None, help="write slip_rate.md/.json there")
     ap.add_argument("--quiet", action="store_true")
@@ -609,7 +608,8 @@ def main(argv=None) -> None:
                                         options=options,
                                         quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale,
                                         t_min=a.t_min, oil_air_scaling=a.oil_air_scaling, start=a.start,
-                                        workers=a.workers, on_row=lambda rows: write_json(rows, False))
+                                        workers=a.workers, scheduler=a.scheduler,
+                                        on_row=lambda rows: write_json(rows, False))
     except ValidationInterrupted as exc:
         print(format_table(exc.rows))
         print(exc, file=sys.stderr)

@@ -1,8 +1,16 @@
+import json
 import os
+import subprocess
+import sys
+import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
+
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(autouse=True, scope="session")
@@ -82,3 +90,57 @@ def short_flexible_impact():
         return loads_scene(SHORT_FLEXIBLE_IMPACT.format(name=name, record=json.dumps(record)),
                            f"{name}.toml")
     return make
+
+
+class DaskCluster:
+    """A scheduler and `n` single-thread worker processes, each its own subprocess, as on a cluster
+    (`python -m distributed.cli.dask_scheduler` / `dask_worker`: the `dask scheduler` and `dask
+    worker` commands run by this environment's Python, which has flexbearing installed)."""
+
+    def __init__(self, folder: Path, n: int = 2):
+        self.folder = folder
+        self.procs = []
+        try:
+            self._start(folder, n)
+        except BaseException:
+            self.close()
+            raise
+
+    def _start(self, folder: Path, n: int):
+        env = dict(os.environ, PYTHONPATH=str(ROOT))    # FLEXBEARING_CACHE too
+        sched_file = folder / "scheduler.json"
+        log = (folder / "scheduler.log").open("w")
+        self.procs.append(subprocess.Popen(
+            [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
+             "--no-dashboard", "--scheduler-file", str(sched_file)], stdout=log, stderr=log, env=env))
+        deadline = time.monotonic() + 60
+        while not sched_file.exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        time.sleep(0.2)
+        self.address = json.loads(sched_file.read_text())["address"]
+        for i in range(n):
+            wlog = (folder / f"worker{i}.log").open("w")
+            self.procs.append(subprocess.Popen(
+                [sys.executable, "-m", "distributed.cli.dask_worker", self.address, "--nthreads", "1",
+                 "--nworkers", "1", "--no-dashboard", "--memory-limit", "0", "--name", f"w{i}",
+                 "--local-directory", str(folder / f"w{i}")], stdout=wlog, stderr=wlog, env=env))
+        from distributed import Client
+        with Client(self.address, timeout="60s") as c:
+            c.wait_for_workers(n, timeout=120)
+
+    def close(self):
+        for p in reversed(self.procs):
+            p.terminate()
+        for p in reversed(self.procs):
+            try:
+                p.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                p.kill()
+
+
+@pytest.fixture(scope="session")
+def dask_cluster(tmp_path_factory):
+    """A Dask cluster of separate processes: a scheduler and two single-thread workers."""
+    cluster = DaskCluster(tmp_path_factory.mktemp("dask"))
+    yield cluster
+    cluster.close()

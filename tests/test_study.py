@@ -232,3 +232,49 @@ def test_trend_noise_from_the_scatter_study():
     row = next(l for l in trend_lines(rising, "axial_load", {"guiding_force_mean": 0.05})
                if l.startswith("| Guiding force [N] | mean"))
     assert row.endswith("| 5.0 % | falls | disagrees |")
+
+
+def test_a_study_on_a_cluster_of_separate_processes(thrust_study, dask_cluster, tmp_path, capsys):
+    """`flexbearing study --scheduler ADDRESS` on a scheduler and two worker processes started as a
+    cluster's are (tests/conftest.py DaskCluster): the same windows to the last bit as the runs
+    one after the other in this process (each run is one deterministic integration)."""
+    from coupling import cli
+    study, out, result = thrust_study
+    path = _write(tmp_path)
+    code = cli.main(["study", str(path), "-o", str(tmp_path / "out"), "--scheduler", dask_cluster.address,
+                     "--quiet"])
+    assert code == 0, capsys.readouterr().err
+    saved = json.loads((tmp_path / "out" / "fa" / "study.json").read_text())
+    for a, b in zip(saved["runs"], result["runs"]):
+        assert a["windows"] == b["windows"]
+    logs = " ".join((dask_cluster.folder / f"worker{i}.log").read_text() for i in range(2))
+    assert "Traceback" not in logs
+
+
+def test_a_failed_run_is_reported_the_others_finish_and_a_rerun_does_only_it(tmp_path, monkeypatch):
+    """A run that raises does not stop the study: the other run finishes (its file complete), the
+    study stops with StudyIncomplete naming the failed run; run again, only the failed run is sent
+    out (a finished run is read back, coupling.run.finished_run) and the study completes."""
+    import coupling.study as S
+    from coupling.run import finished_run
+    real = S._run_one
+    calls = []
+
+    def first_fails(scene, path, quiet, cage=None):
+        calls.append(scene.name)
+        if scene.name == "fa_0":
+            raise RuntimeError("disk full (simulated)")
+        return real(scene, path, quiet, cage)
+
+    monkeypatch.setattr(S, "_run_one", first_fails)
+    study = load_study(_write(tmp_path))
+    out = tmp_path / "out"
+    with pytest.raises(S.StudyIncomplete, match=r"1 of 2 runs failed \(run 0 \(fa_0\): RuntimeError: disk full"):
+        run_study(study, out, workers=1, quiet=True)
+    assert finished_run(study.scenes[1], S.run_path(out, study, 1))["status"] == "complete"
+    assert finished_run(study.scenes[0], S.run_path(out, study, 0)) is None
+    calls.clear()
+    monkeypatch.setattr(S, "_run_one", lambda *a: (calls.append(a[0].name), real(*a))[1])
+    result = run_study(study, out, workers=1, quiet=True)
+    assert calls == ["fa_0"]
+    assert [r["parameter"] for r in result["runs"]] == [30e3, 55e3]
