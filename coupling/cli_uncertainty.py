@@ -44,7 +44,7 @@ def cmd_uncertainty(args) -> int:
               f"{len(cases) if cases else 15} cases -> {out / study.name}", flush=True)
     try:
         res = U.run_study(study, out, cases=cases, workers=args.workers, scheduler=args.scheduler,
-                          extra_points=[dict(study.nominal(), point="nominal")])
+                          extra_points=[dict(study.nominal(), point="nominal")], progress=not args.quiet)
     except KeyboardInterrupt:
         print("flexbearing uncertainty: interrupted; run the same command again to continue", file=sys.stderr)
         return 130
@@ -54,7 +54,8 @@ def cmd_uncertainty(args) -> int:
     candidates = U.candidate_points(analysis)
     if candidates:                       # the surrogate's best points, re-run with the model
         more = U.run_study(study, out, cases=cases, workers=args.workers, scheduler=args.scheduler,
-                           extra_points=[dict(study.nominal(), point="nominal"), *candidates])
+                           extra_points=[dict(study.nominal(), point="nominal"), *candidates],
+                           progress=not args.quiet)
         res["failures"] += more["failures"]
         analysis = U.analyse(study, U.read_rows(more["rows_file"]), more["points"])
     print(U.summary_text(analysis))

@@ -289,7 +289,7 @@ def read_rows(path) -> list[dict]:
 
 
 def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, workers: int | None = None,
-              scheduler: str | None = None, extra_points: list[dict] | None = None) -> dict:
+              scheduler: str | None = None, extra_points: list[dict] | None = None, progress: bool = True) -> dict:
     """Run every (point, case) not yet in OUT_DIR/<name>/rows.jsonl (resumable) via run_jobs and
     append each row as it finishes. extra_points: further named points (e.g. "nominal") run with
     the sample. Returns {"rows_file", "points", "failures", "new_rows", "cpu_s"}."""
@@ -323,7 +323,7 @@ def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, wor
             os.fsync(f.fileno())
 
     failures = run_jobs(steady_case_slip, jobs, on_result, workers=workers, scheduler=scheduler, names=names,
-                        description="uncertainty (point, case)") if jobs else []
+                        description="uncertainty (point, case)", progress=progress) if jobs else []
     return dict(rows_file=str(rows_file), points=points, failures=failures, new_rows=len(jobs) - len(failures),
                 cpu_s=cpu[0])
 

@@ -215,3 +215,37 @@ def test_steady_job_against_the_dynamic_validation_case_12():
     row = U.steady_case_slip(study.nominal(), slip_rate_cases()[11])
     assert row["converged"]
     assert row["slip_pct"] == pytest.approx(dyn[12], abs=0.5)
+
+
+# ------------------------------------------------------------------ the command
+def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys):
+    """`flexbearing uncertainty --cases 12` with every (point, case) already in rows.jsonl (as after
+    an interrupted study): nothing is recomputed, the band of case 12 is printed (synthetic slips
+    test − 0.5 .. test + 0.5 points, so the test is inside: 1 of 15), the report is written."""
+    from coupling.cli import main
+    from coupling.validate import slip_rate_cases
+    study = U.load_unknowns(UNKNOWNS)
+    d = tmp_path / "out" / study.name
+    d.mkdir(parents=True)
+    c12 = slip_rate_cases()[11]
+    points = [dict(p, point=k) for k, p in enumerate(U.sample_points(study))] + [dict(study.nominal(), point="nominal")]
+    with open(d / "rows.jsonl", "w") as f:
+        for k, p in enumerate(points):
+            f.write(json.dumps(dict(point=p["point"], case=12, slip_pct=c12["test_slip_pct"] - 0.5 + (k % 64) / 63.0,
+                                    converged=True, cpu_s=0.0)) + "\n")
+    rc = main(["uncertainty", str(UNKNOWNS), "-o", str(tmp_path / "out"), "--cases", "12", "--workers", "1",
+               "--report-dir", str(tmp_path / "rep"), "--quiet"])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "case 12: band" in out and "test slips inside their 5-95 % band: 1/15" in out
+    assert (tmp_path / "rep" / "slip_rate_uncertainty.md").exists()
+    assert len(U.read_rows(d / "rows.jsonl")) == 65            # nothing recomputed
+
+
+def test_cli_bad_input_exit_2(tmp_path, capsys):
+    from coupling.cli import main
+    p = tmp_path / "u.toml"
+    p.write_text(UNKNOWNS.read_text().replace("points = 64", "points = 8"))
+    assert main(["uncertainty", str(p), "-o", str(tmp_path)]) == 2
+    assert "study.points = 8" in capsys.readouterr().err
+    assert main(["uncertainty", str(UNKNOWNS), "-o", str(tmp_path), "--cases", "x"]) == 2
