@@ -388,29 +388,40 @@ def _indices_with_ci(fa, fb, fab, n_boot, rng):
 
 @dataclass
 class QuadraticSurrogate:
-    """Full quadratic polynomial in the unit coordinates, least squares (module docstring). Choice
+    """Quadratic polynomial in the unit coordinates, least squares (module docstring). Choice
     unknowns enter as indicators of their non-first values (no square: an indicator's square is
-    itself). coef: (p, k) for k outputs."""
+    itself). interactions: "all" = the full quadratic (every product of two inputs; 27 terms for
+    the six unknowns), "choice" = linear and square terms plus the products of the choice with each
+    other input (17 terms; for a case with fewer converged points). coef: (p, k) for k outputs."""
     unknowns: tuple
+    interactions: str = "all"
     coef: np.ndarray = field(default=None)
 
     def features(self, u: np.ndarray) -> np.ndarray:
         cols = [np.ones(len(u))]
-        lin = []
+        lin, is_choice = [], []
         for j, k in enumerate(self.unknowns):
             if k.kind == "choice":
                 m = len(k.values)
                 idx = np.minimum((u[:, j] * m).astype(int), m - 1)
                 lin += [(idx == i).astype(float) for i in range(1, m)]
+                is_choice += [True] * (m - 1)
             else:
                 lin.append(u[:, j] - 0.5)
+                is_choice.append(False)
         cols += lin
         for i in range(len(lin)):
             for j in range(i, len(lin)):
-                if i == j and set(np.unique(lin[i])) <= {0.0, 1.0}:
+                if i == j and is_choice[i]:
+                    continue
+                if self.interactions != "all" and i != j and not (is_choice[i] or is_choice[j]):
                     continue
                 cols.append(lin[i] * lin[j])
         return np.column_stack(cols)
+
+    def n_terms(self) -> int:
+        """Number of terms (columns of `features`)."""
+        return self.features(unit_sample(8, len(self.unknowns), 0)).shape[1]
 
     def fit(self, u: np.ndarray, y: np.ndarray) -> "QuadraticSurrogate":
         """Least squares per output column on that column's finite values (NaN = a (point, case)
@@ -457,6 +468,7 @@ def analyse(study: UnknownsStudy, rows: list[dict], points: list[dict], n_design
     sample = [p for p in points if isinstance(p["point"], int)]
     slip = np.full((len(sample), len(ids)), np.nan)
     conv = np.zeros((len(sample), len(ids)), bool)
+    ran = np.zeros((len(sample), len(ids)), bool)
     pos = {p["point"]: k for k, p in enumerate(sample)}
     extra = {}
     for r in rows:
@@ -464,6 +476,7 @@ def analyse(study: UnknownsStudy, rows: list[dict], points: list[dict], n_design
             k = pos[r["point"]]
             slip[k, ids.index(r["case"])] = r["slip_pct"] if r["converged"] else np.nan
             conv[k, ids.index(r["case"])] = r["converged"]
+            ran[k, ids.index(r["case"])] = True
         else:
             extra.setdefault(r["point"], {})[r["case"]] = r
     bands = []
@@ -494,50 +507,69 @@ def analyse(study: UnknownsStudy, rows: list[dict], points: list[dict], n_design
                 paper_mean_error_pct=float(mean_error_pct(paper, test)),
                 test_slip_pct=test.tolist(), paper_slip_pct=paper.tolist(),
                 surrogate_fit=None, sensitivity=None, surrogate_best=[])
-    # surrogate per case on the points where that case converged (needs clearly more points than terms)
+    # surrogate per case on the points where that case converged, its form by the number of those
+    # points (at least twice its terms); cases with fewer are left out of the indices
     u = np.array([[k.to_unit(p[k.name]) for k in study.unknowns] for p in sample])
-    sur = QuadraticSurrogate(study.unknowns)
-    n_terms = sur.features(u[:1]).shape[1]
-    base["convergence"] = convergence_pattern(study, u, conv, ids)
-    if np.min(conv.sum(axis=0)) < 2 * n_terms:
+    base["convergence"] = convergence_pattern(study, u, conv, ran, ids)
+    base["n_ran"] = int(ran.sum())
+    forms = []
+    for j in range(len(ids)):
+        n_j = int(conv[:, j].sum())
+        forms.append(next((f for f in SURROGATE_FORMS if n_j >= 2 * QuadraticSurrogate(study.unknowns, f).n_terms()),
+                          None))
+    keep = [j for j, f in enumerate(forms) if f is not None]
+    if not keep:
         return base
-    sur.fit(u, slip)
-    loo = sur.loo_residuals(u, slip)
-    fit = dict(n_points=[int(x) for x in conv.sum(axis=0)], n_terms=int(n_terms),
+    test_k = test[keep]
+
+    def fit_all(pick):
+        return [QuadraticSurrogate(study.unknowns, forms[j]).fit(u[pick], slip[pick, j]) for j in keep]
+
+    def predict(surs, x):                 # the features once per surrogate form
+        feats = {f: QuadraticSurrogate(study.unknowns, f).features(x) for f in {s_.interactions for s_ in surs}}
+        return np.column_stack([feats[s_.interactions] @ s_.coef for s_ in surs])
+
+    surs = fit_all(np.arange(len(u)))
+    loo = np.full((len(u), len(keep)), np.nan)
+    for c_, (j, s_) in enumerate(zip(keep, surs)):
+        loo[:, c_] = s_.loo_residuals(u, slip[:, j])
+    sk = slip[:, keep]
+    fit = dict(cases=[ids[j] for j in keep], forms=[forms[j] for j in keep],
+               left_out=[ids[j] for j, f in enumerate(forms) if f is None],
+               n_points=[int(conv[:, j].sum()) for j in keep],
+               n_terms={f: QuadraticSurrogate(study.unknowns, f).n_terms() for f in SURROGATE_FORMS},
                loo_rms_pct_points=[float(x) for x in np.sqrt(np.nanmean(loo ** 2, axis=0))],
-               sample_std_pct_points=[float(x) for x in np.nanstd(slip, axis=0)],
-               r2_loo=[float(x) for x in 1.0 - np.nanmean(loo ** 2, axis=0) / np.nanvar(slip, axis=0)])
-    yc, lc = slip[complete], loo[complete]
-    loo_err = mean_error_pct(yc - lc, test) - mean_error_pct(yc, test)
-    fit["mean_error_loo_rms_pct"] = float(np.sqrt(np.mean(loo_err ** 2))) if len(yc) else None
+               sample_std_pct_points=[float(x) for x in np.nanstd(sk, axis=0)],
+               r2_loo=[float(x) for x in 1.0 - np.nanmean(loo ** 2, axis=0) / np.nanvar(sk, axis=0)])
+    ok = np.all(np.isfinite(sk), axis=1)
+    loo_err = mean_error_pct(sk[ok] - loo[ok], test_k) - mean_error_pct(sk[ok], test_k)
+    fit["mean_error_loo_rms_pct"] = float(np.sqrt(np.mean(loo_err ** 2))) if ok.any() else None
     d = len(study.unknowns)
     rng = np.random.default_rng(study.seed)
     a, b = saltelli_matrices(n_design, d, study.seed + 1)
     abs_ = [np.where(np.arange(d)[None, :] == i, b, a) for i in range(d)]
 
-    def evaluate(model):
-        ys = [model(a), model(b)] + [model(x) for x in abs_]
-        ys = [np.column_stack([y, mean_error_pct(y, test)]) for y in ys]
+    def evaluate(surs_):
+        ys = [predict(surs_, a), predict(surs_, b)] + [predict(surs_, x) for x in abs_]
+        ys = [np.column_stack([y, mean_error_pct(y, test_k)]) for y in ys]
         return ys[0], ys[1], np.stack(ys[2:])
 
-    fa, fb, fab = evaluate(sur)
+    fa, fb, fab = evaluate(surs)
     s, st = _indices_multi(fa, fb, fab)
     boot_s, boot_st = [], []
     for _ in range(n_boot):
-        pick = rng.integers(0, len(u), len(u))
-        sb = QuadraticSurrogate(study.unknowns).fit(u[pick], slip[pick])
-        ga, gb, gab = evaluate(sb)
+        ga, gb, gab = evaluate(fit_all(rng.integers(0, len(u), len(u))))
         rows_ = rng.integers(0, n_design, n_design)
         x, y = _indices_multi(ga, gb, gab, rows_)
         boot_s.append(x)
         boot_st.append(y)
     s_ci = np.percentile(np.array(boot_s), [2.5, 97.5], axis=0)
     st_ci = np.percentile(np.array(boot_st), [2.5, 97.5], axis=0)
-    outputs = [f"case {i}" for i in ids] + ["mean error"]
+    outputs = [f"case {ids[j]}" for j in keep] + ["mean error"]
     sens = {o: {n: dict(S=float(s[j, i]), S_lo=float(s_ci[0, j, i]), S_hi=float(s_ci[1, j, i]),
                         ST=float(st[j, i]), ST_lo=float(st_ci[0, j, i]), ST_hi=float(st_ci[1, j, i]))
                 for i, n in enumerate(study.names)} for j, o in enumerate(outputs)}
-    # the surrogate's best point of the box, per ball material
+    # the surrogate's best point of the box, per ball material (mean error over the kept cases)
     search = unit_sample(n_search, d, study.seed + 2)
     mat = [k for k in study.unknowns if k.kind == "choice"]
     candidates = []
@@ -546,14 +578,19 @@ def analyse(study: UnknownsStudy, rows: list[dict], points: list[dict], n_design
         us = search.copy()
         if g is not None:
             us[:, study.names.index(mat[0].name)] = mat[0].to_unit(g)
-        e = mean_error_pct(sur(us), test)
+        pred = predict(surs, us)
+        e = mean_error_pct(pred, test_k)
         k = int(np.argmin(e))
         candidates.append(dict({n: _plain(kk.from_unit(float(us[k, j]))) for j, (n, kk) in
                                 enumerate(zip(study.names, study.unknowns))},
                                surrogate_mean_error_pct=float(e[k]),
-                               surrogate_slips_pct=[float(x) for x in sur(us[k:k + 1])[0]]))
+                               surrogate_slips_pct=[float(x) for x in pred[k]]))
     base.update(surrogate_fit=fit, sensitivity=sens, surrogate_best=candidates)
     return base
+
+
+SURROGATE_FORMS = ("all", "choice")     # QuadraticSurrogate.interactions, preferred first
+
 
 def candidate_points(analysis: dict) -> list[dict]:
     """The surrogate's best points (`analyse`, "surrogate_best") as named extra points for
@@ -619,7 +656,7 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
         L += ["Reproduce (resumable; rows in out/uncertainty/<name>/rows.jsonl):", "", f"    {command}", ""]
     L += [f"{a['n_points']} scrambled Sobol' points of the unknowns below × Table 4's 15 cases, each the steady "
           f"fixed point with weight (multibody.steady.steady_held_cage_state, EHL law; coupling.uncertainty "
-          f"docstring). Converged: {a['n_converged']}/{a['n_runs']} (point, case); points with all 15 cases: "
+          f"docstring). Converged: {a['n_converged']}/{a.get('n_ran', a['n_runs'])} (point, case) runs; points with all 15 cases: "
           f"{a['n_complete']}/{a['n_points']}. Slips in %, S = (nm − nc)/nm.", "",
           "## The unknowns (scenes/slip_rate_unknowns.toml has the reasons in full)", "",
           "| unknown | range | nominal (validation default) | why (first sentence) |", "|---|---|---|---|"]
@@ -676,9 +713,13 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
     if a["sensitivity"]:
         f = a["surrogate_fit"]
         L += ["", "## Variance-based sensitivity (Sobol' indices on a quadratic surrogate)", "",
-              f"Surrogate: full quadratic in the unit coordinates ({f['n_terms']} terms), least squares per case "
-              f"on the points where that case converged ({min(f['n_points'])}–{max(f['n_points'])} of "
-              f"{a['n_points']}); the mean error is that of the 15 case surrogates. Leave-one-out error of the slip: "
+              f"Surrogate: a quadratic in the unit coordinates per case, least squares on the points where that "
+              f"case converged ({min(f['n_points'])}–{max(f['n_points'])} of {a['n_points']}): the full quadratic "
+              f"({f['n_terms']['all']} terms) where there are at least twice as many points, else squares and the "
+              f"ball material's interactions only ({f['n_terms']['choice']} terms; cases "
+              f"{', '.join(str(c) for c, m in zip(f['cases'], f['forms']) if m != 'all') or 'none'}); cases left out "
+              f"(fewer than {2 * f['n_terms']['choice']} converged points): {', '.join(map(str, f['left_out'])) or 'none'}. "
+              f"The mean error here is over the {len(f['cases'])} cases with a surrogate. Leave-one-out error of the slip: "
               f"{min(f['loo_rms_pct_points']):.2f}–{max(f['loo_rms_pct_points']):.2f} points rms against a sample "
               f"spread (std) of {min(f['sample_std_pct_points']):.2f}–{max(f['sample_std_pct_points']):.2f} points "
               f"(LOO R² {min(f['r2_loo']):.3f}–{max(f['r2_loo']):.3f}); of the mean error: "
@@ -840,13 +881,15 @@ def fast_path_table(check: dict) -> str:
     return "\n".join(L)
 
 
-def convergence_pattern(study: UnknownsStudy, u: np.ndarray, conv: np.ndarray, ids: list) -> dict:
-    """Where the fast path fails: per case the converged fraction, and per unknown the failure rate
-    of all (point, case) in the lower and the upper half of its unit range."""
+def convergence_pattern(study: UnknownsStudy, u: np.ndarray, conv: np.ndarray, ran: np.ndarray, ids: list) -> dict:
+    """Where the fast path fails: per case the converged fraction of the runs made, and per unknown
+    the failure rate of the (point, case) runs in the lower and the upper half of its unit range."""
+    def fail(mask):
+        n = ran[mask].sum()
+        return float(1.0 - conv[mask].sum() / n) if n else float("nan")
     by_unknown = {}
     for j, k in enumerate(study.unknowns):
-        lo, hi = u[:, j] < 0.5, u[:, j] >= 0.5
-        by_unknown[k.name] = dict(fail_lower_half=float(1 - conv[lo].mean()) if lo.any() else None,
-                                  fail_upper_half=float(1 - conv[hi].mean()) if hi.any() else None)
-    return dict(converged_fraction_by_case={str(c): float(conv[:, i].mean()) for i, c in enumerate(ids)},
-                fail_rate_by_unknown=by_unknown)
+        by_unknown[k.name] = dict(fail_lower_half=fail(u[:, j] < 0.5), fail_upper_half=fail(u[:, j] >= 0.5))
+    by_case = {str(c): float(conv[:, i].sum() / ran[:, i].sum()) if ran[:, i].any() else float("nan")
+               for i, c in enumerate(ids)}
+    return dict(converged_fraction_by_case=by_case, fail_rate_by_unknown=by_unknown)

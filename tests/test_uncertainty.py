@@ -221,7 +221,8 @@ def test_steady_job_against_the_dynamic_validation_case_12():
 def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys):
     """`flexbearing uncertainty --cases 12` with every (point, case) already in rows.jsonl (as after
     an interrupted study): nothing is recomputed, the band of case 12 is printed (synthetic slips
-    test − 0.5 .. test + 0.5 points, so the test is inside: 1 of 15), the report is written."""
+    test − 0.5 .. test + 0.5 points, so the test is inside: 1 of 15), the surrogate's best points are
+    run with the model, the report is written."""
     from coupling.cli import main
     from coupling.validate import slip_rate_cases
     study = U.load_unknowns(UNKNOWNS)
@@ -239,7 +240,11 @@ def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys
     assert rc == 0
     assert "case 12: band" in out and "test slips inside their 5-95 % band: 1/15" in out
     assert (tmp_path / "rep" / "slip_rate_uncertainty.md").exists()
-    assert len(U.read_rows(d / "rows.jsonl")) == 65            # nothing recomputed
+    rows = U.read_rows(d / "rows.jsonl")
+    # nothing recomputed; the surrogate's best point per ball material re-run with the model (2 rows)
+    assert len(rows) == 67
+    assert sorted(r["point"].split("_")[1] for r in rows[65:]) == ["Si3N4", "steel"]
+    assert all(r["converged"] and abs(r["slip_pct"]) < 20 for r in rows[65:])
 
 
 def test_cli_bad_input_exit_2(tmp_path, capsys):
