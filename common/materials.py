@@ -26,6 +26,10 @@ class Material:
 
 M50 = Material(density=7810.0, youngs_modulus=210e9, poisson_ratio=0.3)
 STEEL_40CrNiMoA = Material(density=7870.0, youngs_modulus=209e9, poisson_ratio=0.295)
+# Hot-pressed silicon nitride balls of hybrid bearings (Harris & Kotzalas, Rolling Bearing Analysis,
+# 5th ed., Vol. 1, ch. 5; 3150-3250 kg/m^3, 300-320 GPa, 0.26-0.27 in manufacturers' data): the
+# alternative ball material of the slip-rate uncertainty study (scenes/slip_rate_unknowns.toml).
+SI3N4 = Material(density=3200.0, youngs_modulus=310e9, poisson_ratio=0.26)
 # Minimum yield strength sigma_s of 40CrNiMoA quenched (850 °C, oil) and tempered (600 °C), GB/T 3077
 # (25 mm test blank; tensile strength >= 980 MPa). Not a model input: the report compares the
 # cage's elastic von Mises stress with it (coupling.windows.cage_strength_rows, the report's "Cage stress against the yield strength").

@@ -13,7 +13,7 @@ import sys
 
 from common.validation import InputError
 from coupling import (cli_demo, cli_export, cli_mesh, cli_modes, cli_quasi_static, cli_reduce, cli_report,
-                      cli_run, cli_study)
+                      cli_run, cli_study, cli_uncertainty)
 
 # Order = order in --help.
 COMMAND_MODULES = (
@@ -25,6 +25,7 @@ COMMAND_MODULES = (
     cli_report,          # report
     cli_study,           # study
     cli_export,          # export
+    cli_uncertainty,     # uncertainty
     cli_demo,            # demo
 )
 
