@@ -165,6 +165,17 @@ def truncate_scene(data: dict, duration: float) -> dict:
     return d
 
 
+def rhs_evaluations(rec: dict) -> int | None:
+    """Right-hand sides a run evaluated in its steps: (accepted + rejected) x (stages - 1) (FSAL:
+    DOPRI5 6, BS32 3) -- a deterministic work measure beside the CPU time (sampling, outputs and the
+    stress monitor come on top)."""
+    if rec.get("n_steps") is None:
+        return None
+    method = "bs32" if rec.get("setting") == "integrator.method" and rec.get("value") == "bs32" else "dopri5"
+    stages = {"dopri5": 6, "bs32": 3}[method]
+    return (int(rec["n_steps"]) + int(rec.get("n_rejected") or 0)) * stages
+
+
 def run_key(scene: str, setting: str, value) -> str:
     return f"{scene}|{setting}={value}"
 
@@ -233,13 +244,16 @@ def worker(spec: dict) -> dict:
     if not spec.get("keep"):
         out.unlink(missing_ok=True)
         Path(str(out).replace(".h5", ".summary.json")).unlink(missing_ok=True)
-    return dict(cpu_run_s=cpu_run, loop_wall_s=summary["wall_time_s"], setup_s=summary["setup_time_s"],
+    ru = resource.getrusage(resource.RUSAGE_SELF)
+    return dict(cpu_self_s=ru.ru_utime + ru.ru_stime, cpu_run_s=cpu_run, loop_wall_s=summary["wall_time_s"], setup_s=summary["setup_time_s"],
                 n_steps=summary["n_steps"], n_rejected=summary["n_rejected"],
                 duration_s=scene.duration, stats=stats)
 
 
 def run_one(spec: dict, timeout: float) -> dict:
-    """spec in a child process; its CPU (getrusage of the children) and wall time measured here."""
+    """spec in a child process; its wall time measured here, its CPU time (user + sys, setup
+    included) by the child itself (getrusage RUSAGE_SELF at its end: correct with several
+    children at once), else by getrusage of the children here (a failed child)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
@@ -252,7 +266,7 @@ def run_one(spec: dict, timeout: float) -> dict:
         status, res = f"timeout after {timeout:g} s", {}
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    cpu = res.get("cpu_self_s", (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
     return {**{k: spec[k] for k in ("key", "scene", "setting", "value")}, "status": status,
             "cpu_s": cpu, "wall_s": wall, "load_start": load0, "load_end": os.getloadavg()[0],
             "date": time.strftime("%Y-%m-%d %H:%M:%S"), **res}
@@ -290,6 +304,7 @@ def analyse(records: dict, scenes=SCENES) -> list[dict]:
             row = {k: r.get(k) for k in ("scene", "setting", "value", "status", "cpu_s", "wall_s",
                                          "loop_wall_s", "n_steps", "n_rejected", "load_start", "load_end")}
             row["default"] = r["setting"] == "default"
+            row["n_rhs"] = rhs_evaluations(r)
             if r.get("status") == "ok":
                 err = relative_errors(r["stats"], ref["stats"])
                 fam = family_errors(err)
@@ -357,16 +372,16 @@ def write_outputs(rows: list[dict], out: Path, quick: bool, meta: dict) -> None:
         ref = sr[0]
         L += [f"## {sc}", "",
               f"Reference ({ref['value']}): CPU {ref['cpu_s']:.0f} s, {ref['n_steps']:,} steps.", "",
-              "| setting | value | CPU s | wall s | steps | contact | cage force p99 | von Mises | min film | "
+              "| setting | value | CPU s | wall s | steps | rhs evals | contact | cage force p99 | von Mises | min film | "
               "mean slip | score | Pareto | ≤ limits |",
-              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|"]
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|"]
         for r in sr[1:]:
             name = "**default**" if r["default"] else r["setting"]
             if r.get("status") != "ok":
-                L.append(f"| {name} | {r['value']} | – | – | – | {r['status'][:60]} | | | | | | | |")
+                L.append(f"| {name} | {r['value']} | – | – | – | – | {r['status'][:60]} | | | | | | | |")
                 continue
             sc_ = r["score"]
-            L.append(f"| {name} | {r['value']} | {r['cpu_s']:.1f} | {r['wall_s']:.1f} | {r['n_steps']:,} | "
+            L.append(f"| {name} | {r['value']} | {r['cpu_s']:.1f} | {r['wall_s']:.1f} | {r['n_steps']:,} | {r['n_rhs']:,} | "
                      f"{_pct(r.get('fam_contact'))} | {_pct(r.get('fam_cage_force'))} | "
                      f"{_pct(r.get('fam_von_mises'))} | {_pct(r.get('fam_film'))} | {_pct(r.get('fam_slip'))} | "
                      f"{'n/a' if math.isinf(sc_) else f'{sc_:.2f}'} | {'yes' if r['pareto'] else ''} | "
@@ -450,6 +465,8 @@ def main(argv=None):
     ap.add_argument("--timeout", type=float, default=3600.0, help="s per run")
     ap.add_argument("--report-only", action="store_true")
     ap.add_argument("--keep", action="store_true", help="keep the runs' results files")
+    ap.add_argument("--jobs", type=int, default=1, help="runs at a time (each its own process; CPU "
+                    "times stay per run, wall times then include the sharing)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.worker:
@@ -470,17 +487,26 @@ def main(argv=None):
     done = read_jsonl(jsonl)
     todo = [r for r in runs if r["key"] not in done]
     if not a.report_only:
+        import threading
+        from concurrent.futures import ThreadPoolExecutor
         from tqdm import tqdm
-        bar = tqdm(todo, desc="work–precision runs", unit="run")
-        for r in bar:
-            bar.set_postfix_str(r["key"])
+        bar = tqdm(total=len(todo), desc="work–precision runs", unit="run")
+        lock = threading.Lock()
+
+        def one(r):
             spec = {**r, "h5": str(scratch / (r["key"].replace("|", "__").replace("=", "-") + ".h5")),
                     "duration": duration, "settle": settle, "keep": a.keep}
             rec = run_one(spec, a.timeout)
-            with open(jsonl, "a") as f:
-                f.write(json.dumps(rec) + "\n")
-            tqdm.write(f"{r['key']}: {rec['status'][:80]}, CPU {rec['cpu_s']:.1f} s, wall {rec['wall_s']:.1f} s, "
-                       f"{rec.get('n_steps', '–')} steps")
+            with lock:
+                with open(jsonl, "a") as f:
+                    f.write(json.dumps(rec) + "\n")
+                tqdm.write(f"{r['key']}: {rec['status'][:80]}, CPU {rec['cpu_s']:.1f} s, wall {rec['wall_s']:.1f} s, "
+                           f"{rec.get('n_steps', '–')} steps")
+                bar.update()
+
+        with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
+            list(pool.map(one, todo))
+        bar.close()
         done = read_jsonl(jsonl)
     rows = analyse(done, scenes)
     cmd = "benchmarks/bench_work_precision.py" + (" --quick" if quick else "")
