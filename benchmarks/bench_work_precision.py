@@ -515,6 +515,9 @@ def _plot(rows, path):
             ax.axhline(1.0, color="grey", ls="--", lw=0.8)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        from matplotlib.ticker import FormatStrFormatter
+        ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+        ax.xaxis.set_minor_formatter(FormatStrFormatter("%g"))
         ax.set_xlabel("CPU time of the run [s]")
         ax.set_ylabel("relative error" if fam != "score" else "score (error / limit)")
         ax.set_title(FAMILY_LABEL.get(fam, "accuracy score (≤ 1: within the issue's limits)"), fontsize=9)
