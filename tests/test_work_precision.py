@@ -84,3 +84,27 @@ def test_plan_varies_one_setting_at_a_time():
     assert {r["setting"] for r in flex} >= {"cage.n_modes", "cage.stress_monitor_interval"}
     assert sum(r["setting"] == "reference" for r in runs) == 4
     assert set(FAMILIES) == {"contact", "cage_force", "von_mises", "film", "slip"}
+
+
+def test_claims_let_several_benchmark_processes_share_the_runs(tmp_path):
+    """A run finished in the JSONL is not run again; a run claimed by a live process is left to it;
+    a claim whose process is gone is taken over; a finished record wins over a later failure."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from benchmarks.bench_work_precision import claim, read_jsonl
+    jsonl = tmp_path / "wp.jsonl"
+    spec = {"key": "s|a=1", "h5": str(tmp_path / "a.h5"), "jsonl": str(jsonl)}
+    assert claim(spec) is None                                   # free: claimed for this process
+    assert (tmp_path / "a.h5.claim").read_text() == str(os.getpid())
+    assert claim(spec) == f"claimed by process {os.getpid()}"    # live claim
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                          text=True).stdout.strip()
+    (tmp_path / "a.h5.claim").write_text(dead)                   # its process has exited
+    assert claim(spec) is None
+    ok = {"key": "s|a=1", "status": "ok", "stats": {}}
+    jsonl.write_text(json.dumps(ok) + "\n" + json.dumps({"key": "s|a=1", "status": "failed (exit 1)"}) + "\n"
+                     + json.dumps({"key": "s|a=1", "status": "failed (exit 3): SKIPPED: finished"}) + "\n")
+    assert read_jsonl(jsonl)["s|a=1"]["status"] == "ok"
+    assert claim({**spec, "h5": str(tmp_path / "b.h5")}) == "finished"
