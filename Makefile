@@ -3,6 +3,9 @@
 #   make test      the fast test suite
 #   make test-all  every test, the slow verification included
 #   make bench     the benchmarks in benchmarks/ (work–precision, wall times)
+#   make bench-work-precision   work–precision of whole runs of the four paper scenes (~40-60 min,
+#                  resumable; QUICK=1: a 5 ms smoke run) -> benchmarks/results/work_precision.*
+#   make cost-model   one right-hand side split by part, step-size limit, scaling -> cost_model.md
 #   make stress    the numerical stability stress test (benchmarks/results/stress_test.{md,json})
 
 SHELL := /bin/bash
@@ -21,7 +24,7 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy p
     python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
     calculix-ccx
 
-.PHONY: setup demo test test-all bench stress clean
+.PHONY: setup demo test test-all bench bench-work-precision cost-model stress clean
 
 $(VENV)/.apt-stamp: Makefile
 	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
@@ -50,6 +53,12 @@ test-all: setup
 
 bench: setup
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
+
+bench-work-precision: setup
+	nice -n 10 $(PY) benchmarks/bench_work_precision.py $(if $(QUICK),--quick)
+
+cost-model: setup
+	nice -n 10 $(PY) benchmarks/cost_model.py
 
 stress: setup
 	nice -n 5 $(PY) benchmarks/stress_test.py

@@ -233,10 +233,11 @@ class StressRecovery:
         """Mesh vertex of a search row (what the compiled monitor returns)."""
         return int(self.search.node_ids[row])
 
-    def monitor(self, cage_offset: int, modes_offset: int, trace: int = 0) -> tuple:
+    def monitor(self, cage_offset: int, modes_offset: int, trace: int = 0, interval: int = 1) -> tuple:
+        """The compiled peak-hold (multibody.stress_peak), evaluated every `interval`-th accepted step."""
         from multibody.stress_peak import new_monitor
         return new_monitor(self.search.arrays, self.load_modes.shape[0], cage_offset,
-                           modes_offset, self.n_elastic, trace)
+                           modes_offset, self.n_elastic, trace, interval)
 
 
 def backend(scene, reduced_cage=None):
@@ -268,6 +269,7 @@ def backend(scene, reduced_cage=None):
     beta = float(scene.flexible.get("damping_beta", 1e-5))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
     stress = StressRecovery(rc, n_keep) if "von_mises" in scene.outputs else None
+    monitor_interval = int(scene.flexible.get("stress_monitor_interval", 1))
     n = basis.body.n_modes
     file_attrs = {"reduced_cage_file": str(Path(path).resolve()),
                   "reduced_cage_hash": str(rc.attrs.get("content_hash", Path(path).stem)),
@@ -290,7 +292,7 @@ def backend(scene, reduced_cage=None):
         key = id(model)
         if key not in monitors:
             lay = mb.state_layout(model)
-            monitors[key] = (model, stress.monitor(lay["cage"], lay["modes"]))
+            monitors[key] = (model, stress.monitor(lay["cage"], lay["modes"], interval=monitor_interval))
         return monitors[key][1]
 
     def advance(model, y, t, t_next, speed_table, load_table, impacts, tol=integrator.DEFAULT_TOL,

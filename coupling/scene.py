@@ -25,6 +25,10 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     damping_beta = 1e-5       #   stiffness-proportional damping D = damping_beta·K [s]
     yield_strength = 835e6    #   cage material's yield strength [Pa], for the report only
                               #   (default: 40CrNiMoA, GB/T 3077, unless [cage.material] is given)
+    stress_monitor_interval = 1  # max von Mises evaluated every k-th accepted integrator step
+                              #   (default 1 = every step, exact peak-hold; k in [1, 10000]; about
+                              #   1/k of the monitor's cost, peaks between evaluations can be missed:
+                              #   multibody.stress_peak, benchmarks/results/work_precision.md)
     [cage.material]           # density, youngs_modulus, poisson_ratio
 
     [model]                   # multibody options passed to multibody.model.build_model
@@ -107,7 +111,8 @@ _MATERIAL_KEYS = tuple(f.name for f in dataclasses.fields(Material))
 _BEARING_SCALARS = tuple(f.name for f in dataclasses.fields(Bearing)
                          if f.name not in ("cage", "ball_material", "ring_material"))
 _CAGE_SCALARS = tuple(f.name for f in dataclasses.fields(CageGeometry) if f.name != "material")
-_FLEXIBLE_KEYS = ("n_modes", "mesh_size", "element_order", "damping_beta", "yield_strength")
+_FLEXIBLE_KEYS = ("n_modes", "mesh_size", "element_order", "damping_beta", "yield_strength",
+                  "stress_monitor_interval")
 _OIL_KEYS = tuple(f.name for f in dataclasses.fields(Oil))
 
 
@@ -267,6 +272,9 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         v = c[k]
         if k == "n_modes":
             flexible[k] = _integer("cage.n_modes", v, 1, 500)
+        elif k == "stress_monitor_interval":
+            from multibody.stress_peak import MAX_INTERVAL
+            flexible[k] = _integer("cage.stress_monitor_interval", v, 1, MAX_INTERVAL)
         elif k == "element_order":
             flexible[k] = _integer("cage.element_order", v, 1, 3)   # FE degree (default P3)
         elif k == "mesh_size":

@@ -146,6 +146,14 @@ def test_cage_and_output_consistency():
     refused(BASE + '\n[cage]\nmodel = "rigid"\nn_modes = 10\n', "cage.n_modes applies only to")
     refused(BASE + '\n[cage]\nmodel = "flexible"\nn_modes = 0\n', "cage.n_modes = 0", "[1, 500]")
     refused(BASE + '\n[cage]\nmodel = "elastic"\n', "cage.model = 'elastic'", "'rigid', 'flexible'")
+    flex = BASE + '\n[cage]\nmodel = "flexible"\nstress_monitor_interval = %s\n'
+    assert loads_scene(flex % "5").flexible["stress_monitor_interval"] == 5
+    assert "stress_monitor_interval" not in loads_scene(BASE + '\n[cage]\nmodel = "flexible"\n').flexible
+    refused(flex % "0", "cage.stress_monitor_interval = 0", "[1, 10000]")
+    refused(flex % "2.5", "cage.stress_monitor_interval = 2.5", "integer in [1, 10000]")
+    refused(flex % "10001", "cage.stress_monitor_interval = 10001", "[1, 10000]")
+    refused(BASE + '\n[cage]\nmodel = "rigid"\nstress_monitor_interval = 2\n',
+            "cage.stress_monitor_interval applies only to")
     refused(BASE.replace('record = ["cage_speed"]', 'record = ["cage_sped"]'),
             "output.record[0] = 'cage_sped'", "'cage_speed'")
     refused(BASE.replace("sample_interval = 1e-3", "sample_interval = 1.0"),

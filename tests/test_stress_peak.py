@@ -106,6 +106,34 @@ def test_disabled_monitor_does_nothing():
     assert sp.peak(mon) is None
 
 
+def test_monitor_interval_evaluates_every_kth_step(setup):
+    """cage.stress_monitor_interval = k: of 8 accepted steps only the 3rd and the 6th are evaluated
+    (the count runs on across resets), the peak is the brute-force maximum of those two states (the
+    same reference as above, 1e-12) and the steps in between leave the peak untouched."""
+    S, omega, phi_b, q_cf, _, cage, rng, n_el, ev = setup
+    mon = sp.new_monitor(ev.arrays, P, 0, 12, n_el, trace=10, interval=3)
+    refs = {}
+    for i in range(8):
+        y = _state(rng, n_el, 1000.0 + 50 * i)
+        cage.node_load[:] = rng.normal(size=(P, 6)) * 100.0
+        refs[i + 1] = _reference(S, omega, phi_b, q_cf, y, cage.node_load, y[9], n_el)[0]
+        if i == 4:
+            sp.reset(mon)               # a sample boundary between the evaluated steps 3 and 6
+        sp.stress_peak_step(1e-4 * (i + 1), y, cage, mon)
+    t_tr, _ = sp.trace(mon)
+    np.testing.assert_allclose(t_tr, [3e-4, 6e-4], rtol=0, atol=1e-15)
+    vm, _, t_pk, n_eval, _ = sp.peak(mon)
+    assert n_eval == 1 and t_pk == pytest.approx(6e-4, abs=1e-15)
+    assert vm == pytest.approx(refs[6], rel=1e-12)
+
+
+@pytest.mark.parametrize("bad", [0, -2, 10_001, 2.5])
+def test_monitor_interval_refused_outside_its_range(setup, bad):
+    *_, ev = setup
+    with pytest.raises(Exception, match="stress_monitor_interval"):
+        sp.new_monitor(ev.arrays, P, 0, 12, N_KEEP - 6, interval=bad)
+
+
 def test_monitor_refuses_a_mismatched_search(setup):
     *_, ev = setup
     with pytest.raises(ValueError):
@@ -134,8 +162,8 @@ def test_recorded_maximum_is_the_exhaustive_maximum_over_a_real_run(paper_reduce
     made = []
     monitor = fc.StressRecovery.monitor
 
-    def traced(self, cage_offset, modes_offset, trace=0):
-        mon = monitor(self, cage_offset, modes_offset, trace=100_000)
+    def traced(self, cage_offset, modes_offset, trace=0, interval=1):
+        mon = monitor(self, cage_offset, modes_offset, trace=100_000, interval=interval)
         made.append((self, mon))
         return mon
 
