@@ -65,6 +65,12 @@ Assumed inputs (not in the paper; options keys, SI):
   temperature above the oil temperature (ranges: multibody.traction.EHL_RANGES).
 * ``min_rolling_speed`` (0.5 m/s): the traction fit is evaluated with UR >= this (its power laws
   in Ub diverge at UR -> 0).
+* ``slip_regularisation_speed`` (10 m/s, u_reg): the "fit" law's slide-to-roll ratio is taken as
+  s = du/max(|UR|, u_reg) (multibody.traction, "Regularised slide-to-roll ratio"): below u_reg the
+  traction is a function of the sliding speed du alone and its creep slope dT/d(du) stays bounded by
+  Q·mu'/u_reg instead of growing as 1/UR. Above u_reg (the paper's scenes: UR 40–60 m/s at
+  10,000–14,000 rpm) it is the fit unchanged. It takes a run at rest from ~1e8 integrator steps per
+  simulated second to ~4e5 (benchmarks/results/speed.md).
 * ``eps_film_max`` (0.95): the short-bearing land forces are evaluated at min(eps, eps_max);
   beyond the clearance the rim contact takes over.
 """
@@ -104,7 +110,8 @@ P_ALPHA0 = 44                          # free contact angle (rad)
 P_LAND_L = 45                          # effective land width used for the Petroff torque, m
 P_ETA_TRACTION = 46                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
 P_ATT_RATE = 47                        # relaxation rate of the race-control ball attitude constraint, 1/s
-N_PARAMS = 48
+P_UREG = 48                            # regularisation speed of the fit's slide-to-roll ratio, m/s
+N_PARAMS = 49
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 1, 2, 3, 4, 5, 6
@@ -190,6 +197,7 @@ DEFAULT_OPTIONS = {
     "traction_scale": 1.0,            # "ehl" only: film strength scale
     "contact_temperature_rise": 0.0,  # "ehl" only: K above the oil temperature at the contact inlets
     "min_rolling_speed": 0.5,
+    "slip_regularisation_speed": 10.0,  # m/s: s = du/max(|UR|, this) in the "fit" law (model docstring)
     "eps_film_max": 0.95,
     "inner_ring_mass": None,
     "inner_ring_added_mass": 0.0,
@@ -310,6 +318,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     zeta = require_range("model.damping_ratio", _option(options, "damping_ratio"), 0.0, 1.0)
     s_lin = require_range("model.traction_slip_linear", _option(options, "traction_slip_linear"), 1e-6, 0.1)
     u_min = require_range("model.min_rolling_speed", _option(options, "min_rolling_speed"), 1e-3, 10.0, unit="m/s")
+    u_reg = require_range("model.slip_regularisation_speed", _option(options, "slip_regularisation_speed"),
+                          1e-3, 50.0, unit="m/s")
     eps_max = require_range("model.eps_film_max", _option(options, "eps_film_max"), 0.1, 0.999)
 
     dw, dm, z = bearing.ball_diameter, bearing.pitch_diameter, bearing.n_balls
@@ -370,6 +380,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p[P_CD] = require_range("model.drag_coefficient", _option(options, "drag_coefficient"), 0.0, 5.0)
     p[P_ALPHA_P] = oil.pressure_viscosity_coeff
     p[P_SLIN], p[P_UMIN], p[P_ZETA] = s_lin, u_min, zeta
+    p[P_UREG] = u_reg
     p[P_MUPOCKET] = require_range("model.pocket_friction", _option(options, "pocket_friction"), 0.0, 1.0)
     p[P_GRAV] = require_range("model.gravity", _option(options, "gravity"), 0.0, 100.0, unit="m/s^2")
     p[P_EPSMAX] = eps_max
