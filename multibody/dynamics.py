@@ -137,7 +137,7 @@ from multibody.model import (
     P_DW, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID,
     P_IIP, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_R1, P_CG,
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
-    P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
+    P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_UREG, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
     F_TRACTION_LAW,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
@@ -360,8 +360,11 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
                                                flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN],
                                                p[P_ETA0], p[P_ALPHA_P], p[P_K0], ttab)
         else:
-            A, B, C, D = traction_coefficients_table(Q, urr, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
-            Tt, Ttau, Mn = sliced_traction(Q, a_ax, urr, du0, du1, 0.0, dv, A, B, C, D,
+            # the fit at UR_eff = max(|UR|, u_reg): coefficients and slide-to-roll ratio
+            # (multibody.traction, "Low rolling speed")
+            u_s = urr if urr > p[P_UREG] else p[P_UREG]
+            A, B, C, D = traction_coefficients_table(Q, u_s, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
+            Tt, Ttau, Mn = sliced_traction(Q, a_ax, u_s, du0, du1, 0.0, dv, A, B, C, D,
                                            flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
         # force on the ball at p: Tt·e_t + Ttau·tau
         Fx += Ttau * tx_

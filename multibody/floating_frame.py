@@ -139,26 +139,28 @@ def new_workspace(n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.
 # ----------------------------------------------------------------------------- moments
 @njit(cache=True)
 def deformed_moments(q, second, Sx, SS, U, Wab):
-    """U_ab = ∫rho u_a u_b and Wab[a,b,k] = ∫rho u_a Phi_k,b for the deformed body (in place)."""
+    """U_ab = ∫rho u_a u_b and Wab[a,b,k] = ∫rho u_a Phi_k,b for the deformed body (in place).
+
+    Wab first (the j-sum runs over SS's contiguous last index), then U from it: with
+    Wab[a,b,k] − Sx[a,b,k] = Σ_j q_j SS[a,b,j,k] the quadratic term of U is Σ_k q_k (Wab[a,b,k] −
+    Sx[a,b,k]), so U_ab = second_ab + Σ_k q_k (Sx[b,a,k] + Wab[a,b,k]) — the module docstring's
+    formula with one n² contraction instead of two (equal to round-off).
+    """
     n = q.shape[0]
     for a in range(3):
         for b in range(3):
+            for k in range(n):
+                Wab[a, b, k] = Sx[a, b, k]
+            for j in range(n):
+                qj = q[j]
+                if qj == 0.0:
+                    continue
+                for k in range(n):
+                    Wab[a, b, k] += qj * SS[a, b, j, k]
             s = second[a, b]
             for k in range(n):
-                s += q[k] * (Sx[a, b, k] + Sx[b, a, k])
-            for j in range(n):
-                if q[j] == 0.0:
-                    continue
-                acc = 0.0
-                for k in range(n):
-                    acc += SS[a, b, j, k] * q[k]
-                s += q[j] * acc
+                s += q[k] * (Sx[b, a, k] + Wab[a, b, k])
             U[a, b] = s
-            for k in range(n):
-                w = Sx[a, b, k]
-                for j in range(n):
-                    w += q[j] * SS[a, b, j, k]
-                Wab[a, b, k] = w
 
 
 @njit(cache=True)

@@ -37,6 +37,29 @@ giving T_y = sum Q_m·mu_m·dv/|dvec| and the T_y part of the moment is zero (sl
 Sign convention: du, dv = race surface velocity minus ball surface velocity at the contact; the
 returned forces act on the ball (positive along +du). The race receives the opposite.
 
+Low rolling speed (model option slip_regularisation_speed = u_reg, default 10 m/s; issue 21). The
+dynamics evaluate the fit at the effective rolling speed UR_eff = max(|UR|, u_reg):
+
+    mu = mu(du/UR_eff; A..D at Ub(UR_eff)),   UR_eff = max(|UR|, u_reg),
+
+identical to the fit wherever |UR| >= u_reg (the paper's scenes: UR 40–60 m/s at 10,000–14,000
+rpm). Why: the fit's creep slope grows without bound as UR -> 0. Near s = 0 (the linear part below
+s_lin) dT/d(du) = Q·mu(s_lin)/(s_lin·UR) with mu ~ A + D ∝ Ub^−0.56…−0.67 (TRACTION_FIT_4106), i.e.
+dT/d(du) ∝ UR^−1.67: a ball's spin relaxes at a rate ∝ that slope, and an explicit integrator must
+resolve it (measured: 0.6 s at rest would take ~7e7 steps, 5 ms at 0 rpm 576,000 steps against 816
+at 14,000 rpm). Below u_reg the traction is a function of the sliding speed alone, mu(du/u_reg) at
+the curve of Ub(u_reg) — the velocity-regularised friction law of multibody simulation (friction
+as a steep but finite function of the sliding speed through zero; Haessig & Friedland, J. Dyn.
+Syst. Meas. Control 113(3):354, 1991), its velocity scale u_reg·s* (s* ~ 0.1 at the curve's
+maximum, i.e. ~1 m/s of sliding to full traction). The fit itself is a regression of ball-on-disc
+traction curves measured at rolling speeds of metres per second (its data range is not known here,
+see "Bounded law"), so below u_reg its power laws in Ub are an extrapolation in any case; holding
+Ub at its value at u_reg is the same clamp of Ub as the bounded law's. What it changes: at rolling
+speeds below u_reg (start-up, below ~2,300 rpm on the paper bearing) a sliding ball meets less
+traction than the extrapolated fit gives (the fit's plateau D ∝ UR^−0.67 would grow 7.5x from 10
+to 0.5 m/s). The EHL film-shear law (below) is unchanged: it uses UR >= model.min_rolling_speed.
+Test: tests/test_traction_low_speed.py.
+
 Bounded law (option; `bounded_traction_table`, TRACTION_BOUNDED_4106). The fit is a regression of
 ball-on-disc traction curves; its plateau D ∝ Qb^0.74 is a power law, and at the slip-rate test's
 light contacts (inner race 85–190 N, p0 0.50–0.70 GPa; outer 200–1200 N, 0.62–1.1 GPa) it gives
