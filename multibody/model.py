@@ -63,14 +63,15 @@ Assumed inputs (not in the paper; options keys, SI):
   validation's law). With "ehl": ``traction_scale`` (1.0) multiplies the film's strength (Eyring
   and limiting shear stresses) and ``contact_temperature_rise`` (0 K) is the contacts' inlet
   temperature above the oil temperature (ranges: multibody.traction.EHL_RANGES).
-* ``min_rolling_speed`` (0.5 m/s): the traction fit is evaluated with UR >= this (its power laws
-  in Ub diverge at UR -> 0).
-* ``slip_regularisation_speed`` (10 m/s, u_reg): the "fit" law's slide-to-roll ratio is taken as
-  s = du/max(|UR|, u_reg) (multibody.traction, "Regularised slide-to-roll ratio"): below u_reg the
-  traction is a function of the sliding speed du alone and its creep slope dT/d(du) stays bounded by
-  Q·mu'/u_reg instead of growing as 1/UR. Above u_reg (the paper's scenes: UR 40–60 m/s at
-  10,000–14,000 rpm) it is the fit unchanged. It takes a run at rest from ~1e8 integrator steps per
-  simulated second to ~4e5 (benchmarks/results/speed.md).
+* ``min_rolling_speed`` (0.5 m/s): the traction laws are evaluated with UR >= this (the fit's power
+  laws in Ub diverge at UR -> 0); for the fit the larger ``slip_regularisation_speed`` governs.
+* ``slip_regularisation_speed`` (10 m/s, u_reg): the "fit" traction law is evaluated at the
+  effective rolling speed UR_eff = max(|UR|, u_reg), its coefficients and its slide-to-roll ratio
+  s = du/UR_eff (multibody.traction, "Low rolling speed"): below u_reg the traction is a function
+  of the sliding speed du alone and its creep slope dT/d(du) stays bounded by Q·mu'/u_reg instead
+  of growing as UR^-1.67. Above u_reg (the paper's scenes: UR 40–60 m/s at 10,000–14,000 rpm) it
+  is the fit unchanged, to the bit. It takes a run at rest from ~1.2e8 integrator steps per
+  simulated second to ~4e5 (benchmarks/results/speed.md). The "ehl" law is not affected.
 * ``eps_film_max`` (0.95): the short-bearing land forces are evaluated at min(eps, eps_max);
   beyond the clearance the rim contact takes over.
 """
@@ -197,7 +198,7 @@ DEFAULT_OPTIONS = {
     "traction_scale": 1.0,            # "ehl" only: film strength scale
     "contact_temperature_rise": 0.0,  # "ehl" only: K above the oil temperature at the contact inlets
     "min_rolling_speed": 0.5,
-    "slip_regularisation_speed": 10.0,  # m/s: s = du/max(|UR|, this) in the "fit" law (model docstring)
+    "slip_regularisation_speed": 10.0,  # m/s: the "fit" law at max(|UR|, this) (module docstring)
     "eps_film_max": 0.95,
     "inner_ring_mass": None,
     "inner_ring_added_mass": 0.0,
