@@ -392,7 +392,8 @@ class QuadraticSurrogate:
     unknowns enter as indicators of their non-first values (no square: an indicator's square is
     itself). interactions: "all" = the full quadratic (every product of two inputs; 27 terms for
     the six unknowns), "choice" = linear and square terms plus the products of the choice with each
-    other input (17 terms; for a case with fewer converged points). coef: (p, k) for k outputs."""
+    other input (17 terms), "none" = linear and square terms (12 terms: additive, S = ST); the
+    smaller forms serve a case with fewer converged points. coef: (p, k) for k outputs."""
     unknowns: tuple
     interactions: str = "all"
     coef: np.ndarray = field(default=None)
@@ -414,7 +415,8 @@ class QuadraticSurrogate:
             for j in range(i, len(lin)):
                 if i == j and is_choice[i]:
                     continue
-                if self.interactions != "all" and i != j and not (is_choice[i] or is_choice[j]):
+                if i != j and (self.interactions == "none" or
+                               (self.interactions == "choice" and not (is_choice[i] or is_choice[j]))):
                     continue
                 cols.append(lin[i] * lin[j])
         return np.column_stack(cols)
@@ -589,7 +591,7 @@ def analyse(study: UnknownsStudy, rows: list[dict], points: list[dict], n_design
     return base
 
 
-SURROGATE_FORMS = ("all", "choice")     # QuadraticSurrogate.interactions, preferred first
+SURROGATE_FORMS = ("all", "choice", "none")     # QuadraticSurrogate.interactions, preferred first
 
 
 def candidate_points(analysis: dict) -> list[dict]:
@@ -717,8 +719,10 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
               f"case converged ({min(f['n_points'])}–{max(f['n_points'])} of {a['n_points']}): the full quadratic "
               f"({f['n_terms']['all']} terms) where there are at least twice as many points, else squares and the "
               f"ball material's interactions only ({f['n_terms']['choice']} terms; cases "
-              f"{', '.join(str(c) for c, m in zip(f['cases'], f['forms']) if m != 'all') or 'none'}); cases left out "
-              f"(fewer than {2 * f['n_terms']['choice']} converged points): {', '.join(map(str, f['left_out'])) or 'none'}. "
+              f"{', '.join(str(c) for c, m in zip(f['cases'], f['forms']) if m == 'choice') or 'none'}), else "
+              f"linear and squares only ({f['n_terms']['none']} terms, additive: S = ST; cases "
+              f"{', '.join(str(c) for c, m in zip(f['cases'], f['forms']) if m == 'none') or 'none'}); cases left out "
+              f"(fewer than {2 * f['n_terms']['none']} converged points): {', '.join(map(str, f['left_out'])) or 'none'}. "
               f"The mean error here is over the {len(f['cases'])} cases with a surrogate. Leave-one-out error of the slip: "
               f"{min(f['loo_rms_pct_points']):.2f}–{max(f['loo_rms_pct_points']):.2f} points rms against a sample "
               f"spread (std) of {min(f['sample_std_pct_points']):.2f}–{max(f['sample_std_pct_points']):.2f} points "
@@ -745,8 +749,8 @@ def statement(a: dict) -> list[str]:
         me = a["sensitivity"]["mean error"]
         ranked = sorted(me.items(), key=lambda kv: -kv[1]["ST"])
         matter = [n for n, v in ranked if v["ST_lo"] >= DECISIVE_ST]
-        out.append("- **Which unknowns matter** (total index of the mean error, lower 95 % limit ≥ "
-                   f"{DECISIVE_ST}): " + (", ".join(f"{n} (ST {me[n]['ST']:.2f})" for n in matter) or "none")
+        out.append(f"- **Which unknowns matter** (total index of the mean error over the {len(a['surrogate_fit']['cases'])} "
+                   f"cases with a surrogate, lower 95 % limit ≥ {DECISIVE_ST}): " + (", ".join(f"{n} (ST {me[n]['ST']:.2f})" for n in matter) or "none")
                    + "; the rest: " + ", ".join(f"{n} {v['ST']:.2f}" for n, v in ranked if n not in matter) + ".")
     best = a["best_sample_point"]
     extra = extra_point_errors(a)
@@ -877,7 +881,9 @@ def fast_path_table(check: dict) -> str:
               f"{np.abs(diff).max():.2f} points (rms {np.sqrt(np.mean(diff ** 2)):.2f})."]
     not_conv = [r for r in check.get("rows", []) if not r.get("steady_converged")]
     if not_conv:
-        L.append("Not converged on the fast path: " + ", ".join(f"point {r['point']} case {r['case']}" for r in not_conv) + ".")
+        L.append("Not converged on the fast path (left out of the bands), with the dynamic run's slip: " +
+                 ", ".join(f"point {r['point']} case {r['case']}: {r['dynamic_slip_pct']:.2f} % "
+                           f"({'settled' if r['dynamic_settled'] else 'not settled'})" for r in not_conv) + ".")
     return "\n".join(L)
 
 
