@@ -288,6 +288,11 @@ def read_rows(path) -> list[dict]:
     return rows
 
 
+def study_points(study: UnknownsStudy, extra_points: list[dict] | None = None) -> list[dict]:
+    """The sample points with their ids ("point": 0..n−1), then the named extra points."""
+    return [dict(p, point=k) for k, p in enumerate(sample_points(study))] + [dict(e) for e in extra_points or []]
+
+
 def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, workers: int | None = None,
               scheduler: str | None = None, extra_points: list[dict] | None = None, progress: bool = True) -> dict:
     """Run every (point, case) not yet in OUT_DIR/<name>/rows.jsonl (resumable) via run_jobs and
@@ -298,9 +303,7 @@ def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, wor
     d = Path(out_dir) / study.name
     d.mkdir(parents=True, exist_ok=True)
     rows_file = d / "rows.jsonl"
-    points = [dict(p, point=k) for k, p in enumerate(sample_points(study))]
-    for extra in extra_points or []:
-        points.append(dict(extra))
+    points = study_points(study, extra_points)
     (d / "points.json").write_text(json.dumps({"study": study.name, "seed": study.seed, "points": points},
                                               indent=1) + "\n")
     sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
@@ -660,6 +663,9 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
           f"fixed point with weight (multibody.steady.steady_held_cage_state, EHL law; coupling.uncertainty "
           f"docstring). Converged: {a['n_converged']}/{a.get('n_ran', a['n_runs'])} (point, case) runs; points with all 15 cases: "
           f"{a['n_complete']}/{a['n_points']}. Slips in %, S = (nm − nc)/nm.", "",
+          *([f"**Partial study**: {a['n_ran']} of {a['n_runs']} (point, case) runs had finished when this "
+             "report was written (`--report-only`); the bands and indices are over those.", ""]
+            if a.get("n_ran", a["n_runs"]) < a["n_runs"] else []),
           "## The unknowns (scenes/slip_rate_unknowns.toml has the reasons in full)", "",
           "| unknown | range | nominal (validation default) | why (first sentence) |", "|---|---|---|---|"]
     for u in a["unknowns"]:
