@@ -61,8 +61,6 @@ def cmd_uncertainty(args) -> int:
     except KeyboardInterrupt:
         print("flexbearing uncertainty: interrupted; run the same command again to continue", file=sys.stderr)
         return 130
-    for f in res["failures"]:
-        print(f"flexbearing uncertainty: {f.name} failed: {f.message}", file=sys.stderr)
     analysis = U.analyse(study, U.read_rows(res["rows_file"]), res["points"])
     candidates = U.candidate_points(analysis)
     if candidates:                       # the surrogate's best points, re-run with the model
@@ -75,6 +73,9 @@ def cmd_uncertainty(args) -> int:
     if args.report_dir:
         paths = U.write_report(analysis, args.report_dir, command=_command(args))
         print("report: " + ", ".join(str(p) for p in paths))
+    for f in res["failures"]:
+        print(f"flexbearing uncertainty: {f.name} failed: {f.message} (run the same command again to retry it)",
+              file=sys.stderr)
     return 1 if res["failures"] else 0
 
 
