@@ -17,14 +17,16 @@ Pd = design_clearance(alphaD) + clearance_excess (coupling.validate: the smalles
 split-ring bearing run in two-point contact; the TOML gives the reason).
 
 Model per (point, case): the steady fixed point with weight, multibody.steady.steady_held_cage_state
-(frozen azimuths, cage held in its guide film; 0.5–2.5 s CPU), on the validation's model
+(frozen azimuths, cage held in its guide film; 1.7 CPU-s per run on average, measured), on the validation's model
 (coupling.validate.build_validation_model: EHL film-shear law at the point's traction scale,
 gravity 9.81 m/s² along −z, free balls), oil at the point's temperature and cavity fraction
 X_ref·4000/n. Slip S = (nm − nc)/nm with nm at the mean loaded contact angle (multibody.outputs,
 the validation's definition). The dynamic validation (coupling.validate.run_slip_case, minutes per
 case) is the independent check of this fast path (`benchmarks/results/slip_rate_uncertainty.md`
-states the agreement); a (point, case) whose Newton iteration does not converge is recorded with
-converged = False and left out of the bands.
+states the agreement: 20 pairs, rms 0.41 points); a (point, case) whose Newton iteration does not
+converge (30 % of the runs, most at high speed and light load) is recorded with converged = False
+and left out of the bands — the dynamics there settled at ordinary slips in two checks and in a
+gross-skid state (+58 %) in one, so the bands can miss a gross-skid tail at high speed.
 
 Jobs: one per (point, case), run by coupling.jobs.run_jobs (Dask); each finished row is appended
 to a JSON-lines file at once, so an interrupted study continues where it stopped (`run_study`).
@@ -35,9 +37,10 @@ Analysis (`analyse`):
 - mean relative error against the test per point (points where all 15 cases converged) and the best;
 - variance-based global sensitivity (Sobol' indices) of each case's slip and of the mean error to
   each unknown. The direct Saltelli design needs n·(d + 2) model runs per index set; instead a
-  surrogate is fitted to the sample — a full quadratic polynomial in the unit coordinates (the
-  choice as an indicator; least squares, `QuadraticSurrogate`) whose leave-one-out error is
-  reported — and the indices are estimated on the surrogate with Saltelli's design and the
+  surrogate is fitted to the sample per case on its converged points — a quadratic polynomial in
+  the unit coordinates (the choice as an indicator; least squares, `QuadraticSurrogate`; the full
+  quadratic, or fewer interaction terms where fewer points converged, SURROGATE_FORMS) whose
+  leave-one-out error is reported — and the indices are estimated on the surrogate with Saltelli's design and the
   estimators (`sobol_indices`)
       first order  S_i  = mean(f(B)·(f(A_B^i) − f(A)))/V              (Saltelli et al. 2010, eq. (b))
       total        ST_i = mean((f(A) − f(A_B^i))²)/(2V)              (Jansen 1999)
@@ -45,8 +48,9 @@ Analysis (`analyse`):
   (the sample points resampled and the surrogate refitted, and the design's rows resampled), the
   2.5–97.5 % percentiles. The indices are those of the surrogate: its LOO error bounds how far
   they describe the model.
-- the surrogate's best point of the box (mean error over the 15 cases, minimised on 2^14 Sobol'
-  points per ball material), re-run with the model (`best_point_check`).
+- the surrogate's best point of the box (mean error over the cases with a surrogate, minimised on
+  2^14 Sobol' points per ball material), re-run with the model as named extra points (`candidate_points`; the
+  command does it).
 """
 from __future__ import annotations
 
