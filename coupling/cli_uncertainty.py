@@ -1,7 +1,7 @@
 """`flexbearing uncertainty`: Table 4's 15 slip-rate cases over the test bearing's unknown inputs.
 
-    flexbearing uncertainty [UNKNOWNS.toml] [-o DIR] [--cases 1,2] [--workers N] [--scheduler ADDR]
-                            [--report-dir DIR] [--quiet]
+    flexbearing uncertainty [UNKNOWNS.toml] [-o DIR] [--cases 1,2] [--workers N] [--scheduler ADDRESS]
+                            [--report-dir DIR] [--report-only] [--quiet]
 
 The work: coupling.uncertainty (its docstring describes the sample, the fast steady model, the
 bands and the sensitivity indices). Finished (point, case) rows are kept in DIR/<name>/rows.jsonl;
@@ -24,6 +24,8 @@ def register(subparsers) -> None:
     p.add_argument("--scheduler", default=None, help="address tcp://HOST:PORT of an existing Dask scheduler")
     p.add_argument("--report-dir", default=None,
                    help="also write slip_rate_uncertainty.md/.json/.png there (e.g. benchmarks/results)")
+    p.add_argument("--report-only", action="store_true",
+                   help="no runs: analyse the rows finished so far (a study still running or stopped)")
     p.add_argument("--quiet", action="store_true", help="print only the summary")
     p.set_defaults(func=cmd_uncertainty)
 
@@ -42,14 +44,23 @@ def cmd_uncertainty(args) -> int:
     if not args.quiet:
         print(f"== uncertainty {study.name}: {study.points} points x "
               f"{len(cases) if cases else 15} cases -> {out / study.name}", flush=True)
+    if args.report_only:
+        points = U.study_points(study, [dict(study.nominal(), point="nominal")])
+        rows = U.read_rows(out / study.name / "rows.jsonl")
+        points += [dict(c) for c in U.candidate_points(U.analyse(study, rows, points))
+                   if any(r["point"] == c["point"] for r in rows)]
+        analysis = U.analyse(study, rows, points)
+        print(U.summary_text(analysis))
+        if args.report_dir:
+            paths = U.write_report(analysis, args.report_dir, command=_command(args))
+            print("report: " + ", ".join(str(p) for p in paths))
+        return 0
     try:
         res = U.run_study(study, out, cases=cases, workers=args.workers, scheduler=args.scheduler,
                           extra_points=[dict(study.nominal(), point="nominal")], progress=not args.quiet)
     except KeyboardInterrupt:
         print("flexbearing uncertainty: interrupted; run the same command again to continue", file=sys.stderr)
         return 130
-    for f in res["failures"]:
-        print(f"flexbearing uncertainty: {f.name} failed: {f.message}", file=sys.stderr)
     analysis = U.analyse(study, U.read_rows(res["rows_file"]), res["points"])
     candidates = U.candidate_points(analysis)
     if candidates:                       # the surrogate's best points, re-run with the model
@@ -62,6 +73,9 @@ def cmd_uncertainty(args) -> int:
     if args.report_dir:
         paths = U.write_report(analysis, args.report_dir, command=_command(args))
         print("report: " + ", ".join(str(p) for p in paths))
+    for f in res["failures"]:
+        print(f"flexbearing uncertainty: {f.name} failed: {f.message} (run the same command again to retry it)",
+              file=sys.stderr)
     return 1 if res["failures"] else 0
 
 

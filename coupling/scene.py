@@ -491,6 +491,9 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     if isinstance(data, dict) and "case_set" in data:
         raise InputError(f"{path or 'scene'} is a case set ([case_set] with [[cases]]), not a scene: "
                          f"it is run by `flexbearing validate`")
+    if isinstance(data, dict) and "unknowns" in data:
+        raise InputError(f"{path or 'scene'} is an unknowns file ([unknowns.NAME] ranges), not a scene: "
+                         f"it is run by `flexbearing uncertainty`")
     if isinstance(data, dict) and "study" in data:
         raise InputError(f"{path or 'scene'} is a study ([study] with a base scene and values), not a "
                          f"scene: it is run by `flexbearing study`")

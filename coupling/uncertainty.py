@@ -17,14 +17,16 @@ Pd = design_clearance(alphaD) + clearance_excess (coupling.validate: the smalles
 split-ring bearing run in two-point contact; the TOML gives the reason).
 
 Model per (point, case): the steady fixed point with weight, multibody.steady.steady_held_cage_state
-(frozen azimuths, cage held in its guide film; 0.5–2.5 s CPU), on the validation's model
+(frozen azimuths, cage held in its guide film; 1.7 CPU-s per run on average, measured), on the validation's model
 (coupling.validate.build_validation_model: EHL film-shear law at the point's traction scale,
 gravity 9.81 m/s² along −z, free balls), oil at the point's temperature and cavity fraction
 X_ref·4000/n. Slip S = (nm − nc)/nm with nm at the mean loaded contact angle (multibody.outputs,
 the validation's definition). The dynamic validation (coupling.validate.run_slip_case, minutes per
 case) is the independent check of this fast path (`benchmarks/results/slip_rate_uncertainty.md`
-states the agreement); a (point, case) whose Newton iteration does not converge is recorded with
-converged = False and left out of the bands.
+states the agreement: 20 pairs, rms 0.41 points); a (point, case) whose Newton iteration does not
+converge (30 % of the runs, most at high speed and light load) is recorded with converged = False
+and left out of the bands — the dynamics there settled at ordinary slips in two checks and in a
+gross-skid state (+58 %) in one, so the bands can miss a gross-skid tail at high speed.
 
 Jobs: one per (point, case), run by coupling.jobs.run_jobs (Dask); each finished row is appended
 to a JSON-lines file at once, so an interrupted study continues where it stopped (`run_study`).
@@ -35,9 +37,10 @@ Analysis (`analyse`):
 - mean relative error against the test per point (points where all 15 cases converged) and the best;
 - variance-based global sensitivity (Sobol' indices) of each case's slip and of the mean error to
   each unknown. The direct Saltelli design needs n·(d + 2) model runs per index set; instead a
-  surrogate is fitted to the sample — a full quadratic polynomial in the unit coordinates (the
-  choice as an indicator; least squares, `QuadraticSurrogate`) whose leave-one-out error is
-  reported — and the indices are estimated on the surrogate with Saltelli's design and the
+  surrogate is fitted to the sample per case on its converged points — a quadratic polynomial in
+  the unit coordinates (the choice as an indicator; least squares, `QuadraticSurrogate`; the full
+  quadratic, or fewer interaction terms where fewer points converged, SURROGATE_FORMS) whose
+  leave-one-out error is reported — and the indices are estimated on the surrogate with Saltelli's design and the
   estimators (`sobol_indices`)
       first order  S_i  = mean(f(B)·(f(A_B^i) − f(A)))/V              (Saltelli et al. 2010, eq. (b))
       total        ST_i = mean((f(A) − f(A_B^i))²)/(2V)              (Jansen 1999)
@@ -45,8 +48,9 @@ Analysis (`analyse`):
   (the sample points resampled and the surrogate refitted, and the design's rows resampled), the
   2.5–97.5 % percentiles. The indices are those of the surrogate: its LOO error bounds how far
   they describe the model.
-- the surrogate's best point of the box (mean error over the 15 cases, minimised on 2^14 Sobol'
-  points per ball material), re-run with the model (`best_point_check`).
+- the surrogate's best point of the box (mean error over the cases with a surrogate, minimised on
+  2^14 Sobol' points per ball material), re-run with the model as named extra points (`candidate_points`; the
+  command does it).
 """
 from __future__ import annotations
 
@@ -288,6 +292,11 @@ def read_rows(path) -> list[dict]:
     return rows
 
 
+def study_points(study: UnknownsStudy, extra_points: list[dict] | None = None) -> list[dict]:
+    """The sample points with their ids ("point": 0..n−1), then the named extra points."""
+    return [dict(p, point=k) for k, p in enumerate(sample_points(study))] + [dict(e) for e in extra_points or []]
+
+
 def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, workers: int | None = None,
               scheduler: str | None = None, extra_points: list[dict] | None = None, progress: bool = True) -> dict:
     """Run every (point, case) not yet in OUT_DIR/<name>/rows.jsonl (resumable) via run_jobs and
@@ -298,9 +307,7 @@ def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, wor
     d = Path(out_dir) / study.name
     d.mkdir(parents=True, exist_ok=True)
     rows_file = d / "rows.jsonl"
-    points = [dict(p, point=k) for k, p in enumerate(sample_points(study))]
-    for extra in extra_points or []:
-        points.append(dict(extra))
+    points = study_points(study, extra_points)
     (d / "points.json").write_text(json.dumps({"study": study.name, "seed": study.seed, "points": points},
                                               indent=1) + "\n")
     sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
@@ -392,7 +399,8 @@ class QuadraticSurrogate:
     unknowns enter as indicators of their non-first values (no square: an indicator's square is
     itself). interactions: "all" = the full quadratic (every product of two inputs; 27 terms for
     the six unknowns), "choice" = linear and square terms plus the products of the choice with each
-    other input (17 terms; for a case with fewer converged points). coef: (p, k) for k outputs."""
+    other input (17 terms), "none" = linear and square terms (12 terms: additive, S = ST); the
+    smaller forms serve a case with fewer converged points. coef: (p, k) for k outputs."""
     unknowns: tuple
     interactions: str = "all"
     coef: np.ndarray = field(default=None)
@@ -414,7 +422,8 @@ class QuadraticSurrogate:
             for j in range(i, len(lin)):
                 if i == j and is_choice[i]:
                     continue
-                if self.interactions != "all" and i != j and not (is_choice[i] or is_choice[j]):
+                if i != j and (self.interactions == "none" or
+                               (self.interactions == "choice" and not (is_choice[i] or is_choice[j]))):
                     continue
                 cols.append(lin[i] * lin[j])
         return np.column_stack(cols)
@@ -589,7 +598,7 @@ def analyse(study: UnknownsStudy, rows: list[dict], points: list[dict], n_design
     return base
 
 
-SURROGATE_FORMS = ("all", "choice")     # QuadraticSurrogate.interactions, preferred first
+SURROGATE_FORMS = ("all", "choice", "none")     # QuadraticSurrogate.interactions, preferred first
 
 
 def candidate_points(analysis: dict) -> list[dict]:
@@ -611,14 +620,17 @@ def _fmt_point(p: dict) -> str:
             f"traction ×{p['traction_scale']:.2f}, X_ref {100 * p['oil_air_fraction']:.2f} %, {p['ball_material']}")
 
 
-def extra_point_errors(analysis: dict) -> dict:
-    """{point name: (mean error %, slips % by case)} of the extra points with all 15 cases converged."""
+def extra_point_errors(analysis: dict, complete_only: bool = True) -> dict:
+    """{point name: (mean error %, slips % by case, number of cases in the mean)} of the extra
+    points: with all 15 cases converged, or (complete_only False) over the converged cases."""
     test = np.array(analysis["test_slip_pct"])
     out = {}
     for name, by_case in analysis["extra_points"].items():
-        if len(by_case) == len(test) and all(r["converged"] for r in by_case.values()):
-            s = np.array([by_case[k]["slip_pct"] for k in sorted(by_case, key=int)])
-            out[name] = (float(mean_error_pct(s, test)), s.tolist())
+        ks = sorted((int(k) for k, r in by_case.items() if r["converged"]))
+        if not ks or (complete_only and len(ks) < len(test)):
+            continue
+        s = np.array([(by_case.get(k) or by_case[str(k)])["slip_pct"] for k in ks])
+        out[name] = (float(mean_error_pct(s, test[np.array(ks) - 1])), s.tolist(), len(ks))
     return out
 
 
@@ -633,8 +645,8 @@ def summary_text(analysis: dict) -> str:
     if a.get("best_sample_point"):
         lines.append(f"best sample point: mean error {a['best_sample_point']['mean_error_pct']:.1f} % "
                      f"({_fmt_point(a['best_sample_point'])}); paper's simulation {a['paper_mean_error_pct']:.1f} %")
-    for name, (e, _) in extra_point_errors(a).items():
-        lines.append(f"point {name}: mean error {e:.1f} %")
+    for name, (e, _, n) in extra_point_errors(a, complete_only=False).items():
+        lines.append(f"point {name}: mean error {e:.1f} % over its {n} converged cases")
     if a.get("sensitivity"):
         me = a["sensitivity"]["mean error"]
         lines.append("total Sobol' index of the mean error: " +
@@ -658,6 +670,9 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
           f"fixed point with weight (multibody.steady.steady_held_cage_state, EHL law; coupling.uncertainty "
           f"docstring). Converged: {a['n_converged']}/{a.get('n_ran', a['n_runs'])} (point, case) runs; points with all 15 cases: "
           f"{a['n_complete']}/{a['n_points']}. Slips in %, S = (nm − nc)/nm.", "",
+          *([f"**Partial study**: {a['n_ran']} of {a['n_runs']} (point, case) runs had finished when this "
+             "report was written (`--report-only`); the bands and indices are over those.", ""]
+            if a.get("n_ran", a["n_runs"]) < a["n_runs"] else []),
           "## The unknowns (scenes/slip_rate_unknowns.toml has the reasons in full)", "",
           "| unknown | range | nominal (validation default) | why (first sentence) |", "|---|---|---|---|"]
     for u in a["unknowns"]:
@@ -701,15 +716,15 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
                  f"{a['paper_mean_error_pct']:.1f} %. Best sample point (point {bp['point']}): **{bp['mean_error_pct']:.1f} %** "
                  f"at {_fmt_point(bp)}; its slips: "
                  + ", ".join(f"{s:.2f}" for s in bp["slips_pct"]) + ".")
-    extra = extra_point_errors(a)
+    extra = extra_point_errors(a, complete_only=False)
     if a["surrogate_best"]:
         L += ["", "The surrogate's minimum of the mean error over the box (2^14 Sobol' points per ball material), "
                   "then re-run with the model:", "",
-              "| ball | point | surrogate mean error % | model mean error % |", "|---|---|---:|---:|"]
+              "| ball | point | surrogate mean error % | model mean error % (converged cases) |", "|---|---|---:|---:|"]
         for c, named in zip(a["surrogate_best"], candidate_points(a)):
             got = extra.get(named["point"])
             L.append(f"| {c['ball_material']} | {_fmt_point(c)} | {c['surrogate_mean_error_pct']:.1f} | "
-                     f"{'not run' if got is None else f'{got[0]:.1f}'} |")
+                     f"{'not run' if got is None else f'{got[0]:.1f} ({got[2]} of 15)'} |")
     if a["sensitivity"]:
         f = a["surrogate_fit"]
         L += ["", "## Variance-based sensitivity (Sobol' indices on a quadratic surrogate)", "",
@@ -717,8 +732,10 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
               f"case converged ({min(f['n_points'])}–{max(f['n_points'])} of {a['n_points']}): the full quadratic "
               f"({f['n_terms']['all']} terms) where there are at least twice as many points, else squares and the "
               f"ball material's interactions only ({f['n_terms']['choice']} terms; cases "
-              f"{', '.join(str(c) for c, m in zip(f['cases'], f['forms']) if m != 'all') or 'none'}); cases left out "
-              f"(fewer than {2 * f['n_terms']['choice']} converged points): {', '.join(map(str, f['left_out'])) or 'none'}. "
+              f"{', '.join(str(c) for c, m in zip(f['cases'], f['forms']) if m == 'choice') or 'none'}), else "
+              f"linear and squares only ({f['n_terms']['none']} terms, additive: S = ST; cases "
+              f"{', '.join(str(c) for c, m in zip(f['cases'], f['forms']) if m == 'none') or 'none'}); cases left out "
+              f"(fewer than {2 * f['n_terms']['none']} converged points): {', '.join(map(str, f['left_out'])) or 'none'}. "
               f"The mean error here is over the {len(f['cases'])} cases with a surrogate. Leave-one-out error of the slip: "
               f"{min(f['loo_rms_pct_points']):.2f}–{max(f['loo_rms_pct_points']):.2f} points rms against a sample "
               f"spread (std) of {min(f['sample_std_pct_points']):.2f}–{max(f['sample_std_pct_points']):.2f} points "
@@ -745,13 +762,13 @@ def statement(a: dict) -> list[str]:
         me = a["sensitivity"]["mean error"]
         ranked = sorted(me.items(), key=lambda kv: -kv[1]["ST"])
         matter = [n for n, v in ranked if v["ST_lo"] >= DECISIVE_ST]
-        out.append("- **Which unknowns matter** (total index of the mean error, lower 95 % limit ≥ "
-                   f"{DECISIVE_ST}): " + (", ".join(f"{n} (ST {me[n]['ST']:.2f})" for n in matter) or "none")
+        out.append(f"- **Which unknowns matter** (total index of the mean error over the {len(a['surrogate_fit']['cases'])} "
+                   f"cases with a surrogate, lower 95 % limit ≥ {DECISIVE_ST}): " + (", ".join(f"{n} (ST {me[n]['ST']:.2f})" for n in matter) or "none")
                    + "; the rest: " + ", ".join(f"{n} {v['ST']:.2f}" for n, v in ranked if n not in matter) + ".")
     best = a["best_sample_point"]
-    extra = extra_point_errors(a)
+    extra = extra_point_errors(a, complete_only=False)
     found = [(best["mean_error_pct"], f"sample point {best['point']}")] if best else []
-    found += [(e, name) for name, (e, _) in extra.items() if name != "nominal"]
+    found += [(e, f"{name}, over its {n} converged cases") for name, (e, _, n) in extra.items() if name != "nominal"]
     if found:
         e, where = min(found)
         reach = "reaches" if e <= 7.0 else "does not reach"
@@ -877,7 +894,9 @@ def fast_path_table(check: dict) -> str:
               f"{np.abs(diff).max():.2f} points (rms {np.sqrt(np.mean(diff ** 2)):.2f})."]
     not_conv = [r for r in check.get("rows", []) if not r.get("steady_converged")]
     if not_conv:
-        L.append("Not converged on the fast path: " + ", ".join(f"point {r['point']} case {r['case']}" for r in not_conv) + ".")
+        L.append("Not converged on the fast path (left out of the bands), with the dynamic run's slip: " +
+                 ", ".join(f"point {r['point']} case {r['case']}: {r['dynamic_slip_pct']:.2f} % "
+                           f"({'settled' if r['dynamic_settled'] else 'not settled'})" for r in not_conv) + ".")
     return "\n".join(L)
 
 

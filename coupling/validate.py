@@ -88,6 +88,10 @@ case (benchmarks/results/slip_rate.md, "Session 14"). The test's positive slips 
 or a geometry or ball material in which the inner contact's Q·a exceeds the outer's; the kinematic
 estimate "beta = alpha_i" (slip 2.2–12.8 %) used earlier is not Jones's inner-race control, which
 at case 1 has beta = 44.8°, slip +9.0 %, and needs a couple of 0.50 N·m.
+Under the test bearing's unknowns (issue 23, coupling.uncertainty; scenes/slip_rate_unknowns.toml):
+over 64 points of shim angle, clearance, oil temperature, traction scale, cavity oil and ball
+material, 1 of 15 test slips lies inside its 5–95 % band and no point comes near the paper's 7 %
+(best 106.8 %); the shim angle carries most of the variance (benchmarks/results/slip_rate_uncertainty.md).
 At high speed the cage keeps decelerating for
 seconds (cage inertia against a small net torque): values at t_max are not steady (`settled`).
 """

@@ -65,7 +65,12 @@ def test_every_scene_in_scenes_dir_loads():
     from coupling.scene import load_case_set
     from coupling.study import load_study
     for path in sorted(SCENES.glob("*.toml")):
-        if "[case_set]" in path.read_text():
+        if "[unknowns." in path.read_text():        # the uncertainty study's unknowns (coupling.uncertainty)
+            from coupling.uncertainty import load_unknowns
+            with pytest.raises(InputError, match="flexbearing uncertainty"):
+                load_scene(path)
+            load_unknowns(path)
+        elif "[case_set]" in path.read_text():
             with pytest.raises(InputError, match="is a case set"):
                 load_scene(path)
             load_case_set(path)

@@ -245,6 +245,12 @@ def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys
     assert len(rows) == 67
     assert sorted(r["point"].split("_")[1] for r in rows[65:]) == ["Si3N4", "steel"]
     assert all(r["converged"] and abs(r["slip_pct"]) < 20 for r in rows[65:])
+    # --report-only: the same analysis from the rows, no runs
+    (tmp_path / "rep" / "slip_rate_uncertainty.md").unlink()
+    assert main(["uncertainty", str(UNKNOWNS), "-o", str(tmp_path / "out"), "--cases", "12", "--report-only",
+                 "--report-dir", str(tmp_path / "rep"), "--quiet"]) == 0
+    assert len(U.read_rows(d / "rows.jsonl")) == 67
+    assert "case 12" in (tmp_path / "rep" / "slip_rate_uncertainty.md").read_text()
 
 
 def test_cli_bad_input_exit_2(tmp_path, capsys):
