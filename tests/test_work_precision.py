@@ -52,6 +52,12 @@ def test_pareto_front_by_hand():
     # equal points do not dominate each other
     np.testing.assert_array_equal(pareto_front([1, 1], [2, 2]), [True, True])
     assert pareto_front([], []).size == 0
+    # with a 10 % margin a run 4 % cheaper and less accurate does not push another off the front,
+    # one 20 % cheaper and as accurate does, one at the same cost and more accurate does
+    np.testing.assert_array_equal(pareto_front([100, 96], [0.3, 0.5], 0.1), [True, True])
+    np.testing.assert_array_equal(pareto_front([100, 96], [0.3, 0.3], 0.1), [True, True])
+    np.testing.assert_array_equal(pareto_front([100, 80], [0.3, 0.3], 0.1), [False, True])
+    np.testing.assert_array_equal(pareto_front([100, 100], [0.3, 0.2], 0.1), [False, True])
 
 
 def test_truncate_scene_cuts_phases_and_impacts():
