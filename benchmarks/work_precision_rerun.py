@@ -15,7 +15,9 @@ ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks")); sys.path.insert(0, str(ROOT))
 import bench_work_precision as B
 from pathlib import Path
-out = Path(sys.argv[1]); scratch = out / "scratch"; scratch.mkdir(exist_ok=True)
+if len(sys.argv) < 3 or sys.argv[1] in ("-h", "--help"):
+    sys.exit("usage: work_precision_rerun.py OUT_DIR KEY [KEY ...]\n" + __doc__)
+out = Path(sys.argv[1]); scratch = out / "scratch"; scratch.mkdir(parents=True, exist_ok=True)
 jsonl = out / "work_precision.jsonl"
 keys = sys.argv[2:]
 for r in B.plan():
