@@ -122,15 +122,19 @@ def flexible_cage_body(rc, n_keep: int = DEFAULT_N_KEEP, beta: float = 0.0,
 
 
 # --------------------------------------------------------------------------- the run's backend
+def _mesh_inputs(scene) -> tuple[float, float, int]:
+    """(element size, pocket element size, FE degree) of the scene's reduced cage mesh."""
+    import mesh.cage_mesh as cm
+    size = scene.flexible.get("mesh_size", cm.DEFAULT_MESH_SIZE)
+    return size, min(cm.DEFAULT_POCKET_SIZE, size), scene.flexible.get("element_order", cm.DEFAULT_DEGREE)
+
+
 def reduced_cage_key(scene) -> dict:
     """Every input that changes the scene's reduced cage (fem_cage.reduced_cage.cache_key); its
     content hash names the cached file (fem_cage.reduced_cage.cache_path)."""
     from fem_cage import reduced_cage as rcf
     import mesh.cage_mesh as cm
-    f = scene.flexible
-    size = f.get("mesh_size", cm.DEFAULT_MESH_SIZE)
-    degree = f.get("element_order", cm.DEFAULT_DEGREE)
-    pocket = min(cm.DEFAULT_POCKET_SIZE, size)
+    size, pocket, degree = _mesh_inputs(scene)
     return rcf.cache_key(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
                          rcf.DEFAULT_N_FIXED, degree, True)
 
@@ -147,10 +151,7 @@ def reduced_cage_path(scene, quiet: bool = False):
     stack only then). Key = every input that changes it (reduced_cage_key)."""
     from fem_cage import reduced_cage as rcf
     import mesh.cage_mesh as cm
-    f = scene.flexible
-    size = f.get("mesh_size", cm.DEFAULT_MESH_SIZE)
-    degree = f.get("element_order", cm.DEFAULT_DEGREE)
-    pocket = min(cm.DEFAULT_POCKET_SIZE, size)
+    size, pocket, degree = _mesh_inputs(scene)
     key = reduced_cage_key(scene)
     path = rcf.find_cached(key)
     if path is None:

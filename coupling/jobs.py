@@ -74,6 +74,13 @@ def _bar(total: int, description: str, progress: bool):
     return tqdm(total=total, desc=description, unit="job", disable=not progress, dynamic_ncols=True)
 
 
+def runs_in_this_process(workers: int | None, scheduler: str | None, n_jobs: int) -> bool:
+    """Whether run_jobs runs n_jobs jobs here, one after the other (no cluster): no scheduler and
+    a single worker or a single job (callers keep a run's own progress output then)."""
+    return scheduler is None and ((workers if workers is not None else os.cpu_count() or 1) == 1
+                                  or n_jobs == 1)
+
+
 def run_jobs(func, jobs: list[tuple], on_result, *, workers: int | None = None,
              scheduler: str | None = None, names: list[str] | None = None,
              description: str = "jobs", progress: bool = True) -> list[JobFailure]:
@@ -94,7 +101,7 @@ def run_jobs(func, jobs: list[tuple], on_result, *, workers: int | None = None,
     require_scheduler(scheduler)
     if not jobs:
         return []
-    if scheduler is None and (workers == 1 or len(jobs) == 1):
+    if runs_in_this_process(workers, scheduler, len(jobs)):
         return _run_here(func, jobs, on_result, names, description, progress)
     return _run_on_dask(func, jobs, on_result, names, description, progress,
                         min(workers, len(jobs)), scheduler)

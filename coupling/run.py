@@ -340,9 +340,10 @@ class CasesIncomplete(RuntimeError):
         self.rows, self.failures = rows, failures
 
 
-def _run_case(scene, path: str, resume: bool, quiet: bool) -> dict:
-    """One case of a case set (a job of coupling.jobs.run_jobs, on a Dask worker)."""
-    return run_scene(scene, path, resume=resume, force=not resume, quiet=quiet)
+def _run_case(scene, path: str, resume: bool, quiet: bool, backend=None) -> dict:
+    """One case of a case set (a job of coupling.jobs.run_jobs, on a Dask worker; a tests'
+    stand-in backend only in this process)."""
+    return run_scene(scene, path, resume=resume, force=not resume, quiet=quiet, backend=backend)
 
 
 def run_case_set_slip_rate(case_set, case_ids, out_dir, resume: bool = False, quiet: bool = False,
@@ -357,7 +358,7 @@ def run_case_set_slip_rate(case_set, case_ids, out_dir, resume: bool = False, qu
     case (finished_run) is read back without sending it out. A case that fails does not stop the
     others: CasesIncomplete then carries the finished rows. `backend` (tests' stand-in physics)
     runs in this process only, workers = 1."""
-    from coupling.jobs import require_scheduler, require_workers, run_jobs
+    from coupling.jobs import require_scheduler, require_workers, run_jobs, runs_in_this_process
     require_workers(workers)
     require_scheduler(scheduler)
     if backend is not None and (workers != 1 or scheduler is not None):
@@ -376,20 +377,16 @@ def run_case_set_slip_rate(case_set, case_ids, out_dir, resume: bool = False, qu
             todo.append(cid)
         else:
             summaries[cid] = summary
-    here = scheduler is None and (workers == 1 or len(todo) == 1)
+    here = runs_in_this_process(workers, scheduler, len(todo))
     if not quiet:
         for cid in case_ids:
             c = by_id[cid]
             done = "finished, read back" if cid in summaries else "to run"
             print(f"case {cid}: Fa {c['axial_load']:g} N, Fr {c['radial_load']:g} N, "
                   f"{c['speed_rpm']:g} rpm -> {out_dir / f'case{cid:02d}.h5'} ({done})", flush=True)
-    if backend is not None:
-        func = lambda scene, path, resume, quiet: run_scene(scene, path, resume=resume,  # noqa: E731
-                                                            force=not resume, quiet=quiet, backend=backend)
-    else:
-        func = _run_case
-    jobs = [(case_set.scenes[cid], str(out_dir / f"case{cid:02d}.h5"), resume, quiet or not here) for cid in todo]
-    failures = run_jobs(func, jobs, lambda k, summary: summaries.__setitem__(todo[k], summary),
+    jobs = [(case_set.scenes[cid], str(out_dir / f"case{cid:02d}.h5"), resume, quiet or not here, backend)
+            for cid in todo]
+    failures = run_jobs(_run_case, jobs, lambda k, summary: summaries.__setitem__(todo[k], summary),
                         workers=workers, scheduler=scheduler, names=[f"case {cid}" for cid in todo],
                         description="slip-rate cases", progress=not (quiet or here))
     rows = []

@@ -246,7 +246,7 @@ def _prepare_reduced_cages(study: Study, todo: list[int], quiet: bool, workers, 
     paths = {}
     failures = run_jobs(_build_reduced_cage, [(distinct[h], quiet) for h in hashes],
                         lambda k, p: paths.__setitem__(hashes[k], p),
-                        workers=min(workers, len(hashes)), 
+                        workers=workers,
                         scheduler=scheduler, names=[f"reduced cage {h}" for h in hashes],
                         description="reduced cages", progress=False)
     if failures:
@@ -263,7 +263,8 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
     CPU; 1: one after the other in this process) or on the Dask cluster at `scheduler`. A finished
     run (its results file complete, coupling.run.finished_run) is not sent out again. A run that
     fails does not stop the others: StudyIncomplete is raised once they are done."""
-    from coupling.jobs import require_scheduler, require_workers, run_jobs
+    from coupling.flexible_cage import reduced_cage_hash
+    from coupling.jobs import require_scheduler, require_workers, run_jobs, runs_in_this_process
     from coupling.run import finished_run
     workers = require_workers((os.cpu_count() or 1) if workers is None else workers)
     require_scheduler(scheduler)
@@ -289,12 +290,12 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
             summaries[i] = summary
     if not quiet and len(todo) < n:
         print(f"   {n - len(todo)} of {n} runs already finished in {folder}: reused", flush=True)
-    here = scheduler is None and (workers == 1 or len(todo) == 1)
+    here = runs_in_this_process(workers, scheduler, len(todo))
     cages = _prepare_reduced_cages(study, todo, quiet, workers, scheduler) if todo else {}
     jobs = []
     for i in todo:
         sc = study.scenes[i]
-        cage = cages.get(_cage_hash(sc)) if sc.cage_model == "flexible" else None
+        cage = cages.get(reduced_cage_hash(sc)) if sc.cage_model == "flexible" else None
         # on a cluster each run is quiet (one progress bar per process would garble the terminal);
         # the bar of run_jobs counts the runs instead
         jobs.append((sc, str(run_path(out_dir, study, i)), quiet or not here, cage))
@@ -314,11 +315,6 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
                                      + "\n".join(f"![{p.stem}]({p.name})" for p in plots) + "\n")
     write_html(folder / "study.md")      # the tables and the plots in one self-contained page
     return result
-
-
-def _cage_hash(scene) -> str:
-    from coupling.flexible_cage import reduced_cage_hash
-    return reduced_cage_hash(scene)
 
 
 def _json_default(o):

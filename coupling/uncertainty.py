@@ -312,13 +312,13 @@ def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, wor
                                               indent=1) + "\n")
     sel = [c for c in slip_rate_cases() if cases is None or c["case"] in cases]
     done = {(r["point"], r["case"]) for r in read_rows(rows_file)}
-    jobs, names = [], []
+    jobs, names, keys = [], [], []
     for p in points:
         for c in sel:
             if (p["point"], c["case"]) not in done:
                 jobs.append(({k: p[k] for k in study.names}, c))
                 names.append(f"point {p['point']} case {c['case']}")
-    keys = [(p["point"], c["case"]) for p in points for c in sel if (p["point"], c["case"]) not in done]
+                keys.append((p["point"], c["case"]))
     cpu = [0.0]
 
     def on_result(k, row):

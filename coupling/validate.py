@@ -105,7 +105,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from coupling.jobs import require_workers, run_jobs
+from coupling.jobs import require_workers, run_jobs, runs_in_this_process
 from multibody.bearing import PAPER_BEARING, PAPER_OIL
 from multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
 from multibody import traction as TR
@@ -456,8 +456,8 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
 
     # in parallel the slowest cases first (highest speed: the light-load high-speed cases settle
     # slowest), so that the workers finish together
-    parallel = scheduler is not None or (workers > 1 and len(sel) > 1)
-    order = sorted(sel, key=lambda c: -c["speed_rpm"]) if parallel else sel
+    order = (sel if runs_in_this_process(workers, scheduler, len(sel))
+             else sorted(sel, key=lambda c: -c["speed_rpm"]))
     try:
         failures = run_jobs(_run_validation_case, [(c, *args) for c in order], lambda k, row: report(row),
                             workers=workers, scheduler=scheduler, names=[f"case {c['case']}" for c in order],
