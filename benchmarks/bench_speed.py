@@ -39,21 +39,19 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-SETTLE = 0.05
-STATS = ("outer_contact_stress_peak", "outer_contact_stress_p99", "outer_contact_stress_mean",
-         "inner_contact_stress_peak", "inner_contact_stress_p99", "inner_contact_stress_mean",
-         "pocket_force_p99", "guiding_force_p99", "von_mises_max_p99", "von_mises_max_mean",
-         "film_thickness_min_min", "slip_rate_mean",
-         "pocket_force_peak", "guiding_force_peak", "von_mises_max_peak")
-LIMIT = {"contact_stress": 0.01, "pocket_force_p99": 0.03, "guiding_force_p99": 0.03,
-         "von_mises_max_p99": 0.03, "von_mises_max_mean": 0.03}
+# the statistics, the issue's limits and the settle time of the work–precision benchmark, and its
+# numerical scatter of each statistic (the tolerance-scatter study): one definition for both
+from benchmarks.bench_work_precision import (CRITERIA, ERROR_STATS, FAMILIES, PEAK_STATS,  # noqa: E402
+                                             SETTLE, scatter_levels)
+
+STATS = ERROR_STATS + PEAK_STATS
 
 
 def limit_of(stat: str) -> float | None:
-    """The issue's relative limit for a statistic (None: reported, not judged)."""
-    if "contact_stress" in stat:
-        return LIMIT["contact_stress"]
-    return LIMIT.get(stat)
+    """The issue's relative limit for a statistic: its family's criterion (None: reported, not
+    judged — film, slip and the single-collision peaks)."""
+    family = next((f for f, stats in FAMILIES.items() if stat in stats), None)
+    return CRITERIA.get(family)
 
 
 def relative_difference(after: float, before: float) -> float:
@@ -61,21 +59,6 @@ def relative_difference(after: float, before: float) -> float:
     if before is None or after is None or not math.isfinite(before) or before == 0.0:
         return float("nan")
     return (after - before) / abs(before)
-
-
-def scatter_levels(path=ROOT / "benchmarks" / "results" / "study" / "tolerance_scatter.json") -> dict:
-    """{stat: (max − min)/|mean|} of the whole-run statistic over the tolerance-scatter runs."""
-    try:
-        d = json.loads(Path(path).read_text())
-    except OSError:
-        return {}
-    rows = [next(w for w in r["windows"] if w["kind"] == "run") for r in d["runs"]]
-    out = {}
-    for k in STATS:
-        v = [r[k] for r in rows if isinstance(r.get(k), (int, float))]
-        if len(v) >= 2 and sum(v) != 0.0:
-            out[k] = (max(v) - min(v)) / abs(sum(v) / len(v))
-    return out
 
 
 def run_scene(code: Path, scene: Path, out: Path) -> dict:
