@@ -32,6 +32,8 @@ Outputs: benchmarks/results/work_precision.{jsonl,csv,md,png}.
     nice -n 10 .venv/bin/python benchmarks/bench_work_precision.py            # full (~40-60 min)
     .venv/bin/python benchmarks/bench_work_precision.py --quick               # smoke: 5 ms runs
     .venv/bin/python benchmarks/bench_work_precision.py --report-only         # tables from the jsonl
+    .venv/bin/python benchmarks/bench_work_precision.py --out DIR --only 'paper_steady|default='
+                        # chosen runs into DIR's jsonl (seed it with the references to reuse them)
 """
 from __future__ import annotations
 
@@ -592,6 +594,9 @@ def main(argv=None):
     ap.add_argument("--keep", action="store_true", help="keep the runs' results files")
     ap.add_argument("--jobs", type=int, default=1, help="runs at a time (each its own process; CPU "
                     "times stay per run, wall times then include the sharing)")
+    ap.add_argument("--only", default=None, metavar="KEY,...",
+                    help="run only these run keys (e.g. 'paper_steady|default=' — the keys in the JSONL), "
+                         "e.g. into another --out whose JSONL holds the references to reuse")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.worker:
@@ -618,7 +623,8 @@ def main(argv=None):
     runs = plan(scenes, quick)
     # the flexible scenes need their rigid twin's default run (cage.n_modes = 0)
     done = read_jsonl(jsonl)
-    todo = [r for r in runs if r["key"] not in done]
+    only = None if a.only is None else set(a.only.split(","))
+    todo = [r for r in runs if r["key"] not in done and (only is None or r["key"] in only)]
     if not a.report_only:
         import threading
         from concurrent.futures import ThreadPoolExecutor
