@@ -170,14 +170,13 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
         "impacts": impacts, "film": "film_thickness" in scene.outputs, "energy": "power_loss" in scene.outputs})
     selects_itself = "outputs" in eval_kwargs
     adv_kwargs = _accepted_kwargs(backend.advance, {"max_step": scene.max_step}) if scene.max_step else {}
-    # The integrator's workspace carries FSAL state (the derivative at the end of the last step).
-    # A resumed run starts with a fresh workspace, so the uninterrupted run takes a fresh one at
-    # every sample too (any sample can become a resume point): otherwise the first step after a
-    # resume would use a re-evaluated derivative that differs in the last bits from the FSAL one
-    # and the runs would drift apart. Cost: one extra right-hand side per sample interval.
-    fresh_ws = None
+    # The integrator's workspace carries its FSAL derivative (f at the end of the last step) from one
+    # sample interval to the next; each checkpoint stores it beside the state, so that a resumed
+    # run's first step uses the same derivative as the uninterrupted run's (bit-identical files).
+    ws = None
     if getattr(backend, "new_workspace", None) is not None and _accepted_kwargs(backend.advance, {"ws": 0}):
-        fresh_ws = backend.new_workspace
+        ws = backend.new_workspace(model)
+        adv_kwargs["ws"] = ws
     load3 = np.zeros(3)
     keys = None
 
@@ -222,6 +221,9 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
             t, h, n_steps, n_rejected, wall_before, k = 0.0, scene.initial_step, 0, 0, 0.0, 0
         else:
             y, t, h = cp["y"], cp["t"], cp["h"]
+            if ws is not None and cp.get("dydt") is not None and cp["dydt"].shape == ws.K[0].shape:
+                ws.K[0][:] = cp["dydt"]
+                ws.fsal_t, ws.fsal_y = t, y.copy()
             n_steps, n_rejected, wall_before, k = cp["n_steps"], cp["n_rejected"], cp["wall_time"], cp["n_samples"]
     except BaseException:
         writer.close()
@@ -233,15 +235,18 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     bps = scene.breakpoints()
     n_total = scene.n_samples
     every = scene.checkpoint_every
+    def fsal(t):
+        """The derivative the integrator continues with at (t, y), if it holds one (a copy)."""
+        return ws.K[0].copy() if ws is not None and ws.fsal_t == t else None
+
     last = (y.copy(), t, h, n_steps, n_rejected)      # state at the last recorded sample
+    last_dydt = fsal(t) if cp is not None else None
     progress = RunProgress(scene.duration, t0=t, quiet=quiet, desc=scene.name, n_steps0=n_steps)
     budget = WallBudget(scene.duration, t0=t, n_steps0=n_steps, name=scene.name, max_wall_time=max_wall_time)
     loop_start = time.perf_counter()
     try:
         while k < n_total:
             t_target = scene.sample_time(k)
-            if fresh_ws is not None:
-                adv_kwargs["ws"] = fresh_ws(model)
             while t < t_target:
                 i = int(np.searchsorted(bps, t, side="right"))
                 t_stop = bps[i] if i < len(bps) and bps[i] < t_target else t_target
@@ -253,15 +258,18 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
             writer.add_sample(t_target, sample(t_target, y))
             k += 1
             last = (np.array(y, dtype=np.float64), t, h, n_steps, n_rejected)
+            last_dydt = fsal(t)
             if k % every == 0 or k == n_total:
-                writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start)
+                # written by the writer thread while the integration goes on (coupling.results)
+                writer.checkpoint_in_background(*last, wall_time=wall_before + time.perf_counter() - loop_start,
+                                                dydt=last_dydt)
             progress.update(t, n_steps)
             budget.update(t, n_steps)
     except BaseException as exc:
         progress.close()
         status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
         try:
-            writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start)
+            writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start, dydt=last_dydt)
             writer.set_status(status)
         finally:
             writer.close()

@@ -92,7 +92,7 @@ class SimulationUnstable(RuntimeError):
         self.contact = contact
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, ld, imp,
              work, scale, relmask, K, ytmp, ynew, max_steps, cage, mon):
     """Adaptive explicit RK (FSAL tableau A, weights B, error weights E) from t to t_end, in place.

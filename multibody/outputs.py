@@ -8,6 +8,7 @@ each, its unit and its dimensions. The power balance's entries come from multibo
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from multibody import model as M
 from multibody.dynamics import new_work, rhs
@@ -129,9 +130,15 @@ def film_thickness(model, wc: np.ndarray) -> dict:
     z = wc.shape[0]
     hmin = np.zeros((z, 3))
     hc = np.zeros((z, 3))
-    for j in range(z):
+    _film_per_contact(wc, p[P_EBR], p[P_ETA0], p[M.P_ALPHA_P], hmin, hc)
+    return {"film_thickness_min": hmin, "film_thickness_central": hc}
+
+
+@njit(cache=True)
+def _film_per_contact(wc, E_eff, eta0, alpha_p, hmin, hc):
+    """`film_thickness` over every loaded contact in one compiled call (a sample evaluates 60)."""
+    for j in range(wc.shape[0]):
         for c in range(3):
             if wc[j, c, WC_Q] > 0.0 and wc[j, c, WC_RX] > 0.0:
-                hmin[j, c], hc[j, c] = hd(wc[j, c, WC_RX], wc[j, c, WC_RY], p[P_EBR], wc[j, c, WC_Q],
-                                          wc[j, c, WC_UR], p[P_ETA0], p[M.P_ALPHA_P])
-    return {"film_thickness_min": hmin, "film_thickness_central": hc}
+                hmin[j, c], hc[j, c] = hd(wc[j, c, WC_RX], wc[j, c, WC_RY], E_eff, wc[j, c, WC_Q],
+                                          wc[j, c, WC_UR], eta0, alpha_p)

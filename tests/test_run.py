@@ -355,11 +355,12 @@ if __name__ == "__main__":      # used by tests/test_resume.py to run a fake sce
     out = sys.argv[1]
     from coupling import results
 
-    real = results.ResultsWriter.checkpoint
+    # every checkpoint, the run loop's (written by the writer thread) and the last one, goes through it
+    real = results.ResultsWriter._write_checkpoint
 
     def announcing(self, *a, **k):
         real(self, *a, **k)
         print("CHECKPOINT", self.n_written, flush=True)
-    results.ResultsWriter.checkpoint = announcing
+    results.ResultsWriter._write_checkpoint = announcing
     slow = fake_backend(advance=lambda *a, **k: (__import__("time").sleep(0.01), fake_advance(*a, **k))[1])
     run_scene(fake_scene(), out, quiet=True, backend=slow)
