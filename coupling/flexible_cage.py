@@ -241,6 +241,9 @@ class StressRecovery:
                            modes_offset, self.n_elastic, trace, interval)
 
 
+_NOW = object()      # evaluate_outputs: take the stress snapshot at the call (no sample_snapshot before)
+
+
 def backend(scene, reduced_cage=None):
     """The flexible-cage physics for coupling.run: the multibody model with the reduced cage as
     its floating-frame body (the scene's cage.n_modes, by default DEFAULT_N_KEEP = 26), its initial
@@ -302,19 +305,33 @@ def backend(scene, reduced_cage=None):
         return integrator.advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws,
                                   max_steps, method, monitor=mon)
 
-    def evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=False, energy=False):
+    def sample_snapshot(model):
+        """What a sample must take when it is reached (coupling.run evaluates the rest later): the
+        stress monitor's peak since the previous sample, the monitor then emptied; None without
+        stress or when no step was evaluated since."""
+        if stress is None:
+            return None
+        from multibody import stress_peak
+        mon = monitor_of(model)
+        pk = stress_peak.peak(mon)
+        stress_peak.reset(mon)
+        return pk
+
+    def evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=False, energy=False,
+                         snapshot=_NOW):
         """Outputs at the sample (t, y). With stress recorded, von_mises_max is the largest value
-        over every integrator step since the previous sample (the compiled monitor), with the
-        vertex, the time it occurred and the full modal coordinates of that step; at a sample
-        no step led to (the first) it is evaluated at (t, y) itself."""
+        over every integrator step since the previous sample (the compiled monitor: `snapshot`, the
+        peak `sample_snapshot` took at the sample, or taken now), with the vertex, the time it
+        occurred and the full modal coordinates of that step; at a sample no step led to (the
+        first) it is evaluated at (t, y) itself."""
+        if snapshot is _NOW:
+            snapshot = sample_snapshot(model)
         out = outputs.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film, energy=energy)
         lay = mb.state_layout(model)
         q = y[lay["modes"]:lay["modes"] + n]
         out["cage_modal_coordinates"] = q.copy()
         if stress is not None:
-            from multibody import stress_peak
-            mon = monitor_of(model)
-            pk = stress_peak.peak(mon)
+            pk = snapshot
             if pk is None:
                 A = model.cage.A
                 cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
@@ -328,7 +345,6 @@ def backend(scene, reduced_cage=None):
                 vm, row, t_peak, n_eval, y_pk = pk
                 node = stress.vertex(row)
                 qf = stress.full_coordinates_of(y_pk)
-            stress_peak.reset(mon)
             out["von_mises_max"] = float(vm)
             out["von_mises_max_vertex"] = int(node)
             out["von_mises_max_time"] = float(t_peak)
@@ -338,6 +354,6 @@ def backend(scene, reduced_cage=None):
 
     # the units of these outputs: multibody.output_registry (groups "von_mises", "cage_modes")
     return SimpleNamespace(build_model=build_model, initial_state=initial_state,
-                           advance=advance, evaluate_outputs=evaluate_outputs,
+                           advance=advance, evaluate_outputs=evaluate_outputs, sample_snapshot=sample_snapshot,
                            new_workspace=integrator.Workspace, FILE_ATTRS=file_attrs, basis=basis,
                            reduced_cage=rc)
