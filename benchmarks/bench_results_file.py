@@ -130,7 +130,7 @@ def main(argv=None) -> int:
              f"{raw / 1e6:.1f} MB of float64 outputs), its outputs written again through "
              f"coupling.results.ResultsWriter as a run writes them (a block every {every} samples). "
              f"CPU times (process_time, median of {a.repeat} interleaved rounds; load average "
-             f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs). Chunks: {RS.CHUNK_ROWS} samples.", "",
+             f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs). Chunks: {RS.chunk_rows(every)} samples (a checkpoint interval).", "",
              "| filters | size MB | × of none | write CPU s | read-all CPU s |", "|---|---:|---:|---:|---:|"]
     for name, r in rows.items():
         lines.append(f"| {name}{' (chosen)' if name == chosen else ''} | {r['size_bytes'] / 1e6:.1f} | "
@@ -143,8 +143,9 @@ def main(argv=None) -> int:
               f"output back; level 4 saves another {(c['size_bytes'] - g4['size_bytes']) / 1e6:.1f} MB for "
               f"{g4['write_cpu_median_s'] - c['write_cpu_median_s']:.2f} s more CPU, and without the byte shuffle "
               f"the file is larger. Deflate is the filter every HDF5 and netCDF-4 reader has (lzf or blosc "
-              f"would need a plugin outside h5py). Against the run itself (minutes of integration) the "
-              f"writing is a few per cent at most.", ""]
+              f"would need a plugin outside h5py). A run does this writing in a writer thread beside "
+              f"the integration (coupling.results.ResultsWriter.checkpoint_in_background), on the "
+              f"second core of a 2-core machine.", ""]
     lines += ["## xarray readback of the chosen file", "",
               "`xarray.open_dataset(FILE, group=\"outputs\")` (default engine): dimensions "
               + ", ".join(f"{k} {v}" for k, v in readback["sizes"].items())
