@@ -25,11 +25,12 @@ Layout (SI units in the `unit` attribute of every dataset):
 Crash safety. Samples are buffered in memory and written in blocks: each block is appended to the
 chunked, resizable datasets, then a checkpoint describing the state at the block's last sample is
 written, then the file is flushed. Between blocks the file is not touched, so a kill during the
-integration leaves a consistent file. `checkpoint_in_background` hands the block and its checkpoint to
-one writer thread and returns: the deflate of a block (~0.08 s for 200 samples of the paper's runs)
-then runs on a second core while the integration goes on (multibody.integrator's compiled loop
-releases the GIL); the next checkpoint, `checkpoint`, `set_status` and `close` wait for it, so blocks
-are written one at a time and in order, exactly as the synchronous path writes them. The checkpoint is
+integration leaves a consistent file. `checkpoint_in_background` hands the block (and, from
+coupling.run, the evaluation of its samples' outputs) and its checkpoint to one writer thread and
+returns: that work then runs on a second core while the integration goes on (multibody.integrator's
+compiled loop releases the GIL); the next checkpoint, `checkpoint`, `set_status` and `close` wait for
+it, so blocks are written one at a time and in order, exactly as the synchronous path writes them.
+The checkpoint is
 double-buffered: the slot being written is first invalidated (seq = -1) and gets its sequence number
 last, so a kill inside a checkpoint write leaves the other slot valid. On Ctrl-C or an exception the
 run writes what it has and a checkpoint at its last sample before closing.
@@ -219,9 +220,7 @@ class ResultsWriter:
     # ---- writing
     def add_sample(self, t: float, values: dict) -> None:
         """Buffer one sample (written by the next `write_block`)."""
-        self.buffer.setdefault("time", []).append(np.float64(t))
-        for k, v in values.items():
-            self.buffer.setdefault(k, []).append(np.array(v, dtype=np.float64, copy=True))
+        _append(self.buffer, t, values)
 
     @property
     def n_buffered(self) -> int:
@@ -275,17 +274,23 @@ class ResultsWriter:
         self.buffer = {}
 
     def checkpoint_in_background(self, y, t: float, h: float, n_steps: int, n_rejected: int,
-                                 wall_time: float, dydt=None) -> None:
+                                 wall_time: float, dydt=None, samples=None) -> None:
         """`checkpoint` done by the writer thread (module docstring): waits for the previous block,
-        detaches the buffer and returns. `y` must not change afterwards (pass a copy)."""
+        detaches the buffer and returns. `y` must not change afterwards (pass a copy). `samples`: a
+        function the thread calls first; its [(t, values)] are added to the block (coupling.run
+        evaluates a checkpoint interval's outputs there)."""
         from concurrent.futures import ThreadPoolExecutor
         self.wait()
         if self._pool is None:
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="results-writer")
         block, self.buffer = self.buffer, {}
         self._pending_block = block
-        self._pending = self._pool.submit(self._write_checkpoint, block, y, t, h, n_steps, n_rejected,
-                                          wall_time, dydt)
+        def job():
+            if samples is not None:
+                for t_s, values in samples():
+                    _append(block, t_s, values)
+            self._write_checkpoint(block, y, t, h, n_steps, n_rejected, wall_time, dydt)
+        self._pending = self._pool.submit(job)
 
     def wait(self) -> None:
         """Wait for the block the writer thread is writing; re-raise its error (e.g. disk full)."""
@@ -347,6 +352,13 @@ class ResultsWriter:
                 self._pool = None
             if self.f.id.valid:
                 self.f.close()
+
+
+def _append(buffer: dict, t: float, values: dict) -> None:
+    """One sample into a block buffer {name: [rows]}."""
+    buffer.setdefault("time", []).append(np.float64(t))
+    for k, v in values.items():
+        buffer.setdefault(k, []).append(np.array(v, dtype=np.float64, copy=True))
 
 
 def read_checkpoint(f) -> dict | None:

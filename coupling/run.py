@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import inspect
 import json
+import sys
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -43,7 +44,7 @@ from multibody import output_registry as R
 from multibody.profiles import load_at, speed_at
 
 
-SAMPLE_BATCH = 25        # samples integrated before they are evaluated (_run_claimed: why)
+GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (_run_claimed: why; measured in issue 21)
 
 
 def recorded_keys(requested, returned) -> list[str]:
@@ -190,10 +191,10 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     if take_snapshot is not None and not _accepted_kwargs(backend.evaluate_outputs, {"snapshot": 0}):
         take_snapshot = None
 
-    def sample(t, y, snapshot=None) -> dict:
+    def sample(t, y, snapshot, on_model) -> dict:
         nonlocal keys
         kw = {"snapshot": snapshot} if take_snapshot is not None else {}
-        values = dict(backend.evaluate_outputs(model, t, y, **eval_kwargs, **kw))
+        values = dict(backend.evaluate_outputs(on_model, t, y, **eval_kwargs, **kw))
         if keys is None:
             keys = list(values) if selects_itself else recorded_keys(scene.outputs, values)
         values = R.split_mixed_units({k: values[k] for k in keys})
@@ -250,27 +251,43 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
         """The derivative the integrator continues with at (t, y), if it holds one (a copy)."""
         return ws.K[0].copy() if ws is not None and ws.fsal_t == t else None
 
-    last = (y.copy(), t, h, n_steps, n_rejected)      # state at the last recorded sample
-    last_dydt = fsal(t) if cp is not None else None
-    # Samples integrated but not yet evaluated: (t, y, h, n_steps, n_rejected, dydt, snapshot).
-    # Evaluating the outputs (Python, numpy, a right-hand side) between two sample intervals
-    # evicts the compiled loop's code and data from the CPU caches: measured on the paper's
-    # flexible scene, the loop's steps cost ~30 % more with an evaluation after every interval
-    # than with none. So the run evaluates SAMPLE_BATCH samples at a time; `last` (what a
-    # checkpoint records) is always the last *evaluated* sample.
-    pending: list[tuple] = []
+    # A sample's outputs are a function of its (t, y) (and of the backend's snapshot taken at the
+    # sample), so the run only records the raw sample while it integrates,
+    #     (t, y, h, n_steps, n_rejected, dydt, snapshot),
+    # and the writer thread evaluates a checkpoint interval of them, then writes the block and the
+    # checkpoint (coupling.results), while the compiled loop (nogil) goes on. The evaluation uses
+    # its own model (its own scratch arrays; the integration's are in use). Evaluating after
+    # every interval in the integrating thread made the loop's steps ~30 % dearer (caches) and
+    # cost 0.5 ms a sample (measured on the paper's scenes, issue 21).
+    # `written`: the last sample in the file, what an interruption's checkpoint records.
+    eval_model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
+    written = (y.copy(), t, h, n_steps, n_rejected, fsal(t) if cp is not None else None)
+    pending: list[tuple] = []      # integrated, not handed over
+    inflight: list[tuple] = []     # handed to the writer thread, not known written
 
-    def flush() -> None:
-        nonlocal last, last_dydt
-        while pending:
-            t_s, y_s, h_s, ns_s, nr_s, dydt_s, snap = pending[0]
-            writer.add_sample(t_s, sample(t_s, y_s, snap))
-            pending.pop(0)
-            last, last_dydt = (y_s, t_s, h_s, ns_s, nr_s), dydt_s
+    def evaluate(batch) -> list[tuple]:
+        return [(r[0], sample(r[0], r[1], r[6], eval_model)) for r in batch]
+
+    def state_of(r) -> tuple:
+        return (r[1], r[0], r[2], r[3], r[4], r[5])
+
+    def hand_over(wall_time) -> None:
+        nonlocal written, inflight, pending
+        writer.wait()                                 # the previous interval (raises if it failed)
+        if inflight:
+            written = state_of(inflight[-1])
+        inflight, pending = pending, []
+        y_s, t_s, h_s, ns_s, nr_s, dydt_s = state_of(inflight[-1])
+        writer.checkpoint_in_background(y_s, t_s, h_s, ns_s, nr_s, wall_time=wall_time, dydt=dydt_s,
+                                        samples=lambda b=inflight: evaluate(b))
 
     progress = RunProgress(scene.duration, t0=t, quiet=quiet, desc=scene.name, n_steps0=n_steps)
     budget = WallBudget(scene.duration, t0=t, n_steps0=n_steps, name=scene.name, max_wall_time=max_wall_time)
     loop_start = time.perf_counter()
+    # The integrating thread takes the GIL back after every compiled call (a sample interval, ~1 ms);
+    # with Python's default switch interval it waits up to 5 ms whenever the writer thread holds it.
+    switch_interval = sys.getswitchinterval()
+    sys.setswitchinterval(GIL_SWITCH_INTERVAL)
     try:
         while k < n_total:
             t_target = scene.sample_time(k)
@@ -285,23 +302,33 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
             pending.append((t_target, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
                             take_snapshot(model) if take_snapshot is not None else None))
             k += 1
-            if k % every == 0 or k == n_total or len(pending) >= SAMPLE_BATCH:
-                flush()
             if k % every == 0 or k == n_total:
-                # written by the writer thread while the integration goes on (coupling.results)
-                writer.checkpoint_in_background(*last, wall_time=wall_before + time.perf_counter() - loop_start,
-                                                dydt=last_dydt)
+                hand_over(wall_before + time.perf_counter() - loop_start)
             progress.update(t, n_steps)
             budget.update(t, n_steps)
+        writer.wait()
+        inflight = []
     except BaseException as exc:
         progress.close()
         status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
         try:
+            # keep what was integrated: the interval in the writer thread, then the rest, evaluated
+            # here; an evaluation that fails stops it at the sample before
             try:
-                flush()              # what was integrated is kept (an evaluation that fails stops it)
+                writer.wait()
+                if inflight:
+                    written = state_of(inflight[-1])
             except Exception:
-                pass
-            writer.checkpoint(*last, wall_time=wall_before + time.perf_counter() - loop_start, dydt=last_dydt)
+                pending = inflight + pending
+            for r in pending:
+                try:
+                    writer.add_sample(r[0], sample(r[0], r[1], r[6], eval_model))
+                except Exception:
+                    break
+                written = state_of(r)
+            y_w, t_w, h_w, ns_w, nr_w, dydt_w = written
+            writer.checkpoint(y_w, t_w, h_w, ns_w, nr_w, wall_time=wall_before + time.perf_counter() - loop_start,
+                              dydt=dydt_w)
             writer.set_status(status)
         finally:
             writer.close()
@@ -311,9 +338,11 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
         resumable = not getattr(exc, "repeats_on_resume", False)
         then = ("continue with --resume" if resumable else
                 "resuming would repeat it from the same state: change the scene and start a new run")
-        raise RunInterrupted(f"run {what} at t = {last[1]:.6g} s; {out_path} holds {writer.n_written} "
-                             f"samples and a checkpoint ({then})", last[1], str(out_path),
+        raise RunInterrupted(f"run {what} at t = {written[1]:.6g} s; {out_path} holds {writer.n_written} "
+                             f"samples and a checkpoint ({then})", written[1], str(out_path),
                              exc, resumable) from exc
+    finally:
+        sys.setswitchinterval(switch_interval)
     progress.close()
     wall = wall_before + time.perf_counter() - loop_start
     writer.set_status("complete")
