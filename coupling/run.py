@@ -273,7 +273,11 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
 
     def hand_over(wall_time) -> None:
         nonlocal written, inflight, pending
-        writer.wait()                                 # the previous interval (raises if it failed)
+        try:
+            writer.wait()                             # the previous interval (raises if it failed)
+        except BaseException:
+            pending, inflight = inflight + pending, []    # not written: the except path retries them
+            raise
         if inflight:
             written = state_of(inflight[-1])
         inflight, pending = pending, []
@@ -306,7 +310,11 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                 hand_over(wall_before + time.perf_counter() - loop_start)
             progress.update(t, n_steps)
             budget.update(t, n_steps)
-        writer.wait()
+        try:
+            writer.wait()
+        except BaseException:
+            pending, inflight = inflight + pending, []
+            raise
         inflight = []
     except BaseException as exc:
         progress.close()

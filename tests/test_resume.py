@@ -196,3 +196,30 @@ def test_a_resumed_file_keeps_its_dimension_scales_and_compression(tmp_path, ref
         assert ds["external_load"].dims == ("time", "axis") and ds.sizes["time"] == n
         assert list(ds["axis"].values) == ["x", "y", "z"]
         assert np.array_equal(ds["external_load"].values, read_outputs(ref)["external_load"])
+
+
+def test_an_output_evaluation_that_fails_in_the_writer_thread_keeps_the_samples_before(tmp_path, reference):
+    """The writer thread evaluates a checkpoint interval's outputs (coupling.run): if evaluating
+    sample 17 raises, the file holds samples 0-16 and a checkpoint at sample 16, the error reaches
+    the caller, and resuming (with a working backend) gives the uninterrupted run bit for bit."""
+    from test_run import fake_outputs
+    ref, _ = reference
+    out = tmp_path / "run.h5"
+    t17 = fake_scene().sample_time(17)
+
+    def failing(model, t, y, outputs=(), speed_table=None):
+        if t >= t17:                          # every time it is tried (the run retries it once)
+            raise RuntimeError("output evaluation failed")
+        return fake_outputs(model, t, y, outputs, speed_table)
+    with pytest.raises(RunInterrupted) as exc:
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(evaluate_outputs=failing))
+    assert isinstance(exc.value.cause, RuntimeError)
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"].startswith("failed: RuntimeError")
+        n = f["outputs/time"].shape[0]
+        assert n == 17
+        assert all(ds.shape[0] == n for _, ds in output_items(f["outputs"]))
+        cp = read_checkpoint(f)
+        assert cp["n_samples"] == n and cp["t"] == f["outputs/time"][-1]
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
