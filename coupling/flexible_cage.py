@@ -185,8 +185,9 @@ class StressRecovery:
     independent path for the first sample of a run and for checks).
     """
 
-    def __init__(self, rc, n_keep: int):
-        from fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress
+    def __init__(self, rc, n_keep: int, cache: str | Path | None = None):
+        """cache: a file for the search (built once per reduced cage and mode count, then read:
+        `search_cache_path`); None builds it every time."""
         self.rc = rc
         self.n_keep = int(n_keep)
         self.omega = np.asarray(rc.omega, dtype=float)
@@ -194,10 +195,33 @@ class StressRecovery:
         self.M = rc.n_modes
         self.load_modes = load_point_modes(rc)     # pockets + the guide surface (row Z)
         self.n_elastic = self.n_keep - N_RIGID
-        W = load_space_stress(rc.stress_modes, self.omega, self.load_modes, self.q_cf, self.n_keep)
+        self.search = self._read_search(cache)
+        if self.search is None:
+            self.search = self._build_search()
+            if cache is not None:
+                try:
+                    self.search.save(cache)
+                except OSError:            # a read-only cache folder: build it each run
+                    pass
+
+    def _build_search(self):
+        from fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress
+        W = load_space_stress(self.rc.stress_modes, self.omega, self.load_modes, self.q_cf, self.n_keep)
         tracked, loads = load_space_blocks(self.n_elastic, self.load_modes.shape[0])
-        self.search = TrackingMaxVonMises(W, 1 + self.n_elastic, tracked, loads,
-                                          coords=rc.vertices)
+        return TrackingMaxVonMises(W, 1 + self.n_elastic, tracked, loads, coords=self.rc.vertices)
+
+    def _read_search(self, cache):
+        from fem_cage.von_mises import TrackingMaxVonMises
+        if cache is None or not Path(cache).is_file():
+            return None
+        try:
+            search = TrackingMaxVonMises.load(cache)
+        except (OSError, ValueError, KeyError):    # damaged or partial: build it again
+            return None
+        K = 1 + self.n_elastic + 6 * self.load_modes.shape[0]
+        if search is None or search.n_coordinates != K or search.A.shape[0] != self.rc.stress_modes.shape[0]:
+            return None
+        return search
 
     def full_coordinates(self, q_kept, node_load, spin) -> np.ndarray:
         from fem_cage.reduced_cage import static_correction
@@ -241,6 +265,16 @@ class StressRecovery:
                            modes_offset, self.n_elastic, trace, interval)
 
 
+def search_cache_path(reduced_cage_file, rc, n_keep: int) -> Path:
+    """Where the stress search of a reduced cage and mode count is kept: beside the reduced cage
+    file, named by its content hash, the mode count and the search's file version (a changed cage,
+    mode count or search code never reads an old file)."""
+    from fem_cage.von_mises import TrackingMaxVonMises
+    key = str(rc.attrs.get("content_hash", Path(reduced_cage_file).stem))
+    return Path(reduced_cage_file).with_name(
+        f"{key}.stress-search.k{int(n_keep)}.v{TrackingMaxVonMises.FILE_VERSION}.npz")
+
+
 _NOW = object()      # evaluate_outputs: take the stress snapshot at the call (no sample_snapshot before)
 
 
@@ -272,7 +306,8 @@ def backend(scene, reduced_cage=None):
     n_keep = int(scene.flexible.get("n_modes", DEFAULT_N_KEEP))
     beta = float(scene.flexible.get("damping_beta", 1e-5))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
-    stress = StressRecovery(rc, n_keep) if "von_mises" in scene.outputs else None
+    stress = (StressRecovery(rc, n_keep, cache=search_cache_path(path, rc, n_keep))
+              if "von_mises" in scene.outputs else None)
     monitor_interval = int(scene.flexible.get("stress_monitor_interval", 1))
     n = basis.body.n_modes
     file_attrs = {"reduced_cage_file": str(Path(path).resolve()),

@@ -756,6 +756,37 @@ class TrackingMaxVonMises:
         self.n_leaves, self.n_groups = NL, G
         self._seed = -np.ones(1, dtype=np.int64)
 
+    # ---- the search as a file (coupling.flexible_cage caches it beside the reduced cage: building
+    # it costs ~2.8 s on the 4 mm paper cage, reading it back ~0.3 s)
+    FILE_VERSION = 1          # bump when the construction above changes what the arrays hold
+
+    def save(self, path) -> None:
+        """Write the freshly built search (its arrays, node order and sizes) to an .npz file,
+        atomically (a temporary file renamed). Call it before the first search: the arrays
+        include the search's scratch and references."""
+        import os
+        path = str(path)
+        tmp = f"{path}.{os.getpid()}.tmp.npz"
+        np.savez(tmp, *self.arrays, node_ids=self.node_ids,
+                 meta=np.array([self.FILE_VERSION, self.n_tracked, self.n_coordinates, self.n_leaves,
+                                self.n_groups, len(self.arrays)], dtype=np.int64))
+        os.replace(tmp, path)
+
+    @classmethod
+    def load(cls, path) -> "TrackingMaxVonMises | None":
+        """The search `save` wrote, or None if the file is of another FILE_VERSION."""
+        with np.load(str(path), allow_pickle=False) as f:
+            meta = f["meta"]
+            if int(meta[0]) != cls.FILE_VERSION:
+                return None
+            self = cls.__new__(cls)
+            self.arrays = tuple(np.ascontiguousarray(f[f"arr_{i}"]) for i in range(int(meta[5])))
+            self.node_ids = f["node_ids"]
+        self.n_tracked, self.n_coordinates = int(meta[1]), int(meta[2])
+        self.n_leaves, self.n_groups = int(meta[3]), int(meta[4])
+        self._seed = -np.ones(1, dtype=np.int64)
+        return self
+
     @property
     def A(self) -> np.ndarray:
         """(N, K, 6) rows (L W_n)^T in search order (the node kernel's layout)."""

@@ -187,3 +187,23 @@ def test_tracking_bad_input():
         TrackingMaxVonMises(W[:, :3], N_KEEP - 5, tracked, loads)
     with pytest.raises(ValueError):
         TrackingMaxVonMises(W, N_KEEP - 4, tracked, loads)
+
+
+def test_a_saved_search_reads_back_and_finds_the_same_maxima(tmp_path, monkeypatch):
+    """TrackingMaxVonMises.save/load (the run's cache beside the reduced cage): the search read
+    back returns the same (max, node) as the one built, bit for bit, on 50 load vectors, each
+    checked against the brute-force maximum over every node; a file of another FILE_VERSION is
+    not used."""
+    S, omega, phi_b, q_cf, coords = _cage_like()
+    W, built = _search(S, omega, phi_b, q_cf, coords)
+    f = tmp_path / "search.npz"
+    built.save(f)
+    read = TrackingMaxVonMises.load(f)
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        y = _load_vector(rng, N_KEEP - 6)
+        a, b = built(y), read(y)
+        assert a == b
+        assert a[0] == pytest.approx(read.brute_force(y)[0], rel=1e-12)
+    monkeypatch.setattr(TrackingMaxVonMises, "FILE_VERSION", TrackingMaxVonMises.FILE_VERSION + 1)
+    assert TrackingMaxVonMises.load(f) is None
