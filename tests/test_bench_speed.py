@@ -46,3 +46,13 @@ def test_scatter_levels_of_the_tolerance_study():
     # benchmarks/results/study/README.md: pocket force p99 spread 4.1 %, contact stresses <= 0.1 %
     assert 0.03 < s["pocket_force_p99"] < 0.05
     assert s["outer_contact_stress_mean"] < 0.002
+
+
+def test_read_runs_takes_the_median_of_repeated_runs(tmp_path):
+    """Repeats of a scene in runs.jsonl: the record of median wall time is the scene's (a machine
+    whose speed drifts between runs), every run's times are kept beside it."""
+    rows = [{"scene": "s", "wall_s": w, "cpu_s": w + 1, "n_steps": 10} for w in (14.5, 10.7, 11.9)]
+    (tmp_path / "runs.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
+    r = B.read_runs(tmp_path)["s"]
+    assert r["wall_s"] == 11.9 and r["cpu_s"] == 12.9
+    assert r["wall_s_runs"] == [14.5, 10.7, 11.9] and r["cpu_s_runs"] == [15.5, 11.7, 12.9]
