@@ -232,27 +232,18 @@ def _set(data: dict, dotted: str, value) -> None:
 def worker(spec: dict) -> dict:
     """Run one spec in this process; returns the measured dict (printed as JSON by --worker)."""
     import tomllib
-    from types import SimpleNamespace
     from coupling.run import default_backend, run_scene
     from coupling.scene import parse_scene
     from coupling.windows import phase_table
-    from multibody import integrator as I
 
     path = ROOT / "scenes" / f"{spec['scene']}.toml"
     data = tomllib.loads(path.read_text())
     if spec.get("duration"):
         data = truncate_scene(data, spec["duration"])
-    method = "dopri5"
     for k, v in spec["overrides"].items():
-        if k == "integrator.method":
-            method = v
-        else:
-            _set(data, k, v)
+        _set(data, k, v)             # integrator.method too: a scene key
     scene = parse_scene(data, text="", path=str(path))
     backend = default_backend(scene)
-    if method != "dopri5":
-        backend = SimpleNamespace(**{**vars(backend),
-                                     "new_workspace": lambda model: I.Workspace(model, method)})
     out = Path(spec["h5"])
     c0 = time.process_time()
     summary = run_scene(scene, out, force=True, quiet=True, backend=backend)

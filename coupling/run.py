@@ -179,8 +179,12 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     # run's first step uses the same derivative as the uninterrupted run's (bit-identical files).
     ws = None
     if getattr(backend, "new_workspace", None) is not None and _accepted_kwargs(backend.advance, {"ws": 0}):
-        ws = backend.new_workspace(model)
+        # the workspace carries the method's tableau (multibody.integrator.Workspace)
+        ws = backend.new_workspace(model) if scene.method == "dopri5" else backend.new_workspace(model, scene.method)
         adv_kwargs["ws"] = ws
+    elif scene.method != "dopri5":
+        raise InputError(f"integrator.method = {scene.method!r}: this backend integrates with its own "
+                         f"method only (allowed: 'dopri5')")
     load3 = np.zeros(3)
     keys = None
 
@@ -365,6 +369,7 @@ def _finish(scene, out_path, n_steps, n_rejected, wall, setup_time) -> dict:
     extra = {"scene": scene.name, "scene_file": scene.path, "scene_hash": scene.content_hash(),
              "cage_model": scene.cage_model, "duration_s": scene.duration,
              "sample_interval_s": scene.sample_interval, "tolerance": scene.tolerance,
+             "integrator_method": scene.method,
              "outputs_requested": list(scene.outputs),
              "wall_time_s": wall, "setup_time_s": setup_time, "n_steps": n_steps,
              "n_rejected": n_rejected, "steps_per_s": n_steps / wall if wall > 0 else None,

@@ -60,6 +60,7 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
 
     [integrator]
     tolerance = 1e-6          # local error tolerance (relative), in [1e-12, 0.1]
+    method = "dopri5"         # "dopri5" (Dormand–Prince 5(4)) | "bs32" (Bogacki–Shampine 3(2))
     initial_step = 1e-7       # s
     max_step = 1e-5           # s
 
@@ -102,6 +103,8 @@ DEFAULT_RADIAL_DIRECTION = (0.0, 0.0, -1.0)   # radial load on the inner ring: v
 MAX_SPEED_RPM = 60000.0      # above any aero-engine main-shaft bearing (DN ~ 3.6e6 for this one)
 MAX_LOAD = 1e7               # N
 MAX_DURATION = 1000.0        # s of simulated time
+# the integrator's methods (multibody.integrator.METHODS; tests/test_scene.py checks they agree)
+INTEGRATOR_METHODS = ("dopri5", "bs32")
 # Below this the integrator's error estimate is at the rounding level of the state: at 1e-13 and
 # 1e-14 the step collapses to 1e-12 s within 0.6 ms of the 14,000 rpm case with an impact, at 3e-13
 # and 1e-12 it finishes (benchmarks/results/stress_test.md)
@@ -137,6 +140,7 @@ class Scene:
     sample_interval: float            # s
     outputs: tuple                    # scene outputs (multibody.output_registry.GROUPS), in the scene's order
     checkpoint_every: int             # samples
+    method: str = "dopri5"            # integrator method (multibody.integrator.METHODS)
     text: str = ""                    # the TOML text as loaded (stored in the results file)
     data: dict = field(default_factory=dict, repr=False)   # the parsed TOML
     path: str = ""
@@ -524,8 +528,9 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                          "points = [...] or table = [...]")
     load_table, impacts = _load(op["load"], duration)
 
-    integ = _table(d.get("integrator", {}), "integrator", ("tolerance", "initial_step", "max_step"))
+    integ = _table(d.get("integrator", {}), "integrator", ("tolerance", "method", "initial_step", "max_step"))
     tolerance = _number("integrator.tolerance", integ.get("tolerance", 1e-6), MIN_TOLERANCE, 1e-1)
+    method = _string("integrator.method", integ.get("method", "dopri5"), INTEGRATOR_METHODS)
     max_step = None
     if "max_step" in integ:
         max_step = _number("integrator.max_step", integ["max_step"], 0.0, duration, lo_open=True, unit="s")
@@ -554,7 +559,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                  speed_table=speed_table, load_table=load_table, impacts=impacts,
                  tolerance=tolerance, initial_step=initial_step, max_step=max_step,
                  sample_interval=dt, outputs=tuple(record), checkpoint_every=checkpoint_every,
-                 text=text, data=data, path=str(path))
+                 method=method, text=text, data=data, path=str(path))
 
 
 def load_scene(path) -> Scene:
