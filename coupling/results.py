@@ -152,7 +152,6 @@ class ResultsWriter:
         self.rows_per_chunk = int(rows_per_chunk)
         self._pool = None          # the writer thread of checkpoint_in_background (created on first use)
         self._pending = None       # its block being written (a Future)
-        self._pending_block = None
 
     # ---- opening
     @classmethod
@@ -278,13 +277,14 @@ class ResultsWriter:
         """`checkpoint` done by the writer thread (module docstring): waits for the previous block,
         detaches the buffer and returns. `y` must not change afterwards (pass a copy). `samples`: a
         function the thread calls first; its [(t, values)] are added to the block (coupling.run
-        evaluates a checkpoint interval's outputs there)."""
+        evaluates a checkpoint interval's outputs there). If the thread fails, its block is not in
+        the file (n_written does not advance; a partly written block is overwritten by the next)
+        and `wait` raises: the caller writes those samples again (coupling.run keeps them)."""
         from concurrent.futures import ThreadPoolExecutor
         self.wait()
         if self._pool is None:
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="results-writer")
         block, self.buffer = self.buffer, {}
-        self._pending_block = block
         def job():
             if samples is not None:
                 for t_s, values in samples():
@@ -295,20 +295,8 @@ class ResultsWriter:
     def wait(self) -> None:
         """Wait for the block the writer thread is writing; re-raise its error (e.g. disk full)."""
         pending, self._pending = self._pending, None
-        if pending is None:
-            return
-        try:
+        if pending is not None:
             pending.result()
-        except BaseException:
-            # the block is not (fully) in the file: put it back in front of the samples buffered
-            # since, so that the next checkpoint writes it again (n_written did not advance)
-            block = self._pending_block
-            for k, rows in self.buffer.items():
-                block.setdefault(k, []).extend(rows)
-            self.buffer = block
-            raise
-        finally:
-            self._pending_block = None
 
     def _write_checkpoint(self, block: dict, y, t, h, n_steps, n_rejected, wall_time, dydt) -> None:
         self.write_block(block)

@@ -223,3 +223,35 @@ def test_an_output_evaluation_that_fails_in_the_writer_thread_keeps_the_samples_
         assert cp["n_samples"] == n and cp["t"] == f["outputs/time"][-1]
     run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
     assert_same_results(ref, out)
+
+
+def test_a_block_the_writer_thread_fails_to_write_is_written_once_after(tmp_path, reference):
+    """A write of the writer thread fails once (a full disk that frees up): the interrupted run
+    writes that interval's samples itself, once — the file's times strictly increase, its
+    checkpoint is its last sample — and resuming gives the uninterrupted run bit for bit."""
+    from coupling import results as RS
+    ref, _ = reference
+    out = tmp_path / "run.h5"
+    real = RS.ResultsWriter.write_block
+    calls = {"n": 0}
+
+    def flaky(self, buffer=None):
+        calls["n"] += 1
+        if calls["n"] == 3:                   # the third block, in the writer thread
+            raise OSError("No space left on device")
+        return real(self, buffer)
+    RS.ResultsWriter.write_block = flaky
+    try:
+        with pytest.raises(RunInterrupted) as exc:
+            run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
+    finally:
+        RS.ResultsWriter.write_block = real
+    assert isinstance(exc.value.cause, OSError)
+    with h5py.File(out, "r") as f:
+        t = f["outputs/time"][...]
+        assert np.all(np.diff(t) > 0)
+        assert all(ds.shape[0] == t.size for _, ds in output_items(f["outputs"]))
+        cp = read_checkpoint(f)
+        assert cp["n_samples"] == t.size and cp["t"] == t[-1]
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
