@@ -275,15 +275,22 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     def state_of(r) -> tuple:
         return (r[1], r[0], r[2], r[3], r[4], r[5])
 
-    def hand_over(wall_time) -> None:
+    def settle() -> None:
+        """Wait for the interval in the writer thread: written, or (it failed: re-raised) back in
+        front of `pending`, for the interrupted run to write itself."""
         nonlocal written, inflight, pending
         try:
-            writer.wait()                             # the previous interval (raises if it failed)
+            writer.wait()
         except BaseException:
-            pending, inflight = inflight + pending, []    # not written: the except path retries them
+            pending, inflight = inflight + pending, []
             raise
         if inflight:
             written = state_of(inflight[-1])
+        inflight = []
+
+    def hand_over(wall_time) -> None:
+        nonlocal inflight, pending
+        settle()
         inflight, pending = pending, []
         y_s, t_s, h_s, ns_s, nr_s, dydt_s = state_of(inflight[-1])
         writer.checkpoint_in_background(y_s, t_s, h_s, ns_s, nr_s, wall_time=wall_time, dydt=dydt_s,
@@ -314,12 +321,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                 hand_over(wall_before + time.perf_counter() - loop_start)
             progress.update(t, n_steps)
             budget.update(t, n_steps)
-        try:
-            writer.wait()
-        except BaseException:
-            pending, inflight = inflight + pending, []
-            raise
-        inflight = []
+        settle()
     except BaseException as exc:
         progress.close()
         status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
@@ -327,11 +329,9 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
             # keep what was integrated: the interval in the writer thread, then the rest, evaluated
             # here; an evaluation that fails stops it at the sample before
             try:
-                writer.wait()
-                if inflight:
-                    written = state_of(inflight[-1])
+                settle()
             except Exception:
-                pending = inflight + pending
+                pass
             for r in pending:
                 try:
                     writer.add_sample(r[0], sample(r[0], r[1], r[6], eval_model))
