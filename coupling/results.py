@@ -63,6 +63,8 @@ def chunk_rows(checkpoint_every: int) -> int:
     200-sample blocks every chunk was compressed twice (once partly filled at a checkpoint's flush)
     and the writer thread took 4.1 instead of 2.6 s on the paper's steady rigid run (issue 21)."""
     return int(min(max(int(checkpoint_every), 64), 1024))
+
+
 # Every output dataset's filters (HDF5 deflate + byte shuffle: readable by any HDF5 or netCDF-4
 # reader, no plugin). Measured on the paper's steady flexible run: benchmarks/bench_results_file.py.
 COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}

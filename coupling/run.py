@@ -180,7 +180,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     ws = None
     if getattr(backend, "new_workspace", None) is not None and _accepted_kwargs(backend.advance, {"ws": 0}):
         # the workspace carries the method's tableau (multibody.integrator.Workspace)
-        ws = backend.new_workspace(model) if scene.method == "dopri5" else backend.new_workspace(model, scene.method)
+        ws = backend.new_workspace(model, scene.method)
         adv_kwargs["ws"] = ws
     elif scene.method != "dopri5":
         raise InputError(f"integrator.method = {scene.method!r}: this backend integrates with its own "
