@@ -340,6 +340,14 @@ def backend(scene, reduced_cage=None):
         return integrator.advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws,
                                   max_steps, method, monitor=mon)
 
+    def advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts,
+                        tol=integrator.DEFAULT_TOL, h=1e-6, ws=None, max_steps=10_000_000, method="dopri5"):
+        """`advance` writing the states at sample_times on the way; each sample's snapshot is the
+        monitor's peak since the previous sample (multibody.integrator.advance_sampled)."""
+        mon = monitor_of(model) if stress is not None else None
+        return integrator.advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts,
+                                          tol, h, ws, max_steps, method, monitor=mon)
+
     def sample_snapshot(model):
         """What a sample must take when it is reached (coupling.run evaluates the rest later): the
         stress monitor's peak since the previous sample, the monitor then emptied; None without
@@ -389,6 +397,7 @@ def backend(scene, reduced_cage=None):
 
     # the units of these outputs: multibody.output_registry (groups "von_mises", "cage_modes")
     return SimpleNamespace(build_model=build_model, initial_state=initial_state,
-                           advance=advance, evaluate_outputs=evaluate_outputs, sample_snapshot=sample_snapshot,
+                           advance=advance, advance_sampled=advance_sampled,
+                           evaluate_outputs=evaluate_outputs, sample_snapshot=sample_snapshot,
                            new_workspace=integrator.Workspace, FILE_ATTRS=file_attrs, basis=basis,
                            reduced_cage=rc)

@@ -1,14 +1,18 @@
 """Run a scene: scene → model → initial state → advance loop → sampled outputs → HDF5 → summary.json.
 
     t_k = k·dt (k = 0..N, the scene's sample interval; computed from k, never accumulated)
-    between samples the integrator is stopped at every kink or jump of the spectra (speed-table
-    knots, load-table knots, impact start and end) so that no step straddles a discontinuity;
-    outputs are evaluated at t_k only, and only those the scene records.
+    the integrator is stopped at every kink or jump of the spectra (speed-table knots, load-table
+    knots, impact start and end) so that no step straddles a discontinuity, and at every
+    SAMPLES_PER_CALL-th sample and checkpoint; the samples between are the states its continuous
+    extension gives at t_k inside a step (multibody.integrator, "Samples"); outputs are evaluated
+    at t_k only, and only those the scene records.
 
 The physics comes from a *backend*, a namespace with
     build_model(bearing, oil, options) -> model
     initial_state(model, speed_rad_s, Fa, Fr) -> y0
     advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h) -> (y, t, h, n_steps, n_rejected)
+    advance_sampled (optional)(model, y, t, t_next, sample_times, speed_table, load_table, impacts, tol, h)
+              -> (y, t, h, n_steps, n_rejected, states at sample_times, snapshots at them)
     evaluate_outputs(model, t, y, ...) -> dict[str, array]      (keyword arguments it declares among
                                          outputs, speed_table, load_table, impacts, film (True when
                                          film_thickness is recorded), energy (True when power_loss
@@ -45,6 +49,13 @@ from multibody.profiles import load_at, speed_at
 
 
 GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (_run_claimed: why; measured in issue 21)
+SAMPLES_PER_CALL = 25          # samples per compiled call at most (progress and Ctrl-C respond
+                               # after each; ~0.05 s of wall time on the paper's scenes)
+
+
+def _next_multiple(k: int, m: int) -> int:
+    """The smallest multiple of m that is greater than k."""
+    return (k // m + 1) * m
 
 
 def recorded_keys(requested, returned) -> list[str]:
@@ -77,7 +88,8 @@ def default_backend(scene) -> SimpleNamespace:
         return backend(scene)
     from multibody import initial, integrator, model, outputs
     return SimpleNamespace(build_model=model.build_model, initial_state=initial.initial_state,
-                           advance=integrator.advance, evaluate_outputs=outputs.evaluate_outputs,
+                           advance=integrator.advance, advance_sampled=integrator.advance_sampled,
+                           evaluate_outputs=outputs.evaluate_outputs,
                            new_workspace=integrator.Workspace)
 
 
@@ -251,6 +263,12 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     bps = scene.breakpoints()
     n_total = scene.n_samples
     every = scene.checkpoint_every
+    # A backend with `advance_sampled` integrates a call's samples without stopping at them
+    # (multibody.integrator, "Samples"); one call ends at the next multiple of SAMPLES_PER_CALL or
+    # of the checkpoint interval (fixed sample indices: a resume stops where the uninterrupted run
+    # stopped, so the files agree bit for bit), and at the breakpoints of the spectra.
+    sampled = getattr(backend, "advance_sampled", None)
+    per_call = SAMPLES_PER_CALL if sampled is not None else 1
     def fsal(t):
         """The derivative the integrator continues with at (t, y), if it holds one (a copy)."""
         return ws.K[0].copy() if ws is not None and ws.fsal_t == t else None
@@ -269,6 +287,8 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     pending: list[tuple] = []      # integrated, not handed over
     inflight: list[tuple] = []     # handed to the writer thread, not known written
 
+    # A record: (t, y, h, n_steps, n_rejected, dydt, snapshot); h is None for a sample the integrator
+    # passed inside a step (not a state it can go on from, so no checkpoint is written there).
     def evaluate(batch) -> list[tuple]:
         return [(r[0], sample(r[0], r[1], r[6], eval_model)) for r in batch]
 
@@ -305,18 +325,36 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     sys.setswitchinterval(GIL_SWITCH_INTERVAL)
     try:
         while k < n_total:
-            t_target = scene.sample_time(k)
+            # the call's last sample: the next multiple of per_call or of every (counted in samples), or the end
+            k_end = min(n_total - 1, _next_multiple(k, per_call) - 1, _next_multiple(k, every) - 1)
+            t_target = scene.sample_time(k_end)
+            if k == 0:                                 # the initial state (t = 0)
+                pending.append((t, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
+                                take_snapshot(model) if take_snapshot is not None else None))
+                k = 1
             while t < t_target:
                 i = int(np.searchsorted(bps, t, side="right"))
                 t_stop = bps[i] if i < len(bps) and bps[i] < t_target else t_target
-                y, _t, h, ns, nr = backend.advance(model, y, t, t_stop, speed_table, load_table, impacts,
-                                                   scene.tolerance, h, **adv_kwargs)
+                k_in = k
+                while k_in < k_end and scene.sample_time(k_in) < t_stop:
+                    k_in += 1
+                if sampled is not None:
+                    times = np.array([scene.sample_time(j) for j in range(k, k_in)])
+                    y, _t, h, ns, nr, states, snaps = sampled(model, y, t, t_stop, times, speed_table, load_table,
+                                                               impacts, scene.tolerance, h, **adv_kwargs)
+                    for j in range(k, k_in):
+                        pending.append((times[j - k], states[j - k].copy(), None, None, None, None, snaps[j - k]))
+                    k = k_in
+                else:
+                    y, _t, h, ns, nr = backend.advance(model, y, t, t_stop, speed_table, load_table, impacts,
+                                                       scene.tolerance, h, **adv_kwargs)
                 t = t_stop          # the integrator lands on t_next; keep the exact stop time
                 n_steps += int(ns)
                 n_rejected += int(nr)
-            pending.append((t_target, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
-                            take_snapshot(model) if take_snapshot is not None else None))
-            k += 1
+                if k < n_total and scene.sample_time(k) == t:   # a sample at a breakpoint, or the call's last
+                    pending.append((t, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
+                                    take_snapshot(model) if take_snapshot is not None else None))
+                    k += 1
             if k % every == 0 or k == n_total:
                 hand_over(wall_before + time.perf_counter() - loop_start)
             progress.update(t, n_steps)
@@ -332,12 +370,18 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                 settle()
             except Exception:
                 pass
+            done = []
             for r in pending:
                 try:
-                    writer.add_sample(r[0], sample(r[0], r[1], r[6], eval_model))
+                    done.append((r, sample(r[0], r[1], r[6], eval_model)))
                 except Exception:
                     break
-                written = state_of(r)
+            while done and done[-1][0][2] is None:     # up to a state the integrator can go on from
+                done.pop()
+            for r, values in done:
+                writer.add_sample(r[0], values)
+            if done:
+                written = state_of(done[-1][0])
             y_w, t_w, h_w, ns_w, nr_w, dydt_w = written
             writer.checkpoint(y_w, t_w, h_w, ns_w, nr_w, wall_time=wall_before + time.perf_counter() - loop_start,
                               dydt=dydt_w)

@@ -1,9 +1,18 @@
 """Time integration of the bearing equations: adaptive explicit Runge–Kutta, compiled with numba.
 
 `advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h)` integrates
-`multibody.dynamics.rhs` from t to t_next (the run loop calls it once per output interval, so
-results are sampled at the scene's rate and can be streamed and checkpointed) and returns
-(y, t, h, n_steps, n_rejected); h is the step size to continue with.
+`multibody.dynamics.rhs` from t to t_next and returns (y, t, h, n_steps, n_rejected); h is the
+step size to continue with. `advance_sampled(..., sample_times, ...)` also returns the states at
+sample times inside (t, t_next): the run loop (coupling.run) calls it for a few dozen samples at a
+time and stops only at a checkpoint, a breakpoint of the spectra or the end.
+
+Samples. The states at the sample times come from the method's continuous extension over the
+step that passes them (`_dense_state`: Dormand–Prince's of order 4, Hairer, Nørsett & Wanner,
+Solving ODEs I, §II.6; the cubic Hermite for BS32); the steps are not shortened to land on them.
+Stopping at every sample instead cost the paper's steady scenes ~20 % more steps at tol 1e-4 (a
+shortened step per 0.1 ms sample interval on ~6.6 steps, and a fresh step-size ramp after it;
+issue 21, benchmarks/results/speed.md). With the stress monitor, each sample receives the peak
+over the steps that ended after the previous sample and up to it.
 
 Method (chosen by measurement, benchmarks/bench_integrator.py, results in
 benchmarks/results/integrator_work_precision.md): Dormand–Prince 5(4) with FSAL and a PI
@@ -49,7 +58,7 @@ from numba import njit
 from multibody import dynamics as D
 from multibody import outputs as O
 from multibody import model as M
-from multibody.stress_peak import disabled_monitor, stress_peak_step
+from multibody.stress_peak import disabled_monitor, peak_of, stress_peak_step
 
 DEFAULT_TOL = 1e-6
 H_MIN = 1e-12
@@ -94,12 +103,18 @@ class SimulationUnstable(RuntimeError):
 
 @njit(cache=True, nogil=True)
 def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, ld, imp,
-             work, scale, relmask, K, ytmp, ynew, max_steps, cage, mon):
+             work, scale, relmask, K, ytmp, ynew, max_steps, cage, mon, ts, Ys, Pk, Ypk, n_out):
     """Adaptive explicit RK (FSAL tableau A, weights B, error weights E) from t to t_end, in place.
 
     K: (n_stages, n) stage derivatives; K[0] must hold f(t, y) on entry (FSAL) and holds f at the
     returned state on exit. mon: the cage stress monitor (multibody.stress_peak), evaluated at
     every accepted state. Returns (t, h, n_acc, n_rej, code).
+
+    Samples inside the interval (module docstring, "Samples"): ts, ascending times in (t, t_end);
+    the step that passes ts[i] writes the state there by the method's continuous extension
+    (`_dense_state`) into Ys[i] and the monitor's peak since the previous sample into Pk[i]
+    (peak (4,)) and Ypk[i] (its load-space y), then empties the peak; n_out[0] counts them. The
+    steps are not shortened to land on a sample: only t_end is hit exactly.
     """
     n = y.shape[0]
     s = A.shape[0]
@@ -109,6 +124,11 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
     err_old = 1e-4
     expo = 1.0 / order
     beta = 0.04
+    n_ts = ts.shape[0]
+    i_s = 0
+    n_out[0] = 0
+    peak = mon[4]
+    y_peak = mon[5]
     while t < t_end:
         if n_acc + n_rej >= max_steps:
             return t, h, n_acc, n_rej, 4
@@ -150,13 +170,26 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
             err = 1e10
         if err <= 1.0:
             # accept
+            t_new = t_end if last else t + h
+            # samples this step passed: the continuous extension between y and ytmp (before y
+            # and K[0] are overwritten); a sample's stress peak ends before this step's state
+            while i_s < n_ts and ts[i_s] < t_new:
+                _dense_state((ts[i_s] - t) / h, h, y, ytmp, K, order, Ys[i_s])
+                _take_peak(peak, y_peak, Pk[i_s], Ypk[i_s])
+                i_s += 1
             for q in range(n):
                 y[q] = ytmp[q]
                 K[0, q] = K[s - 1, q]
-            t = t_end if last else t + h
+            t = t_new
             n_acc += 1
             # the FSAL stage was evaluated at this state: the cage's node loads are current
             stress_peak_step(t, y, cage, mon)
+            while i_s < n_ts and ts[i_s] <= t:        # a sample exactly at this step's end
+                for q in range(n):
+                    Ys[i_s, q] = y[q]
+                _take_peak(peak, y_peak, Pk[i_s], Ypk[i_s])
+                i_s += 1
+            n_out[0] = i_s
             if work[zb, 10] != 0.0:
                 return t, h, n_acc, n_rej, 1
             e1 = err if err > 1e-10 else 1e-10
@@ -185,6 +218,61 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
     return t, h, n_acc, n_rej, 0
 
 
+# Dormand–Prince's continuous extension of order 4 (Hairer, Nørsett & Wanner, Solving ODEs I,
+# §II.6, and their code DOPRI5, CONTD5): the coefficients of the stages in the θ²(1−θ)² term
+_DP_D = np.array([-12715105075.0 / 11282082432.0, 0.0, 87487479700.0 / 32700410799.0,
+                  -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
+                  -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0])
+
+
+@njit(cache=True, nogil=True)
+def _dense_state(theta, h, y0, y1, K, order, out):
+    """The state at t + θh, 0 <= θ <= 1, of the step y0 → y1 of size h with stages K (K[-1] = f(y1)).
+
+    Order 5 (Dormand–Prince, 7 stages), the continuous extension of order 4 (Hairer, Nørsett &
+    Wanner, Solving ODEs I, 2nd ed., §II.6, dense output of DOPRI5):
+
+        y(t + θh) = y0 + θ(Δ + (1−θ)(r3 + θ(r4 + (1−θ) r5))),
+        Δ = y1 − y0,  r3 = h k1 − Δ,  r4 = Δ − h k7 − r3,  r5 = h Σ d_i k_i  (_DP_D);
+
+    otherwise (Bogacki–Shampine 3(2)) the cubic Hermite interpolant of y0, y1, f(y0) = k1 and
+    f(y1) = k_last (ibid. eq. (6.7)), of order 3:
+
+        y(t + θh) = (1−θ) y0 + θ y1 + θ(θ−1)((1−2θ)Δ + (θ−1) h k1 + θ h k_last).
+    """
+    n = y0.shape[0]
+    s = K.shape[0]
+    th1 = 1.0 - theta
+    if order == 5:
+        for q in range(n):
+            d = y1[q] - y0[q]
+            r3 = h * K[0, q] - d
+            r4 = d - h * K[6, q] - r3
+            r5 = h * (_DP_D[0] * K[0, q] + _DP_D[2] * K[2, q] + _DP_D[3] * K[3, q]
+                      + _DP_D[4] * K[4, q] + _DP_D[5] * K[5, q] + _DP_D[6] * K[6, q])
+            out[q] = y0[q] + theta * (d + th1 * (r3 + theta * (r4 + th1 * r5)))
+    else:
+        for q in range(n):
+            d = y1[q] - y0[q]
+            out[q] = (y0[q] + theta * d
+                      + theta * (theta - 1.0) * ((1.0 - 2.0 * theta) * d + (theta - 1.0) * h * K[0, q]
+                                                 + theta * h * K[s - 1, q]))
+
+
+@njit(cache=True, nogil=True)
+def _take_peak(peak, y_peak, peak_out, y_peak_out):
+    """Copy the stress monitor's peak since the previous sample out (multibody.stress_peak:
+    peak (4,), y_peak (K,)) and empty it: the next sample's peak starts here."""
+    for i in range(peak_out.shape[0]):
+        peak_out[i] = peak[i]
+    for i in range(y_peak_out.shape[0]):
+        y_peak_out[i] = y_peak[i]
+    peak[0] = -1.0
+    peak[1] = -1.0
+    peak[2] = np.nan
+    peak[3] = 0.0
+
+
 D_rhs = D.rhs
 _DISABLED = disabled_monitor()
 
@@ -205,6 +293,18 @@ class Workspace:
         self.work = D.new_work(model)
         self.fsal_t = None   # time at which K[0] = f(t, y) is valid
         self.fsal_y = None
+        self.n_out = np.zeros(1, dtype=np.int64)
+        self._samples = (np.zeros((0, n)), np.zeros((0, 4)), np.zeros((0, 1)))
+
+    def sample_buffers(self, m: int, k_peak: int) -> tuple:
+        """(Ys (m, n), Pk (m, 4), Ypk (m, k_peak)): advance_sampled's outputs, views of buffers
+        reused between calls (grown when a call needs more rows)."""
+        Ys, Pk, Ypk = self._samples
+        if Ys.shape[0] < m or Ypk.shape[1] != k_peak:
+            cap = max(int(m), Ys.shape[0])
+            Ys, Pk, Ypk = np.zeros((cap, Ys.shape[1])), np.zeros((cap, 4)), np.zeros((cap, int(k_peak)))
+            self._samples = (Ys, Pk, Ypk)
+        return Ys[:m], Pk[:m], Ypk[:m]
 
 
 def advance(model, y, t, t_next, speed_table, load_table, impacts, tol: float = DEFAULT_TOL,
@@ -217,9 +317,33 @@ def advance(model, y, t, t_next, speed_table, load_table, impacts, tol: float = 
     (multibody.stress_peak.new_monitor) evaluated after every accepted step. Raises
     SimulationUnstable.
     """
+    y, t1, h1, n_acc, n_rej, _, _ = advance_sampled(model, y, t, t_next, _NO_SAMPLES, speed_table,
+                                                       load_table, impacts, tol, h, ws, max_steps,
+                                                       method, monitor)
+    return y, t1, h1, n_acc, n_rej
+
+
+_NO_SAMPLES = np.zeros(0)
+
+
+def advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts,
+                    tol: float = DEFAULT_TOL, h: float = 1e-6, ws: Workspace | None = None,
+                    max_steps: int = 10_000_000, method: str = "dopri5", monitor: tuple | None = None):
+    """`advance` from t to t_next, writing the states at `sample_times` on the way (module
+    docstring, "Samples"). sample_times: ascending, each in (t, t_next). Returns
+    (y, t, h, n_steps, n_rejected, Ys, peaks): Ys (m, n) the states at the m sample times (the
+    method's continuous extension inside a step; a view of the workspace's buffer: copy what must
+    outlive the next call), peaks the stress monitor's peak over the steps since the previous
+    sample for each (multibody.stress_peak.peak_of; None without a monitor or step)."""
     if ws is None:
         ws = Workspace(model, method)
     y = np.ascontiguousarray(y, dtype=np.float64)
+    ts = np.ascontiguousarray(sample_times, dtype=np.float64)
+    if ts.size and not (ts[0] > t and ts[-1] < t_next and np.all(np.diff(ts) > 0.0)):
+        raise ValueError(f"sample times must ascend strictly inside ({t!r}, {t_next!r}): "
+                         f"{ts[0]!r} ... {ts[-1]!r}")
+    mon = _DISABLED if monitor is None else monitor
+    Ys, Pk, Ypk = ws.sample_buffers(ts.size, mon[5].shape[0])
     if ws.fsal_t != t or ws.fsal_y is None or not np.array_equal(ws.fsal_y, y):
         ws.work[-1, M.WR_STATUS] = 0.0
         D.rhs(t, y, ws.K[0], model.p, model.flags, model.hertz_table, model.traction_table,
@@ -228,13 +352,14 @@ def advance(model, y, t, t_next, speed_table, load_table, impacts, tol: float = 
                                           ws.E, ws.order, model.p, model.flags, model.hertz_table,
                                           model.traction_table, speed_table, load_table, impacts,
                                           ws.work, model.scale, model.relmask, ws.K, ws.ytmp, ws.ynew,
-                                          int(max_steps), model.cage,
-                                          _DISABLED if monitor is None else monitor)
+                                          int(max_steps), model.cage, mon, ts, Ys, Pk, Ypk, ws.n_out)
     if code != OK:
         _raise_unstable(model, code, y, ws, t1, h1, speed_table, load_table, impacts)
+    if ws.n_out[0] != ts.size:          # every sample lies before t_next, which the loop reached
+        raise RuntimeError(f"integrator wrote {ws.n_out[0]} of {ts.size} samples")
     ws.fsal_t = t1
     ws.fsal_y = y.copy()
-    return y, t1, h1, n_acc, n_rej
+    return y, t1, h1, n_acc, n_rej, Ys, [peak_of(Pk[i], Ypk[i]) for i in range(ts.size)]
 
 
 def _raise_unstable(model, code, y, ws, t, h, speed_table, load_table, impacts):

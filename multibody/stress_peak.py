@@ -139,10 +139,15 @@ def reset(mon) -> None:
 def peak(mon):
     """(max von Mises Pa, search row, time s, steps evaluated, load-space y at the peak) or None if
     no step was evaluated since the last reset."""
-    p = mon[4]
+    return peak_of(mon[4], mon[5])
+
+
+def peak_of(p, y_peak):
+    """`peak` of a peak array (4,) and its y (K,) (the monitor's, or the copies the integrator
+    takes at a sample inside a step, multibody.integrator.advance_sampled)."""
     if p[PEAK_VM_SQ] < 0.0:
         return None
-    return float(np.sqrt(p[PEAK_VM_SQ])), int(p[PEAK_ROW]), float(p[PEAK_T]), int(p[PEAK_N]), mon[5].copy()
+    return float(np.sqrt(p[PEAK_VM_SQ])), int(p[PEAK_ROW]), float(p[PEAK_T]), int(p[PEAK_N]), y_peak.copy()
 
 
 def trace(mon) -> tuple[np.ndarray, np.ndarray]:

@@ -16,7 +16,7 @@ import pytest
 from coupling.results import output_items, read_checkpoint, read_outputs
 from coupling.run import RunInterrupted, run_scene
 from common.validation import InputError
-from test_run import SCENE, fake_advance, fake_backend, fake_scene
+from test_run import SCENE, fake_advance, fake_advance_sampled, fake_backend, fake_scene
 
 HERE = Path(__file__).resolve().parent
 
@@ -170,7 +170,8 @@ checkpoint_every = 5
     scene = loads_scene(text, "short.toml")
     run_scene(scene, tmp_path / "a.h5", quiet=True)
     backend = default_backend(scene)
-    backend.advance = stopping_after(13, KeyboardInterrupt(), inner=backend.advance)
+    # the run calls advance_sampled once per 5 samples (checkpoints) and at the impact's ends
+    backend.advance_sampled = stopping_after(4, KeyboardInterrupt(), inner=backend.advance_sampled)
     with pytest.raises(RunInterrupted):
         run_scene(scene, tmp_path / "b.h5", quiet=True, backend=backend)
     run_scene(scene, tmp_path / "b.h5", quiet=True, resume=True)
@@ -254,4 +255,72 @@ def test_a_block_the_writer_thread_fails_to_write_is_written_once_after(tmp_path
         cp = read_checkpoint(f)
         assert cp["n_samples"] == t.size and cp["t"] == t[-1]
     run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
+    assert_same_results(ref, out)
+
+
+# ---- the same with a backend that integrates across samples (coupling.run's advance_sampled):
+# a call ends at every SAMPLES_PER_CALL-th sample, checkpoint and breakpoint; samples inside it are
+# not states the integrator can go on from, so no checkpoint may be written there
+
+@pytest.fixture(scope="module")
+def reference_sampled(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ref_sampled") / "ref.h5"
+    summary = run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance_sampled=fake_advance_sampled))
+    return out, summary
+
+
+def test_sampled_backend_takes_fewer_steps_for_the_same_series(reference, reference_sampled):
+    """Not stopping at the 601 samples saves steps; the interpolated series agree with the
+    stopping run's to the tolerance (the fake backend's scene: tol 1e-6 on states of scale 1 and
+    1e-6 m, 1e-3 m/s): ring angle and impulse within 1e-6 relative, the oscillator within 1e-9 m."""
+    (a, sa), (b, sb) = reference, reference_sampled
+    assert sb["n_steps"] < sa["n_steps"]
+    ra, rb = read_outputs(a), read_outputs(b)
+    assert ra["time"].tobytes() == rb["time"].tobytes()
+    for k in ("ring_angle", "impulse_z"):
+        assert np.allclose(rb[k], ra[k], rtol=1e-6, atol=1e-9), k
+    assert np.max(np.abs(rb["oscillator_displacement"][:, 0] - ra["oscillator_displacement"][:, 0])) < 1e-9
+
+
+@pytest.mark.parametrize("n_calls", [2, 5, 9, 17])
+def test_sampled_ctrl_c_then_resume_equals_uninterrupted(tmp_path, reference_sampled, n_calls):
+    ref, ref_summary = reference_sampled
+    out = tmp_path / "run.h5"
+    stop = stopping_after(n_calls, KeyboardInterrupt(), inner=fake_advance_sampled)
+    with pytest.raises(RunInterrupted):
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance_sampled=stop))
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"] == "interrupted"
+        n = f["outputs/time"].shape[0]
+        cp = read_checkpoint(f)
+        assert cp["n_samples"] == n and (n == 0 or cp["t"] == f["outputs/time"][-1])
+    summary = run_scene(fake_scene(), out, resume=True, quiet=True,
+                        backend=fake_backend(advance_sampled=fake_advance_sampled))
+    assert_same_results(ref, out)
+    assert summary["n_steps"] == ref_summary["n_steps"]
+
+
+def test_sampled_evaluation_failure_keeps_samples_up_to_a_state_to_go_on_from(tmp_path, reference_sampled):
+    """Evaluating sample 17 fails (in the writer thread, then again in the interrupted run): samples
+    14-16 lie inside a call (the fake scene checkpoints every 7 samples: calls end at samples 6, 13,
+    20), so the file ends at sample 13, the last state the integrator stopped at, with its
+    checkpoint there, and resuming gives the uninterrupted run bit for bit."""
+    from test_run import fake_outputs
+    ref, _ = reference_sampled
+    out = tmp_path / "run.h5"
+    scene = fake_scene()
+    t17 = scene.sample_time(17)
+
+    def failing(model, t, y, outputs=(), speed_table=None):
+        if t >= t17:
+            raise RuntimeError("output evaluation failed")
+        return fake_outputs(model, t, y, outputs, speed_table)
+    with pytest.raises(RunInterrupted):
+        run_scene(scene, out, quiet=True, backend=fake_backend(advance_sampled=fake_advance_sampled,
+                                                               evaluate_outputs=failing))
+    with h5py.File(out, "r") as f:
+        n = f["outputs/time"].shape[0]
+        cp = read_checkpoint(f)
+        assert n == 14 and cp["n_samples"] == n and cp["t"] == f["outputs/time"][-1]
+    run_scene(scene, out, resume=True, quiet=True, backend=fake_backend(advance_sampled=fake_advance_sampled))
     assert_same_results(ref, out)

@@ -64,6 +64,40 @@ def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h):
     return y, t, h, n, nr
 
 
+def fake_advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts, tol, h):
+    """fake_advance that does not stop at sample_times (coupling.run's `advance_sampled`): the
+    state at a sample inside a step is the cubic Hermite interpolant of the step's ends and
+    derivatives (as multibody.integrator does for BS32)."""
+    args = (speed_table, load_table, impacts, np.zeros(3))
+    y = np.array(y, dtype=np.float64)
+    n = nr = i = 0
+    states = np.zeros((len(sample_times), y.size))
+    scale = np.array([1.0, 1.0, 1e-6, 1e-3])
+    while t < t_next:
+        last = t_next - t <= h
+        step = t_next - t if last else h
+        y1 = _rk4(t, y, step, args)
+        y2 = _rk4(t + step / 2, _rk4(t, y, step / 2, args), step / 2, args)
+        err = float(np.max(np.abs(y2 - y1) / (scale + np.abs(y2)))) / 15.0 / tol
+        if err <= 1.0:
+            y_new = y2 + (y2 - y1) / 15.0
+            t_new = t_next if last else t + step
+            f0, f1 = _rhs(t, y, *args), _rhs(t_new, y_new, *args)
+            while i < len(sample_times) and sample_times[i] <= t_new:
+                th = (sample_times[i] - t) / step
+                d = y_new - y
+                states[i] = y + th * d + th * (th - 1) * ((1 - 2 * th) * d + (th - 1) * step * f0 + th * step * f1)
+                i += 1
+            y, t = y_new, t_new
+            n += 1
+            if not last:
+                h = step * min(2.0, 0.9 * max(err, 1e-10) ** -0.2)
+        else:
+            nr += 1
+            h = step * max(0.2, 0.9 * err ** -0.2)
+    return y, t, h, n, nr, states, [None] * len(sample_times)
+
+
 def fake_outputs(model, t, y, outputs=(), speed_table=None):
     """cage speed = 0.4 × the mean inner-ring speed since t = 0; nominal cage speed with alpha = 0:
     nm = 0.5·omega·(1 − Dw/dm), Dw = 22 mm, dm = 167 mm (paper bearing)."""

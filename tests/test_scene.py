@@ -216,11 +216,11 @@ def test_integrator_method_key():
 
 def test_a_scene_run_with_bs32_integrates_with_bs32(tmp_path):
     """The scene's method reaches the integrator: 2 ms of the paper's steady rigid scene with bs32
-    take the steps of multibody.integrator.advance with method bs32 from the same initial state,
-    sample interval by sample interval (and not dopri5's, which are fewer: 3rd against 5th order
-    at the same tolerance)."""
+    take the steps of multibody.integrator.advance_sampled with method bs32 from the same initial
+    state (21 samples: one call of the run loop, coupling.run.SAMPLES_PER_CALL), and not dopri5's,
+    which are fewer (3rd against 5th order at the same tolerance)."""
     import tomllib
-    from coupling.run import default_backend, run_scene
+    from coupling.run import SAMPLES_PER_CALL, default_backend, run_scene
     from coupling.scene import parse_scene
     from multibody import integrator as I
     data = tomllib.loads((SCENES / "paper_steady_rigid.toml").read_text())
@@ -240,11 +240,10 @@ def test_a_scene_run_with_bs32_integrates_with_bs32(tmp_path):
     steps = {}
     for method in ("bs32", "dopri5"):
         y = np.array(be.initial_state(model, speed_at(0.0, scene.speed_table), Fa, Fr, load=f0))
-        ws, t, h, n = I.Workspace(model, method), 0.0, scene.initial_step, 0
-        for k in range(1, scene.n_samples):
-            y, t, h, ns, _ = I.advance(model, y, t, scene.sample_time(k), scene.speed_table, scene.load_table,
-                                       scene.impacts, scene.tolerance, h, ws)
-            t = scene.sample_time(k)
-            n += ns
+        times = np.array([scene.sample_time(k) for k in range(1, scene.n_samples - 1)])
+        _, _, _, n, _, _, _ = I.advance_sampled(model, y, 0.0, scene.duration, times, scene.speed_table,
+                                                scene.load_table, scene.impacts, scene.tolerance,
+                                                scene.initial_step, I.Workspace(model, method))
         steps[method] = n
+    assert scene.n_samples <= SAMPLES_PER_CALL
     assert s["n_steps"] == steps["bs32"] > steps["dopri5"]
