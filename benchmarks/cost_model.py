@@ -263,7 +263,8 @@ def advance_to(scene, be, model, y, t0, t1, tol=1e-6, h=1e-7, ws=None, dt=1e-4):
 
 def window_step_sizes(scene, model, y, t0, span, tol=1e-6, h=1e-7, win=1e-4):
     """Mean accepted step size of each window of `win` s over [t0, t0 + span] (the integrator run
-    window by window, as coupling.run runs it sample by sample; the step size carried on)."""
+    window by window, stopping at each window's end as coupling.run did before it passed samples
+    inside steps; the step size carried on)."""
     ws = I.Workspace(model)
     y = y.copy()
     t = t0

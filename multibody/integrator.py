@@ -404,8 +404,9 @@ def _likely_cause(status: int, t: float, load_table, impacts) -> str:
                              f"tighten integrator.tolerance or set integrator.max_step",
         -STEP_TOO_SMALL: f"a discontinuity or a contact too stiff for the step; {load}: "
                          f"check the load and speed profiles for jumps, tighten integrator.tolerance",
-        -TOO_MANY_STEPS: "the step budget of one sample interval was exhausted: a stiff contact forces "
-                         "tiny steps (see the step rate), or shorten output.sample_interval",
+        -TOO_MANY_STEPS: "the step budget of one call of the integrator (up to coupling.run.SAMPLES_PER_CALL "
+                         "samples) was exhausted: a stiff contact forces tiny steps (see the step rate), or "
+                         "shorten output.sample_interval",
     }.get(status, "unknown")
 
 
