@@ -12,9 +12,9 @@ scene (benchmarks/bench_work_precision.worker, its own process each) and records
 whole-run statistics after the settle time. Per statistic and family: the mean m, the sample
 standard deviation s, the spread (max − min)/|m|; and for each family against the tightest one the
 bias |m − m_tight|/|m_tight| beside its standard error sqrt(s²/n + s_tight²/n)/|m_tight|
-(Welch). A family is as accurate as the tightest for a statistic when its bias is within 2
-standard errors, or, for the contact stresses and the other converging statistics, within the
-issue's limit (1 % / 3 %).
+(Welch). A family is as accurate as the tightest for a statistic the issue gives a limit (1 % on
+the contact stresses, 3 % on the p99 cage forces and the max von Mises) when its bias is within 2
+standard errors or within that limit (`passes`); peaks, film and slip are shown, not judged.
 
     .venv/bin/python benchmarks/tolerance_ensembles.py                  # ~15 min on 2 cores
     .venv/bin/python benchmarks/tolerance_ensembles.py --report-only    # tables from the JSONL
@@ -85,6 +85,13 @@ def bias(a: tuple, ref: tuple) -> tuple[float, float]:
     return abs(ma - mr) / abs(mr), math.sqrt(sa * sa / na + sr * sr / nr) / abs(mr)
 
 
+def passes(b: float, se: float, limit: float) -> bool:
+    """A looser family is as accurate as the tightest for a statistic with a limit: its mean's bias
+    is within 2 standard errors (indistinguishable from the tight runs' scatter) or within the
+    issue's limit."""
+    return b <= 2.0 * se or b <= limit
+
+
 def markdown(table: dict, records: list[dict], meta: dict) -> str:
     L = ["# Tolerance ensembles: the unsteady scenes' statistics at tol 1e-4, 1e-6 and 1e-8 (issue 21)", "",
          __doc__.split("\n\n")[1].replace("\n", " "), "",
@@ -102,8 +109,8 @@ def markdown(table: dict, records: list[dict], meta: dict) -> str:
             c = np.array(cost[(sc, fam)])
             L.append(f"| {fam:g} | {len(c)} | {c[:, 0].mean():,.0f} | {c[:, 1].mean():.1f} |")
         L += ["", "Mean (spread over the family's runs); for the looser families the bias against the "
-              f"tightest ({tight:g}) ± its standard error, and whether it passes (bias ≤ 2 standard errors, "
-              "or within the issue's limit where it has one).", ""]
+              f"tightest ({tight:g}) ± its standard error; ✓: it passes (bias ≤ 2 standard errors or within "
+              "the issue's limit), judged on the statistics the issue gives a limit.", ""]
         hdr = "| statistic | limit |" + "".join(f" {f:g}: mean (spread) |" for f in sorted(fams, reverse=True))
         hdr += "".join(f" {f:g}: bias ± s.e. |" for f in sorted(fams, reverse=True) if f != tight)
         L += [hdr, "|---|---:|" + "---:|" * (2 * len(fams) - 1)]
@@ -117,8 +124,10 @@ def markdown(table: dict, records: list[dict], meta: dict) -> str:
                 if f == tight or s not in fams[f]:
                     continue
                 b, se = bias(fams[f][s], fams[tight][s])
-                ok = b <= 2 * se or (s in LIMITS and b <= LIMITS[s])
-                cells.append(f" {100 * b:.2g} ± {100 * se:.2g} % {'✓' if ok else '✗'} |")
+                mark = ""
+                if s in LIMITS:          # judged: the issue's criteria (peaks and film/slip only shown)
+                    mark = " ✓" if passes(b, se, LIMITS[s]) else " ✗"
+                cells.append(f" {100 * b:.2g} ± {100 * se:.2g} %{mark} |")
             lim = f"{100 * LIMITS[s]:g} %" if s in LIMITS else "–"
             L.append(f"| {s} | {lim} |" + "".join(cells))
         L.append("")

@@ -114,3 +114,20 @@ def test_claims_let_several_benchmark_processes_share_the_runs(tmp_path):
                      + json.dumps({"key": "s|a=1", "status": "failed (exit 3): SKIPPED: finished"}) + "\n")
     assert read_jsonl(jsonl)["s|a=1"]["status"] == "ok"
     assert claim({**spec, "h5": str(tmp_path / "b.h5")}) == "finished"
+
+
+def test_tolerance_ensembles_bias_and_family_table():
+    """benchmarks/tolerance_ensembles: family mean, sample std (ddof 1), spread; the bias of a family's
+    mean against the tightest with Welch's standard error sqrt(s_a²/n_a + s_b²/n_b) (by hand: runs
+    10, 11 and 9, 10, 11: means 10.5 and 10, variances 0.5 and 1, bias 5 %, s.e.
+    sqrt(0.5/2 + 1/3)/10), and the pass rule (within 2 s.e. or within the limit)."""
+    from benchmarks import tolerance_ensembles as T
+    recs = [{"status": "ok", "scene": "s", "family": fam, "stats": {"pocket_force_p99": v}}
+            for fam, vals in ((1e-4, (10.0, 11.0)), (1e-8, (9.0, 10.0, 11.0))) for v in vals]
+    tab = T.family_table(recs, stats=("pocket_force_p99",))
+    m, s, spread, n = tab["s"][1e-4]["pocket_force_p99"]
+    assert (m, n) == (10.5, 2) and abs(s - math.sqrt(0.5)) < 1e-12 and abs(spread - 1 / 10.5) < 1e-12
+    b, se = T.bias(tab["s"][1e-4]["pocket_force_p99"], tab["s"][1e-8]["pocket_force_p99"])
+    assert abs(b - 0.05) < 1e-12
+    assert abs(se - math.sqrt(0.5 / 2 + 1.0 / 3) / 10.0) < 1e-12
+    assert T.passes(0.05, 0.03, 0.03) and not T.passes(0.05, 0.02, 0.03) and T.passes(0.02, 0.0, 0.03)
