@@ -132,7 +132,7 @@ def loop_pockets(n, y, p, flags, cage):
     for _ in range(n):
         cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
         cage_body_angular_velocity(A, y, c0, w_body)
-        c_roll, c_slide = D.pocket_film_coefficients(p)
+        c_roll, c_slide, c_root = D.pocket_film_coefficients(p)
         for k in range(cage.Qext.shape[0]):
             cage.Qext[k] = 0.0
         for j in range(z):
@@ -147,7 +147,7 @@ def loop_pockets(n, y, p, flags, cage):
             pk = D._pocket_force(xb, rb * cs, rb * sn, vbx, vbr * cs - vbt * sn, vbr * sn + vbt * cs, w_x,
                                  w_r * cs - w_t * sn, w_r * sn + w_t * cs, pos[0], pos[1], pos[2],
                                  axv[0], axv[1], axv[2], vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
-                                 y[c0], y[c0 + 1], y[c0 + 2], p, flags, c_roll, c_slide)
+                                 y[c0], y[c0 + 1], y[c0 + 2], p, flags, c_roll, c_slide, c_root)
             Fc[0] = -pk[0]
             Fc[1] = -pk[1]
             Fc[2] = -pk[2]

@@ -84,10 +84,7 @@ def ehl_rolling_resistance(Q, u_entrain, Rx, k, E_eff, eta0, alpha_p):
     U = eta0 * abs(u_entrain) / (E_eff * Rx)
     G = alpha_p * E_eff
     W = Q / (E_eff * Rx * Rx)
-    # the product of the four powers as one exp of the sum of their logs (4 log + 1 exp instead
-    # of 4 pow, equal to round-off: ~|exponent sum|·eps ~ 1e-14 relative)
-    f = 2.86 * E_eff * Rx * Rx * math.exp(0.348 * math.log(k) + 0.022 * math.log(G) + 0.66 * math.log(U)
-                                          + 0.47 * math.log(W))
+    f = 2.86 * E_eff * Rx * Rx * k ** 0.348 * G ** 0.022 * U ** 0.66 * W ** 0.47
     return -f if u_entrain > 0.0 else f
 
 

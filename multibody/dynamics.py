@@ -399,7 +399,7 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
 
 @njit(cache=True)
 def pocket_film_coefficients(p):
-    """(c_R, c_S) of the lubricated pocket's rolling and sliding resistances
+    """(c_R, c_S, r) of the lubricated pocket's rolling and sliding resistances
     (multibody.pocket.pocket_resistance_coefficients) for the model's ball, pocket and oil:
     entrainment radius Rb, transverse radius R_xi (pocket.pocket_curvature_radii). Constant for a
     model; `rhs` evaluates them once per call and hands them to `_pocket_force`."""
@@ -412,14 +412,15 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
                       px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags):
     """`_pocket_force` with the film coefficients of `pocket_film_coefficients` (one pocket on its
     own, as the tests and benchmarks call it)."""
-    c_roll, c_slide = pocket_film_coefficients(p)
+    c_roll, c_slide, c_root = pocket_film_coefficients(p)
     return _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz, px, py, pz, ax, ay, az, vpx, vpy, vpz,
-                         wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide)
+                         wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide, c_root)
 
 
 @njit(cache=True)
 def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
-                  px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide):
+                  px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide,
+                  c_root):
     """Ball–pocket force of one pocket (paper §2.3.1), inertial components.
 
     b ball centre, (px, py, pz) pocket centre, a pocket axis (radial, unit), v_p the velocity of
@@ -446,10 +447,9 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     zz = math.sqrt(ux * ux + uy * uy + uz * uz)
     if zz < 1e-15:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz, 0.0
-    inv_zz = 1.0 / zz
-    ux *= inv_zz
-    uy *= inv_zz
-    uz *= inv_zz
+    ux /= zz
+    uy /= zz
+    uz /= zz
     cp = p[P_CP]
     kc = p[P_KC]
     if zz <= cp:
@@ -486,12 +486,11 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
         # sliding resistance F_S (gap h0 = Cp − s·Z, floored at POCKET_H_MIN, wetted edge at the
         # gap Cp), both along −g on the ball. Entrainment radius Rb (the ball surface runs along
         # the radial pocket axis), transverse radius R_xi (conforming, pocket.pocket_curvature_radii).
-        # With c_R, c_S of `pocket_film_coefficients`: F_R = c_R·g/2, F_S = c_S·g·ln(Cp/h0) (zero
-        # for h0 >= Cp, i.e. on the unloaded side), so the force per unit sliding speed is
-        # tf = (F_R + F_S + F_C)/g = c_R/2 + c_S·ln(Cp/h0) + F_C/g.
+        # With c_R, c_S, r of `pocket_film_coefficients`: F_R = (c_R·g/2)·r, F_S = ((c_S·g)·r)·ln(Cp/h0)
+        # (zero for h0 >= Cp, i.e. on the unloaded side), evaluated as pocket_rolling_resistance and
+        # pocket_sliding_resistance do (bit-identical).
         rb = 0.5 * p[P_DW]
         cp_gap = p[P_CP]
-        tf_r = 0.5 * c_roll
         for side in (1.0, -1.0):
             sx, sy, sz = cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
             wx_ = px + da * ax + side * rp * ux
@@ -511,12 +510,11 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
             h0 = cp_gap - side * zz
             if h0 < POCKET_H_MIN:
                 h0 = POCKET_H_MIN
-            tf = tf_r
-            if cp_gap > h0:
-                tf += c_slide * math.log(cp_gap / h0)
+            f_r = c_roll * (0.5 * g) * c_root
+            f_s = c_slide * g * c_root * math.log(cp_gap / h0) if cp_gap > h0 else 0.0
             # Coulomb part (option pocket_friction, default 0) on the loaded side only
-            if side > 0.0 and p[P_MUPOCKET] != 0.0:
-                tf += p[P_MUPOCKET] * Q / g
+            f_c = p[P_MUPOCKET] * Q if side > 0.0 else 0.0
+            tf = (f_r + f_s + f_c) / g
             fx -= tf * gx
             fy -= tf * gy
             fz -= tf * gz
@@ -620,7 +618,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     fo = p[P_FE]
     fi = p[P_FI]
     rho_mix, eta_mix = oil_air_mixture(p[P_OILFRAC], p[P_RHO_OIL], p[P_ETA0])
-    c_roll, c_slide = pocket_film_coefficients(p)
+    c_roll, c_slide, c_root = pocket_film_coefficients(p)
     # the scratch rows, the modal coordinates and the node loads, taken once: every array view
     # costs an atomic reference-count increment and decrement (made per ball they were ~20 % of
     # a rigid cage's rhs)
@@ -805,7 +803,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         wbz = w_r * sn + w_t * cs
         pk = _pocket_force(bx, byy, bzz, vbx, vbyy, vbzz, w_x, wby, wbz,
                            ppx, ppy, ppz, ax, ay, az, vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
-                           xc, yc, zc, p, flags, c_roll, c_slide)
+                           xc, yc, zc, p, flags, c_roll, c_slide, c_root)
         pfx, pfy, pfz = pk[0], pk[1], pk[2]
         work[j, W_POCKET_Q] = pk[9]
         work[j, W_POCKET_Z] = pk[10]
