@@ -51,7 +51,7 @@ sys.path.insert(0, str(ROOT))
 from multibody import dynamics as D  # noqa: E402
 from multibody import integrator as I  # noqa: E402
 from multibody import model as M  # noqa: E402
-from multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose  # noqa: E402
+from multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose_arrays  # noqa: E402
 from multibody.drag import churning_drag, oil_air_mixture  # noqa: E402
 from multibody.floating_frame import add_node_load  # noqa: E402
 from multibody.geometry import ring_point_in_plane, ring_velocity_in_plane  # noqa: E402
@@ -112,7 +112,8 @@ def loop_contacts(n, y, p, flags, htab, ttab, omega_i):
 @njit(cache=True)
 def loop_pockets(n, y, p, flags, cage):
     """Every pocket: pose of its interface node, the ball–pocket force, the node load onto the
-    floating frame (as multibody.dynamics.rhs)."""
+    floating frame (as multibody.dynamics.rhs: its film coefficients once per call, the scratch
+    rows and the modal coordinates taken once)."""
     z = int(p[M.P_Z])
     c0 = 9 * z + 11
     m0 = c0 + 12
@@ -120,9 +121,18 @@ def loop_pockets(n, y, p, flags, cage):
     scr = cage.scratch
     acc = 0.0
     nm = cage.stiffness.shape[0]
+    w_body = scr[1]
+    pos = scr[3]
+    vel = scr[4]
+    axv = scr[5]
+    wn = scr[6]
+    Fc = scr[7]
+    Tn = scr[2]
+    q_modes = y[m0:m0 + nm]
     for _ in range(n):
         cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
-        cage_body_angular_velocity(A, y, c0, scr[1])
+        cage_body_angular_velocity(A, y, c0, w_body)
+        c_roll, c_slide, c_root = D.pocket_film_coefficients(p)
         for k in range(cage.Qext.shape[0]):
             cage.Qext[k] = 0.0
         for j in range(z):
@@ -133,24 +143,18 @@ def loop_pockets(n, y, p, flags, cage):
             cs = math.cos(psi)
             sn = math.sin(psi)
             vbt = rb * psid
-            pos = scr[3]
-            vel = scr[4]
-            axv = scr[5]
-            wn = scr[6]
-            pocket_pose(j, y, c0, m0, cage, scr[1], pos, vel, axv, wn)
-            pk = D._pocket_interface(xb, rb * cs, rb * sn, vbx, vbr * cs - vbt * sn, vbr * sn + vbt * cs, w_x,
-                                     w_r * cs - w_t * sn, w_r * sn + w_t * cs, pos[0], pos[1], pos[2],
-                                     axv[0], axv[1], axv[2], vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
-                                     y[c0], y[c0 + 1], y[c0 + 2], p, flags)
-            Fc = scr[7]
+            pocket_pose_arrays(j, y, c0, m0, A, cage.node_position, cage.node_modes, w_body, pos, vel, axv, wn)
+            pk = D._pocket_force(xb, rb * cs, rb * sn, vbx, vbr * cs - vbt * sn, vbr * sn + vbt * cs, w_x,
+                                 w_r * cs - w_t * sn, w_r * sn + w_t * cs, pos[0], pos[1], pos[2],
+                                 axv[0], axv[1], axv[2], vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
+                                 y[c0], y[c0 + 1], y[c0 + 2], p, flags, c_roll, c_slide, c_root)
             Fc[0] = -pk[0]
             Fc[1] = -pk[1]
             Fc[2] = -pk[2]
-            Tn = scr[2]
             Tn[0] = -pk[3]
             Tn[1] = -pk[4]
             Tn[2] = -pk[5]
-            add_node_load(A, y[m0:m0 + nm], cage.node_position, cage.node_modes, j, Fc, Tn, cage.Qext)
+            add_node_load(A, q_modes, cage.node_position, cage.node_modes, j, Fc, Tn, cage.Qext)
             acc += pk[9]
     return acc
 

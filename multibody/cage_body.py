@@ -17,7 +17,6 @@ import math
 from numba import njit
 
 from multibody.floating_frame import accelerations as ffrf_accelerations
-from multibody.floating_frame import node_kinematics
 from multibody.geometry import cross
 
 
@@ -174,26 +173,64 @@ def pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
     """Pocket j of the (flexible) cage: centre pos, its velocity vel, axis (unit, radial in the
     undeformed cage, turned by the interface node's small elastic rotation) and the node's
     angular velocity wnode, all inertial. The cage rotation must be in cage.A and its
-    body-frame angular velocity in w (`cage_body_angular_velocity`)."""
-    A = cage.A
-    npos = cage.node_position
-    nmodes = cage.node_modes
-    n = cage.stiffness.shape[0]
-    q = y[m0:m0 + n]
-    qd = y[m0 + n:m0 + 2 * n]
-    R = y[c0:c0 + 3]
-    Rd = y[c0 + 6:c0 + 9]
-    rot = cage.scratch[2]
-    node_kinematics(R, A, Rd, w, q, qd, npos, nmodes, j, pos, vel, rot)
+    body-frame angular velocity in w (`cage_body_angular_velocity`).
+
+    The node's kinematics of multibody.floating_frame.node_kinematics (pos = R + A u_p,
+    vel = R' + A (w × u_p + Phi_p q'), rot = Psi_p q, u_p = x_p + Phi_p q) and its angular velocity
+    A (w + Psi_p q'), read from the state vector by index: no array views are made (each view
+    costs an atomic reference-count increment and decrement, ~20 % of a rigid cage's rhs when
+    this ran once per pocket through slices of y)."""
+    pocket_pose_arrays(j, y, c0, m0, cage.A, cage.node_position, cage.node_modes, w, pos, vel, axis, wnode)
+
+
+@njit(cache=True)
+def pocket_pose_arrays(j, y, c0, m0, A, npos, nmodes, w, pos, vel, axis, wnode):
+    """`pocket_pose` with the cage's rotation A, node positions and node mode rows passed as
+    arrays (multibody.dynamics.rhs takes them out of the cage once per call: reading them from
+    the cage tuple per pocket cost reference-count operations too)."""
+    n = nmodes.shape[2]
+    u0 = npos[j, 0]
+    u1 = npos[j, 1]
+    u2 = npos[j, 2]
+    d0 = 0.0
+    d1 = 0.0
+    d2 = 0.0
+    r0 = 0.0
+    r1 = 0.0
+    r2 = 0.0
+    o0 = w[0]
+    o1 = w[1]
+    o2 = w[2]
+    for k in range(n):
+        qk = y[m0 + k]
+        qdk = y[m0 + n + k]
+        u0 += nmodes[j, 0, k] * qk
+        u1 += nmodes[j, 1, k] * qk
+        u2 += nmodes[j, 2, k] * qk
+        d0 += nmodes[j, 0, k] * qdk
+        d1 += nmodes[j, 1, k] * qdk
+        d2 += nmodes[j, 2, k] * qdk
+        r0 += nmodes[j, 3, k] * qk
+        r1 += nmodes[j, 4, k] * qk
+        r2 += nmodes[j, 5, k] * qk
+        o0 += nmodes[j, 3, k] * qdk
+        o1 += nmodes[j, 4, k] * qdk
+        o2 += nmodes[j, 5, k] * qdk
+    b0 = w[1] * u2 - w[2] * u1 + d0
+    b1 = w[2] * u0 - w[0] * u2 + d1
+    b2 = w[0] * u1 - w[1] * u0 + d2
+    for i in range(3):
+        pos[i] = y[c0 + i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
+        vel[i] = y[c0 + 6 + i] + A[i, 0] * b0 + A[i, 1] * b1 + A[i, 2] * b2
     # undeformed radial axis through the node, turned by the node rotation: e + rot × e
     ny = npos[j, 1]
     nz = npos[j, 2]
     nr = math.sqrt(ny * ny + nz * nz)
     ey = ny / nr
     ez = nz / nr
-    bx = rot[1] * ez - rot[2] * ey
-    by_ = ey - rot[0] * ez
-    bz_ = ez + rot[0] * ey
+    bx = r1 * ez - r2 * ey
+    by_ = ey - r0 * ez
+    bz_ = ez + r0 * ey
     bn = math.sqrt(bx * bx + by_ * by_ + bz_ * bz_)
     bx /= bn
     by_ /= bn
@@ -201,12 +238,5 @@ def pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
     for i in range(3):
         axis[i] = A[i, 0] * bx + A[i, 1] * by_ + A[i, 2] * bz_
     # node angular velocity: A (w + Psi_j q')
-    o0 = w[0]
-    o1 = w[1]
-    o2 = w[2]
-    for k in range(n):
-        o0 += nmodes[j, 3, k] * qd[k]
-        o1 += nmodes[j, 4, k] * qd[k]
-        o2 += nmodes[j, 5, k] * qd[k]
     for i in range(3):
         wnode[i] = A[i, 0] * o0 + A[i, 1] * o1 + A[i, 2] * o2

@@ -149,11 +149,11 @@ from multibody.model import (
 from multibody.geometry import cross, race_contact, ring_point_in_plane, ring_velocity_at, ring_velocity_in_plane
 from multibody.profiles import load_at, speed_at
 from multibody.guide_land import guide_land_force
-from multibody.pocket import pocket_curvature_radii, pocket_rolling_resistance, pocket_sliding_resistance
+from multibody.pocket import pocket_curvature_radii, pocket_resistance_coefficients
 from multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from multibody.traction import TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
 from multibody.film import film_thickness as hamrock_dowson_film
-from multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose
+from multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose_arrays
 from multibody.floating_frame import add_node_load
 
 
@@ -398,8 +398,29 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
 
 
 @njit(cache=True)
+def pocket_film_coefficients(p):
+    """(c_R, c_S, r) of the lubricated pocket's rolling and sliding resistances
+    (multibody.pocket.pocket_resistance_coefficients) for the model's ball, pocket and oil:
+    entrainment radius Rb, transverse radius R_xi (pocket.pocket_curvature_radii). Constant for a
+    model; `rhs` evaluates them once per call and hands them to `_pocket_force`."""
+    rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
+    return pocket_resistance_coefficients(reta, rxi, p[P_ETA0])
+
+
+@njit(cache=True)
 def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
                       px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags):
+    """`_pocket_force` with the film coefficients of `pocket_film_coefficients` (one pocket on its
+    own, as the tests and benchmarks call it)."""
+    c_roll, c_slide, c_root = pocket_film_coefficients(p)
+    return _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz, px, py, pz, ax, ay, az, vpx, vpy, vpz,
+                         wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide, c_root)
+
+
+@njit(cache=True)
+def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
+                  px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide,
+                  c_root):
     """Ball–pocket force of one pocket (paper §2.3.1), inertial components.
 
     b ball centre, (px, py, pz) pocket centre, a pocket axis (radial, unit), v_p the velocity of
@@ -465,9 +486,10 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
         # sliding resistance F_S (gap h0 = Cp − s·Z, floored at POCKET_H_MIN, wetted edge at the
         # gap Cp), both along −g on the ball. Entrainment radius Rb (the ball surface runs along
         # the radial pocket axis), transverse radius R_xi (conforming, pocket.pocket_curvature_radii).
+        # With c_R, c_S, r of `pocket_film_coefficients`: F_R = (c_R·g/2)·r, F_S = ((c_S·g)·r)·ln(Cp/h0)
+        # (zero for h0 >= Cp, i.e. on the unloaded side), evaluated as pocket_rolling_resistance and
+        # pocket_sliding_resistance do (bit-identical).
         rb = 0.5 * p[P_DW]
-        eta = p[P_ETA0]
-        rxi, reta = pocket_curvature_radii(rb, p[P_RPOCKET])
         cp_gap = p[P_CP]
         for side in (1.0, -1.0):
             sx, sy, sz = cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
@@ -488,8 +510,8 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
             h0 = cp_gap - side * zz
             if h0 < POCKET_H_MIN:
                 h0 = POCKET_H_MIN
-            f_r = abs(pocket_rolling_resistance(0.5 * g, reta, rxi, eta))
-            f_s = abs(pocket_sliding_resistance(g, h0, cp_gap, reta, rxi, eta))
+            f_r = c_roll * (0.5 * g) * c_root
+            f_s = c_slide * g * c_root * math.log(cp_gap / h0) if cp_gap > h0 else 0.0
             # Coulomb part (option pocket_friction, default 0) on the loaded side only
             f_c = p[P_MUPOCKET] * Q if side > 0.0 else 0.0
             tf = (f_r + f_s + f_c) / g
@@ -596,6 +618,21 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     fo = p[P_FE]
     fi = p[P_FI]
     rho_mix, eta_mix = oil_air_mixture(p[P_OILFRAC], p[P_RHO_OIL], p[P_ETA0])
+    c_roll, c_slide, c_root = pocket_film_coefficients(p)
+    # the scratch rows, the modal coordinates and the node loads, taken once: every array view
+    # costs an atomic reference-count increment and decrement (made per ball they were ~20 % of
+    # a rigid cage's rhs)
+    w_body = scr[1]
+    pos = scr[3]
+    vel = scr[4]
+    axv = scr[5]
+    wn = scr[6]
+    Fc = scr[7]
+    Tn = scr[2]
+    q_modes = y[m0:m0 + cage.stiffness.shape[0]]
+    nl = cage.node_load
+    node_position = cage.node_position
+    node_modes = cage.node_modes
     for j in range(z):
         o = 9 * j
         xb = y[o]
@@ -749,11 +786,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                     rmy += m2 - res[19] * cs + h2
                     rmz += m3 - res[19] * sn + h3
         # ---- pocket j: pose of the pocket's interface node (floating frame + modes)
-        pos = scr[3]
-        vel = scr[4]
-        axv = scr[5]
-        wn = scr[6]
-        pocket_pose(j, y, c0, m0, cage, scr[1], pos, vel, axv, wn)
+        pocket_pose_arrays(j, y, c0, m0, A, node_position, node_modes, w_body, pos, vel, axv, wn)
         ppx = pos[0]
         ppy = pos[1]
         ppz = pos[2]
@@ -768,9 +801,9 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         vbzz = vbr * sn + vbt * cs
         wby = w_r * cs - w_t * sn
         wbz = w_r * sn + w_t * cs
-        pk = _pocket_interface(bx, byy, bzz, vbx, vbyy, vbzz, w_x, wby, wbz,
-                               ppx, ppy, ppz, ax, ay, az, vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
-                               xc, yc, zc, p, flags)
+        pk = _pocket_force(bx, byy, bzz, vbx, vbyy, vbzz, w_x, wby, wbz,
+                           ppx, ppy, ppz, ax, ay, az, vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
+                           xc, yc, zc, p, flags, c_roll, c_slide, c_root)
         pfx, pfy, pfz = pk[0], pk[1], pk[2]
         work[j, W_POCKET_Q] = pk[9]
         work[j, W_POCKET_Z] = pk[10]
@@ -795,18 +828,15 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         wpx = ppx + da_ * ax
         wpy = ppy + da_ * ay
         wpz = ppz + da_ * az
-        Fc = scr[7]
         Fc[0] = -pfx
         Fc[1] = -pfy
         Fc[2] = -pfz
         l1, l2, l3 = cross(da_ * ax, da_ * ay, da_ * az, -pfx, -pfy, -pfz)
         b1, b2, b3 = cross(bx - wpx, byy - wpy, bzz - wpz, pfx, pfy, pfz)
-        Tn = scr[2]
         Tn[0] = l1 - pk[3] - b1
         Tn[1] = l2 - pk[4] - b2
         Tn[2] = l3 - pk[5] - b3
-        add_node_load(A, y[m0:m0 + cage.stiffness.shape[0]], cage.node_position, cage.node_modes, j, Fc, Tn, Qext)
-        nl = cage.node_load
+        add_node_load(A, q_modes, node_position, node_modes, j, Fc, Tn, Qext)
         for i in range(3):
             nl[j, i] = A[0, i] * Fc[0] + A[1, i] * Fc[1] + A[2, i] * Fc[2]
             nl[j, 3 + i] = A[0, i] * Tn[0] + A[1, i] * Tn[1] + A[2, i] * Tn[2]

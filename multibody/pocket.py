@@ -115,6 +115,18 @@ def pocket_rolling_resistance(u_entrain, Rx, Ry, eta0):
 
 
 @njit(cache=True)
+def pocket_resistance_coefficients(Rx, Ry, eta0):
+    """(c_R, c_S, r) with F_R = (c_R·|u|)·r (`pocket_rolling_resistance`) and
+    F_S = ((c_S·du)·r)·ln(h_edge/h0) (`pocket_sliding_resistance`): c_R = 8·C_XP·lambda·(0.131·theta
+    + 1.683)·eta0, c_S = 2·pi·eta0, r = sqrt(Rx·Ry) (products in the order of those functions, so
+    the forces are bit-identical). They depend on the geometry and the oil only, so the dynamics
+    evaluate them once per right-hand side instead of per pocket and side (the atan and sqrt of
+    the factor were ~10 % of a pocket's cost)."""
+    k = Ry / Rx
+    return 8.0 * MARTIN_PRESSURE_CENTRE * _bht_factor(k) * eta0, 2.0 * math.pi * eta0, math.sqrt(Rx * Ry)
+
+
+@njit(cache=True)
 def pocket_sliding_resistance(du, h0, h_edge, Rx, Ry, eta0):
     """Couette sliding force on the ball along du (cage − ball surface speed), N:
     F_S = 2·pi·eta0·du·sqrt(Rx·Ry)·ln(h_edge/h0), h0 the minimum gap, h_edge the wetted edge."""

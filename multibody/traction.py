@@ -330,18 +330,38 @@ def sliced_traction(Q, a, u_rolling, du0, du1, du2, dv, A, B, C, D, n_slices, tr
     ur = abs(u_rolling)
     if ur < 1e-12:
         ur = 1e-12
+    # Evaluated as `traction_coefficient_regularised` per slice, with what does not change from
+    # slice to slice taken out of the loop (equal to round-off): 1/UR, and the slope
+    # mu(s_lin)/s_lin of the linear part (its exp computed once, at the first slice below s_lin,
+    # instead of at every such slice); the slice's force along its slip vector is
+    # Q_m·mu(|s|)/|s|·(du, dv) with one division.
+    inv_ur = 1.0 / ur
+    along = transverse and dv != 0.0
+    lin_slope = -1.0
     tx = 0.0
     ty = 0.0
     mz = 0.0
     for m in range(n_slices):
         qm, _, y, du = _slice(m, n_slices, Q, a, du0, du1, du2)
-        if transverse and dv != 0.0:
+        if along:
             sv = math.sqrt(du * du + dv * dv)
-            mu = traction_coefficient_regularised(sv / ur, A, B, C, D, s_lin)
-            tmx = qm * mu * du / sv
-            ty += qm * mu * dv / sv
         else:
-            tmx = qm * traction_coefficient_regularised(du / ur, A, B, C, D, s_lin)
+            sv = abs(du)
+        x = sv * inv_ur
+        if x >= s_lin:
+            mu = (A + B * x) * math.exp(-C * x) + D
+            if mu < 0.0:
+                mu = 0.0
+        else:
+            if lin_slope < 0.0:
+                lin_slope = traction_coefficient(s_lin, A, B, C, D) / s_lin
+            mu = lin_slope * x
+        if along:
+            f = qm * mu / sv
+            tmx = f * du
+            ty += f * dv
+        else:
+            tmx = qm * mu if du >= 0.0 else -(qm * mu)
         tx += tmx
         mz -= y * tmx
     return tx, ty, mz
