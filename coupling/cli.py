@@ -40,11 +40,24 @@ def version() -> str:
         return "unknown"
 
 
+class _VersionAction(argparse.Action):
+    """--version, the installed version looked up only when asked (importlib.metadata scans the
+    installed distributions: ~15 ms at the start of every command otherwise)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0,
+                         help=help or "show program's version number and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"flexbearing {version()}")      # stdout, as argparse's own version action
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="flexbearing",
         description="Flexible multibody simulation of three-point-contact ball bearings with a flexible cage.")
-    parser.add_argument("--version", action="version", version=f"flexbearing {version()}")
+    parser.add_argument("--version", action=_VersionAction)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for module in COMMAND_MODULES:
         module.register(sub)

@@ -11,11 +11,12 @@ import json
 import sys
 from pathlib import Path
 
-from coupling.report import _fmt, _stat_rows
-from coupling.windows import QUANTITIES, window_title
-
 
 def print_table(rows: list[dict], file=None) -> None:
+    # imported here: every command builds this module's parser, only `report` prints tables
+    # (coupling.report loads the plots and windows modules)
+    from coupling.report import _fmt, _stat_rows
+    from coupling.windows import QUANTITIES, window_title
     file = sys.stdout if file is None else file    # the stream at call time, not at import
     keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
     w = max(len(lab) for lab, _, _ in _stat_rows(keys)) if keys else 10

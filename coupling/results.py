@@ -380,16 +380,23 @@ class _Stats:
     def add(self, a: np.ndarray, t: np.ndarray) -> None:
         a = a.reshape(a.shape[0], -1)
         ok = np.isfinite(a)
-        self.nan += int(a.size - ok.sum())
-        if not ok.any():
+        n_ok = int(np.count_nonzero(ok))
+        self.nan += int(a.size - n_ok)
+        if n_ok == 0:
             return
-        row_max = np.where(ok, a, -np.inf).max(axis=1)
+        if n_ok == a.size:
+            # every entry finite (most outputs): no masked copies. a.ravel() holds the entries in
+            # the order of a[ok], so the sum is the same to the bit
+            row_max, vmin, total = a.max(axis=1), a.min(), a.ravel().sum()
+        else:
+            row_max = np.where(ok, a, -np.inf).max(axis=1)
+            vmin, total = np.where(ok, a, np.inf).min(), a[ok].sum()
         r = int(np.argmax(row_max))
         if row_max[r] > self.vmax:
             self.vmax, self.t_max = float(row_max[r]), float(t[r])
-        self.vmin = min(self.vmin, float(np.where(ok, a, np.inf).min()))
-        self.total += float(a[ok].sum())
-        self.count += int(ok.sum())
+        self.vmin = min(self.vmin, float(vmin))
+        self.total += float(total)
+        self.count += n_ok
 
     def result(self) -> dict:
         c = self.count

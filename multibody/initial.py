@@ -31,6 +31,7 @@ the two agree to 2e-9 on the loads at rest (tests/test_quasi_static.py).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.optimize import root
@@ -113,48 +114,84 @@ def control_contact(model, res) -> int:
     return -1 if c < 0 else (0 if c == 0 else ci)
 
 
-def _ball_forces(model, psi, xb, rb, ring, omega_orbit):
-    """Net in-plane force on a ball (x, r) and the contact results [(Q, ca, sa, nx, nr, x_p, r_p) x 3]."""
+class _Races(NamedTuple):
+    """The model parameters the ball equilibrium reads, as Python floats.
+
+    Why: `_ball_forces` runs ~15,000 times per initial state; arithmetic on Python floats is
+    bit-identical to that on the float64 entries of model.p and several times cheaper than on numpy
+    scalars. cos_fixed is cos(alpha0) with the option hertz_fixed_angle (the Hertz constants at the
+    free contact angle), else None (at each contact's own angle).
+    """
+    dw: float
+    mb: float
+    xo: float
+    ro: float
+    fe: float
+    xil: float
+    ril: float
+    xir: float
+    rir: float
+    fi: float
+    cos_fixed: float | None
+    htab: np.ndarray
+
+
+def _races(model) -> _Races:
+    """The model's `_Races`."""
     p = model.p
-    dw = p[M.P_DW]
+    fixed = math.cos(p[M.P_ALPHA0]) if model.flags[M.F_HERTZ_FIXED] else None
+    return _Races(*(float(p[k]) for k in (M.P_DW, M.P_MB, M.P_XO, M.P_RO, M.P_FE, M.P_XIL, M.P_RIL,
+                                          M.P_XIR, M.P_RIR, M.P_FI)), fixed, model.hertz_table)
+
+
+def _ball_forces(g: _Races, psi, xb, rb, ring, omega_orbit, keep: bool = True):
+    """Net in-plane force on a ball (x, r) (module docstring: sum_c(−Q_c·n_c) + m_b·r·Omega² e_r),
+    the sum of its contact loads, and with `keep` the contact results
+    [(Q, ca, sa, nx, nr, x_p, r_p) x 3] (None without: the Newton's difference quotients need only
+    the forces). Q_c = K(alpha_c)·delta_c^1.5 (Harris & Kotzalas Vol. 1 eq. 6.41)."""
+    dw = g.dw
     fx = 0.0
-    fr = model.p[M.P_MB] * rb * omega_orbit ** 2
-    res = []
+    fr = g.mb * rb * omega_orbit ** 2
+    q_sum = 0.0
+    res = [] if keep else None
     for c in range(3):
         if c == 0:
-            xc, rc, f, kind = p[M.P_XO], p[M.P_RO], p[M.P_FE], 0
+            xc, rc, f, kind = g.xo, g.ro, g.fe, 0
         else:
-            x0 = p[M.P_XIL] if c == 1 else p[M.P_XIR]
-            r0 = p[M.P_RIL] if c == 1 else p[M.P_RIR]
-            xc, rc = ring_point_in_plane(psi, x0, r0, *ring)
-            f, kind = p[M.P_FI], 1
+            if c == 1:
+                xc, rc = ring_point_in_plane(psi, g.xil, g.ril, *ring)
+            else:
+                xc, rc = ring_point_in_plane(psi, g.xir, g.rir, *ring)
+            f, kind = g.fi, 1
         delta, ca, sa = race_contact(xb, rb, xc, rc, f, dw)
         dx, dr = xb - xc, rb - rc
         d = math.hypot(dx, dr)
         nx, nr = dx / d, dr / d
         if delta > 0.0:
-            ca_k = math.cos(p[M.P_ALPHA0]) if model.flags[M.F_HERTZ_FIXED] else ca
-            K = _hertz_lookup(model.hertz_table, kind, ca_k)[0]
+            K = _hertz_lookup(g.htab, kind, ca if g.cos_fixed is None else g.cos_fixed)[0]
             Q = K * delta ** 1.5
         else:
             Q = 0.0
-        rho = 0.5 * dw - 0.5 * max(delta, 0.0)
         fx -= Q * nx
         fr -= Q * nr
-        res.append((Q, ca, sa, nx, nr, xb + rho * nx, rb + rho * nr))
-    return fx, fr, res
+        q_sum += Q
+        if keep:
+            rho = 0.5 * dw - 0.5 * max(delta, 0.0)
+            res.append((Q, ca, sa, nx, nr, xb + rho * nx, rb + rho * nr))
+    return fx, fr, q_sum, res
 
 
-def _solve_ball(model, psi, ring, omega_orbit, x0, r0):
-    """Newton on the 2 ball equilibrium equations; returns (x, r, contacts)."""
+def _solve_ball(g: _Races, psi, ring, omega_orbit, x0, r0):
+    """Newton on the 2 ball equilibrium equations (finite-difference Jacobian, steps limited to
+    20 um); returns (x, r, contacts, converged)."""
     x, r = x0, r0
     h = 1e-9
     for _ in range(60):
-        fx, fr, res = _ball_forces(model, psi, x, r, ring, omega_orbit)
-        if abs(fx) + abs(fr) < 1e-9 * (1.0 + sum(c[0] for c in res)):
-            break
-        fx1, fr1, _ = _ball_forces(model, psi, x + h, r, ring, omega_orbit)
-        fx2, fr2, _ = _ball_forces(model, psi, x, r + h, ring, omega_orbit)
+        fx, fr, q_sum, res = _ball_forces(g, psi, x, r, ring, omega_orbit)
+        if abs(fx) + abs(fr) < 1e-9 * (1.0 + q_sum):
+            return x, r, res, True
+        fx1, fr1, _, _ = _ball_forces(g, psi, x + h, r, ring, omega_orbit, keep=False)
+        fx2, fr2, _, _ = _ball_forces(g, psi, x, r + h, ring, omega_orbit, keep=False)
         J = np.array([[fx1 - fx, fx2 - fx], [fr1 - fr, fr2 - fr]]) / h
         try:
             dx, dr = np.linalg.solve(J, [-fx, -fr])
@@ -165,8 +202,40 @@ def _solve_ball(model, psi, ring, omega_orbit, x0, r0):
         if step > lim:
             dx, dr = dx * lim / step, dr * lim / step
         x, r = x + dx, r + dr
-    fx, fr, res = _ball_forces(model, psi, x, r, ring, omega_orbit)
-    return x, r, res
+    fx, fr, q_sum, res = _ball_forces(g, psi, x, r, ring, omega_orbit)
+    return x, r, res, False
+
+
+def _ring_loads(g: _Races, angles, balls, v, omega_orbit, load, dm):
+    """The 5 ring equations at the ring position v = (x, y, z, tilt_y, tilt_z) (module docstring):
+    each ball solved in its plane (warm-started from and updating `balls`, [[x, r]] per ball), the
+    inner contacts' reactions +Q·n and their moments about the ring centre (p − c) × (Q·n)
+    summed with the load. Returns (residual [N x 3, the moments scaled to forces by the pitch
+    radius], contacts per ball, every ball converged).
+
+    Plain floats throughout, in the order of the former numpy version (np.cross's
+    a1·b2 − a2·b1, ...), so that the result is bit-identical to it.
+    """
+    ring = tuple(float(t) for t in v)
+    vx, vy, vz = ring[:3]
+    Fx, Fy, Fz = load
+    My = Mz = 0.0
+    out = []
+    ok = True
+    for j, (psi, cs, sn) in enumerate(angles):
+        x, r, res, conv = _solve_ball(g, psi, ring, omega_orbit, balls[j][0], balls[j][1])
+        balls[j] = [x, r]
+        ok = ok and conv
+        for c in (1, 2):
+            Q, ca, sa, nx, nr, xp, rp = res[c]
+            gx, gy, gz = Q * nx, Q * nr * cs, Q * nr * sn      # reaction on the ring: +Q n
+            Fx, Fy, Fz = Fx + gx, Fy + gy, Fz + gz
+            lx, ly, lz = xp - vx, rp * cs - vy, rp * sn - vz   # lever from the ring centre
+            My += lz * gx - lx * gz
+            Mz += lx * gy - ly * gx
+        out.append(res)
+    arm = 0.5 * dm
+    return np.array([Fx, Fy, Fz, My / arm, Mz / arm]), out, ok
 
 
 def quasi_static(model, speed_rad_s: float, load, ring_guess=None, omega_orbit: float | None = None) -> dict:
@@ -179,31 +248,16 @@ def quasi_static(model, speed_rad_s: float, load, ring_guess=None, omega_orbit: 
     z = model.n_balls
     dw, dm = p[M.P_DW], p[M.P_DM]
     psi = 2.0 * math.pi * np.arange(z) / z
+    angles = [(float(a), math.cos(a), math.sin(a)) for a in psi]
     load = np.asarray(load, dtype=float)
+    load_f = tuple(float(f) for f in load)
     if omega_orbit is None:
         omega_orbit = nominal_cage_speed(speed_rad_s, dw, dm, p[M.P_ALPHA0])
-    balls = np.tile([0.0, 0.5 * dm], (z, 1))
+    g = _races(model)
+    balls = [[0.0, 0.5 * dm] for _ in range(z)]     # each ball's Newton start: its last solution
 
-    def ring_residual(v, keep=False):
-        ring = tuple(v)
-        F = load.copy()
-        Mm = np.zeros(2)
-        out = []
-        for j in range(z):
-            x, r, res = _solve_ball(model, psi[j], ring, omega_orbit, balls[j, 0], balls[j, 1])
-            balls[j] = (x, r)
-            cs, sn = math.cos(psi[j]), math.sin(psi[j])
-            for c in (1, 2):
-                Q, ca, sa, nx, nr, xp, rp = res[c]
-                g = np.array([Q * nx, Q * nr * cs, Q * nr * sn])  # reaction on the ring: +Q n
-                F += g
-                lever = np.array([xp - v[0], rp * cs - v[1], rp * sn - v[2]])
-                Mm += np.cross(lever, g)[1:]
-            out.append(res)
-        if keep:
-            return out
-        # scale the moments to forces by the pitch radius
-        return np.concatenate([F, Mm / (0.5 * dm)])
+    def ring_residual(v):
+        return _ring_loads(g, angles, balls, v, omega_orbit, load_f, dm)[0]
 
     v0 = np.zeros(5) if ring_guess is None else np.asarray(ring_guess, float)
     # first guess: the ring displaced along the load until the force along it balances (bracketed
@@ -226,6 +280,8 @@ def quasi_static(model, speed_rad_s: float, load, ring_guess=None, omega_orbit: 
                 if f_s * f_lo <= 0.0:
                     for _ in range(60):
                         mid = 0.5 * (lo + s)
+                        if mid == lo or mid == s:
+                            break           # the bracket is two adjacent floats: no solve can narrow it
                         f_m = along(mid)
                         if f_m * f_lo <= 0.0:
                             s = mid
@@ -235,16 +291,18 @@ def quasi_static(model, speed_rad_s: float, load, ring_guess=None, omega_orbit: 
                 lo, f_lo = s, f_s
                 s *= 2.0
             v0[:3] = s * d
-            balls[:] = (0.0, 0.5 * dm)
+            balls[:] = [[0.0, 0.5 * dm] for _ in range(z)]
     scale = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
     sol = root(lambda u: ring_residual(u * scale), v0 / scale, method="hybr", options={"xtol": 1e-12})
     ring = sol.x * scale
-    res = ring_residual(ring, keep=True)
-    resid = ring_residual(ring)
+    resid, res, ok = _ring_loads(g, angles, balls, ring, omega_orbit, load_f, dm)
+    if not ok:
+        # a ball's Newton stopped at its 60 steps: continue it from there once more
+        resid, res, ok = _ring_loads(g, angles, balls, ring, omega_orbit, load_f, dm)
     Q = np.array([[c[0] for c in r] for r in res])
     ang = np.array([[math.atan2(c[2], c[1]) for c in r] for r in res])
-    return {"ring": ring, "ball_x": balls[:, 0].copy(), "ball_r": balls[:, 1].copy(), "psi": psi,
-            "contact_load": Q, "contact_angle": ang, "omega_orbit": omega_orbit,
+    return {"ring": ring, "ball_x": np.array([b[0] for b in balls]), "ball_r": np.array([b[1] for b in balls]),
+            "psi": psi, "contact_load": Q, "contact_angle": ang, "omega_orbit": omega_orbit,
             "residual": resid, "contacts": res, "converged": bool(sol.success)}
 
 

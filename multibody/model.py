@@ -78,6 +78,7 @@ Assumed inputs (not in the paper; options keys, SI):
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -250,6 +251,9 @@ def state_layout(model: Model) -> dict:
                             "omega", "tilt_y_dot", "tilt_z_dot"]}
 
 
+# cached: a run builds its model twice (integration, outputs), each build needs it twice, and one
+# quadrature takes ~15 ms; the cage geometry is a frozen dataclass (hashable, immutable)
+@lru_cache(maxsize=32)
 def cage_mass_properties(cage, n_r: int = 24, n_phi: int = 240, n_x: int = 80) -> tuple[float, float, float]:
     """Mass (kg), polar and diametral moments of inertia (kg·m²) of the cage ring with its pockets.
 

@@ -44,6 +44,22 @@ def test_statistics_skip_nan_and_split_columns(tmp_path):
     assert s["columns"]["inner"]["max"] == 30.0 and s["columns"]["inner"]["non_finite"] == 1
 
 
+
+def test_statistics_all_finite_path_matches_masked_sums():
+    """An all-finite block skips the masked copies (issue 21); its sums are those of the masked
+    path to the bit, for a whole output and for a strided column of it."""
+    from coupling.results import _Stats
+    a = np.random.default_rng(3).standard_normal((700, 20, 3)) * 1e3
+    t = np.arange(700) * 1e-4
+    for block in (a, a[..., 1]):
+        st = _Stats()
+        st.add(block, t)
+        flat = block.reshape(block.shape[0], -1)
+        ok = np.isfinite(flat)
+        assert st.total == float(flat[ok].sum()) and st.count == flat.size
+        assert (st.vmax, st.vmin) == (float(flat.max()), float(flat.min()))
+        assert st.t_max == t[np.argmax(flat.max(axis=1))]
+
 def test_units_and_summary_path():
     assert unit_for("contact_angle_inner_loaded") == "rad"      # not N although it says "load"
     assert unit_for("cage_eccentricity_ratio") == "1"
