@@ -284,6 +284,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     # `written`: the last sample in the file, what an interruption's checkpoint records.
     eval_model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
     written = (y.copy(), t, h, n_steps, n_rejected, fsal(t) if cp is not None else None)
+    failed_tail: list[tuple] = []  # samples a failed integrator call passed (no state to go on from)
     pending: list[tuple] = []      # integrated, not handed over
     inflight: list[tuple] = []     # handed to the writer thread, not known written
 
@@ -340,8 +341,17 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                     k_in += 1
                 if sampled is not None:
                     times = np.array([scene.sample_time(j) for j in range(k, k_in)])
-                    y, _t, h, ns, nr, states, snaps = sampled(model, y, t, t_stop, times, speed_table, load_table,
-                                                               impacts, scene.tolerance, h, **adv_kwargs)
+                    try:
+                        y, _t, h, ns, nr, states, snaps = sampled(model, y, t, t_stop, times, speed_table,
+                                                                   load_table, impacts, scene.tolerance, h,
+                                                                   **adv_kwargs)
+                    except Exception as exc:
+                        # an integration that fails (multibody.integrator.SimulationUnstable) hands over
+                        # the samples it passed before: kept after the checkpoint (below)
+                        part = getattr(exc, "samples", None)
+                        if part is not None:
+                            failed_tail = [(tt, yy, None, None, None, None, sn) for tt, yy, sn in zip(*part)]
+                        raise
                     for j in range(k, k_in):
                         pending.append((times[j - k], states[j - k].copy(), None, None, None, None, snaps[j - k]))
                     k = k_in
@@ -370,21 +380,37 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                 settle()
             except Exception:
                 pass
+            t_last = written[1]
             done = []
             for r in pending:
                 try:
                     done.append((r, sample(r[0], r[1], r[6], eval_model)))
                 except Exception:
                     break
+            after = []                                 # evaluated, after the last state to go on from
             while done and done[-1][0][2] is None:     # up to a state the integrator can go on from
-                done.pop()
+                after.insert(0, done.pop())
             for r, values in done:
                 writer.add_sample(r[0], values)
             if done:
                 written = state_of(done[-1][0])
+                t_last = written[1]
             y_w, t_w, h_w, ns_w, nr_w, dydt_w = written
             writer.checkpoint(y_w, t_w, h_w, ns_w, nr_w, wall_time=wall_before + time.perf_counter() - loop_start,
                               dydt=dydt_w)
+            # what a failed call integrated up to the failure goes after the checkpoint (a resume
+            # truncates it and integrates it again), with every sample since it
+            if failed_tail and len(done) + len(after) == len(pending):
+                for r, values in after:
+                    writer.add_sample(r[0], values)
+                    t_last = r[0]
+                for r in failed_tail:
+                    try:
+                        writer.add_sample(r[0], sample(r[0], r[1], r[6], eval_model))
+                    except Exception:
+                        break
+                    t_last = r[0]
+                writer.write_block()
             writer.set_status(status)
         finally:
             writer.close()
@@ -394,8 +420,9 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
         resumable = not getattr(exc, "repeats_on_resume", False)
         then = ("continue with --resume" if resumable else
                 "resuming would repeat it from the same state: change the scene and start a new run")
-        raise RunInterrupted(f"run {what} at t = {written[1]:.6g} s; {out_path} holds {writer.n_written} "
-                             f"samples and a checkpoint ({then})", written[1], str(out_path),
+        at = f"t = {t_last:.6g} s" + (f" (checkpoint at {written[1]:.6g} s)" if t_last != written[1] else "")
+        raise RunInterrupted(f"run {what} at {at}; {out_path} holds {writer.n_written} "
+                             f"samples and a checkpoint ({then})", t_last, str(out_path),
                              exc, resumable) from exc
     finally:
         sys.setswitchinterval(switch_interval)

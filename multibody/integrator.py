@@ -354,7 +354,13 @@ def advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, 
                                           ws.work, model.scale, model.relmask, ws.K, ws.ytmp, ws.ynew,
                                           int(max_steps), model.cage, mon, ts, Ys, Pk, Ypk, ws.n_out)
     if code != OK:
-        _raise_unstable(model, code, y, ws, t1, h1, speed_table, load_table, impacts)
+        n = int(ws.n_out[0])
+        try:
+            _raise_unstable(model, code, y, ws, t1, h1, speed_table, load_table, impacts)
+        except SimulationUnstable as exc:
+            # the samples passed before the failure, for the run to keep: (times, states, peaks)
+            exc.samples = (ts[:n].copy(), Ys[:n].copy(), [peak_of(Pk[i], Ypk[i]) for i in range(n)])
+            raise
     if ws.n_out[0] != ts.size:          # every sample lies before t_next, which the loop reached
         raise RuntimeError(f"integrator wrote {ws.n_out[0]} of {ts.size} samples")
     ws.fsal_t = t1

@@ -160,10 +160,13 @@ def test_continuous_extension_order_against_the_exact_solution(method, local_ord
 def test_samples_inside_steps_are_as_accurate_as_stopping_at_them():
     """advance_sampled writes the samples from the continuous extension instead of ending a step at
     each (issue 21): 2 ms of the paper's steady rigid case from a settled state at t = 2 ms, 19
-    samples at 0.1 ms, against a tol-1e-11 run stopping at every sample. The RMS error over the
-    state in the integrator's scales (model.scale) of the worst sample is at most 1.3x that of the
-    run stopping at every sample at the same tolerance (measured 1.14x at 1e-4, 0.36x at 1e-5, 1.05x
-    at 1e-6: the error comes from the steps, not from the interpolation), with fewer steps."""
+    samples at 0.1 ms, against a tol-1e-11 run stopping at every sample. Error: the RMS over the
+    state in the integrator's scales (model.scale) of the worst sample. Over seven tolerances 1e-4
+    ... 1e-7 the geometric mean of error(inside steps)/error(stopping) is at most 1.2 (measured
+    0.84: the error comes from the steps, not from the interpolation) and no single ratio exceeds
+    2.5 (measured 0.37-1.86; one tolerance's pair of runs scatters by that much with round-off: a
+    change of the right-hand side at 1e-14 moved the 1e-6 ratio from 1.05 to 1.86); every run
+    inside steps takes fewer steps."""
     from coupling.run import default_backend
     from coupling.scene import load_scene
     from multibody.profiles import load_at, speed_at
@@ -190,9 +193,12 @@ def test_samples_inside_steps_are_as_accurate_as_stopping_at_them():
 
     ref, _ = stopping(1e-11)
     rms = lambda a: float(np.max(np.sqrt(np.mean(((a - ref) / model.scale) ** 2, axis=1))))  # noqa: E731
-    for tol in (1e-5, 1e-6):
+    ratios = []
+    for tol in (1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7):
         a, n_stop = stopping(tol)
         _, _, _, n_in, _, b, _ = I.advance_sampled(model, y.copy(), 2e-3, t_end, times, *tabs, tol, 1e-7,
                                                    I.Workspace(model))
-        assert rms(b) <= 1.3 * rms(a), (tol, rms(b), rms(a))
-        assert n_in < n_stop
+        ratios.append(rms(b) / rms(a))
+        assert n_in < n_stop, tol
+    assert np.exp(np.mean(np.log(ratios))) <= 1.2, ratios
+    assert max(ratios) <= 2.5, ratios

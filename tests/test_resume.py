@@ -324,3 +324,39 @@ def test_sampled_evaluation_failure_keeps_samples_up_to_a_state_to_go_on_from(tm
         assert n == 14 and cp["n_samples"] == n and cp["t"] == f["outputs/time"][-1]
     run_scene(scene, out, resume=True, quiet=True, backend=fake_backend(advance_sampled=fake_advance_sampled))
     assert_same_results(ref, out)
+
+
+def test_sampled_failure_keeps_the_samples_up_to_it_after_the_checkpoint(tmp_path, reference_sampled):
+    """An integrator call that fails (as multibody.integrator.SimulationUnstable does) hands over the
+    samples it passed before the failure (`exc.samples`): the failed run's file holds them after its
+    checkpoint (the last state the integrator stopped at), RunInterrupted.t is the last sample's time,
+    and a resume truncates them and gives the uninterrupted run bit for bit."""
+    ref, _ = reference_sampled
+    out = tmp_path / "run.h5"
+    calls = {"n": 0}
+
+    class Unstable(RuntimeError):
+        repeats_on_resume = True
+
+    def failing(model, y, t, t_next, sample_times, *a, **k):
+        calls["n"] += 1
+        res = fake_advance_sampled(model, y, t, t_next, sample_times, *a, **k)
+        if calls["n"] == 4 and len(sample_times) > 3:      # fails after its third sample
+            exc = Unstable("unstable")
+            exc.samples = (sample_times[:3], res[5][:3], [None] * 3)
+            raise exc
+        return res
+    with pytest.raises(RunInterrupted) as exc:
+        run_scene(fake_scene(), out, quiet=True, backend=fake_backend(advance_sampled=failing))
+    assert not exc.value.resumable
+    ra = read_outputs(ref)
+    with h5py.File(out, "r") as f:
+        t = f["outputs/time"][...]
+        cp = read_checkpoint(f)
+        assert cp["n_samples"] == t.size - 3 and cp["t"] == t[-4]
+        assert exc.value.t == t[-1]
+        n = t.size
+        for name, ds in output_items(f["outputs"]):
+            assert ds[...].tobytes() == ra[name][:n].tobytes(), name     # the kept samples are the run's
+    run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend(advance_sampled=fake_advance_sampled))
+    assert_same_results(ref, out)
