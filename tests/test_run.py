@@ -41,19 +41,26 @@ def _rk4(t, y, h, args):
     return y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 
+_SCALE = np.array([1.0, 1.0, 1e-6, 1e-3])
+
+
+def _doubled_step(t, y, step, args, tol):
+    """One RK4 step against two half steps: (Richardson-extrapolated state, error / tol)."""
+    y1 = _rk4(t, y, step, args)
+    y2 = _rk4(t + step / 2, _rk4(t, y, step / 2, args), step / 2, args)
+    return y2 + (y2 - y1) / 15.0, float(np.max(np.abs(y2 - y1) / (_SCALE + np.abs(y2)))) / 15.0 / tol
+
+
 def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h):
     args = (speed_table, load_table, impacts, np.zeros(3))
     y = np.array(y, dtype=np.float64)
     n = nr = 0
-    scale = np.array([1.0, 1.0, 1e-6, 1e-3])
     while t < t_next:
         last = t_next - t <= h
         step = t_next - t if last else h
-        y1 = _rk4(t, y, step, args)
-        y2 = _rk4(t + step / 2, _rk4(t, y, step / 2, args), step / 2, args)
-        err = float(np.max(np.abs(y2 - y1) / (scale + np.abs(y2)))) / 15.0 / tol
+        y_new, err = _doubled_step(t, y, step, args, tol)
         if err <= 1.0:
-            y = y2 + (y2 - y1) / 15.0
+            y = y_new
             t = t_next if last else t + step
             n += 1
             if not last:
@@ -72,15 +79,11 @@ def fake_advance_sampled(model, y, t, t_next, sample_times, speed_table, load_ta
     y = np.array(y, dtype=np.float64)
     n = nr = i = 0
     states = np.zeros((len(sample_times), y.size))
-    scale = np.array([1.0, 1.0, 1e-6, 1e-3])
     while t < t_next:
         last = t_next - t <= h
         step = t_next - t if last else h
-        y1 = _rk4(t, y, step, args)
-        y2 = _rk4(t + step / 2, _rk4(t, y, step / 2, args), step / 2, args)
-        err = float(np.max(np.abs(y2 - y1) / (scale + np.abs(y2)))) / 15.0 / tol
+        y_new, err = _doubled_step(t, y, step, args, tol)
         if err <= 1.0:
-            y_new = y2 + (y2 - y1) / 15.0
             t_new = t_next if last else t + step
             f0, f1 = _rhs(t, y, *args), _rhs(t_new, y_new, *args)
             while i < len(sample_times) and sample_times[i] <= t_new:
