@@ -320,8 +320,9 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
     progress = RunProgress(scene.duration, t0=t, quiet=quiet, desc=scene.name, n_steps0=n_steps)
     budget = WallBudget(scene.duration, t0=t, n_steps0=n_steps, name=scene.name, max_wall_time=max_wall_time)
     loop_start = time.perf_counter()
-    # The integrating thread takes the GIL back after every compiled call (a sample interval, ~1 ms);
-    # with Python's default switch interval it waits up to 5 ms whenever the writer thread holds it.
+    # The integrating thread takes the GIL back after every compiled call (up to SAMPLES_PER_CALL
+    # samples, ~30 ms; one sample without advance_sampled); with Python's default switch interval it
+    # waits up to 5 ms whenever the writer thread holds it.
     switch_interval = sys.getswitchinterval()
     sys.setswitchinterval(GIL_SWITCH_INTERVAL)
     try:
