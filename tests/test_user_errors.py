@@ -222,7 +222,9 @@ def test_real_ctrl_c_during_setup(tmp_path):
     scene.write_text(TINY)
     out = tmp_path / "tiny.h5"
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    code = ("import sys, time; from coupling import cli; from multibody import initial; "
+    # SIGINT back to Python's handler: a child of a background shell (nohup, CI) inherits it ignored
+    code = ("import signal, sys, time; signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+            "from coupling import cli; from multibody import initial; "
             "solve = initial.initial_state\n"
             "def slow_initial_state(*a, **k):\n"
             "    print('SETUP', flush=True); time.sleep(60); return solve(*a, **k)\n"
