@@ -787,6 +787,18 @@ class TrackingMaxVonMises:
         self._seed = -np.ones(1, dtype=np.int64)
         return self
 
+    N_TABLES = 13             # arrays[:13] are the search's tables (read only); the rest its state
+
+    def with_own_state(self) -> "TrackingMaxVonMises":
+        """A search over the same tables (shared, read only) with its own scratch, references and
+        seed: two threads may each search with one (the references of one search are mutated
+        by every call, so a search is not for two threads at once)."""
+        import copy
+        other = copy.copy(self)
+        other.arrays = self.arrays[:self.N_TABLES] + tuple(a.copy() for a in self.arrays[self.N_TABLES:])
+        other._seed = -np.ones(1, dtype=np.int64)
+        return other
+
     @property
     def A(self) -> np.ndarray:
         """(N, K, 6) rows (L W_n)^T in search order (the node kernel's layout)."""

@@ -250,3 +250,22 @@ def test_flexible_cage_power_balance(paper_reduced_cage):
     assert n == 20                     # 26 kept modes less the 6 rigid ones, which the floating frame carries
     assert np.sum(b["sources"]["cage_damping"]) > 0.0
     assert abs(b["residual"]) < 1e-6 * b["loss"]
+
+
+def test_stress_at_a_state_by_the_search_equals_the_every_vertex_formula(paper_reduced_cage):
+    """StressRecovery.at_state (a sample that no monitored step reached: cage.stress_monitor_interval
+    > 1) by the exact load-space tracking search on its own state, against __call__, the textbook
+    von Mises of S·q_full at every vertex of the paper cage: the same vertex and the value to 1e-9
+    (summation order through the load-space form; measured 1.7e-15 along a run), at random kept
+    modes, pocket and land loads and spins, several in a row (the search's references carried)."""
+    from coupling.flexible_cage import StressRecovery
+    rec = StressRecovery(paper_reduced_cage, 26)
+    rng = np.random.default_rng(3)
+    P = rec.load_modes.shape[0]
+    for _ in range(6):
+        q = rng.normal(size=rec.n_elastic) * 2e-6
+        loads = rng.normal(size=(P, 6)) * np.r_[[200.0] * 3, [2.0] * 3]
+        spin = rng.uniform(500.0, 1500.0)
+        vm, node = rec.at_state(q, loads, spin)
+        ref, ref_node = rec(rec.full_coordinates(q, loads, spin))
+        assert node == ref_node and vm == pytest.approx(ref, rel=1e-9)

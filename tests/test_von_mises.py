@@ -207,3 +207,29 @@ def test_a_saved_search_reads_back_and_finds_the_same_maxima(tmp_path, monkeypat
         assert a[0] == pytest.approx(read.brute_force(y)[0], rel=1e-12)
     monkeypatch.setattr(TrackingMaxVonMises, "FILE_VERSION", TrackingMaxVonMises.FILE_VERSION + 1)
     assert TrackingMaxVonMises.load(f) is None
+
+
+def test_a_search_with_its_own_state_shares_the_tables_and_stays_exact():
+    """TrackingMaxVonMises.with_own_state (coupling.flexible_cage: the writer thread's search beside
+    the compiled monitor's): the tables are the same objects (no copy of the large arrays), the
+    scratch and references are not; two trajectories searched alternately, one on each, with the
+    peak-hold of the run, give bitwise the brute-force maximum at every step on both, and the first
+    search's references are untouched by the second's calls."""
+    S, omega, phi_b, q_cf, coords = _cage_like()
+    _, ev = _search(S, omega, phi_b, q_cf, coords)
+    other = ev.with_own_state()
+    n_tab = TrackingMaxVonMises.N_TABLES
+    assert all(a is b for a, b in zip(ev.arrays[:n_tab], other.arrays[:n_tab]))
+    assert not any(np.shares_memory(a, b) for a, b in zip(ev.arrays[n_tab:], other.arrays[n_tab:]))
+    rng = np.random.default_rng(8)
+    n_el = N_KEEP - 6
+    base = [rng.normal(size=6 * P) * 5.0 for _ in range(2)]
+    for i in range(200):
+        for s, (search, b) in enumerate(zip((ev, other), base)):
+            y = np.r_[(400 + 10.0 * i + 50 * s) ** 2, rng.normal(size=n_el) * 1e-6,
+                      b * (1 + 0.1 * np.sin(0.05 * i)) + rng.normal(size=6 * P) * 0.2]
+            before = [a.copy() for a in (ev if s else other).arrays[n_tab:]]
+            v, row = search.row(y)
+            assert row >= 0 and v == brute_force_max_sq(search.A, y)[0]
+            after = (ev if s else other).arrays[n_tab:]
+            assert all(np.array_equal(x, z, equal_nan=True) for x, z in zip(before, after))
