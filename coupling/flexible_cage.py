@@ -267,8 +267,7 @@ class StressRecovery:
         shared one in the integrating thread while the writer thread evaluates samples). ~0.1 ms
         against ~13 ms for `__call__`'s every-vertex formula: what a sample that no monitored step
         reached costs (`cage.stress_monitor_interval` > 1)."""
-        vm, node = self._own(self.load_vector(q_kept, node_load, spin))
-        return vm, node
+        return self._own(self.load_vector(q_kept, node_load, spin))
 
     def monitor(self, cage_offset: int, modes_offset: int, trace: int = 0, interval: int = 1) -> tuple:
         """The compiled peak-hold (multibody.stress_peak), evaluated every `interval`-th accepted step."""

@@ -290,8 +290,20 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
 
     # A record: (t, y, h, n_steps, n_rejected, dydt, snapshot); h is None for a sample the integrator
     # passed inside a step (not a state it can go on from, so no checkpoint is written there).
+    def stopped_at(t) -> tuple:
+        """The record of the state the integrator stopped at (a state to go on from)."""
+        return (t, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
+                take_snapshot(model) if take_snapshot is not None else None)
+
+    def passed(t, y_s, snapshot) -> tuple:
+        """The record of a sample the integrator passed inside a step."""
+        return (t, y_s, None, None, None, None, snapshot)
+
+    def values_of(r) -> dict:
+        return sample(r[0], r[1], r[6], eval_model)
+
     def evaluate(batch) -> list[tuple]:
-        return [(r[0], sample(r[0], r[1], r[6], eval_model)) for r in batch]
+        return [(r[0], values_of(r)) for r in batch]
 
     def state_of(r) -> tuple:
         return (r[1], r[0], r[2], r[3], r[4], r[5])
@@ -331,8 +343,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
             k_end = min(n_total - 1, _next_multiple(k, per_call) - 1, _next_multiple(k, every) - 1)
             t_target = scene.sample_time(k_end)
             if k == 0:                                 # the initial state (t = 0)
-                pending.append((t, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
-                                take_snapshot(model) if take_snapshot is not None else None))
+                pending.append(stopped_at(t))
                 k = 1
             while t < t_target:
                 i = int(np.searchsorted(bps, t, side="right"))
@@ -351,10 +362,10 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                         # the samples it passed before: kept after the checkpoint (below)
                         part = getattr(exc, "samples", None)
                         if part is not None:
-                            failed_tail = [(tt, yy, None, None, None, None, sn) for tt, yy, sn in zip(*part)]
+                            failed_tail = [passed(*r) for r in zip(*part)]
                         raise
                     for j in range(k, k_in):
-                        pending.append((times[j - k], states[j - k].copy(), None, None, None, None, snaps[j - k]))
+                        pending.append(passed(times[j - k], states[j - k].copy(), snaps[j - k]))
                     k = k_in
                 else:
                     y, _t, h, ns, nr = backend.advance(model, y, t, t_stop, speed_table, load_table, impacts,
@@ -363,8 +374,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                 n_steps += int(ns)
                 n_rejected += int(nr)
                 if k < n_total and scene.sample_time(k) == t:   # a sample at a breakpoint, or the call's last
-                    pending.append((t, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
-                                    take_snapshot(model) if take_snapshot is not None else None))
+                    pending.append(stopped_at(t))
                     k += 1
             if k % every == 0 or k == n_total:
                 hand_over(wall_before + time.perf_counter() - loop_start)
@@ -385,7 +395,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
             done = []
             for r in pending:
                 try:
-                    done.append((r, sample(r[0], r[1], r[6], eval_model)))
+                    done.append((r, values_of(r)))
                 except Exception:
                     break
             after = []                                 # evaluated, after the last state to go on from
@@ -407,7 +417,7 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                     t_last = r[0]
                 for r in failed_tail:
                     try:
-                        writer.add_sample(r[0], sample(r[0], r[1], r[6], eval_model))
+                        writer.add_sample(r[0], values_of(r))
                     except Exception:
                         break
                     t_last = r[0]

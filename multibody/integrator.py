@@ -58,7 +58,7 @@ from numba import njit
 from multibody import dynamics as D
 from multibody import outputs as O
 from multibody import model as M
-from multibody.stress_peak import disabled_monitor, peak_of, stress_peak_step
+from multibody.stress_peak import disabled_monitor, peak_of, stress_peak_step, take_peak
 
 DEFAULT_TOL = 1e-6
 H_MIN = 1e-12
@@ -175,7 +175,7 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
             # and K[0] are overwritten); a sample's stress peak ends before this step's state
             while i_s < n_ts and ts[i_s] < t_new:
                 _dense_state((ts[i_s] - t) / h, h, y, ytmp, K, order, Ys[i_s])
-                _take_peak(peak, y_peak, Pk[i_s], Ypk[i_s])
+                take_peak(peak, y_peak, Pk[i_s], Ypk[i_s])
                 i_s += 1
             for q in range(n):
                 y[q] = ytmp[q]
@@ -187,7 +187,7 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
             while i_s < n_ts and ts[i_s] <= t:        # a sample exactly at this step's end
                 for q in range(n):
                     Ys[i_s, q] = y[q]
-                _take_peak(peak, y_peak, Pk[i_s], Ypk[i_s])
+                take_peak(peak, y_peak, Pk[i_s], Ypk[i_s])
                 i_s += 1
             n_out[0] = i_s
             if work[zb, 10] != 0.0:
@@ -257,20 +257,6 @@ def _dense_state(theta, h, y0, y1, K, order, out):
             out[q] = (y0[q] + theta * d
                       + theta * (theta - 1.0) * ((1.0 - 2.0 * theta) * d + (theta - 1.0) * h * K[0, q]
                                                  + theta * h * K[s - 1, q]))
-
-
-@njit(cache=True, nogil=True)
-def _take_peak(peak, y_peak, peak_out, y_peak_out):
-    """Copy the stress monitor's peak since the previous sample out (multibody.stress_peak:
-    peak (4,), y_peak (K,)) and empty it: the next sample's peak starts here."""
-    for i in range(peak_out.shape[0]):
-        peak_out[i] = peak[i]
-    for i in range(y_peak_out.shape[0]):
-        y_peak_out[i] = y_peak[i]
-    peak[0] = -1.0
-    peak[1] = -1.0
-    peak[2] = np.nan
-    peak[3] = 0.0
 
 
 D_rhs = D.rhs

@@ -55,6 +55,7 @@ from fem_cage.von_mises import empty_tracking_arrays, tracking_max_sq
 from multibody.dynamics import cage_body_angular_velocity, cage_rotation
 
 PEAK_VM_SQ, PEAK_ROW, PEAK_T, PEAK_N = 0, 1, 2, 3
+EMPTY_PEAK = (-1.0, -1.0, np.nan, 0.0)   # no step since the last reset (vm^2 < 0)
 IDX_INTERVAL, IDX_COUNT = 4, 5
 MAX_INTERVAL = 10_000        # accepted steps (the paper's 0.6 s runs take ~80,000 steps)
 
@@ -119,7 +120,7 @@ def new_monitor(search_arrays: tuple, n_load_points: int, cage_offset: int, mode
     idx = np.array([cage_offset, modes_offset, n_integrated, n_load_points, int(interval), 0],
                    dtype=np.int64)
     return (np.ones(1, dtype=np.int64), search_arrays, idx, np.zeros(K),
-            np.array([-1.0, -1.0, np.nan, 0.0]), np.zeros(K), np.zeros(3),
+            np.array(EMPTY_PEAK), np.zeros(K), np.zeros(3),
             -np.ones(1, dtype=np.int64), np.zeros((int(trace), K + 1)), np.zeros(1, dtype=np.int64))
 
 
@@ -127,13 +128,26 @@ def disabled_monitor() -> tuple:
     """A monitor with the same numba types that does nothing (rigid cage, no stress recorded)."""
     f1 = np.zeros(1)
     return (np.zeros(1, dtype=np.int64), empty_tracking_arrays(), np.zeros(6, dtype=np.int64), f1,
-            np.array([-1.0, -1.0, np.nan, 0.0]), f1, np.zeros(3), -np.ones(1, dtype=np.int64),
+            np.array(EMPTY_PEAK), f1, np.zeros(3), -np.ones(1, dtype=np.int64),
             np.zeros((0, 2)), np.zeros(1, dtype=np.int64))
 
 
 def reset(mon) -> None:
     """Empty the peak (start of a sample interval)."""
-    mon[4][:] = (-1.0, -1.0, np.nan, 0.0)
+    mon[4][:] = EMPTY_PEAK
+
+
+@njit(cache=True, nogil=True)
+def take_peak(peak, y_peak, peak_out, y_peak_out):
+    """Copy the peak since the previous sample (peak (4,), its y (K,)) out and empty it: the next
+    sample's peak starts here (the compiled loop of multibody.integrator, at a sample inside a
+    step; `reset` is the same emptying from Python)."""
+    for i in range(peak_out.shape[0]):
+        peak_out[i] = peak[i]
+    for i in range(y_peak_out.shape[0]):
+        y_peak_out[i] = y_peak[i]
+    for i in range(peak.shape[0]):
+        peak[i] = EMPTY_PEAK[i]
 
 
 def peak(mon):
