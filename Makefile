@@ -16,7 +16,7 @@ SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 # Debian 12 packages: the FE stack and the scientific Python stack. Never pip-installed.
 # calculix-ccx is a verification tool, not a runtime need: the independent FE check of the cage's
-# stress and frequencies (fem_cage/calculix_check.py, the slow tests of `make test-all`,
+# stress and frequencies (flexbearing/verification/calculix_check.py, the slow tests of `make test-all`,
 # benchmarks/calculix_check.py) runs CalculiX on the project's own mesh.
 APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy python3-scipy \
     python3-numba python3-h5py python3-matplotlib python3-tqdm python3-dask python3-distributed \

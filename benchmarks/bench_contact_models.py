@@ -9,9 +9,9 @@ import time
 import numpy as np
 from numba import njit
 
-from multibody.film import film_thickness
-from multibody.hertz import hertz_exact, hertz_point_contact, hertz_point_contact_hb
-from multibody.traction import sliced_traction, traction_coefficients
+from flexbearing.multibody.film import film_thickness
+from flexbearing.multibody.hertz import hertz_exact, hertz_point_contact, hertz_point_contact_hb
+from flexbearing.multibody.traction import sliced_traction, traction_coefficients
 
 RHO = np.geomspace(1.0, 100.0, 64)
 

@@ -1,9 +1,9 @@
 """Frequency response of the paper cage to a harmonic pocket force: full FE vs the reduced cage.
 
-Builds (and caches) the reduced cage of mesh.cage_geometry.PAPER_CAGE at the default mesh
+Builds (and caches) the reduced cage of flexbearing.mesh.cage_geometry.PAPER_CAGE at the default mesh
 (P3, 5 mm, RBE3, 30 fixed-interface modes, centrifugal vector: schema v3), then compares the
 elastic (mean-axis) displacement of the loaded pocket's interface node under unit
-circumferential, radial and axial pocket forces (fem_cage.frequency_response.compare):
+circumferential, radial and axial pocket forces (flexbearing.verification.frequency_response.compare):
 full FE direct solve (K - w^2 M) u = C_l^T F per frequency (undamped, beta = 0: real LU; the
 grid keeps +-2 % away from every natural frequency of both models) vs the reduced cage with
 (a) 26 modes, (b) 26 modes + residual static correction of the others, (c) all modes dynamic.
@@ -23,7 +23,7 @@ import json
 import time
 from pathlib import Path
 
-from fem_cage.reduced_cage import DEFAULT_N_KEEP
+from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP
 
 RESULTS = Path(__file__).parent / "results" / "frf_paper.json"
 
@@ -43,16 +43,16 @@ def main(argv=None):
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
     from tqdm import tqdm
-    from mesh.cage_geometry import PAPER_CAGE
-    import mesh.cage_mesh as cm
-    from fem_cage.reduction import build
-    from fem_cage.frequency_response import compare, frequency_grid
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    import flexbearing.mesh.cage_mesh as cm
+    from flexbearing.fem_cage.reduction import build
+    from flexbearing.verification.frequency_response import compare, frequency_grid
     t0 = time.perf_counter()
     path, red, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
                          "rbe3", args.n_fixed, quiet=args.quiet, checks=False, degree=cm.DEFAULT_DEGREE)
     t_build = time.perf_counter() - t0
-    from fem_cage.modes import free_free_modes
-    from fem_cage.craig_bampton import scipy_to_petsc
+    from flexbearing.fem_cage.modes import free_free_modes
+    from flexbearing.fem_cage.craig_bampton import scipy_to_petsc
     t0 = time.perf_counter()
     f_all, _ = free_free_modes(scipy_to_petsc(red["K"]), scipy_to_petsc(red["M"]), 6 + 12)
     t_modes = time.perf_counter() - t0

@@ -26,11 +26,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
-from multibody.model import build_model  # noqa: E402
-from multibody.initial import initial_state  # noqa: E402
-from multibody import outputs as O  # noqa: E402
-from multibody import integrator as I  # noqa: E402
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
+from flexbearing.multibody.model import build_model  # noqa: E402
+from flexbearing.multibody.initial import initial_state  # noqa: E402
+from flexbearing.multibody import outputs as O  # noqa: E402
+from flexbearing.multibody import integrator as I  # noqa: E402
 
 
 def main(argv=None):

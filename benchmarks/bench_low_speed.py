@@ -1,8 +1,8 @@
 """Integrator steps of 5 ms at constant low speeds against the 14,000 rpm run (issue 21, item 3).
 
 The paper bearing and loads (Fa 55 kN, Fr 4 kN, rigid cage, oil and model defaults, tolerance
-1e-6), started from multibody.initial at each constant inner-ring speed and integrated for
-`--duration` (5 ms) with the run's integrator (multibody.integrator.advance, sample by sample at
+1e-6), started from flexbearing.multibody.initial at each constant inner-ring speed and integrated for
+`--duration` (5 ms) with the run's integrator (flexbearing.multibody.integrator.advance, sample by sample at
 1e-4 s). Reported per speed: accepted and rejected steps, CPU time of the integration
 (time.process_time), mean step, and the ratio of steps to the 14,000 rpm run. The issue's target:
 0–500 rpm within 10x the steps of 14,000 rpm. The code under test is the one on PYTHONPATH, so the
@@ -25,10 +25,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, os.environ.get("PYTHONPATH", "").split(os.pathsep)[0] or str(ROOT))
 
-from multibody import integrator as I  # noqa: E402
-from multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
-from multibody.initial import initial_state  # noqa: E402
-from multibody.model import build_model  # noqa: E402
+from flexbearing.multibody import integrator as I  # noqa: E402
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
+from flexbearing.multibody.initial import initial_state  # noqa: E402
+from flexbearing.multibody.model import build_model  # noqa: E402
 
 FA, FR = 55e3, 4e3
 

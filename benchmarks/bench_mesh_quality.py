@@ -1,9 +1,9 @@
 """Curved-element quality of every cage preset at every mesh size the project uses, before and
-after the repair (mesh.quality, mesh.cage_mesh._validate_and_repair), and what gmsh's own
+after the repair (flexbearing.mesh.quality, flexbearing.mesh.cage_mesh._validate_and_repair), and what gmsh's own
 high-order optimisers do with the paper cage's default-size mesh.
 
-Sizes: the mesh study's levels (fem_cage.mesh_study.DEFAULT_STUDY), the calibration mesh
-(fem_cage.calibrate.CALIBRATION_MESH), the default, and the former 5 mm default. For each: cells,
+Sizes: the mesh study's levels (flexbearing.fem_cage.mesh_study.DEFAULT_STUDY), the calibration mesh
+(flexbearing.fem_cage.calibrate.CALIBRATION_MESH), the default, and the former 5 mm default. For each: cells,
 inverted cells (det J <= 0 at a node, lattice or quadrature point), cells below the Jacobian-ratio
 bound, the worst ratio and scaled Jacobian, as gmsh curves them and after the repair, the cells
 the repair flattened and how far it moved nodes off the surface.
@@ -27,9 +27,9 @@ RESULTS = Path(__file__).parent / "results"
 
 
 def levels(quick: bool):
-    from fem_cage.calibrate import CALIBRATION_MESH
-    from fem_cage.mesh_study import DEFAULT_STUDY
-    from mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER
+    from flexbearing.fem_cage.calibrate import CALIBRATION_MESH
+    from flexbearing.fem_cage.mesh_study import DEFAULT_STUDY
+    from flexbearing.mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER
     lv = {(s * 1e-3, p * 1e-3, o) for s, p, o, _ in DEFAULT_STUDY}
     lv |= {tuple(CALIBRATION_MESH[:3]), (DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER),
            (5e-3, 5e-3, 2)}
@@ -41,9 +41,9 @@ def gmsh_optimisers(work: Path) -> list[dict]:
     """The paper cage at 5 mm as gmsh curves it, then each of gmsh's high-order optimisers, run in
     the meshing session (with the CAD model, as gmsh needs to move nodes along the surfaces)."""
     import gmsh
-    from mesh import quality as Q
-    from mesh.cage_geometry import PAPER_CAGE
-    from mesh.cage_mesh import _build_model
+    from flexbearing.mesh import quality as Q
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh.cage_mesh import _build_model
     rows = []
     for method in ("HighOrder", "HighOrderElastic", "HighOrderFastCurving"):
         gmsh.initialize()
@@ -72,9 +72,9 @@ def main(argv=None):
     ap.add_argument("--optimisers-only", action="store_true",
                     help="only redo gmsh's optimisers, keep the levels of the last full run")
     args = ap.parse_args(argv)
-    from mesh.cage_geometry import PAPER_CAGE, CALIBRATED_CAGE, TABLE8_EQUIVALENT_CAGE
-    from mesh.cage_mesh import build_cage_mesh, mesh_quality_of
-    from mesh import quality as Q
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE, CALIBRATED_CAGE, TABLE8_EQUIVALENT_CAGE
+    from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+    from flexbearing.mesh import quality as Q
     presets = {"paper": PAPER_CAGE, "calibrated": CALIBRATED_CAGE, "table8": TABLE8_EQUIVALENT_CAGE}
     rows = []
     t0 = time.perf_counter()
@@ -100,8 +100,8 @@ def main(argv=None):
                       f"{before['min_jacobian_ratio']:+.3f} -> {after['min_jacobian_ratio']:+.3f}", flush=True)
         opt = gmsh_optimisers(work)
     L = ["# Curved-element quality of the cage meshes, before and after the repair", "",
-         "`.venv/bin/python benchmarks/bench_mesh_quality.py` (mesh.quality; the repair in "
-         "mesh.cage_mesh._validate_and_repair). Inverted: det J <= 0 somewhere (nodes, cubic lattice, "
+         "`.venv/bin/python benchmarks/bench_mesh_quality.py` (flexbearing.mesh.quality; the repair in "
+         "flexbearing.mesh.cage_mesh._validate_and_repair). Inverted: det J <= 0 somewhere (nodes, cubic lattice, "
          "P3 quadrature points; the Bernstein lower bound agrees). Ratio: min det J / |det J(centroid)|, "
          f"bound {Q.MIN_JACOBIAN_RATIO:g} (measured in cage_stress_convergence.md). Scaled Jacobian: of the "
          "straight corner tetrahedron (shape; the repair does not change it). 'After' is read back from "

@@ -1,6 +1,6 @@
 """Benchmark: mesh convergence of the cage's free-free modes (frequency vs dofs vs time).
 
-Runs `flexbearing mesh-study` (fem_cage/mesh_study.py: curved P3 and P2 families, one linear
+Runs `flexbearing mesh-study` (flexbearing/fem_cage/mesh_study.py: curved P3 and P2 families, one linear
 P1 and one straight-sided P2 level; Richardson extrapolation) and copies the CSV/JSON/PNG to
 benchmarks/results/modes_mesh_study.*. Takes ~10-20 min on the shared 2-core box.
 Usage: .venv/bin/python benchmarks/bench_mesh_study.py [--preset paper|nominal]

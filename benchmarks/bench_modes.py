@@ -44,10 +44,10 @@ def main():
     ap.add_argument("--no-mpi", action="store_true")
     args = ap.parse_args()
     sys.path.insert(0, str(ROOT))
-    from mesh.cage_geometry import CALIBRATED_CAGE
-    from mesh.cage_mesh import (cached_cage_mesh, DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER,
+    from flexbearing.mesh.cage_geometry import CALIBRATED_CAGE
+    from flexbearing.mesh.cage_mesh import (cached_cage_mesh, DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER,
                                 DEFAULT_DEGREE)
-    from fem_cage.modes import PAPER_TABLE8_HZ
+    from flexbearing.fem_cage.modes import PAPER_TABLE8_HZ
     import numpy as np
 
     RESULTS.mkdir(parents=True, exist_ok=True)

@@ -1,8 +1,8 @@
-"""Work–precision of the quasi-static solver (multibody.quasi_static) on the paper's steady case.
+"""Work–precision of the quasi-static solver (flexbearing.multibody.quasi_static) on the paper's steady case.
 
 14,000 rpm, Fa = 55 kN (+X), Fr = 4 kN (−Z), paper bearing (Pd = 0, assumed alphaD = 30°), free tilts.
 For each ring tolerance: wall time and the error of the maximum outer/inner contact loads and
-contact angles against a tol = 1e-12 solution. Then the bearing stiffness (multibody.quasi_static.
+contact angles against a tol = 1e-12 solution. Then the bearing stiffness (flexbearing.multibody.quasi_static.
 bearing_stiffness, kinematics updated) against its difference step: wall time and the error of
 the diagonal against a Richardson extrapolation of steps 1e-7/5e-8 m (1e-6/5e-7 rad). Also prints
 the paper-case table (MPa, degrees).
@@ -15,8 +15,8 @@ import time
 
 import numpy as np
 
-from multibody import quasi_static as qs
-from multibody.bearing import PAPER_BEARING
+from flexbearing.multibody import quasi_static as qs
+from flexbearing.multibody.bearing import PAPER_BEARING
 
 
 def run(tol, control="outer", **kw):
@@ -61,11 +61,11 @@ def main():
 
 
 def sweep():
-    """The profile of scenes/paper_unsteady_rigid.toml at 61 instants (coupling.quasi_static_scene.sweep_scene): each
+    """The profile of scenes/paper_unsteady_rigid.toml at 61 instants (flexbearing.simulation.quasi_static_scene.sweep_scene): each
     solve warm-started from the previous one, against cold solves; the largest difference of the
     contact loads (relative to the largest load) between the two."""
-    from coupling.scene import load_scene
-    from coupling.quasi_static_scene import solve_scene, sweep_scene
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.simulation.quasi_static_scene import solve_scene, sweep_scene
     scene = load_scene("scenes/paper_unsteady_rigid.toml")
     times = np.linspace(0.0, 0.6, 61)
     t = time.perf_counter()

@@ -1,8 +1,8 @@
 """Reduction of the paper cage: wall time of each stage and the verification numbers.
 
 For each (coupling, n_fixed) asked (default: rbe3 with 30 fixed-interface modes, the
-`flexbearing reduce` default), builds the reduced cage of mesh.cage_geometry.PAPER_CAGE at the
-default mesh and runs every check of fem_cage.reduction_check.run_checks: static exactness (full basis
+`flexbearing reduce` default), builds the reduced cage of flexbearing.mesh.cage_geometry.PAPER_CAGE at the
+default mesh and runs every check of flexbearing.fem_cage.reduction_check.run_checks: static exactness (full basis
 and 26-mode truncation), stress recovery, first 10 elastic free–free frequencies vs the full
 model, mass properties vs direct integration, max-von-Mises evaluator vs brute force and its cost,
 the free–free static centrifugal and land (guide-surface) load responses vs the full FE.
@@ -32,9 +32,9 @@ def main(argv=None):
                     help="no land-load and no inertia-relief vectors in the basis")
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
-    from mesh.cage_geometry import PAPER_CAGE
-    import mesh.cage_mesh as cm
-    from fem_cage.reduction import build
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    import flexbearing.mesh.cage_mesh as cm
+    from flexbearing.fem_cage.reduction import build
     old = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
     for coupling in args.coupling:
         for n_fixed in args.n_fixed:

@@ -3,7 +3,7 @@
 Input: a complete run of the paper's steady flexible-cage scene (scenes/paper_steady.toml: 0.6 s,
 6,001 samples, every output incl. von Mises and the full modal coordinates; `--run FILE`, else it
 is made with `flexbearing run`, ~4 min). Its outputs are written again through
-coupling.results.ResultsWriter exactly as a run writes them (one sample at a time with
+flexbearing.simulation.results.ResultsWriter exactly as a run writes them (one sample at a time with
 add_sample, a block written and the file flushed every `checkpoint_every` samples), once per
 filter setting, the settings interleaved over `--repeat` rounds; CPU time (process_time) of the
 writing and of reading every output back (what a report does), and the file's size. Each
@@ -28,7 +28,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from coupling import results as RS
+from flexbearing.simulation import results as RS
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
@@ -42,7 +42,7 @@ SETTINGS = {
 
 def rewrite(src: Path, dst: Path, setting: dict, every: int) -> float:
     """Write src's outputs to dst through ResultsWriter with `setting`; CPU seconds of the writing."""
-    from coupling.results import scene_of_run
+    from flexbearing.simulation.results import scene_of_run
     with h5py.File(src, "r") as f:
         scene = scene_of_run(f)
         names = [k for k, _ in RS.output_items(f["outputs"])]
@@ -128,7 +128,7 @@ def main(argv=None) -> int:
     lines = ["# Results file: chunk compression", "",
              f"`{result['command']}` on a complete run of scenes/paper_steady.toml ({n} samples, "
              f"{raw / 1e6:.1f} MB of float64 outputs), its outputs written again through "
-             f"coupling.results.ResultsWriter as a run writes them (a block every {every} samples). "
+             f"flexbearing.simulation.results.ResultsWriter as a run writes them (a block every {every} samples). "
              f"CPU times (process_time, median of {a.repeat} interleaved rounds; load average "
              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs). Chunks: {RS.chunk_rows(every)} samples (a checkpoint interval).", "",
              "| filters | size MB | × of none | write CPU s | read-all CPU s |", "|---|---:|---:|---:|---:|"]
@@ -137,14 +137,14 @@ def main(argv=None) -> int:
                      f"{r['size_bytes'] / base['size_bytes']:.2f} | {r['write_cpu_median_s']:.2f} | "
                      f"{r['read_cpu_median_s']:.2f} |")
     c, g4 = rows[chosen], rows["gzip4+shuffle"]
-    lines += ["", f"Chosen: {chosen} (coupling.results.COMPRESSION): {c['size_bytes'] / base['size_bytes']:.2f} of the "
+    lines += ["", f"Chosen: {chosen} (flexbearing.simulation.results.COMPRESSION): {c['size_bytes'] / base['size_bytes']:.2f} of the "
               f"uncompressed size for {c['write_cpu_median_s'] - base['write_cpu_median_s']:.2f} s more CPU over the "
               f"whole run's writing and {c['read_cpu_median_s'] - base['read_cpu_median_s']:.2f} s more to read every "
               f"output back; level 4 saves another {(c['size_bytes'] - g4['size_bytes']) / 1e6:.1f} MB for "
               f"{g4['write_cpu_median_s'] - c['write_cpu_median_s']:.2f} s more CPU, and without the byte shuffle "
               f"the file is larger. Deflate is the filter every HDF5 and netCDF-4 reader has (lzf or blosc "
               f"would need a plugin outside h5py). A run does this writing in a writer thread beside "
-              f"the integration (coupling.results.ResultsWriter.checkpoint_in_background), on the "
+              f"the integration (flexbearing.simulation.results.ResultsWriter.checkpoint_in_background), on the "
               f"second core of a 2-core machine.", ""]
     lines += ["## xarray readback of the chosen file", "",
               "`xarray.open_dataset(FILE, group=\"outputs\")` (default engine): dimensions "

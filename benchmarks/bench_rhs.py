@@ -1,6 +1,6 @@
-"""Cost of one right-hand side evaluation (multibody.dynamics.rhs) at a settled state of a scene.
+"""Cost of one right-hand side evaluation (flexbearing.multibody.dynamics.rhs) at a settled state of a scene.
 
-The scene's model (rigid or flexible cage, coupling.run.default_backend) is integrated 2 ms from its
+The scene's model (rigid or flexible cage, flexbearing.simulation.run.default_backend) is integrated 2 ms from its
 initial state, then `rhs` is evaluated N times in a compiled loop (no Python dispatch per call);
 the best of 5 repetitions of CPU time per evaluation is printed. The code measured is the one on
 PYTHONPATH (a checkout of another commit for an A/B; alternate the two, the machine's load moves
@@ -22,9 +22,9 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     sys.path.insert(0, os.environ.get("PYTHONPATH", "").split(os.pathsep)[0] or ROOT)
     from numba import njit
-    from coupling.scene import load_scene
-    from coupling import run as R
-    from multibody import dynamics as D, integrator as I
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.simulation import run as R
+    from flexbearing.multibody import dynamics as D, integrator as I
     sc = load_scene(argv[0])
     N = int(argv[1]) if len(argv) > 1 else 2000
     be = R.default_backend(sc)

@@ -1,4 +1,4 @@
-"""Force and torque budgets of the steady slip-rate cases (paper Table 5; coupling.validate).
+"""Force and torque budgets of the steady slip-rate cases (paper Table 5; flexbearing.studies.validate).
 
 For one case: run the dynamic model (rigid cage) for `--t-run` s from the quasi-static start, then
 average the recorded quantities over `--window` s (1 ms samples) and print what drives and what
@@ -6,7 +6,7 @@ brakes the balls and the cage:
 
 * per contact (outer, loaded inner half): load Q, contact angle, p0, entrainment speed UR, slide
   ratio s = du/UR, rolling-direction traction T (on the ball, N) and T/Q, and the traction fit's
-  plateau D and curve maximum at that load and speed (multibody.traction);
+  plateau D and curve maximum at that load and speed (flexbearing.multibody.traction);
 * per ball: churning drag, tangential pocket force, ball spin components in the orbiting frame;
 * cage: land (Petroff) torque, pocket torque sum_j r·F_t, cage speed, nm, slip.
 
@@ -22,13 +22,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from coupling import validate as V
-from multibody import dynamics as D
-from multibody import outputs as O
-from multibody import integrator as I
-from multibody import model as M
-from multibody.initial import initial_state
-from multibody.traction import traction_coefficients_table, traction_curve_maximum
+from flexbearing.studies import validate as V
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody import integrator as I
+from flexbearing.multibody import model as M
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.traction import traction_coefficients_table, traction_curve_maximum
 
 
 def case_budget(case_no: int, t_run: float = 0.6, window: float = 0.05, oil_temperature_c=None,
@@ -86,11 +86,11 @@ def case_budget(case_no: int, t_run: float = 0.6, window: float = 0.05, oil_temp
 
 
 def static_tables(oil_temperature_c: float = 120.0) -> str:
-    """Quasi-static start of every case (multibody.initial): mean outer / loaded-inner contact load,
+    """Quasi-static start of every case (flexbearing.multibody.initial): mean outer / loaded-inner contact load,
     angle, p0 and entrainment speed, the 4106 fit's plateau D and curve maximum at those contacts
     (the paper's fit, eta0 at 20 °C, T0 = oil temperature), and the slip of the pure-rolling cage
     speed for the same angles with a free ball (beta = 0), beta = alpha_o and beta = alpha_i
-    (coupling.validate.pure_rolling_cage_speed_ratio), against nm at the mean angle."""
+    (flexbearing.studies.validate.pure_rolling_cage_speed_ratio), against nm at the mean angle."""
     oil = V.validation_oil(oil_temperature_c, 0.003)
     model = V.build_validation_model(V.VALIDATION_BEARING, oil, traction_law="fit")
     p = model.p

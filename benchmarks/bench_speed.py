@@ -1,7 +1,7 @@
 """Before → after speed of whole runs (issue 21, item 3): CPU, wall, steps, and what moved.
 
 `run` mode runs scenes with the code of a given source tree (a checkout of the "before" commit, or
-this tree), one child process per scene (`python -m coupling.cli run`, PYTHONPATH = that tree, so
+this tree), one child process per scene (`python -m flexbearing.cli.main run`, PYTHONPATH = that tree, so
 each tree keeps its own numba cache), and appends one JSON line per run to OUT/runs.jsonl: CPU
 (user + sys of the child, getrusage), wall time, the machine's 1-min load at start and end, and
 the run's summary (steps, rejected steps, integration wall time, setup time). The numba cache must
@@ -11,7 +11,7 @@ appended to times.txt, with "== SCENE HH:MM:SS load L" lines before each run, an
 RUN.summary.json) is read the same way.
 
 `report` mode compares two such directories: the table of steps and CPU/wall per scene, and for
-the paper scenes the report's whole-run statistics (coupling.windows.phase_table, settle 0.05 s as
+the paper scenes the report's whole-run statistics (flexbearing.analysis.windows.phase_table, settle 0.05 s as
 the tolerance-scatter study) of AFTER against BEFORE as relative differences, beside the numerical
 scatter of each statistic over five equally valid runs (benchmarks/results/study/
 tolerance_scatter.json: the unsteady flexible scene at tolerances 0.6e-6 ... 1e-6). Criteria of the
@@ -68,7 +68,7 @@ def run_scene(code: Path, scene: Path, out: Path) -> dict:
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
-    p = subprocess.run([sys.executable, "-m", "coupling.cli", "run", str(scene.resolve()), "-o", str(h5.resolve()),
+    p = subprocess.run([sys.executable, "-m", "flexbearing.cli.main", "run", str(scene.resolve()), "-o", str(h5.resolve()),
                         "--force", "--quiet"], cwd=code, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -137,7 +137,7 @@ def read_runs(folder: Path) -> dict:
 
 
 def whole_run_stats(h5: Path) -> dict:
-    from coupling.windows import phase_table
+    from flexbearing.analysis.windows import phase_table
     row = phase_table(h5, include_impacts=False, settle=SETTLE)[0]
     return {k: row.get(k) for k in STATS if isinstance(row.get(k), (int, float))}
 

@@ -1,4 +1,4 @@
-"""Work of the steady thrust state (multibody.steady) on the slip-rate cases and the paper case.
+"""Work of the steady thrust state (flexbearing.multibody.steady) on the slip-rate cases and the paper case.
 
 For each case: wall time of `steady_thrust_state` (numba warm; the quasi-static start included),
 function evaluations, residual, and the slip it gives, at the validation's oil state with the
@@ -20,10 +20,10 @@ import argparse
 import math
 import time
 
-from coupling import validate as V
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.model import build_model
-from multibody.steady import steady_thrust_state
+from flexbearing.studies import validate as V
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.model import build_model
+from flexbearing.multibody.steady import steady_thrust_state
 
 
 def solve_timed(model, w, fa) -> tuple[dict, float]:

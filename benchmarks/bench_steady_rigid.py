@@ -2,8 +2,8 @@
 
 Scene scenes/paper_steady_rigid.toml (SPEC §6): 14,000 rpm, Fa = 55 kN, Fr = 4 kN, 0.6 s,
 rigid cage, tolerance and sample interval from the scene (1e-6, 1e-4 s). The loop is the one of a
-run: the integrator advances sample by sample (multibody.integrator.advance), the outputs the
-scene records are evaluated at every sample (multibody.outputs.evaluate_outputs) and kept in
+run: the integrator advances sample by sample (flexbearing.multibody.integrator.advance), the outputs the
+scene records are evaluated at every sample (flexbearing.multibody.outputs.evaluate_outputs) and kept in
 memory (no HDF5: that is the results engineer's part and measured by its own benchmark).
 
 Reported: wall time (compilation excluded: a warm-up of 1 ms runs first), steps, rejected steps,
@@ -28,22 +28,22 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from multibody.model import build_model  # noqa: E402
-from multibody.initial import initial_state  # noqa: E402
-from multibody import outputs as O  # noqa: E402
-from multibody import integrator as I  # noqa: E402
+from flexbearing.multibody.model import build_model  # noqa: E402
+from flexbearing.multibody.initial import initial_state  # noqa: E402
+from flexbearing.multibody import outputs as O  # noqa: E402
+from flexbearing.multibody import integrator as I  # noqa: E402
 
 
 def load_paper_steady():
     """(bearing, oil, options, speed_table, load_table, impacts, duration, tol, dt, film)."""
     try:
-        from coupling.scene import load_scene
+        from flexbearing.simulation.scene import load_scene
         sc = load_scene(ROOT / "scenes" / "paper_steady_rigid.toml")
         return (sc.bearing, sc.oil, dict(sc.model_options), sc.speed_table, sc.load_table, sc.impacts,
                 sc.duration, sc.tolerance, sc.sample_interval, "film_thickness" in sc.outputs, sc.initial_step)
     except Exception as exc:  # scene module missing: the same numbers by hand
         print(f"(scene loader unavailable: {exc!r}; using the SPEC §6 numbers)")
-        from multibody.bearing import PAPER_BEARING, PAPER_OIL
+        from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
         w = 14000 * math.pi / 30
         return (PAPER_BEARING, PAPER_OIL, {}, np.array([[0.0, w]]), np.array([[0.0, 55e3, 0.0, -4e3]]),
                 np.zeros((0, 6)), 0.6, 1e-6, 1e-4, True, 1e-7)

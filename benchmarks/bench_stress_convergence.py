@@ -1,5 +1,5 @@
 """Convergence of the cage's maximum von Mises stress with the mesh, and the quality bound of
-curved elements (issue 24). The load cases are those the dynamics apply (fem_cage.stress_study):
+curved elements (issue 24). The load cases are those the dynamics apply (flexbearing.verification.stress_study):
 the spin at 645 rad/s, 1 kN on pocket 5 circumferential / axial / radial, a 1 kN land force; the
 free cage by inertia relief; the maximum over the mesh nodes of the nodal stress the run reports.
 
@@ -8,7 +8,7 @@ free cage by inertia relief; the maximum over the mesh nodes of the nodal stress
    the walls of pockets 5, 6 and 7 (the loaded pocket and its neighbours: every case's maximum lies
    there or at a symmetric twin elsewhere, so the zone maximum is the cage's maximum); maxima over
    the zone. Richardson extrapolation of the P2 sequence in the local size h (ratio sqrt 2;
-   fem_cage.mesh_study.richardson; Roache 1998 ch. 5); P3 as the cross-check.
+   flexbearing.fem_cage.mesh_study.richardson; Roache 1998 ch. 5); P3 as the cross-check.
 3. The error of each uniform level, and of the default mesh, against the extrapolated value.
 4. Quality bound: the paper cage's 5 mm mesh as gmsh curves it (cells 4467/4468 inverted); the
    mid-edge nodes of those two cells moved from straight (t = 0) towards gmsh's position
@@ -66,8 +66,8 @@ def _append(rec):
 def run_levels(done, kind, table, quick):
     """The levels of one family ("uniform": sizes in mm everywhere; "local": 4 mm elsewhere and
     the size in mm around LOCAL_POCKETS), each computed once (done: the JSONL records)."""
-    from mesh.cage_geometry import PAPER_CAGE
-    from fem_cage.stress_study import run_level
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.verification.stress_study import run_level
     out = []
     for mm, deg in (table[:1] if quick else table):
         k = _key(kind, mm, deg)
@@ -87,7 +87,7 @@ def run_levels(done, kind, table, quick):
 def extrapolated(local, cases):
     """Richardson limit of each case's zone maximum from the three P2 local levels (h the local
     size), and the P3 levels beside it."""
-    from fem_cage.mesh_study import richardson
+    from flexbearing.fem_cage.mesh_study import richardson
     p2 = sorted([r for r in local if r["degree"] == 2], key=lambda r: -r["local"][1])
     out = {}
     for c in cases:
@@ -108,14 +108,14 @@ def quality_sweep(done, quick):
     import gmsh
     from mpi4py import MPI
     from scipy.spatial import cKDTree
-    from mesh import quality as Q
-    from mesh.cage_geometry import PAPER_CAGE
-    from mesh.cage_mesh import build_cage_mesh, GMSH_TO_VTK_TET10
-    from common.cache import cache_dir
-    from fem_cage import stress_study as ss
-    from fem_cage.craig_bampton import petsc_to_scipy
-    from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
-    from fem_cage.stress_modes import NodalStress, von_mises
+    from flexbearing.mesh import quality as Q
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh.cage_mesh import build_cage_mesh, GMSH_TO_VTK_TET10
+    from flexbearing.common.cache import cache_dir
+    from flexbearing.verification import stress_study as ss
+    from flexbearing.fem_cage.craig_bampton import petsc_to_scipy
+    from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
+    from flexbearing.fem_cage.stress_modes import NodalStress, von_mises
     work = cache_dir() / "quality_sweep"
     work.mkdir(parents=True, exist_ok=True)
     base = build_cage_mesh(PAPER_CAGE, 5e-3, 2, work / "paper_5mm_unrepaired.msh", 5e-3, repair=False)
@@ -170,7 +170,7 @@ def quality_sweep(done, quick):
 
 def summary(uniform, ext, sweep, default, cases) -> list[str]:
     """The conclusions, computed from the tables below."""
-    from mesh.quality import MIN_JACOBIAN_RATIO
+    from flexbearing.mesh.quality import MIN_JACOBIAN_RATIO
     out = ["## Summary", ""]
     if ext and uniform:
         rows = []
@@ -203,7 +203,7 @@ def summary(uniform, ext, sweep, default, cases) -> list[str]:
         out.append(f"- Quality bound: the stress at a curved cell's nodes stays within 2 % of the "
                    f"straight cell's down to a Jacobian ratio of {ok:.2f}; it is off by more than 5 % at "
                    f"{first5:.3f} and below (and by up to {max(e for _, e in worst):.0%} when inverted). "
-                   f"The bound used (mesh.quality.MIN_JACOBIAN_RATIO) is {MIN_JACOBIAN_RATIO:g}.")
+                   f"The bound used (flexbearing.mesh.quality.MIN_JACOBIAN_RATIO) is {MIN_JACOBIAN_RATIO:g}.")
     out.append("")
     return out
 
@@ -213,10 +213,10 @@ def _mpa(x):
 
 
 def markdown(uniform, local, ext, sweep, default, cases) -> str:
-    from fem_cage.stress_study import SPIN_RAD_S, POCKET_FORCE_N, LAND_FORCE_N, POCKET
+    from flexbearing.verification.stress_study import SPIN_RAD_S, POCKET_FORCE_N, LAND_FORCE_N, POCKET
     L = ["# Convergence of the cage's maximum von Mises stress",
          "",
-         "`.venv/bin/python benchmarks/bench_stress_convergence.py` (fem_cage.stress_study). Paper cage,",
+         "`.venv/bin/python benchmarks/bench_stress_convergence.py` (flexbearing.verification.stress_study). Paper cage,",
          f"free–free (inertia relief); cases: spin {SPIN_RAD_S:g} rad/s; {POCKET_FORCE_N:g} N on pocket {POCKET} "
          "(azimuth 90°) circumferential, axial, radial (RBE3 over the pocket wall, as the reduced cage "
          f"applies pocket forces); a {LAND_FORCE_N:g} N radial land force towards pocket {POCKET} (sine "
@@ -278,8 +278,8 @@ def main(argv=None):
     ap.add_argument("--sections", default="1,2,4", help="which sections to run (1 uniform, 2 local, 4 quality)")
     ap.add_argument("--fresh", action="store_true", help="forget the levels already computed")
     args = ap.parse_args(argv)
-    import mesh.cage_mesh as cm
-    from fem_cage.stress_study import CASES
+    import flexbearing.mesh.cage_mesh as cm
+    from flexbearing.verification.stress_study import CASES
     RESULTS.mkdir(parents=True, exist_ok=True)
     if args.fresh and LEVELS.exists():
         LEVELS.unlink()

@@ -3,7 +3,7 @@
 The paper's unsteady scene (scenes/paper_unsteady.toml, flexible cage, 26 modes) from 0 to
 T_END = 0.12 s (through the first 50 kN impact at 0.1 s), driven interval by interval at
 DT = 1e-5 s. After each interval the backend reports the maximum over every accepted integrator
-step of the interval (multibody.stress_peak) and, evaluated again at the same state, the value at
+step of the interval (flexbearing.multibody.stress_peak) and, evaluated again at the same state, the value at
 the sampling instant. From these:
 
   * reference peak = max over all steps (exact over the mesh nodes at every step);
@@ -32,9 +32,9 @@ DT = 1e-5
 
 
 def main():
-    from coupling.flexible_cage import backend as flexible_backend
-    from coupling.scene import load_scene
-    from multibody import integrator
+    from flexbearing.coupling.flexible_cage import backend as flexible_backend
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.multibody import integrator
     root = Path(__file__).resolve().parents[1]
     scene = load_scene(str(root / "scenes" / "paper_unsteady.toml"))
     be = flexible_backend(scene)

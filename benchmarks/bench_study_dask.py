@@ -78,7 +78,7 @@ def main(argv=None) -> int:
     study = write_study(scratch, a.duration)
     cli = [str(Path(sys.executable).with_name("flexbearing"))]
     # the reduced cage, once, outside the timings
-    subprocess.run([sys.executable, "-c", "from coupling.scene import load_scene; from coupling.flexible_cage "
+    subprocess.run([sys.executable, "-c", "from flexbearing.simulation.scene import load_scene; from flexbearing.coupling.flexible_cage "
                     f"import reduced_cage_path; reduced_cage_path(load_scene({str(scratch / 'base.toml')!r}))"],
                    check=True)
     rows = []

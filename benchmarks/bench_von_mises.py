@@ -1,12 +1,12 @@
-"""Cost of the exact max-von-Mises search on the paper cage (fem_cage.von_mises), per mesh.
+"""Cost of the exact max-von-Mises search on the paper cage (flexbearing.fem_cage.von_mises), per mesh.
 
 For each reduction mesh (default: today's default mesh and 4 mm, the valid mesh of issue 24;
-pocket size min(default, size) as coupling.flexible_cage.reduced_cage_path does):
+pocket size min(default, size) as flexbearing.coupling.flexible_cage.reduced_cage_path does):
 
 1. Real states. The paper's unsteady scene (scenes/paper_unsteady.toml on that mesh) is run from
    0 to T_REAL = 0.11 s (acceleration ramp and the first 50 kN impact) with the run's monitor
    tracing every accepted step's load-space vector y = (Omega^2, q_kept, node loads)
-   (multibody.stress_peak). The trace is replayed through a fresh search exactly as the run calls
+   (flexbearing.multibody.stress_peak). The trace is replayed through a fresh search exactly as the run calls
    it (threshold = the peak of the current 0.1 ms sample interval, seed = the node of the last
    new maximum), in a compiled loop: CPU time per call and the search's counts per call (groups
    opened, leaves refreshed, leaves scanned, exact node evaluations). Exactness: the recorded
@@ -19,7 +19,7 @@ pocket size min(default, size) as coupling.flexible_cage.reduced_cage_path does)
    N and N m) and 'unit' (every coordinate N(0, 1)); mismatches against brute force (must be 0),
    cost per call, counts.
 3. With --scenes: the full unsteady scene (0.6 s) on each mesh, recording everything (von Mises
-   included) and without von Mises: loop wall time and steps (coupling.run summary).
+   included) and without von Mises: loop wall time and steps (flexbearing.simulation.run summary).
 
 Timer: CPU time of this process for the replays (the machine is shared), wall time for the
 scenes. Writes benchmarks/results/von_mises.json and von_mises.md.
@@ -72,10 +72,10 @@ def scene_text(mesh_size: float, duration: float | None = None, von_mises: bool 
 
 def traced_run(mesh_size: float, tmp: Path):
     """Run the first T_REAL s with the monitor tracing every step: (StressRecovery, t, y, dt)."""
-    from coupling import flexible_cage as fc
-    from coupling.run import run_scene
-    from coupling.scene import loads_scene
-    from multibody.stress_peak import trace
+    from flexbearing.coupling import flexible_cage as fc
+    from flexbearing.simulation.run import run_scene
+    from flexbearing.simulation.scene import loads_scene
+    from flexbearing.multibody.stress_peak import trace
     scene = loads_scene(scene_text(mesh_size, T_REAL), f"paper_unsteady_{mesh_size}.toml")
     made = []
     monitor = fc.StressRecovery.monitor
@@ -97,7 +97,7 @@ def traced_run(mesh_size: float, tmp: Path):
 
 def _replay_loop():
     from numba import njit
-    from fem_cage.von_mises import tracking_max_sq
+    from flexbearing.fem_cage.von_mises import tracking_max_sq
 
     @njit(cache=True)
     def replay(arrays, Y, interval, out, counts, seed):
@@ -118,7 +118,7 @@ def _replay_loop():
 
 def _brute_all(A, Y):
     from numba import njit
-    from fem_cage.von_mises import brute_force_max_sq
+    from flexbearing.fem_cage.von_mises import brute_force_max_sq
 
     @njit(cache=True)
     def run(A, Y, out):
@@ -130,8 +130,8 @@ def _brute_all(A, Y):
 
 
 def bench_mesh(mesh_size: float, tmp: Path, quiet: bool) -> dict:
-    from coupling.flexible_cage import StressRecovery
-    from fem_cage.von_mises import MaxVonMises
+    from flexbearing.coupling.flexible_cage import StressRecovery
+    from flexbearing.fem_cage.von_mises import MaxVonMises
     rec, t, Y, dt = traced_run(mesh_size, tmp)
     rc = rec.rc
     t0 = time.perf_counter()
@@ -211,8 +211,8 @@ def bench_mesh(mesh_size: float, tmp: Path, quiet: bool) -> dict:
 
 
 def run_scenes(mesh_size: float, tmp: Path, quiet: bool) -> dict:
-    from coupling.run import run_scene
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.run import run_scene
+    from flexbearing.simulation.scene import loads_scene
     out = {}
     for label, vm in (("with_von_mises", True), ("without_von_mises", False)):
         scene = loads_scene(scene_text(mesh_size, von_mises=vm), f"paper_unsteady_{mesh_size}.toml")
@@ -225,7 +225,7 @@ def run_scenes(mesh_size: float, tmp: Path, quiet: bool) -> dict:
 
 
 def write_md(res: dict) -> None:
-    lines = ["# Exact max von Mises search (fem_cage.von_mises), paper cage", "",
+    lines = ["# Exact max von Mises search (flexbearing.fem_cage.von_mises), paper cage", "",
              "`nice -n 5 .venv/bin/python benchmarks/bench_von_mises.py"
              + (" --scenes" if res.get("scenes") else "") + "` (CPU time per call; one core)", "",
              "Real states: the run's own calls (threshold = the interval's peak, seed = the last "
@@ -258,7 +258,7 @@ def write_md(res: dict) -> None:
 
 def main(argv=None):
     import tempfile
-    import mesh.cage_mesh as cm
+    import flexbearing.mesh.cage_mesh as cm
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--mesh-sizes", default=f"{cm.DEFAULT_MESH_SIZE!r},4e-3")
     p.add_argument("--scenes", action="store_true")

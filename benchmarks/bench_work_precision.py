@@ -14,7 +14,7 @@ runs the defaults, a reference at a much tighter setting, and one setting change
 
 Each run is its own process (`--worker`): its CPU time (user + sys of the child, getrusage), its
 wall time, the integration loop's wall time, the accepted and rejected steps and the report's own
-whole-run statistics (coupling.windows.phase_table after the settle time, as the tolerance-scatter
+whole-run statistics (flexbearing.analysis.windows.phase_table after the settle time, as the tolerance-scatter
 study: 0.05 s) are appended to benchmarks/results/work_precision.jsonl as each run finishes; a
 re-run skips the runs already there (resumable, checkpointed per run).
 
@@ -74,7 +74,7 @@ def scene_default(scene: str, setting: str):
     a, b = setting.split(".")
     return data.get(a, {}).get(b)
 
-# the statistics whose error is measured, by family (coupling.windows row keys)
+# the statistics whose error is measured, by family (flexbearing.analysis.windows row keys)
 FAMILIES = {
     "contact": ("outer_contact_stress_peak", "outer_contact_stress_p99", "outer_contact_stress_mean",
                 "inner_contact_stress_peak", "inner_contact_stress_p99", "inner_contact_stress_mean"),
@@ -241,9 +241,9 @@ def _set(data: dict, dotted: str, value) -> None:
 def worker(spec: dict) -> dict:
     """Run one spec in this process; returns the measured dict (printed as JSON by --worker)."""
     import tomllib
-    from coupling.run import default_backend, run_scene
-    from coupling.scene import parse_scene
-    from coupling.windows import phase_table
+    from flexbearing.simulation.run import default_backend, run_scene
+    from flexbearing.simulation.scene import parse_scene
+    from flexbearing.analysis.windows import phase_table
 
     path = ROOT / "scenes" / f"{spec['scene']}.toml"
     data = tomllib.loads(path.read_text())
@@ -423,7 +423,7 @@ def write_outputs(rows: list[dict], out: Path, quick: bool, meta: dict) -> None:
          f"dopri5, 8 traction slices, 26 modes, stress monitor every step). Reference: the "
          f"defaults with integrator tolerance {REFERENCE['integrator.tolerance']:g} (same slices, modes, monitor). "
          f"Errors: relative, of the report's whole-run statistics after {meta['settle']:g} s "
-         f"(coupling.windows); a family's error is its largest. Score = max(contact / 1 %, cage-force p99 / 3 %, "
+         f"(flexbearing.analysis.windows); a family's error is its largest. Score = max(contact / 1 %, cage-force p99 / 3 %, "
          f"von Mises p99 and mean / 3 %): ≤ 1 meets the accuracy of the issue. Pareto: not dominated in "
          f"(CPU time, score) among the scene's runs, a run dominating on cost alone only when more than "
          f"{PARETO_MARGIN:.0%} cheaper (the CPU noise between equal runs). CPU = user + sys of the run's process (setup included); "

@@ -1,8 +1,8 @@
 """Independent FE check of the paper cage: the project's P2 FE against CalculiX C3D10 on the same
-meshes (issue 24, item 3; fem_cage.calculix_check has the method).
+meshes (issue 24, item 3; flexbearing.verification.calculix_check has the method).
 
 For each element size (pocket size = global size, curved quadratic gmsh mesh built by
-mesh.cage_mesh.build_cage_mesh with the sizes passed explicitly): the spinning cage (645 rad/s
+flexbearing.mesh.cage_mesh.build_cage_mesh with the sizes passed explicitly): the spinning cage (645 rad/s
 about x), a 1 kN ball force on pocket 1 (pocket 0 reacting, as `flexbearing reduce --check`) in
 the circumferential, axial and radial directions, and the first 20 free–free elastic
 frequencies. Reports the max von Mises of each code, its node and position, the difference,
@@ -42,9 +42,9 @@ def main(argv=None) -> int:
         out = json.loads((RESULTS / "calculix_check.json").read_text())
         (RESULTS / "calculix_check.md").write_text(markdown(out))
         return 0
-    from mesh.cage_geometry import PAPER_CAGE
-    from mesh.cage_mesh import build_cage_mesh
-    from fem_cage.calculix_check import check_mesh
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh.cage_mesh import build_cage_mesh
+    from flexbearing.verification.calculix_check import check_mesh
     import subprocess
     runs = []
     with tempfile.TemporaryDirectory(prefix="calculix-check-") as tmp:
@@ -103,7 +103,7 @@ def markdown(out) -> str:
     runs = out["runs"]
     L = ["# Independent FE check: project P2 (dolfinx) vs CalculiX C3D10, paper cage",
          "", f"`{out['command']}` — calculix-ccx {out['calculix_ccx_version']}, {out['date']}. "
-         "Method and what is independent: `fem_cage/calculix_check.py` docstring.", "",
+         "Method and what is independent: `flexbearing/verification/calculix_check.py` docstring.", "",
          "Same mesh (gmsh curved quadratic tetrahedra, `build_cage_mesh(PAPER_CAGE, h, 2, path, h)`), "
          "same material (E 209 GPa, nu 0.295, rho 7870 kg/m³), same loads and 3-2-1 support. "
          "Spin: 645 rad/s about x (CalculiX computes its own CENTRIF body load). Pocket: 1 kN on "
@@ -151,7 +151,7 @@ def markdown(out) -> str:
         f"{100 * c['same_recovery']['vm_max_rel_diff']:+.3f} %"))
     L += ["", "'same recovery': CalculiX's nodal stress recovery (Gauss-point stresses extrapolated "
           "to the corners, mid-edge nodes the mean of their corners, averaged over the cells) applied "
-          "to the project's displacement (`fem_cage.calculix_check.extrapolated_nodal_stress`), "
+          "to the project's displacement (`flexbearing.verification.calculix_check.extrapolated_nodal_stress`), "
           "against CalculiX: the difference of the two solutions alone. Distance modulo symmetry: "
           "the spin's peaks compared after the cage's 20-fold rotation and x-mirror. 'CalculiX at "
           "project's peak': CalculiX's von Mises at the project's peak node over its own maximum "

@@ -1,4 +1,4 @@
-"""Campbell diagram of the inner ring on its balls: the fixed-frame lines of multibody.vibration
+"""Campbell diagram of the inner ring on its balls: the fixed-frame lines of flexbearing.multibody.vibration
 against the inner-ring speed, paper bearing under its 55 kN axial load (no radial load: at speed
 the model needs every ball alike), 0–16,000 rpm. Writes benchmarks/results/campbell.md/.json/.png.
 
@@ -14,10 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.model import P_IID, P_IIP, P_MI, build_model
-from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
-from multibody.vibration import linear_model, lines_at_speed, natural_modes
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.model import P_IID, P_IIP, P_MI, build_model
+from flexbearing.multibody.quasi_static import grooves_from_bearing, solve_quasi_static
+from flexbearing.multibody.vibration import linear_model, lines_at_speed, natural_modes
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -51,7 +51,7 @@ def main(argv=None) -> None:
     md = ["# Campbell diagram of the inner ring on its balls (benchmarks/campbell.py)", "",
           f"Paper bearing, {a.axial_load / 1e3:g} kN axial, rigid outer ring, frictionless equilibrium at each speed; "
           "lines of the ring's motion in the fixed frame below 12 kHz with weight >= 0.02 "
-          "(multibody.vibration.lines_at_speed; verified against the struck dynamic model at rest, 10,000 and "
+          "(flexbearing.multibody.vibration.lines_at_speed; verified against the struck dynamic model at rest, 10,000 and "
           f"14,000 rpm to 0.2 %, tests/test_vibration.py). {len(rows)} speeds in {wall:.1f} s.", "",
           "| inner ring rpm | cage rpm | lines Hz (kind: a axial, f forward, b backward) |", "|---:|---:|---|"]
     for row in rows:

@@ -2,14 +2,14 @@
 the step size; steps per simulated second; how the cost grows with balls, modes and mesh size.
 
 1. One right-hand side split by part, at a running state (the paper's unsteady scene at t = 0.05 s,
-   rigid and flexible cage): the compiled parts of multibody.dynamics.rhs are called on their own in
+   rigid and flexible cage): the compiled parts of flexbearing.multibody.dynamics.rhs are called on their own in
    compiled loops with the arguments the right-hand side gives them at that state —
-   contacts (the 3 ball–race contacts of every ball, multibody.dynamics._race, with and without the
+   contacts (the 3 ball–race contacts of every ball, flexbearing.multibody.dynamics._race, with and without the
    traction slices), pockets (pose of the interface node + _pocket_interface + the node load onto
    the floating frame), guide land (_guide_land), churning drag, floating frame (cage_equations) —
    and the whole rhs with parts switched off by its flags (traction, drag, rolling resistance,
    damping) and with 1–16 traction slices (cost per slice by a least-squares line). The stress
-   monitor (multibody.stress_peak) is measured in a run: the same 2 ms integrated with it and with
+   monitor (flexbearing.multibody.stress_peak) is measured in a run: the same 2 ms integrated with it and with
    the disabled monitor (A/B, interleaved, minimum of 5 each), CPU difference per accepted step.
 2. What limits the step: the finite-difference Jacobian of the rhs at the running state (central
    differences, step 1e-7·max(|y_k|, scale_k)), its eigenvalues of largest modulus, the state
@@ -48,14 +48,14 @@ from numba import njit
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from multibody import dynamics as D  # noqa: E402
-from multibody import integrator as I  # noqa: E402
-from multibody import model as M  # noqa: E402
-from multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose_arrays  # noqa: E402
-from multibody.drag import churning_drag, oil_air_mixture  # noqa: E402
-from multibody.floating_frame import add_node_load  # noqa: E402
-from multibody.geometry import ring_point_in_plane, ring_velocity_in_plane  # noqa: E402
-from multibody.profiles import speed_at  # noqa: E402
+from flexbearing.multibody import dynamics as D  # noqa: E402
+from flexbearing.multibody import integrator as I  # noqa: E402
+from flexbearing.multibody import model as M  # noqa: E402
+from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose_arrays  # noqa: E402
+from flexbearing.multibody.drag import churning_drag, oil_air_mixture  # noqa: E402
+from flexbearing.multibody.floating_frame import add_node_load  # noqa: E402
+from flexbearing.multibody.geometry import ring_point_in_plane, ring_velocity_in_plane  # noqa: E402
+from flexbearing.multibody.profiles import speed_at  # noqa: E402
 
 
 # ---------------------------------------------------------------- compiled loops over the parts
@@ -71,7 +71,7 @@ def loop_rhs(n, t, y, dydt, p, flags, htab, ttab, sp, ld, imp, work, cage):
 
 @njit(cache=True)
 def loop_contacts(n, y, p, flags, htab, ttab, omega_i):
-    """The 3 ball–race contacts of every ball, arguments as multibody.dynamics.rhs builds them."""
+    """The 3 ball–race contacts of every ball, arguments as flexbearing.multibody.dynamics.rhs builds them."""
     z = int(p[M.P_Z])
     r0 = 9 * z
     xi, yi, zi, ty, tz = y[r0], y[r0 + 1], y[r0 + 2], y[r0 + 3], y[r0 + 4]
@@ -112,7 +112,7 @@ def loop_contacts(n, y, p, flags, htab, ttab, omega_i):
 @njit(cache=True)
 def loop_pockets(n, y, p, flags, cage):
     """Every pocket: pose of its interface node, the ball–pocket force, the node load onto the
-    floating frame (as multibody.dynamics.rhs: its film coefficients once per call, the scratch
+    floating frame (as flexbearing.multibody.dynamics.rhs: its film coefficients once per call, the scratch
     rows and the modal coordinates taken once)."""
     z = int(p[M.P_Z])
     c0 = 9 * z + 11
@@ -223,8 +223,8 @@ def calls_for(fn, args, target=0.02) -> int:
 def scene_model(name, overrides=None, flexible_stress=False):
     """(scene, backend, model, y0, tables) of a paper scene with overrides {dotted key: value}."""
     import tomllib
-    from coupling.run import default_backend
-    from coupling.scene import parse_scene
+    from flexbearing.simulation.run import default_backend
+    from flexbearing.simulation.scene import parse_scene
     data = tomllib.loads((ROOT / "scenes" / f"{name}.toml").read_text())
     for k, v in (overrides or {}).items():
         a, b = k.split(".", 1)
@@ -240,7 +240,7 @@ def scene_model(name, overrides=None, flexible_stress=False):
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))
     Fa, Fr = scene.initial_loads()
     f0 = np.zeros(3)
-    from multibody.profiles import load_at
+    from flexbearing.multibody.profiles import load_at
     load_at(0.0, scene.load_table, scene.impacts, f0)
     kw = {"load": f0}
     try:
@@ -251,7 +251,7 @@ def scene_model(name, overrides=None, flexible_stress=False):
 
 
 def advance_to(scene, be, model, y, t0, t1, tol=1e-6, h=1e-7, ws=None, dt=1e-4):
-    """Integrate from t0 to t1 in sample intervals dt (a fresh workspace each, as coupling.run);
+    """Integrate from t0 to t1 in sample intervals dt (a fresh workspace each, as flexbearing.simulation.run);
     returns (y, h, steps, cpu s)."""
     n = 0
     c0 = time.process_time()
@@ -267,7 +267,7 @@ def advance_to(scene, be, model, y, t0, t1, tol=1e-6, h=1e-7, ws=None, dt=1e-4):
 
 def window_step_sizes(scene, model, y, t0, span, tol=1e-6, h=1e-7, win=1e-4):
     """Mean accepted step size of each window of `win` s over [t0, t0 + span] (the integrator run
-    window by window, stopping at each window's end as coupling.run did before it passed samples
+    window by window, stopping at each window's end as flexbearing.simulation.run did before it passed samples
     inside steps; the step size carried on)."""
     ws = I.Workspace(model)
     y = y.copy()
@@ -306,7 +306,7 @@ def fd_jacobian(model, t, y, sp, ld, imp, flags=None) -> np.ndarray:
 
 
 def stability_function(method="dopri5"):
-    """R(z) = 1 + z·bᵀ(I − zA)⁻¹·1 of the method's tableau (multibody.integrator.METHODS)."""
+    """R(z) = 1 + z·bᵀ(I − zA)⁻¹·1 of the method's tableau (flexbearing.multibody.integrator.METHODS)."""
     A, B, C, E, order = I.METHODS[method]
     s = A.shape[0]
     one = np.ones(s)
@@ -463,9 +463,9 @@ def monitor_cost(scene, be, model, y, t, span=2e-3, repeats=5) -> dict:
 # ---------------------------------------------------------------- growth
 
 def balls_growth(counts=(10, 15, 20, 30, 40)) -> dict:
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
-    from multibody.initial import initial_state
-    from multibody.model import build_model
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.initial import initial_state
+    from flexbearing.multibody.model import build_model
     out = {}
     B = PAPER_BEARING
     for z in counts:
@@ -533,9 +533,9 @@ def mesh_growth(scene, be, model, y, t, fractions=(1, 2, 4, 8), span=2e-3) -> di
     """Stress monitor CPU per evaluated step against node count: the load vectors of a real run
     (monitor trace) replayed through the tracking search built on every k-th node of the 4 mm
     cage's load-space stress, the peak reset every 0.1 ms sample as in a run."""
-    from coupling.flexible_cage import StressRecovery
-    from fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress, tracking_max_sq
-    from multibody import stress_peak as SP
+    from flexbearing.coupling.flexible_cage import StressRecovery
+    from flexbearing.fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress, tracking_max_sq
+    from flexbearing.multibody import stress_peak as SP
     rc = be.reduced_cage
     n_keep = int(scene.flexible.get("n_modes", 26))
     rec = StressRecovery(rc, n_keep)

@@ -17,10 +17,10 @@ import numpy as np
 
 
 def main():
-    import mesh.cage_mesh as cm
-    from mesh.cage_geometry import PAPER_CAGE
-    from fem_cage import reduced_cage as rcf
-    from fem_cage.frequency_response import pocket_directions
+    import flexbearing.mesh.cage_mesh as cm
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.fem_cage import reduced_cage as rcf
+    from flexbearing.verification.frequency_response import pocket_directions
     r = json.loads((Path(__file__).parent / "results" / "frf_paper_damped.json").read_text())
     key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
                         rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE, True)

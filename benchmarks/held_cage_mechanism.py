@@ -6,7 +6,7 @@ resultant (so the guiding force) growing with Fa, where the paper reports a fall
 This benchmark takes the mechanism apart on the paper bearing at 14,000 rpm, Fr 4 kN, rigid cage,
 without impacts, at Fa 45–65 kN:
 
-1. the frozen-azimuth held-cage state (`multibody.steady.steady_held_cage_state`): every ball's
+1. the frozen-azimuth held-cage state (`flexbearing.multibody.steady.steady_held_cage_state`): every ball's
    pocket force as a function of its azimuth psi, fitted by F_t(psi) = F0 + F1·cos(psi − phi1)
    (+ a second harmonic). All balls drive the cage against its drag (F0 < 0 on the balls); the
    first harmonic gives the pocket-force resultant on the cage, |R| = (Z/2)·F1 (sum over Z equally
@@ -63,8 +63,8 @@ def orbital_traction_stiffness(model, y, omega, load, rel_step: float = 1e-4) ->
     resistance, unchanged): the traction and churning response only. This is the stiffness with
     which the races gear a ball to its own kinematics; an azimuthal variation dv(psi) of the speed
     the races want the ball to orbit at becomes a pocket-force variation k·dv."""
-    from multibody import dynamics as D
-    from multibody import model as M
+    from flexbearing.multibody import dynamics as D
+    from flexbearing.multibody import model as M
 
     z = model.n_balls
     c0 = M.state_layout(model)["cage"]
@@ -87,9 +87,9 @@ def run_dynamics(model, y, omega, load, duration, average_from):
     """Integrate from y (rigid cage, tolerance 1e-6), sample every 0.1 ms; return the balls'
     azimuths and tangential pocket forces, the cage centre, film force and pocket resultant over
     t >= average_from."""
-    from multibody import outputs as O
-    from multibody import model as M
-    from multibody.integrator import Workspace, advance
+    from flexbearing.multibody import outputs as O
+    from flexbearing.multibody import model as M
+    from flexbearing.multibody.integrator import Workspace, advance
 
     z = model.n_balls
     c0 = M.state_layout(model)["cage"]
@@ -128,9 +128,9 @@ def study_held_window(study_dir: Path, index: int, window=(0.36, 0.40)):
 
 
 def main(argv=None) -> int:
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
-    from multibody.model import P_CG, build_model
-    from multibody.steady import steady_held_cage_state
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.model import P_CG, build_model
+    from flexbearing.multibody.steady import steady_held_cage_state
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=0.12, help="dynamic run length, s (averaged over its last 40 %%)")

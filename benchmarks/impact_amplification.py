@@ -1,10 +1,10 @@
 """Contact-stress amplification of a radial half-sine pulse against its duration (shock spectrum of
-the bearing model), beside the one-DOF estimate of coupling.amplification.
+the bearing model), beside the one-DOF estimate of flexbearing.analysis.amplification.
 
 The paper's steady case (14,000 rpm, 55 kN axial, 4 kN radial, rigid cage) with one 50 kN radial
 pulse of duration t_d from 50 us to 20 ms (the paper's impacts last 20 ms). For each: a dynamic
 run (`flexbearing run`), the quasi-static equilibrium at the pulse's peak, and their ratio
-(coupling.amplification.impact_amplification). Writes benchmarks/results/impact_amplification.md/.json.
+(flexbearing.analysis.amplification.impact_amplification). Writes benchmarks/results/impact_amplification.md/.json.
 
     .venv/bin/python -m benchmarks.impact_amplification [--durations 5e-5,1e-4,...]
 """
@@ -20,10 +20,10 @@ from pathlib import Path
 
 import h5py
 
-from coupling.amplification import impact_amplification, pulse_scene
-from coupling.cli import main as flexbearing
-from coupling.results import scene_of_run
-from coupling.windows import quantity_arrays
+from flexbearing.analysis.amplification import impact_amplification, pulse_scene
+from flexbearing.cli.main import main as flexbearing
+from flexbearing.simulation.results import scene_of_run
+from flexbearing.analysis.windows import quantity_arrays
 
 RESULTS = Path(__file__).resolve().parent / "results"
 DURATIONS = (5e-5, 1e-4, 1.5e-4, 2e-4, 3e-4, 5e-4, 1e-3, 2e-3, 5e-3, 2e-2)

@@ -6,13 +6,13 @@ bounded by them; it takes larger steps only if the solution itself does not carr
 at the accuracy asked for. This probe answers it on the running state of a paper scene (t = 0.05 s,
 reached with the default integrator) by integrating the same window with
 
-- DOPRI5 (multibody.integrator) at tolerances 1e-6 ... 1e-3, and
+- DOPRI5 (flexbearing.multibody.integrator) at tolerances 1e-6 ... 1e-3, and
 - scipy's Radau IIA (order 5) and BDF (orders 1-5), implicit, with a finite-difference Jacobian
   (Hairer & Wanner, Solving ODEs II, §IV.8; Shampine & Reichelt 1997), at rtol 1e-5 ... 1e-3 with
   atol = rtol · the integrator's absolute scales,
 
 against a DOPRI5 tolerance-1e-10 reference. Error: the integrator's own weighted RMS norm of the
-state difference at the window's end (multibody.integrator: scale_i + relmask_i·|y_i|). Counted
+state difference at the window's end (flexbearing.multibody.integrator: scale_i + relmask_i·|y_i|). Counted
 work: steps, right-hand sides, Jacobians (each n right-hand sides by finite differences).
 
     .venv/bin/python benchmarks/implicit_probe.py [--scene paper_steady_rigid] [--span 2e-3]
@@ -35,8 +35,8 @@ sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE))
 
 import cost_model as CM  # noqa: E402  (the scene builder and the running-state helper)
-from multibody import dynamics as D  # noqa: E402
-from multibody import integrator as I  # noqa: E402
+from flexbearing.multibody import dynamics as D  # noqa: E402
+from flexbearing.multibody import integrator as I  # noqa: E402
 
 
 def main(argv=None):

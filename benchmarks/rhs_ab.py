@@ -4,7 +4,7 @@ on PYTHONPATH at fixed running states, for comparing two checkouts.
 1. `states`: the running states — the paper steady rigid scene at t = 0.02 s (integrator tolerance
    1e-4, as the scene) and the paper unsteady flexible scene (26 modes) at t = 0.02 s (tolerance
    1e-6) — written to one .npz (make them once, with either checkout, and use them for both).
-2. `measure`: at each state dy/dt and the work array of `multibody.dynamics.rhs`, and the CPU time
+2. `measure`: at each state dy/dt and the work array of `flexbearing.multibody.dynamics.rhs`, and the CPU time
    per call of the whole rhs and of its parts (benchmarks.cost_model's compiled loops: contacts
    with and without traction, pockets, guide land, drag, floating frame; minimum of `--repeats`
    repeats of ~0.02 s each), written to a .npz (values) and printed/appended as JSON (times).
@@ -60,9 +60,9 @@ def make_states(path):
 def parts(model, t, y, sp, ld, imp, repeats):
     """cost_model.split_parts without the switched-off and slice scans: µs per call of each part."""
     from benchmarks import cost_model as CM
-    from multibody import dynamics as D
-    from multibody import model as M
-    from multibody.profiles import speed_at
+    from flexbearing.multibody import dynamics as D
+    from flexbearing.multibody import model as M
+    from flexbearing.multibody.profiles import speed_at
     cpc = CM.cpu_per_call
     work = D.new_work(model)
     dydt = np.zeros_like(y)
@@ -95,7 +95,7 @@ def parts(model, t, y, sp, ld, imp, repeats):
 
 
 def measure(states, out, repeats):
-    from multibody import dynamics as D
+    from flexbearing.multibody import dynamics as D
     st = np.load(states)
     values = {}
     row = {"code": str(ROOT), "load": os.getloadavg()[0], "date": time.strftime("%H:%M:%S")}

@@ -1,14 +1,14 @@
 """Skid-free cage slip of the race-control idealisations against the shim angle (paper Table 5 cases).
 
-For each shim angle alphaD (with its design clearance, coupling.validate.design_clearance) and each
-of the 15 steady test cases, the quasi-static solver (multibody.quasi_static, outer-race control,
+For each shim angle alphaD (with its design clearance, flexbearing.studies.validate.design_clearance) and each
+of the 15 steady test cases, the quasi-static solver (flexbearing.multibody.quasi_static, outer-race control,
 friction_share (1, 1), centrifugal and gyroscopic terms) gives the running contact angles alpha_o,
 alpha_i (means over the balls loaded at both races). At those angles the cage speed of a ball that
 rolls without slip on both races is, for three attitudes of its spin axis:
 
 * outer control: the quasi-static solution itself (no spin on the outer race, Jones 1960);
-* inner control: coupling.validate.race_control_kinematics(..., "inner") (no spin on the inner race);
-* beta = alpha_i: coupling.validate.pure_rolling_cage_speed_ratio (spin axis normal to the inner
+* inner control: flexbearing.studies.validate.race_control_kinematics(..., "inner") (no spin on the inner race);
+* beta = alpha_i: flexbearing.studies.validate.pure_rolling_cage_speed_ratio (spin axis normal to the inner
   contact line in the cage frame).
 
 Slip S = (nm − nc)/nm with the paper's nm = ½·ni·(1 − Dw·cos alpha/dm), alpha = (alpha_o + alpha_i)/2,
@@ -25,10 +25,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from coupling import validate as V
-from multibody.geometry import nominal_cage_speed
-from multibody import quasi_static as QS
-from multibody.bearing import PAPER_BEARING
+from flexbearing.studies import validate as V
+from flexbearing.multibody.geometry import nominal_cage_speed
+from flexbearing.multibody import quasi_static as QS
+from flexbearing.multibody.bearing import PAPER_BEARING
 
 ATTITUDES = ("outer control", "inner control", "beta = alpha_i")
 

@@ -9,10 +9,10 @@ contact, the time and the likely cause. None may hang or write NaN.
 Every case is the paper bearing (rigid cage unless it says flexible) for a few ms, sampled every
 20 us, recording the ball loads and approaches, the cage orbit and guide forces and the power
 balance. Each runs in its own process with a hang limit (HANG_S); inside, the run's wall-time
-guard (coupling.wall_budget, max_wall_time = CASE_WALL_S) stops a run whose step rate predicts
+guard (flexbearing.simulation.wall_budget, max_wall_time = CASE_WALL_S) stops a run whose step rate predicts
 more. Outcomes:
 
-    finished   the run completed; the checks of coupling.run_checks (finite, energy balance,
+    finished   the run completed; the checks of flexbearing.simulation.run_checks (finite, energy balance,
                approach against its Hertz energy bound, cage in its clearance) are reported
     stopped    the library stopped it with a diagnostic: refused at setup (InputError: a load
                beyond the contacts), SimulationUnstable (ball/cage, contact, time, likely cause),
@@ -48,7 +48,7 @@ SAMPLE = 2e-5           # s
 
 def scene_data(name, duration=2e-3, rpm=10000.0, speed=None, load=None, impacts=(), bearing=None,
                cage=None, oil=None, model=None, tol=1e-6, max_step=None, sample=SAMPLE):
-    """A scene dict (coupling.scene format): the paper bearing at `rpm` (or the `speed` table of
+    """A scene dict (flexbearing.simulation.scene format): the paper bearing at `rpm` (or the `speed` table of
     [t, rpm] points), Fa 55 kN and Fr 4 kN unless `load` says otherwise."""
     d = {"name": name, "cage": {"model": "rigid", **(cage or {})},
          "operation": {"duration": duration,
@@ -130,7 +130,7 @@ def cases() -> list[dict]:
     add("skid", "skid_ehl_law_20000rpm_light", rpm=20000, model={"traction_law": "ehl"},
         load={"axial_load": 500, "radial_load": 200})
     # integrator tolerances 1e-3 ... 1e-9 on the paper's 14,000 rpm case with an impact, and the
-    # ends of the scene's range (0.1 and coupling.scene.MIN_TOLERANCE)
+    # ends of the scene's range (0.1 and flexbearing.simulation.scene.MIN_TOLERANCE)
     for tol in (1e-1, 1e-3, 1e-4, 1e-5, 1e-7, 1e-8, 1e-9, 1e-12):
         add("tolerance", f"tol_{tol:g}", rpm=14000, tol=tol, duration=1e-3,
             impacts=[_impact(50e3, 2e-4)])
@@ -153,11 +153,11 @@ def run_case(case: dict, out_dir: Path, max_wall_time: float = CASE_WALL_S) -> d
     """Run one case in this process; the row of the table (module docstring)."""
     import warnings
 
-    from common.validation import InputError
-    from coupling.run import RunInterrupted, run_scene, default_backend
-    from coupling.run_checks import check_run
-    from coupling.scene import parse_scene
-    from coupling.wall_budget import SlowRunWarning
+    from flexbearing.common.validation import InputError
+    from flexbearing.simulation.run import RunInterrupted, run_scene, default_backend
+    from flexbearing.simulation.run_checks import check_run
+    from flexbearing.simulation.scene import parse_scene
+    from flexbearing.simulation.wall_budget import SlowRunWarning
 
     row = {"case": case["name"], "group": case["group"]}
     out = Path(out_dir) / f"{case['name']}.h5"
@@ -184,7 +184,7 @@ def run_case(case: dict, out_dir: Path, max_wall_time: float = CASE_WALL_S) -> d
             if getattr(cause, attr, None) is not None:
                 row[attr] = getattr(cause, attr)
         try:
-            from coupling.results import read_outputs
+            from flexbearing.simulation.results import read_outputs
             import numpy as np
             o = read_outputs(out)
             row["nan_in_file"] = int(sum(np.size(v) - np.isfinite(v).sum() for v in o.values()))
@@ -247,7 +247,7 @@ def write_results(rows: list[dict], out: Path, wall: float) -> None:
     md = ["# Numerical stability stress test", "",
           f"`{meta['command']}` ({meta['date']}, {meta['cpus']} cores shared with other jobs; "
           f"{wall / 60:.1f} min in all). Scenes, checks and outcomes: the docstring of "
-          "`benchmarks/stress_test.py` and `coupling/run_checks.py`.", "",
+          "`benchmarks/stress_test.py` and `flexbearing/simulation/run_checks.py`.", "",
           f"**{n} cases: {summary['finished']} finished, {summary['stopped_with_diagnostic']} stopped with a "
           f"diagnostic, {summary['crashed']} crashed, {summary['hung']} hung; non-finite values written: {nan}; "
           f"finished runs failing a check: {len(failed_checks)}"

@@ -65,7 +65,7 @@ def noise_levels(result: dict) -> dict:
 
 
 def trend_lines(result: dict, name: str, noise: dict | None = None) -> list[str]:
-    from coupling.windows import MOTION_ROWS, QUANTITY
+    from flexbearing.analysis.windows import MOTION_ROWS, QUANTITY
     study = result["study"]
     runs = result["runs"]
     x = [r["parameter"] for r in runs]

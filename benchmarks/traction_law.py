@@ -9,7 +9,7 @@ fit beside each) and traction_law_sweep.png (the no-dead-zone sweep), and prints
 * the cost of the traction of one contact (8 slices) inside a compiled loop, and of one call of
   the dynamics' right-hand side at case 1's quasi-static state, fit against EHL law;
 * the attitude table of tests/test_attitude_independent.py (independent single-ball model,
-  multibody.steady, dynamics) for cases 1 and 6 at mu = 0.03 and 0.1.
+  flexbearing.multibody.steady, dynamics) for cases 1 and 6 at mu = 0.03 and 0.1.
 The markdown beside it (traction_law.md) is written by hand from this output.
 """
 import argparse
@@ -26,15 +26,15 @@ from numba import njit
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
-from coupling import validate as V  # noqa: E402
-from multibody import dynamics as D  # noqa: E402
-from multibody import outputs as O  # noqa: E402
-from multibody import traction as T  # noqa: E402
-from multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
-from multibody.film import film_thickness  # noqa: E402
-from multibody.hertz import hertz_point_contact  # noqa: E402
-from multibody.initial import initial_state  # noqa: E402
-from multibody.model import build_model  # noqa: E402
+from flexbearing.studies import validate as V  # noqa: E402
+from flexbearing.multibody import dynamics as D  # noqa: E402
+from flexbearing.multibody import outputs as O  # noqa: E402
+from flexbearing.multibody import traction as T  # noqa: E402
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL  # noqa: E402
+from flexbearing.multibody.film import film_thickness  # noqa: E402
+from flexbearing.multibody.hertz import hertz_point_contact  # noqa: E402
+from flexbearing.multibody.initial import initial_state  # noqa: E402
+from flexbearing.multibody.model import build_model  # noqa: E402
 
 SLIPS = np.concatenate([[0.0], np.geomspace(1e-5, 1.0, 241)])
 
@@ -51,7 +51,7 @@ def contacts_of(model, case, oil):
     dydt = np.zeros_like(y)
     D.rhs(0.0, y, dydt, model.p, model.flags, model.hertz_table, model.traction_table,
           np.array([[0.0, omega]]), np.array([[0.0, case["axial_load"], 0.0, 0.0]]), np.zeros((0, 6)), work, model.cage)
-    from multibody import model as M
+    from flexbearing.multibody import model as M
     q = out["contact_load"][0]
     k_in = 1 if q[1] >= q[2] else 2
     for name, k in (("outer", 0), ("inner", k_in)):
@@ -135,8 +135,8 @@ def _timed(f):
 def attitude_table():
     sys.path.insert(0, os.path.join(HERE, "..", "tests"))
     import test_attitude_independent as A
-    from multibody import integrator as I
-    from multibody.steady import steady_thrust_state
+    from flexbearing.multibody import integrator as I
+    from flexbearing.multibody.steady import steady_thrust_state
     rows = []
     for case_no, mu0 in A.CASES:
         case = V.slip_rate_cases()[case_no - 1]
@@ -193,7 +193,7 @@ def sweep(path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from multibody.hertz import effective_modulus, race_curvature_radii
+    from flexbearing.multibody.hertz import effective_modulus, race_curvature_radii
     e_eff = effective_modulus(210e9, 0.3, 210e9, 0.3)
     temps, loads, speeds = (20.0, 100.0, 200.0), (30.0, 200.0, 1500.0, 8000.0), (1.0, 10.0, 60.0)
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.5), sharey=True)

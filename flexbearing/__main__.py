@@ -1,7 +1,7 @@
 """`python -m flexbearing ARGS` = `flexbearing ARGS`."""
 import sys
 
-from coupling.cli import main
+from flexbearing.cli.main import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -43,13 +43,13 @@ def spring_chain():
 def paper_reduced_cage():
     """The paper's reduced cage (default mesh, P3, Craig–Bampton): from the test cache, else built
     with dolfinx once per session (a few minutes; slow tests only)."""
-    import mesh.cage_mesh as cm
-    from mesh.cage_geometry import PAPER_CAGE
-    from fem_cage.reduction import build
-    from fem_cage import reduced_cage as rcf
+    import flexbearing.mesh.cage_mesh as cm
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.fem_cage.reduction import build
+    from flexbearing.fem_cage import reduced_cage as rcf
     key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
                         rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE, True)
-    path = rcf.find_cached(key)       # the run's own cache entry (coupling.flexible_cage), if any
+    path = rcf.find_cached(key)       # the run's own cache entry (flexbearing.coupling.flexible_cage), if any
     if path is None:
         path, _, _ = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
                            rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, degree=cm.DEFAULT_DEGREE)
@@ -84,7 +84,7 @@ record = {record}
 def short_flexible_impact():
     """Factory (name, record list) -> Scene of SHORT_FLEXIBLE_IMPACT."""
     import json
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.scene import loads_scene
 
     def make(name, record):
         return loads_scene(SHORT_FLEXIBLE_IMPACT.format(name=name, record=json.dumps(record)),

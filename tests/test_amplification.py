@@ -1,4 +1,4 @@
-"""Contact stress under a radial impact against the quasi-static equilibrium (coupling.amplification).
+"""Contact stress under a radial impact against the quasi-static equilibrium (flexbearing.analysis.amplification).
 
 References:
 * the shock spectrum of the undamped oscillator under a half-sine pulse (Biggs 1964 ch. 2; Clough &
@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from coupling.amplification import half_sine_daf, impact_amplification, pulse_scene
-from coupling.results import scene_of_run as run_scene
-from coupling.windows import quantity_arrays
+from flexbearing.analysis.amplification import half_sine_daf, impact_amplification, pulse_scene
+from flexbearing.simulation.results import scene_of_run as run_scene
+from flexbearing.analysis.windows import quantity_arrays
 
 
 def _integrated_daf(r):
@@ -46,7 +46,7 @@ def test_half_sine_shock_spectrum_known_values():
 
 
 def _amplification(tmp_path, td, duration, t_center):
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     scene = tmp_path / f"impact_{td}.toml"
     scene.write_text(pulse_scene(td, t_center, duration))
     run = tmp_path / f"impact_{td}.h5"

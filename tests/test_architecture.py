@@ -1,10 +1,13 @@
 """The layer rule, read from the imports (docs/architecture.md).
 
-The packages form a stack, each importing only the ones below it:
+The packages of the `flexbearing` namespace form a stack, each importing only the ones below it:
 
-    common  <  mesh  <  fem_cage  <  multibody  <  coupling  <  flexbearing
+    physics core:  common < mesh < fem_cage < multibody < coupling
+    application:   simulation < analysis < studies < cli
 
-(`flexbearing` is only `python -m flexbearing`: it runs coupling.cli.)
+and `flexbearing.verification` (the independent checks tests and benchmarks run) sits beside the
+stack: it may import any layer, and no layer imports it. `flexbearing` itself (its `__init__` and
+`__main__`) is the entry point on top: it runs flexbearing.cli.main.
 
 Every `import` and `from ... import` of every module is parsed with `ast` (module level and
 inside functions alike; `importlib.import_module("name")` with a literal name too), so a lazy
@@ -15,7 +18,7 @@ import that reaches up a layer is caught as well as a top-level one. Two rules:
    package is a module pair that should be one module, or a seam in the wrong place).
 
 Two more keep the command line apart from the libraries: argparse is imported only by the command
-modules `coupling/cli*.py` (and the two developer entry points named below), so no library grows a
+modules `flexbearing/cli/` (and the two developer entry points named below), so no library grows a
 command line, and no library imports a command module (the work a command does is a library
 function the command calls, never the other way round).
 """
@@ -25,23 +28,25 @@ import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-LAYERS = ("common", "mesh", "fem_cage", "multibody", "coupling", "flexbearing")
+LAYERS = ("common", "mesh", "fem_cage", "multibody", "coupling",
+          "simulation", "analysis", "studies", "cli", "verification")
+TOP = "flexbearing"
 # `python -m` entry points of two library modules (developer tools documented in their results
 # files, not `flexbearing` commands): their main() only parses and prints
-ARGPARSE_ALLOWED = {"fem_cage.calibrate", "coupling.validate"}
+ARGPARSE_ALLOWED = {"flexbearing.fem_cage.calibrate", "flexbearing.studies.validate"}
 
 
 def modules() -> dict[str, Path]:
-    out = {}
+    out = {TOP: ROOT / TOP / "__init__.py", f"{TOP}.__main__": ROOT / TOP / "__main__.py"}
     for pkg in LAYERS:
-        for f in sorted((ROOT / pkg).glob("*.py")):
-            out[pkg if f.stem == "__init__" else f"{pkg}.{f.stem}"] = f
+        for f in sorted((ROOT / TOP / pkg).glob("*.py")):
+            out[f"{TOP}.{pkg}" if f.stem == "__init__" else f"{TOP}.{pkg}.{f.stem}"] = f
     return out
 
 
 def imported_names(name: str, path: Path) -> set[str]:
     """Every dotted name module `name` imports (absolute form; `from a import b` gives a and a.b)."""
-    pkg = name.split(".")[0]
+    pkg = name if path.stem == "__init__" else name.rpartition(".")[0]
     found = set()
     for node in ast.walk(ast.parse(path.read_text(), str(path))):
         if isinstance(node, ast.Import):
@@ -49,7 +54,8 @@ def imported_names(name: str, path: Path) -> set[str]:
         elif isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
-                base = pkg + ("." + base if base else "")
+                anchor = pkg.rsplit(".", node.level - 1)[0] if node.level > 1 else pkg
+                base = anchor + ("." + base if base else "")
             found.add(base)
             found.update(f"{base}.{a.name}" for a in node.names)
         elif (isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "import_module"
@@ -64,7 +70,18 @@ def import_graph() -> dict[str, set[str]]:
 
 
 def layer(module: str) -> int:
-    return LAYERS.index(module.split(".")[0])
+    """Position in the stack: the entry point (`flexbearing`, `flexbearing.__main__`) on top."""
+    parts = module.split(".")
+    if len(parts) == 1 or parts[1] not in LAYERS:
+        return len(LAYERS)
+    return LAYERS.index(parts[1])
+
+
+def test_the_program_never_imports_the_verification_modules():
+    graph = import_graph()
+    into = sorted(f"{m} -> {t}" for m, ts in graph.items() for t in ts
+                  if t.startswith(f"{TOP}.verification") and not m.startswith(f"{TOP}.verification"))
+    assert into == [], "runtime modules that import a verification module:\n" + "\n".join(into)
 
 
 def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -111,12 +128,15 @@ def test_the_import_graph_has_no_circle():
 def test_the_graph_reader_sees_lazy_and_relative_imports(tmp_path):
     """The checks above are only as good as the import reader: a function-level import, a
     relative import and importlib.import_module must all count."""
-    src = ("import numpy\nfrom . import hertz\n\ndef f():\n    from coupling.scene import load_scene\n"
-           "    import importlib\n    importlib.import_module('fem_cage.modes')\n")
+    src = ("import numpy\nfrom . import hertz\nfrom ..common import cache\n\ndef f():\n"
+           "    from flexbearing.simulation.scene import load_scene\n"
+           "    import importlib\n    importlib.import_module('flexbearing.fem_cage.modes')\n")
     p = tmp_path / "x.py"
     p.write_text(src)
-    names = imported_names("multibody.x", p)
-    assert {"multibody.hertz", "coupling.scene", "fem_cage.modes"} <= names
+    names = imported_names("flexbearing.multibody.x", p)
+    assert {"flexbearing.multibody.hertz", "flexbearing.common.cache", "flexbearing.simulation.scene",
+            "flexbearing.fem_cage.modes"} <= names
+    assert layer("flexbearing.simulation.scene") > layer("flexbearing.coupling.flexible_cage")
     g = {"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}, "a.w": {"a.x"}}
     assert cycles(g) == [["a.x", "a.y", "a.z"]]
 
@@ -124,7 +144,7 @@ def test_the_graph_reader_sees_lazy_and_relative_imports(tmp_path):
 def test_only_command_modules_parse_arguments():
     mods = modules()
     parsing = sorted(m for m, p in mods.items()
-                     if "argparse" in imported_names(m, p) and not m.startswith("coupling.cli")
+                     if "argparse" in imported_names(m, p) and not m.startswith(f"{TOP}.cli.")
                      and m not in ARGPARSE_ALLOWED)
     assert parsing == [], f"library modules with a command line: {parsing}"
 
@@ -132,21 +152,21 @@ def test_only_command_modules_parse_arguments():
 def test_no_library_imports_a_command_module():
     graph = import_graph()
     # the command modules, and the `python -m flexbearing` entry point that runs them
-    is_cli = lambda m: m.startswith("coupling.cli") or m.split(".")[0] == "flexbearing"   # noqa: E731
+    is_cli = lambda m: m.startswith(f"{TOP}.cli.") or layer(m) == len(LAYERS)   # noqa: E731
     back = sorted(f"{m} -> {t}" for m, ts in graph.items() if not is_cli(m) for t in ts if is_cli(t))
     assert back == [], "libraries that import a command module:\n" + "\n".join(back)
 
 
 def test_the_cage_arrays_are_read_by_name():
-    """Model.cage is a multibody.floating_frame.CageArrays named tuple: no module indexes it by
+    """Model.cage is a flexbearing.multibody.floating_frame.CageArrays named tuple: no module indexes it by
     position (`cage[17]`, `model.cage[19]`), which silently reads the wrong array when a field is
-    added. The state slice called `cage` in multibody.outputs (y[cage block], 12 numbers) is the
+    added. The state slice called `cage` in flexbearing.multibody.outputs (y[cage block], 12 numbers) is the
     one `cage[...]` subscript allowed, and only with slices or that module's state offsets."""
     import re
     bare = re.compile(r"\bcage\[\s*\d+\s*\]")
     found = []
     for name, path in modules().items():
-        if name == "multibody.outputs":
+        if name == "flexbearing.multibody.outputs":
             continue
         for i, line in enumerate(path.read_text().splitlines(), 1):
             if bare.search(line):

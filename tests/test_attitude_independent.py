@@ -1,7 +1,7 @@
 """An independent check of the ball attitude and cage speed under friction (issue 25, item 2).
 
-A compact single-ball model of a thrust-loaded bearing, written without multibody.steady or
-multibody.dynamics: Coulomb-type friction integrated over both Hertz ellipses with the sliding
+A compact single-ball model of a thrust-loaded bearing, written without flexbearing.multibody.steady or
+flexbearing.multibody.dynamics: Coulomb-type friction integrated over both Hertz ellipses with the sliding
 field of the ball's spin relative to each race and Heathcote's slip (the contact surface curved
 across the groove, radius R_d = 2·f·Dw/(2f + 1), Harris & Kotzalas, Rolling Bearing Analysis,
 5th ed., Vol. 2 §2.2), the centrifugal force and the gyroscopic couple of a ball that keeps its
@@ -17,11 +17,11 @@ ellipse of mu(|v_s|/U)·p·v_s/|v_s|, v_s the race-minus-ball sliding velocity p
 contact surface, p the Hertz pressure, mu(s) = mu_0·(1 − exp(−2000·s)) (Coulomb with a creep
 slip of 5e-4, the same curve the model gets through its traction table). Seven unknowns: ball
 centre (x, r), ring axial position, omega_c, w. Geometry primitives (groove centres, Hertz
-stiffness and ellipse) come from multibody.geometry and multibody.hertz, which have their own
+stiffness and ellipse) come from flexbearing.multibody.geometry and flexbearing.multibody.hertz, which have their own
 checks against published tables; the kinematics, the friction integral and the equilibrium are
 written here from scratch.
 
-Compared with `multibody.steady.steady_thrust_state` and with the dynamics integrated from that
+Compared with `flexbearing.multibody.steady.steady_thrust_state` and with the dynamics integrated from that
 state (drag, gravity and radial load off: the pure thrust state Harris's analysis solves): the
 pitch beta of the spin relative to the cage, atan(|w_r|/|w_x − omega_c|), within 0.5° and the cage
 speed within 0.3 % (0.2 % in three of the four runs; see the assertions), Table 4 cases 1 and 6 at
@@ -35,11 +35,11 @@ import numpy as np
 import pytest
 from scipy.optimize import root
 
-from coupling import validate as V
-from multibody import traction as TR
-from multibody.geometry import inner_groove_centres, outer_groove_centre
-from multibody.hertz import effective_modulus, hertz_point_contact, hertz_stiffness, race_curvature_radii
-from multibody.model import with_traction_table
+from flexbearing.studies import validate as V
+from flexbearing.multibody import traction as TR
+from flexbearing.multibody.geometry import inner_groove_centres, outer_groove_centre
+from flexbearing.multibody.hertz import effective_modulus, hertz_point_contact, hertz_stiffness, race_curvature_radii
+from flexbearing.multibody.model import with_traction_table
 
 CREEP = 2000.0      # 1/slip: mu reaches 63 % of mu_0 at s = 5e-4
 # The Coulomb-like curve makes the traction a near-step across the ellipse: the model's default 8
@@ -51,7 +51,7 @@ N_SLICES = 32
 
 def coulomb_table(mu0: float) -> np.ndarray:
     """The model's traction table for mu(s) = mu0·(1 − exp(−CREEP·s)) (origin law with B = 0, no
-    load, speed or temperature exponents; multibody.traction "Origin law")."""
+    load, speed or temperature exponents; flexbearing.multibody.traction "Origin law")."""
     tab = TR.bounded_traction_table((0.0, math.inf), (0.0, math.inf), 0.0)
     tab[:4] = 0.0
     tab[2, 0] = CREEP
@@ -182,8 +182,8 @@ def _model(mu0, n_slices=N_SLICES):
 
 def independent_state(case, mu0):
     """The single-ball roots from three starting attitudes (pitch 0, 0.5 and 0.7 rad): the geometry
-    and the spin magnitude of the quasi-static start (multibody.initial), the pitch set."""
-    from multibody.initial import initial_state
+    and the spin magnitude of the quasi-static start (flexbearing.multibody.initial), the pitch set."""
+    from flexbearing.multibody.initial import initial_state
     model = _model(mu0)
     omega = case["speed_rpm"] * math.pi / 30.0
     y = initial_state(model, omega, case["axial_load"], 0.0)
@@ -206,8 +206,8 @@ CASES = [(1, 0.03), (1, 0.1), (6, 0.03), (6, 0.1)]
 
 @pytest.mark.parametrize("case_no,mu0", CASES)
 def test_attitude_and_cage_speed_independent_vs_steady_and_dynamics(case_no, mu0):
-    from multibody import dynamics as D, integrator as I
-    from multibody.steady import steady_thrust_state
+    from flexbearing.multibody import dynamics as D, integrator as I
+    from flexbearing.multibody.steady import steady_thrust_state
     case = V.slip_rate_cases()[case_no - 1]
     roots = independent_state(case, mu0)
     ref = roots[0]
@@ -220,7 +220,7 @@ def test_attitude_and_cage_speed_independent_vs_steady_and_dynamics(case_no, mu0
     # dynamics' own fixed point: its residual is what is solved)
     y_s, info = steady_thrust_state(model, omega, case["axial_load"])
     if not info["converged"]:
-        from multibody.initial import initial_state
+        from flexbearing.multibody.initial import initial_state
         y0 = initial_state(model, omega, case["axial_load"], 0.0)
         for j in range(model.n_balls):
             y0[9 * j], y0[9 * j + 1] = ref[0], ref[1]

@@ -1,4 +1,4 @@
-"""Race-control ball attitude (model option `ball_attitude`, multibody.dynamics docstring).
+"""Race-control ball attitude (model option `ball_attitude`, flexbearing.multibody.dynamics docstring).
 
 Closed forms, at the quasi-static state of slip-rate test case 12 conditions (2000 N axial, no
 radial load, 4000 rpm: outer angle ~21°, inner ~36°, so the two contact normals are not collinear):
@@ -9,9 +9,9 @@ radial load, 4000 rpm: outer angle ~21°, inner ~36°, so the two contact normal
   d/dt[(w − w_race·e_x)·n] = −k·(w − w_race·e_x)·n, the yaw w_t relaxes at k, and the
   translational equations are unchanged (the constraint moments are pure couples);
 * motion level (T_RUN = 0.3 s, drag off, started on the race-control kinematics by
-  multibody.initial): the spin axis of every ball sits at Jones's race-control pitch of the race
+  flexbearing.multibody.initial): the spin axis of every ball sits at Jones's race-control pitch of the race
   that controls, in Harris & Kotzalas's closed form tan beta = sin a/(cos a ± D/dm) (+ outer,
-  − inner; `coupling.validate.race_control_kinematics`), within TOL_BETA_DEG = 0.02°; the closed
+  − inner; `flexbearing.studies.validate.race_control_kinematics`), within TOL_BETA_DEG = 0.02°; the closed
   form assumes pure rolling on the controlling race (measured: inner +0.0099° at 0.02 s, +0.0065°
   at 0.1 s, +0.0042° at 0.2 s, +0.017° at 0.3 s (one ball; +0.015° before the ring took the
   spin-locking couple); outer +0.0005°, +0.0001°, −0.0001°); and the cage turns at the
@@ -30,17 +30,17 @@ import math
 import numpy as np
 import pytest
 
-from coupling import validate as V
-from common.validation import InputError
-from multibody import dynamics as D
-from multibody import outputs as O
-from multibody import integrator as I
-from multibody import model as M
-from multibody.bearing import PAPER_OIL
-from multibody.model import build_model
+from flexbearing.studies import validate as V
+from flexbearing.common.validation import InputError
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody import integrator as I
+from flexbearing.multibody import model as M
+from flexbearing.multibody.bearing import PAPER_OIL
+from flexbearing.multibody.model import build_model
 
 CASE = {"axial_load": 2000.0, "radial_load": 0.0, "speed_rpm": 4000.0}
-# light load: the ring reaction of the gyroscopic friction is left off (multibody.dynamics docstring:
+# light load: the ring reaction of the gyroscopic friction is left off (flexbearing.multibody.dynamics docstring:
 # it destabilises race control at light load); tests/test_dynamic_vs_quasi_static.py checks it on
 OPTS = {"drag": False, "gravity": 0.0, "attitude_ring_reaction": False}
 TOL_BETA_DEG = 0.02
@@ -179,7 +179,7 @@ T_NO_PIVOT = 0.3
 
 @pytest.mark.parametrize("attitude", ["no_pivot", "inner", "outer"])
 def test_constraint_moments_do_the_work_the_power_balance_misses(attitude):
-    """Work–energy theorem (multibody.power_loss.power_balance) at the disturbed paper-case state of
+    """Work–energy theorem (flexbearing.multibody.power_loss.power_balance) at the disturbed paper-case state of
     tests/test_power_loss.py (constraints violated, ring tilting), ring reaction of the gyroscopic
     pair off: the residual of the balance is the work of the constraint moments and nothing else,
     on the balls I_b·w·(dw/dt − dw/dt_free) and, for inner-race control, on the inner ring
@@ -187,8 +187,8 @@ def test_constraint_moments_do_the_work_the_power_balance_misses(attitude):
     2e-10 (no_pivot), 9e-10 (inner) of the loss; bound 1e-6 (the central difference's own error is
     ~1e-8). The ring's share is 11 % of the loss here: before the ring took −M_n·n, inner-race
     control left it out of the friction torque. "no_pivot" with every yaw at 0 does no work."""
-    from multibody.bearing import PAPER_BEARING
-    from multibody.power_loss import power_balance
+    from flexbearing.multibody.bearing import PAPER_BEARING
+    from flexbearing.multibody.power_loss import power_balance
     from test_power_loss import FIXED, IMP, LD, OMEGA, SP, _perturbed_state
     model = build_model(PAPER_BEARING, PAPER_OIL, {**FIXED, "ball_attitude": attitude,
                                                    "attitude_ring_reaction": False})
@@ -222,7 +222,7 @@ def test_no_pivot_ball_rolls_at_its_own_pitch():
     start): the yaw stays at zero, the spin axis keeps a pitch beta ≈ 29° that the gyroscopic
     couple (I_b·psi'·w_r ≈ 0.3 N·m) would turn to 0 on a free ball without transverse traction, and
     the cage turns at the pure-rolling speed of that pitch and the run's mean contact angles
-    (`coupling.validate.pure_rolling_cage_speed_ratio`, Harris & Kotzalas's rolling conditions at
+    (`flexbearing.studies.validate.pure_rolling_cage_speed_ratio`, Harris & Kotzalas's rolling conditions at
     both contacts) within TOL_NO_PIVOT_CAGE = 0.1 % (measured −4.0e-4 at 0.3 and 0.5 s: the skid the
     spin moments leave, as for race control above). Pitch measured 29.51° at the start, 29.10° at
     0.3 s, 28.80° at 0.5 s: with no drag nothing holds it, it drifts slowly."""

@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from mesh.cage_geometry import PAPER_CAGE, NOMINAL_CAGE
-from common.validation import InputError
+from flexbearing.mesh.cage_geometry import PAPER_CAGE, NOMINAL_CAGE
+from flexbearing.common.validation import InputError
 
 
 @pytest.mark.parametrize("change, field", [
@@ -39,7 +39,7 @@ def test_presets_valid_and_pocket_clearance_reasonable():
 
 
 def test_mesh_sizes_are_checked():
-    from mesh.cage_mesh import build_cage_mesh
+    from flexbearing.mesh.cage_mesh import build_cage_mesh
     with pytest.raises(InputError, match="mesh.size"):
         build_cage_mesh(NOMINAL_CAGE, -1.0, 2, "/tmp/never.msh")
     with pytest.raises(InputError, match="mesh.order"):
@@ -51,7 +51,7 @@ def test_mesh_sizes_are_checked():
 @pytest.fixture(scope="module")
 def relieved_mesh(tmp_path_factory):
     """A coarse relieved, chamfered cage: every group kind present."""
-    from mesh.cage_mesh import build_cage_mesh
+    from flexbearing.mesh.cage_mesh import build_cage_mesh
     g = NOMINAL_CAGE.with_(land_width=8e-3, relief_depth=1e-3, chamfer=0.5e-3)
     path = build_cage_mesh(g, 8e-3, 2, tmp_path_factory.mktemp("m") / "cage.msh", pocket_size=4e-3)
     return g, path
@@ -72,10 +72,10 @@ def _groups(path):
 
 
 def test_physical_groups_and_pocket_positions(relieved_mesh):
-    from mesh.cage_mesh import mesh_quality_of
+    from flexbearing.mesh.cage_mesh import mesh_quality_of
     g, path = relieved_mesh
     groups, types = _groups(path)
-    # the repair of badly curved cells (mesh.quality) moves a few mid-edge nodes off the CAD
+    # the repair of badly curved cells (flexbearing.mesh.quality) moves a few mid-edge nodes off the CAD
     # surface, by at most the shift it reports; every other node is on it
     repair = mesh_quality_of(path)["repair"]
     shift, n_moved = repair["max_node_shift_m"], repair["n_nodes_moved"]
@@ -108,7 +108,7 @@ def test_physical_groups_and_pocket_positions(relieved_mesh):
 
 
 def test_cached_mesh_is_reused(tmp_path, monkeypatch):
-    from mesh import cage_mesh
+    from flexbearing.mesh import cage_mesh
     monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path))
     p1 = cage_mesh.cached_cage_mesh(NOMINAL_CAGE, 10e-3, 1, 10e-3)
     mtime = p1.stat().st_mtime_ns
@@ -130,7 +130,7 @@ def test_bore_chamfer_unset_keeps_the_cache_identity():
 def test_section_profile_with_bore_chamfer():
     # Shoelace area of the section polygon = W h - 2 c^2/2 (outside edges) - 2 cb^2/2 (bore edges)
     # - relief (W - 2 L) d: closed form of the drawn section (45° chamfers are right isosceles).
-    from mesh.cage_mesh import _profile_points
+    from flexbearing.mesh.cage_mesh import _profile_points
     c, cb, L, d = 0.5e-3, 2e-3, 5e-3, 1e-3
     g = NOMINAL_CAGE.with_(chamfer=c, bore_chamfer=cb, land_width=L, relief_depth=d).validate()
     P = np.array(_profile_points(g))
@@ -147,7 +147,7 @@ def test_section_profile_with_bore_chamfer():
 def test_bore_chamfer_mesh_nodes(tmp_path):
     # Meshed with a 2 mm bore chamfer and no outside chamfer: bore nodes stay within
     # |x| <= W/2 - cb, side-face nodes at r >= ri + cb (1e-9 m: nodes on the CAD surfaces).
-    from mesh.cage_mesh import build_cage_mesh
+    from flexbearing.mesh.cage_mesh import build_cage_mesh
     cb = 2e-3
     g = NOMINAL_CAGE.with_(bore_chamfer=cb)
     path = build_cage_mesh(g, 10e-3, 1, tmp_path / "c.msh", pocket_size=10e-3)
@@ -163,7 +163,7 @@ def test_bore_chamfer_mesh_nodes(tmp_path):
 def test_sub_micrometre_chamfer_is_drawn_as_a_sharp_edge():
     # An optimiser may push a chamfer to ~1e-9 m; OCC cannot draw that edge, and it is no
     # feature of a machined part: below MIN_FEATURE (1 µm) the corner is drawn sharp.
-    from mesh.cage_mesh import _profile_points, MIN_FEATURE
+    from flexbearing.mesh.cage_mesh import _profile_points, MIN_FEATURE
     sharp = _profile_points(NOMINAL_CAGE)
     assert _profile_points(NOMINAL_CAGE.with_(chamfer=1e-9, bore_chamfer=0.3 * MIN_FEATURE)) == sharp
     assert len(_profile_points(NOMINAL_CAGE.with_(chamfer=MIN_FEATURE))) == len(sharp) + 4

@@ -1,4 +1,4 @@
-"""coupling.cage_motion against orbits whose whirl ratio and velocity dispersion are known in
+"""flexbearing.analysis.cage_motion against orbits whose whirl ratio and velocity dispersion are known in
 closed form.
 
 - Circle of radius r whirling at Omega, cage speed omega(t) = w0 + a·t: the whirl ratio is
@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 from scipy.special import ellipe
 
-from coupling import cage_motion as CM
-from common.validation import InputError
+from flexbearing.analysis import cage_motion as CM
+from flexbearing.common.validation import InputError
 
 
 def _circle(r=20e-6, omega=300.0, w0=600.0, a=2000.0, dt=1e-4, n=2001, sense=1.0):

@@ -1,8 +1,8 @@
 """Outer-ring-guided cage on its short-bearing land film: half-frequency whirl without a static
 load, a bounded orbit held at one azimuth with the cage's weight (the physics behind
-VALIDATION_GRAVITY; whirl ratio and dispersion from coupling.cage_motion, as in the report).
+VALIDATION_GRAVITY; whirl ratio and dispersion from flexbearing.analysis.cage_motion, as in the report).
 
-Theory (Ocvirk short bearing with the whirl and squeeze terms, multibody.guide_land; Childs,
+Theory (Ocvirk short bearing with the whirl and squeeze terms, flexbearing.multibody.guide_land; Childs,
 Turbomachinery Rotordynamics, 1993, §3.5): the pi-film's tangential force is proportional to
 (omega_cage + omega_land − 2·phidot). With the outer ring fixed and no static load the film has
 no stiffness and a destabilising cross-coupled force; the cage centre drifts out on a forward
@@ -14,10 +14,10 @@ clearance.
 import numpy as np
 import pytest
 
-from coupling import cage_motion as CM
-from coupling import validate as V
-from multibody import outputs as O
-from multibody import integrator as I
+from flexbearing.analysis import cage_motion as CM
+from flexbearing.studies import validate as V
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody import integrator as I
 
 
 def _cage_orbit(gravity, t_end, case_no=4, dt=2.5e-3):

@@ -1,5 +1,5 @@
 """The Craig–Bampton basis augmented with the fixed-interface centrifugal response (fem_cage.
-craig_bampton Eq. (2), fem_cage.reduction.reduce_model(centrifugal=True)).
+craig_bampton Eq. (2), flexbearing.fem_cage.reduction.reduce_model(centrifugal=True)).
 
 Claim: constraint modes + the fixed-interface static response to a body load hold the exact
 free–free static response to that load (the plain CB basis holds it only for interface loads).
@@ -14,8 +14,8 @@ import pytest
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from fem_cage import interface as itf
-from fem_cage.craig_bampton import craig_bampton
+from flexbearing.fem_cage import interface as itf
+from flexbearing.fem_cage.craig_bampton import craig_bampton
 
 RING = dict(outside_diameter=60e-3, bore_diameter=50e-3, width=12e-3, n_pockets=6,
             pocket_diameter=1.5e-3, ball_diameter=1.4e-3, land_width=6e-3)
@@ -68,9 +68,9 @@ def test_augmented_basis_holds_the_free_free_static_body_load_response(spring_ch
 
 def _ring(size, pocket_size, degree=2, geometry=RING):
     from mpi4py import MPI
-    from mesh.cage_geometry import CageGeometry
-    from mesh.cage_mesh import cached_cage_mesh
-    from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
+    from flexbearing.mesh.cage_geometry import CageGeometry
+    from flexbearing.mesh.cage_mesh import cached_cage_mesh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
     g = CageGeometry(**geometry).validate()
     domain, _, ft, _ = load_cage_mesh(cached_cage_mesh(g, size, 2, pocket_size), MPI.COMM_SELF)
     V, K, M = assemble_stiffness_mass(domain, g.material, degree)
@@ -85,7 +85,7 @@ def coarse_ring():
 
 @pytest.fixture(scope="module")
 def coarse_reduced(coarse_ring):
-    from fem_cage.reduction import reduce_model
+    from flexbearing.fem_cage.reduction import reduce_model
     g, domain, ft, V, K, M = coarse_ring
     # the centrifugal vector alone (the schema-3 basis): the land-load and inertia-relief vectors
     # (schema 4, tests/test_guide_loads.py) are switched off to isolate its effect
@@ -101,7 +101,7 @@ def test_full_basis_static_centrifugal_exact(coarse_reduced):
     here) — the
     defect this augmentation removes. The augmentation keeps the rest: one more mode, interface
     loads still exact (check_static <= 1e-6), mean-axis elastic modes, identity modal mass."""
-    from fem_cage.reduction_check import check_centrifugal, check_static
+    from flexbearing.fem_cage.reduction_check import check_centrifugal, check_static
     on, off = coarse_reduced[True], coarse_reduced[False]
     assert len(on["omega"]) == len(off["omega"]) + 1 == 6 * 6 + 10 + 1
     r_on, r_off = check_centrifugal(on, SPIN), check_centrifugal(off, SPIN)
@@ -113,7 +113,7 @@ def test_full_basis_static_centrifugal_exact(coarse_reduced):
     assert on["orthogonality"]["modal_mass_identity_error"] < 1e-12
     assert np.all(np.diff(on["omega"]) >= 0)
     # the modal load from the stored invariants is Phi^T M x_perp Omega^2 (what the runtime uses)
-    from fem_cage.reduced_cage import centrifugal_modal_load
+    from flexbearing.fem_cage.reduced_cage import centrifugal_modal_load
     Q = centrifugal_modal_load(on["moments"], SPIN)
     assert np.allclose(Q, SPIN ** 2 * on["Phi_full"].T @ on["f_cf"], rtol=1e-10,
                        atol=1e-12 * np.abs(Q).max())
@@ -121,7 +121,7 @@ def test_full_basis_static_centrifugal_exact(coarse_reduced):
 
 def _free_free_static(red, f):
     """Full FE free–free static response with inertia relief: K u = f - M R a, R^T M u = 0."""
-    from fem_cage.craig_bampton import SaddleSolver
+    from flexbearing.fem_cage.craig_bampton import SaddleSolver
     R = red["Phi_full"][:, :6]
     s = SaddleSolver(sp.csr_matrix(red["K"]), sp.csr_matrix((red["M"] @ R).T))
     u, _ = s.solve(f, None)
@@ -136,7 +136,7 @@ def test_residual_static_correction_combined_load(coarse_reduced):
     centrifugal_modal_load) — equals the full basis (algebraically the same statically: the modal
     stiffness is diagonal; asserted to 1e-12) and so the full FE (<= 1e-6, measured 2.6e-9); the 26
     kept modes alone are far off (> 3 %, measured 9.8 %)."""
-    from fem_cage.reduced_cage import static_correction, centrifugal_modal_load
+    from flexbearing.fem_cage.reduced_cage import static_correction, centrifugal_modal_load
     red = coarse_reduced[True]
     xm = red["interface_positions"]
     e = (xm[1] - xm[4]) / np.linalg.norm(xm[1] - xm[4])
@@ -189,8 +189,8 @@ def test_thin_ring_hoop_stress_vs_rotating_disc():
         the disc formula is plane stress, the ring is 12 mm wide for 5 mm radial thickness — the
         same pattern appears at P3 on a 4 mm mesh (-2.05 %...+0.68 % all nodes, edges included),
         i.e. it is the 3D ring vs the plane-stress model, not discretisation. ~90 s: slow."""
-    from fem_cage.reduction import reduce_model
-    from fem_cage.reduction_check import check_centrifugal
+    from flexbearing.fem_cage.reduction import reduce_model
+    from flexbearing.fem_cage.reduction_check import check_centrifugal
     g, domain, ft, V, K, M = _ring(2.5e-3, 1.0e-3)
     red = reduce_model(domain, ft, V, K, M, g, "rbe3", 20, centrifugal=True)
     assert check_centrifugal(red, SPIN)["stress_rel_error_full"] <= 1e-6

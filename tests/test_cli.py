@@ -6,7 +6,7 @@ import pytest
 
 
 def test_cli_help_lists_commands_without_loading_fe_stack():
-    code = ("import sys; from coupling.cli import build_parser; build_parser(); "
+    code = ("import sys; from flexbearing.cli.main import build_parser; build_parser(); "
             "print('dolfinx' in sys.modules, 'gmsh' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False"]
@@ -15,11 +15,11 @@ def test_cli_help_lists_commands_without_loading_fe_stack():
 def test_quasi_static_command_writes_an_equilibrium(tmp_path):
     # paper steady scene (55 kN / 4 kN, 14,000 rpm), outer race control with all the gyroscopic friction on the
     # outer race: the inner contacts carry no friction, so the ring's axial balance from the written loads and
-    # angles is Fa = sum Q·sin(alpha) over the inner contacts (signed angles; multibody.quasi_static docstring)
+    # angles is Fa = sum Q·sin(alpha) over the inner contacts (signed angles; flexbearing.multibody.quasi_static docstring)
     import json
     import math
     import numpy as np
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     out = tmp_path / "qs.json"
     assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--stiffness", "updated", "--json", str(out)]) == 0
     d = json.loads(out.read_text())
@@ -36,7 +36,7 @@ def test_quasi_static_command_takes_the_load_of_the_instant(tmp_path, capsys):
     # (t = 0.3 s, the scene's own comment): the solve sees 54 kN there, 4 kN before the impact starts
     import json
     import math
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     for t, fr in ((0.3, 54e3), (0.0, 4e3)):
         out = tmp_path / f"qs{t}.json"
         assert main(["quasi-static", "scenes/paper_unsteady_rigid.toml", "--time", str(t), "--json", str(out)]) == 0
@@ -53,10 +53,10 @@ def test_quasi_static_sweep_follows_the_profile(tmp_path, capsys):
     # those of bearing_stiffness at the same equilibria
     import json
     import numpy as np
-    from coupling.cli import main
-    from coupling.scene import load_scene
-    from coupling.quasi_static_scene import solve_scene
-    from multibody.quasi_static import bearing_stiffness, grooves_from_bearing
+    from flexbearing.cli.main import main
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.simulation.quasi_static_scene import solve_scene
+    from flexbearing.multibody.quasi_static import bearing_stiffness, grooves_from_bearing
     out = tmp_path / "sweep.json"
     assert main(["quasi-static", "scenes/paper_unsteady_rigid.toml", "--times", "0:0.6:7", "--stiffness", "updated",
                  "--json", str(out)]) == 0
@@ -81,11 +81,11 @@ def test_quasi_static_sweep_follows_the_profile(tmp_path, capsys):
 
 
 def test_quasi_static_modes(tmp_path, capsys):
-    # --modes: at rest the natural frequencies of multibody.vibration about the scene's equilibrium (the paper
+    # --modes: at rest the natural frequencies of flexbearing.multibody.vibration about the scene's equilibrium (the paper
     # case: 2090 Hz radial-tilt, 4028 Hz axial, 7326 Hz; tests/test_vibration.py strikes the dynamics there);
     # at speed with the paper's radial load refused before any solve (time-periodic system), naming the load
     import json
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     rest = tmp_path / "rest.toml"
     rest.write_text(open("scenes/paper_steady_rigid.toml").read().replace("rpm = 14000", "rpm = 0"))
     out = tmp_path / "modes.json"
@@ -102,15 +102,15 @@ def test_quasi_static_modes(tmp_path, capsys):
 
 
 def test_quasi_static_friction_control_is_the_steady_running_state(tmp_path, capsys):
-    # --control friction runs multibody.steady on the scene (rigid cage, the scene's oil): the paper's steady scene
+    # --control friction runs flexbearing.multibody.steady on the scene (rigid cage, the scene's oil): the paper's steady scene
     # with its radial load removed gives the state of tests/test_steady.py; with its radial load the frozen-azimuth
     # held-cage state, whose film force carries the pockets' resultant (Newton's third law, 1e-6 N)
     import json
     import math
-    from coupling.cli import main
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
-    from multibody.model import build_model
-    from multibody.steady import steady_thrust_state
+    from flexbearing.cli.main import main
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.model import build_model
+    from flexbearing.multibody.steady import steady_thrust_state
     text = open("scenes/paper_steady_rigid.toml").read().replace("radial_load = 4e3", "radial_load = 0.0")
     scene = tmp_path / "thrust.toml"
     scene.write_text(text)

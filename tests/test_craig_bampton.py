@@ -1,4 +1,4 @@
-"""Craig–Bampton reduction (fem_cage.interface, fem_cage.craig_bampton, the reduce pipeline).
+"""Craig–Bampton reduction (flexbearing.fem_cage.interface, flexbearing.fem_cage.craig_bampton, the reduce pipeline).
 
 Algebra on generic matrices (exact statements), then a small curved-P2 cage (6 pockets) built
 here: static exactness of the full basis, stress recovery, frequencies vs the full model, and
@@ -8,8 +8,8 @@ import pytest
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from fem_cage import interface as itf
-from fem_cage.craig_bampton import craig_bampton, orthonormalise, rigid_mass_properties
+from flexbearing.fem_cage import interface as itf
+from flexbearing.fem_cage.craig_bampton import craig_bampton, orthonormalise, rigid_mass_properties
 
 
 def test_rbe2_transformation_moves_wall_rigidly():
@@ -94,9 +94,9 @@ SMALL = dict(outside_diameter=60e-3, bore_diameter=50e-3, width=12e-3, n_pockets
 @pytest.fixture(scope="module")
 def small_model():
     from mpi4py import MPI
-    from mesh.cage_geometry import CageGeometry
-    from mesh.cage_mesh import cached_cage_mesh
-    from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
+    from flexbearing.mesh.cage_geometry import CageGeometry
+    from flexbearing.mesh.cage_mesh import cached_cage_mesh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
     g = CageGeometry(**SMALL).validate()
     path = cached_cage_mesh(g, 3e-3, 2, 2e-3)
     domain, _, ft, _ = load_cage_mesh(path, MPI.COMM_SELF)
@@ -106,7 +106,7 @@ def small_model():
 
 @pytest.fixture(scope="module")
 def rbe3(small_model):
-    from fem_cage.reduction import reduce_model
+    from flexbearing.fem_cage.reduction import reduce_model
     g, domain, ft, V, K, M = small_model
     return reduce_model(domain, ft, V, K, M, g, "rbe3", 20)
 
@@ -127,7 +127,7 @@ def test_static_exactness_full_basis(rbe3):
     """Unit forces and moments at 4 pockets, pocket 0 clamped: full basis to <= 1e-6 (SPEC);
     measured ~1e-10. The 26-mode truncation is NOT exact (documented; asserted > 1e-3 so a
     silent change of that fact is noticed)."""
-    from fem_cage.reduction_check import check_static
+    from flexbearing.fem_cage.reduction_check import check_static
     r = check_static(rbe3, [1, 2, 3, 5], 0, 26)
     assert r["max_rel_error_full"] <= 1e-6
     assert r["max_rel_error_truncated"] > 1e-3
@@ -136,7 +136,7 @@ def test_static_exactness_full_basis(rbe3):
 def test_stress_recovery_full_basis(rbe3):
     """Circumferential 1 kN pocket load: modal recovery of max von Mises and its vertex equal the
     full FE recovery (same averaging operator) within 1 %, measured ~1e-9."""
-    from fem_cage.reduction_check import check_stress
+    from flexbearing.fem_cage.reduction_check import check_stress
     r = check_stress(rbe3, 3, 0, 1000.0, 26)
     assert r["rel_error_full"] <= 0.01
     assert r["location_distance_full_m"] == 0.0
@@ -148,7 +148,7 @@ def test_frequencies_vs_full_model(rbe3):
     model's from above (Rayleigh–Ritz). 6-pocket toy cage, 36 constraint + 20 fixed modes: the
     first 6 elastic modes within 0.5 % (the paper cage, 120 constraint modes, is checked for 10 by
     `flexbearing reduce --json`)."""
-    from fem_cage.reduction_check import check_frequencies
+    from flexbearing.fem_cage.reduction_check import check_frequencies
     r = check_frequencies(rbe3, 6)
     f_red, f_full = np.array(r["reduced_hz"]), np.array(r["full_hz"])
     assert np.all(f_red >= f_full * (1 - 1e-8))
@@ -159,8 +159,8 @@ def test_rbe2_stiffens_and_matches_its_coupled_model(small_model):
     """RBE2 makes each pocket wall rigid: the reduced model matches the full model with the same
     rigid walls (lowest elastic pair within 0.5 %) but is far stiffer than the free cage (> 10 %
     on this toy cage) — why RBE3 is the default coupling."""
-    from fem_cage.reduction import reduce_model
-    from fem_cage.reduction_check import check_frequencies
+    from flexbearing.fem_cage.reduction import reduce_model
+    from flexbearing.fem_cage.reduction_check import check_frequencies
     g, domain, ft, V, K, M = small_model
     red = reduce_model(domain, ft, V, K, M, g, "rbe2", 10)
     r = check_frequencies(red, 2)
@@ -172,8 +172,8 @@ def test_rbe2_stiffens_and_matches_its_coupled_model(small_model):
 def test_nodal_stress_of_uniform_strain(small_model, degree):
     """u = (e x, 0, 0): sigma_xx = (lambda + 2 mu) e, sigma_yy = sigma_zz = lambda e, shear 0
     (Hooke) at every node; the nodal displacement is the exact field (geometry nodes)."""
-    from fem_cage.elasticity import assemble_stiffness_mass, lame_parameters
-    from fem_cage.stress_modes import NodalStress
+    from flexbearing.fem_cage.elasticity import assemble_stiffness_mass, lame_parameters
+    from flexbearing.fem_cage.stress_modes import NodalStress
     g, domain, ft, V, K, M = small_model
     V, _, _ = assemble_stiffness_mass(domain, g.material, degree)
     op = NodalStress(V, g.material)
@@ -193,8 +193,8 @@ def test_static_correction_free_free_self_equilibrated(rbe3):
     interface response of the full FE model (K u = C^T F, u M-orthogonal to the rigid modes) equals
     the modal sum with the quasi-static coordinates of every elastic mode (static_correction) to
     1e-6; keeping only 26 modes misses most of it (documents why the runtime adds the correction)."""
-    from fem_cage.craig_bampton import SaddleSolver
-    from fem_cage.reduced_cage import static_correction
+    from flexbearing.fem_cage.craig_bampton import SaddleSolver
+    from flexbearing.fem_cage.reduced_cage import static_correction
     xm = rbe3["interface_positions"]
     e = (xm[1] - xm[4]) / np.linalg.norm(xm[1] - xm[4])
     F = np.zeros((6, 6))

@@ -4,10 +4,10 @@ import math
 import pytest
 from scipy.integrate import quad
 
-from multibody.drag import (churning_drag, ehl_pressure_rolling_force, ehl_rolling_resistance,
+from flexbearing.multibody.drag import (churning_drag, ehl_pressure_rolling_force, ehl_rolling_resistance,
                             oil_air_mixture, sphere_drag_coefficient)
-from multibody.hertz import effective_modulus
-from multibody.pocket import MARTIN_OUTLET
+from flexbearing.multibody.hertz import effective_modulus
+from flexbearing.multibody.pocket import MARTIN_OUTLET
 
 E_M50 = effective_modulus(210e9, 0.3, 210e9, 0.3)
 

@@ -6,10 +6,10 @@ ones within 1 %.
 
 * Without friction and drag (traction, churning, land film off; damping on) the dynamic steady
   state and the quasi-static equilibrium solve the same equations at the same orbital speed, by
-  two independent assemblies (multibody.dynamics.rhs, time integration; multibody.initial.
+  two independent assemblies (flexbearing.multibody.dynamics.rhs, time integration; flexbearing.multibody.initial.
   quasi_static, Newton). Measured on the paper case: loads and angles agree to < 1e-4.
 * With the full model the dynamic balls carry the gyroscopic moment by traction; the Jones
-  quasi-static solver of multibody.quasi_static (outer-race control, the geometry engineer's
+  quasi-static solver of flexbearing.multibody.quasi_static (outer-race control, the geometry engineer's
   independent implementation) assumes where it is carried. Measured (0.05 s): mean outer/inner
   loads within 0.4 %, outer contact angle 24.5° vs 23.5° (4.5 %), inner 33.2° vs 33.8° (1.7 %): the
   loads meet 1 %, the angles depend on the race-control hypothesis (slow test, reported).
@@ -25,7 +25,7 @@ ones within 1 %.
   still pushed the balls forward at the outer race). With friction_share = None (all the gyroscopic friction at
   the controlling race) the outer angle differs by 6–7 %: the split matters, not the control.
   With "jones" on both sides each picks the race per ball by Jones's criterion from its own loads
-  (multibody.dynamics.control_race; quasi_static control="jones"); at this case both pick the outer
+  (flexbearing.multibody.dynamics.control_race; quasi_static control="jones"); at this case both pick the outer
   race for every ball.
 """
 import math
@@ -33,11 +33,11 @@ import math
 import numpy as np
 import pytest
 
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.model import build_model
-from multibody.initial import initial_state, quasi_static
-from multibody import outputs as O
-from multibody import integrator as I
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.model import build_model
+from flexbearing.multibody.initial import initial_state, quasi_static
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody import integrator as I
 
 IMP = np.zeros((0, 6))
 
@@ -87,7 +87,7 @@ def test_full_model_loads_match_jones_quasi_static():
     """Full model (traction, drag, damping), 0.05 s: mean loads within 1 % of the Jones
     quasi-static solution with gyroscopic moment and outer-race control; contact angles within
     5 % (their split depends on the race-control hypothesis, module docstring)."""
-    from multibody.quasi_static import solve_quasi_static, grooves_from_bearing
+    from flexbearing.multibody.quasi_static import solve_quasi_static, grooves_from_bearing
     m, w, qd, ad, om = _dynamic_means({}, duration=0.05)
     r = solve_quasi_static(grooves_from_bearing(PAPER_BEARING), w, fx=55e3, fz=-4e3, control="outer")
     qq, aq = _qs_means(r.load, r.contact_angle)
@@ -97,7 +97,7 @@ def test_full_model_loads_match_jones_quasi_static():
 
 @pytest.mark.parametrize("control", ["inner", "outer", "jones"])
 def test_race_control_full_model_matches_jones_quasi_static(control):
-    from multibody.quasi_static import solve_quasi_static, grooves_from_bearing
+    from flexbearing.multibody.quasi_static import solve_quasi_static, grooves_from_bearing
     m, w, qd, ad, om = _dynamic_means({"ball_attitude": control}, duration=0.05)
     r = solve_quasi_static(grooves_from_bearing(PAPER_BEARING), w, fx=55e3, fz=-4e3, control=control,
                            friction_share=(1.0, 1.0))
@@ -108,7 +108,7 @@ def test_race_control_full_model_matches_jones_quasi_static(control):
 
 
 def test_friction_share_is_validated():
-    from common.validation import InputError
-    from multibody.quasi_static import solve_quasi_static, grooves_from_bearing
+    from flexbearing.common.validation import InputError
+    from flexbearing.multibody.quasi_static import solve_quasi_static, grooves_from_bearing
     with pytest.raises(InputError, match="friction_share"):
         solve_quasi_static(grooves_from_bearing(PAPER_BEARING), 1000.0, fx=5e3, friction_share=(1.5, 1.0))

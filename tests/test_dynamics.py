@@ -1,4 +1,4 @@
-"""Equations of motion and force assembly of multibody.dynamics against closed forms.
+"""Equations of motion and force assembly of flexbearing.multibody.dynamics against closed forms.
 
 Each test sets up a state where one term acts alone and compares dy/dt with its analytic value.
 """
@@ -7,13 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody import model as M
-from multibody.model import build_model, state_layout
-from multibody import dynamics as D
-from multibody import outputs as O
-from multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
-from multibody.initial import initial_state
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody import model as M
+from flexbearing.multibody.model import build_model, state_layout
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
+from flexbearing.multibody.initial import initial_state
 
 OFF = {"traction": False, "drag": False, "damping": False}
 SP = np.array([[0.0, 0.0]])
@@ -158,7 +158,7 @@ def test_cage_tilt_gyroscopic_coupling():
 def test_cage_mass_properties_against_annulus():
     """Without pockets the quadrature must give the annulus: m = rho·pi·(Ro² − Ri²)·w,
     I_p = m(Ro² + Ri²)/2 (1e-3: midpoint rule in r); the pockets remove a plausible 40–60 %."""
-    from mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
     tiny = PAPER_CAGE.with_(pocket_diameter=1e-9)
     m, ip, idm = M.cage_mass_properties(tiny)
     ro, ri, w = PAPER_CAGE.outer_radius, PAPER_CAGE.inner_radius, PAPER_CAGE.width

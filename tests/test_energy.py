@@ -3,7 +3,7 @@
 With traction, drag (churning, land film, pocket/rim friction) and contact damping switched off,
 and the Hertz constants held at the free contact angle (model option hertz_fixed_angle: with
 K(alpha) the Hertz force is not exactly a gradient), the bearing is a conservative system under
-a constant load and a constant prescribed ring speed. Its energy (multibody.energy.mechanical_energy:
+a constant load and a constant prescribed ring speed. Its energy (flexbearing.multibody.energy.mechanical_energy:
 kinetic energy of balls, ring translation/tilt and cage + Hertz, pocket and rim potentials − F·x)
 may only drift by the integration error.
 """
@@ -12,11 +12,11 @@ import math
 import numpy as np
 import pytest
 
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.model import build_model
-from multibody.initial import initial_state
-from multibody import energy as E
-from multibody import integrator as I
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.model import build_model
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody import energy as E
+from flexbearing.multibody import integrator as I
 
 CONSERVATIVE = {"traction": False, "drag": False, "damping": False, "hertz_fixed_angle": True}
 

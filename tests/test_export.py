@@ -1,4 +1,4 @@
-"""Results files open in xarray (coupling.results format 2: dimension scales, CF units, compressed
+"""Results files open in xarray (flexbearing.simulation.results format 2: dimension scales, CF units, compressed
 chunks) and `flexbearing export` writes the same numbers as netCDF and CSV. The reference values
 are read with h5py from the same file: a different reader of the same bytes."""
 import csv
@@ -11,9 +11,9 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling import cli
-from coupling.run import run_scene
-from coupling.scene import loads_scene
+from flexbearing.cli import main as cli
+from flexbearing.simulation.run import run_scene
+from flexbearing.simulation.scene import loads_scene
 
 xr = pytest.importorskip("xarray")
 ROOT = Path(__file__).resolve().parents[1]
@@ -84,7 +84,7 @@ def test_export_netcdf_and_csv_hold_the_same_numbers(run_file, tmp_path, capsys)
 def test_export_reads_a_format_1_file(run_file, tmp_path):
     """A file written before the dimension scales (format 1: `dims` attributes only) exports with
     the same dimension names."""
-    from coupling.export import results_dataset
+    from flexbearing.analysis.export import results_dataset
     old = tmp_path / "old.h5"
     with h5py.File(run_file, "r") as src, h5py.File(old, "w") as dst:
         for k, v in src.attrs.items():

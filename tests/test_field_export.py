@@ -1,4 +1,4 @@
-"""The cage's stress field for ParaView (coupling.field_export) and its picture (coupling.stress_picture),
+"""The cage's stress field for ParaView (flexbearing.analysis.field_export) and its picture (flexbearing.analysis.stress_picture),
 read back the way a user's tool reads them: meshio for the XDMF files (and ParaView itself in the
 slow test when pvpython is installed), plain XML + h5py for what meshio's reader skips (per-step
 geometry, units).
@@ -7,7 +7,7 @@ Synthetic runs: a Kuhn cube (6 tetrahedra, 10 nodes each: 27 nodes) as the "cage
 and displacement modes, random modal coordinates; the recorded maximum of each sample is computed
 here independently (sqrt(3/2 s:s) of the deviator of the full tensor). The placement is checked
 against rotations built by scipy (intrinsic Z-Y-X Euler angles), independent of
-multibody.cage_body.cage_rotation which the code uses.
+flexbearing.multibody.cage_body.cage_rotation which the code uses.
 
 Tolerances: fields 1e-12 relative (HDF5 keeps float64 unchanged; only the summation order of S q
 differs); positions 1e-12 m (coordinates of 0.05 m, a few roundings); the brief's readback
@@ -28,9 +28,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from coupling import field_export
-from coupling.stress_picture import boundary_faces, face_normals, write_stress_picture
-from common.validation import InputError
+from flexbearing.analysis import field_export
+from flexbearing.analysis.stress_picture import boundary_faces, face_normals, write_stress_picture
+from flexbearing.common.validation import InputError
 from test_report import _vm_by_deviator, write_run
 
 R_POCKET = 0.05          # m, radius of the synthetic pockets' centres
@@ -72,7 +72,7 @@ def rotation(phi, by, bz):
 
 
 def fake_cage(tmp_path, quadratic=True):
-    from fem_cage.reduced_cage import write
+    from flexbearing.fem_cage.reduced_cage import write
     X, tets10, tets = kuhn_cube(0.01, (-0.005, R_POCKET - 0.005, -0.005))
     rng = np.random.default_rng(11)
     S = rng.normal(size=(len(X), 6, M)) * 1e7
@@ -177,14 +177,14 @@ def test_cage_skin_matches_the_mesh_tags():
     outward: (1/3)∮ x·n dA over the corner triangles equals the volume of the corner tetrahedra
     (the same polyhedron; 1e-12 relative); and the picture's classes agree with the tags: each
     pocket's wall = its facets "pocket_k", the guide surface within "outside", the bore within
-    "bore" (mesh.cage_mesh physical groups, an independent labelling by gmsh's geometry)."""
+    "bore" (flexbearing.mesh.cage_mesh physical groups, an independent labelling by gmsh's geometry)."""
     from types import SimpleNamespace
 
     import meshio
 
-    from coupling.stress_picture import cage_skin
-    from mesh import cage_mesh
-    from mesh.cage_geometry import CageGeometry
+    from flexbearing.analysis.stress_picture import cage_skin
+    from flexbearing.mesh import cage_mesh
+    from flexbearing.mesh.cage_geometry import CageGeometry
     g = CageGeometry()
     msh = meshio.read(cage_mesh.cached_cage_mesh(g))
     X = msh.points
@@ -377,8 +377,8 @@ def test_report_series_of_a_real_flexible_run(paper_reduced_cage, short_flexible
     the same data ranges (its exit status) and saves the screenshot."""
     import meshio
 
-    from coupling.cli import main
-    from coupling.run import run_scene
+    from flexbearing.cli.main import main
+    from flexbearing.simulation.run import run_scene
     run = tmp_path / "run.h5"
     record = ["pocket_force", "cage_speed", "von_mises", "kinematics", "cage_orbit"]
     run_scene(short_flexible_impact("short_flexible_series", record), run, quiet=True)

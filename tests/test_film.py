@@ -3,8 +3,8 @@ import math
 
 import pytest
 
-from multibody.film import film_parameters, film_thickness
-from multibody.hertz import effective_modulus, race_curvature_radii
+from flexbearing.multibody.film import film_parameters, film_thickness
+from flexbearing.multibody.hertz import effective_modulus, race_curvature_radii
 
 E_M50 = effective_modulus(210e9, 0.3, 210e9, 0.3)
 

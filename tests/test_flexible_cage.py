@@ -1,8 +1,8 @@
-"""The run's modal basis of the flexible cage (coupling.flexible_cage)."""
+"""The run's modal basis of the flexible cage (flexbearing.coupling.flexible_cage)."""
 import numpy as np
 import pytest
 
-from coupling.flexible_cage import centrifugal_generalised_force, modal_transform
+from flexbearing.coupling.flexible_cage import centrifugal_generalised_force, modal_transform
 
 
 def synthetic_full_basis(M=40, seed=0):

@@ -1,4 +1,4 @@
-"""The flexible cage at run time (coupling.flexible_cage + multibody.floating_frame) on real
+"""The flexible cage at run time (flexbearing.coupling.flexible_cage + flexbearing.multibody.floating_frame) on real
 reduced cages. Slow: each module fixture builds a reduced cage with dolfinx (the thin ring in
 ~1 min, the paper cage in ~4–6 min on 2 cores).
 
@@ -22,9 +22,9 @@ SPIN = 1000.0   # rad/s
 
 @pytest.fixture(scope="module")
 def thin_ring():
-    from mesh.cage_geometry import CageGeometry
-    from fem_cage.reduction import build
-    from fem_cage import reduced_cage as rcf
+    from flexbearing.mesh.cage_geometry import CageGeometry
+    from flexbearing.fem_cage.reduction import build
+    from flexbearing.fem_cage import reduced_cage as rcf
     g = CageGeometry(**RING).validate()
     path, _, _ = build(g, 2.5e-3, 2, 1.0e-3, "rbe3", 20, degree=2, centrifugal=True)
     return g, rcf.read(path)
@@ -37,8 +37,8 @@ def test_free_spinning_ring_hoop_stress_equals_rotating_ring(thin_ring):
     value: the section mean within 1 % and every node within 2.5 % (the 3D ring vs the plane-stress
     disc model and the averaged nodal stress of a 2.5 mm P2 mesh: measured −2.1…+0.6 % for the
     full FE solution itself on this mesh)."""
-    from multibody import floating_frame as ff
-    from coupling.flexible_cage import StressRecovery, flexible_cage_body
+    from flexbearing.multibody import floating_frame as ff
+    from flexbearing.coupling.flexible_cage import StressRecovery, flexible_cage_body
     g, rc = thin_ring
     beta = 1e-5
     basis = flexible_cage_body(rc, 26, beta, centrifugal_correction=False)
@@ -101,10 +101,10 @@ def test_zero_modes_equals_rigid_cage(paper_reduced_cage):
     8e-12 of the state; session 10, after the guide-land change moved the last bits: 2.7e-13 at
     1e-6 and 1.5e-10 at 1e-7, i.e. only the tighter tolerance split the step sequences, which the
     earlier form of this check wrongly required to be 5x below the round-off one)."""
-    from coupling.flexible_cage import flexible_cage_body
-    from multibody.floating_frame import rigid_body
-    from multibody import dynamics, initial, integrator, model as mb
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.coupling.flexible_cage import flexible_cage_body
+    from flexbearing.multibody.floating_frame import rigid_body
+    from flexbearing.multibody import dynamics, initial, integrator, model as mb
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
     rc = paper_reduced_cage
     inv = rc.invariants
     zero_modes = flexible_cage_body(rc, 6, 0.0).body
@@ -149,8 +149,8 @@ def test_flexible_run_interrupted_and_resumed_equals_uninterrupted(paper_reduced
     """Issue 5: a flexible-cage run (26 modes, stress recovery, an impact) stopped by Ctrl-C and
     resumed with --resume writes the same file as an uninterrupted run, bit for bit (the state,
     modal coordinates included, lives in the checkpoint; the integrator is deterministic)."""
-    from coupling.run import RunInterrupted, default_backend, run_scene
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.run import RunInterrupted, default_backend, run_scene
+    from flexbearing.simulation.scene import loads_scene
     from test_resume import assert_same_results, stopping_after
     text = """
 name = "short_flexible"
@@ -184,7 +184,7 @@ checkpoint_every = 5
 
 def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage, short_flexible_impact):
     """Issue 5: the recorded max von Mises of a sample interval is the maximum over every accepted
-    integrator step of that interval (multibody.stress_peak), not the value at the sampling
+    integrator step of that interval (flexbearing.multibody.stress_peak), not the value at the sampling
     instant. Through a 50 kN impact, for each 0.1 ms interval: the monitor evaluated exactly the
     accepted steps (count = the integrator's), its time lies in the interval, its value is >= the
     direct evaluation (StressRecovery, an independent numpy path) at the sample state, which is
@@ -192,8 +192,8 @@ def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage,
     the peak is at the sample; the modal coordinates it keeps rebuild the same maximum from the
     full stress field (numpy, every vertex). Somewhere in the impact the per-step peak must exceed
     the sampled value, or the test would not tell the two apart."""
-    from coupling.flexible_cage import backend as flexible_backend
-    from fem_cage.von_mises import L_VM
+    from flexbearing.coupling.flexible_cage import backend as flexible_backend
+    from flexbearing.fem_cage.von_mises import L_VM
     scene = short_flexible_impact("short_flexible_peak", ["von_mises"])
     be = flexible_backend(scene)
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))
@@ -225,7 +225,7 @@ def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage,
 
 
 def test_flexible_cage_power_balance(paper_reduced_cage):
-    """Work–energy theorem with the flexible cage (multibody.power_loss.power_balance; the rigid
+    """Work–energy theorem with the flexible cage (flexbearing.multibody.power_loss.power_balance; the rigid
     cage's version is tests/test_power_loss.py): at the disturbed paper-case state of that test
     with 26 modes, every modal coordinate and rate disturbed (q ~ 1e-7, q' ~ 1e-3 in the file's
     units) and modal damping beta = 1e-5, dE/dt = T_drive·omega_i − Σ P_s, where E holds the
@@ -233,10 +233,10 @@ def test_flexible_cage_power_balance(paper_reduced_cage):
     and land loads on the deforming cage and the modal damping. Measured 2.5e-9 of the loss (bound
     1e-6, as for the rigid cage; the central difference's own error is ~1e-8): the pocket and land
     loads do the work on the modes that the equations of motion say they do."""
-    from coupling.flexible_cage import flexible_cage_body
-    from multibody import model as mb
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
-    from multibody.power_loss import power_balance
+    from flexbearing.coupling.flexible_cage import flexible_cage_body
+    from flexbearing.multibody import model as mb
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.power_loss import power_balance
     from test_power_loss import FIXED, IMP, LD, SP, _perturbed_state
     body = flexible_cage_body(paper_reduced_cage, 26, 1e-5).body
     model = mb.build_model(PAPER_BEARING, PAPER_OIL, FIXED, cage_body=body)
@@ -258,7 +258,7 @@ def test_stress_at_a_state_by_the_search_equals_the_every_vertex_formula(paper_r
     von Mises of S·q_full at every vertex of the paper cage: the same vertex and the value to 1e-9
     (summation order through the load-space form; measured 1.7e-15 along a run), at random kept
     modes, pocket and land loads and spins, several in a row (the search's references carried)."""
-    from coupling.flexible_cage import StressRecovery
+    from flexbearing.coupling.flexible_cage import StressRecovery
     rec = StressRecovery(paper_reduced_cage, 26)
     rng = np.random.default_rng(3)
     P = rec.load_modes.shape[0]

@@ -1,4 +1,4 @@
-"""Floating-frame equations (multibody.floating_frame) against brute-force point-mass mechanics.
+"""Floating-frame equations (flexbearing.multibody.floating_frame) against brute-force point-mass mechanics.
 
 A cloud of point masses with arbitrary (random) mode shapes is a body whose consistent-mass
 moments are plain sums. For it, Kane's equations can be written point by point:
@@ -12,7 +12,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from multibody import floating_frame as ff
+from flexbearing.multibody import floating_frame as ff
 
 
 def skew(v):

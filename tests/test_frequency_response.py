@@ -1,4 +1,4 @@
-"""Frequency response (fem_cage.frequency_response): direct full FE vs modal superposition.
+"""Frequency response (flexbearing.verification.frequency_response): direct full FE vs modal superposition.
 
 Exact statements on a generic free spring chain (all modes kept = the direct solve, undamped and
 with D = beta K), then the small test cage (P2, coarse): the reduced cage's harmonic pocket
@@ -9,7 +9,7 @@ import pytest
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from fem_cage import frequency_response as fr
+from flexbearing.verification import frequency_response as fr
 
 
 @pytest.mark.parametrize("beta", [0.0, 0.05])
@@ -62,10 +62,10 @@ def test_modal_frf_interface_form():
 @pytest.fixture(scope="module")
 def small_cage():
     from mpi4py import MPI
-    from mesh.cage_geometry import CageGeometry
-    from mesh.cage_mesh import cached_cage_mesh
-    from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
-    from fem_cage.reduction import reduce_model
+    from flexbearing.mesh.cage_geometry import CageGeometry
+    from flexbearing.mesh.cage_mesh import cached_cage_mesh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
+    from flexbearing.fem_cage.reduction import reduce_model
     from tests.test_craig_bampton import SMALL
     g = CageGeometry(**SMALL).validate()
     domain, _, ft, _ = load_cage_mesh(cached_cage_mesh(g, 3e-3, 2, 2e-3), MPI.COMM_SELF)

@@ -1,4 +1,4 @@
-"""Split-inner-ring contact geometry and contact kinematics (multibody/geometry.py, SPEC §2).
+"""Split-inner-ring contact geometry and contact kinematics (flexbearing/multibody/geometry.py, SPEC §2).
 
 Expected values are hand-derived closed forms (stated in each test), not outputs of the code.
 """
@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from multibody.bearing import PAPER_BEARING
-from multibody import geometry as g
+from flexbearing.multibody.bearing import PAPER_BEARING
+from flexbearing.multibody import geometry as g
 
 B = PAPER_BEARING
 DM, DW, FE, FI, AD = B.pitch_diameter, B.ball_diameter, B.fe, B.fi, B.shim_angle

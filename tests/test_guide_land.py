@@ -4,7 +4,7 @@ import math
 import pytest
 from scipy.integrate import quad
 
-from multibody.guide_land import guide_land_force, ocvirk_forces, rim_stiffness
+from flexbearing.multibody.guide_land import guide_land_force, ocvirk_forces, rim_stiffness
 
 ETA, R1, L, CG = 0.055, 0.089, 0.0283, 0.375e-3
 K_RIM = rim_stiffness(230.8e9, L)

@@ -1,5 +1,5 @@
 """Land (guide-surface) loads on the reduced cage (issue 5): the unit load vectors
-(fem_cage.reduction.guide_load_vectors), the basis augmentation that makes the full basis
+(flexbearing.fem_cage.reduction.guide_load_vectors), the basis augmentation that makes the full basis
 statically exact for them (reduce_model(guide_loads=True, inertia_relief=True)), and the file's
 /loads/guide_modal_loads.
 
@@ -31,9 +31,9 @@ UNIT[1, 0] = UNIT[2, 1] = UNIT[3, 2] = 1.0
 @pytest.fixture(scope="module")
 def small_model():
     from mpi4py import MPI
-    from mesh.cage_geometry import CageGeometry
-    from mesh.cage_mesh import cached_cage_mesh
-    from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
+    from flexbearing.mesh.cage_geometry import CageGeometry
+    from flexbearing.mesh.cage_mesh import cached_cage_mesh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
     g = CageGeometry(**SMALL).validate()
     domain, _, ft, _ = load_cage_mesh(cached_cage_mesh(g, 3e-3, 2, 2e-3), MPI.COMM_SELF)
     V, K, M = assemble_stiffness_mass(domain, g.material, 2)
@@ -51,7 +51,7 @@ class _Reduced(dict):
         self.model = model
 
     def __missing__(self, key):
-        from fem_cage.reduction import reduce_model
+        from flexbearing.fem_cage.reduction import reduce_model
         g, domain, ft, V, K, M = self.model
         gl, ir = self.FLAGS[key]
         self[key] = reduce_model(domain, ft, V, K, M, g, "rbe3", 10, guide_loads=gl,
@@ -71,7 +71,7 @@ def test_unit_resultants_exact(small_model):
     1e-12 (N, N m; rounding). f_y and f_z are radial: their axial (x) nodal components are zero up
     to the (G4) correction (< 1e-6 of the largest nodal load; measured 2.2e-9). The correction (G4) that removes the mesh asymmetry is tiny (< 1e-6 relative; measured
     8e-9) — it fixes rounding-level asymmetry, not the distribution."""
-    from fem_cage.reduction import guide_load_vectors, resultant
+    from flexbearing.fem_cage.reduction import guide_load_vectors, resultant
     g, domain, ft, V, K, M = small_model
     F, info = guide_load_vectors(V, ft)
     X = V.tabulate_dof_coordinates()[:, :3]
@@ -94,10 +94,10 @@ def test_plain_ring_matches_cylinder_formulas():
     quadratic facets approximate the cylinder's area to ~(h/R)^4 (measured ~1e-6)."""
     from mpi4py import MPI
     from dolfinx import fem
-    from mesh.cage_geometry import CageGeometry
-    from mesh.cage_mesh import cached_ring_mesh
-    from fem_cage.elasticity import load_cage_mesh
-    from fem_cage.reduction import guide_load_vectors
+    from flexbearing.mesh.cage_geometry import CageGeometry
+    from flexbearing.mesh.cage_mesh import cached_ring_mesh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh
+    from flexbearing.fem_cage.reduction import guide_load_vectors
     g = CageGeometry(**SMALL).validate()
     domain, _, ft, _ = load_cage_mesh(cached_ring_mesh(g, 3e-3, 2), MPI.COMM_SELF)
     V = fem.VectorFunctionSpace(domain, ("Lagrange", 3))
@@ -127,7 +127,7 @@ def test_land_load_static_exact_with_augmentation(reduced):
     (47 modes: constraint + 10 fixed-interface + centrifugal) the full basis is off by 7.7 %
     (displacement), 24 % (stress), 7.8 % (max von Mises), asserted > 1 %; with the land-load
     vectors but without the inertia-relief vectors still off (test below, slow)."""
-    from fem_cage.reduction_check import check_guide
+    from flexbearing.fem_cage.reduction_check import check_guide
     full = check_guide(reduced["all"], 100.0, 0.0, 1.0)
     assert len(reduced["all"]["omega"]) == 6 * 6 + 10 + 1 + 3 + 6
     for k in ("displacement_rel_error_full", "stress_rel_error_full", "vm_max_rel_error_full"):
@@ -146,7 +146,7 @@ def test_land_load_vectors_alone_are_not_enough(reduced):
     force, and the inertia load M R a it causes has a fixed-interface response outside the basis:
     measured 7.2 % (displacement), 22 % (stress), 6.4 % (max von Mises) off; asserted > 1 %.
     Slow only because it is one more reduction (~10 s)."""
-    from fem_cage.reduction_check import check_guide
+    from flexbearing.fem_cage.reduction_check import check_guide
     r = check_guide(reduced["guide_only"], 100.0, 0.0, 1.0)
     assert r["displacement_rel_error_full"] > 0.01 and r["vm_max_rel_error_full"] > 0.01, r
 
@@ -154,7 +154,7 @@ def test_land_load_vectors_alone_are_not_enough(reduced):
 def _pocket_inertia_relief(red, pocket, F):
     """Free–free full FE response to a 6-vector load at pocket node `pocket` (K u = C^T F - M R a,
     R^T M u = 0) and the full-basis static answer q_k = Phi_b,k^T F / omega_k^2."""
-    from fem_cage.craig_bampton import SaddleSolver
+    from flexbearing.fem_cage.craig_bampton import SaddleSolver
     K, M, C, Phi = red["K"], red["M"], red["C"], red["Phi_full"]
     f = C[6 * pocket:6 * pocket + 6].T @ F
     s = SaddleSolver(sp.csr_matrix(K), sp.csr_matrix((M @ Phi[:, :6]).T))
@@ -186,7 +186,7 @@ def test_augmentation_keeps_the_other_properties(reduced):
     (check_static <= 1e-6), centrifugal still exact (<= 1e-6; measured 2e-13 vs 4e-9 without the
     inertia-relief vectors: the mesh's tiny net centrifugal force is now relieved exactly),
     identity modal mass, mean-axis elastic modes, ascending frequencies."""
-    from fem_cage.reduction_check import check_static, check_centrifugal
+    from flexbearing.fem_cage.reduction_check import check_static, check_centrifugal
     red = reduced["all"]
     assert check_static(red, [1, 3], 0)["max_rel_error_full"] <= 1e-6
     assert check_centrifugal(red, 1000.0)["stress_rel_error_full"] <= 1e-6
@@ -215,8 +215,8 @@ def test_guide_modal_loads_rigid_rows_are_the_resultant(reduced):
 def test_file_round_trip(reduced, tmp_path):
     """file_arrays -> write -> read: /loads/guide_modal_loads (M, 3) comes back as
     ReducedCage.guide_modal_loads, and truncation keeps its first rows."""
-    from fem_cage.reduction import file_arrays
-    from fem_cage import reduced_cage as rcf
+    from flexbearing.fem_cage.reduction import file_arrays
+    from flexbearing.fem_cage import reduced_cage as rcf
     red = reduced["all"]
     p = rcf.write(tmp_path / "c.h5", file_arrays(red), {"guide_load_vectors": True})
     rc = rcf.read(p)
@@ -230,9 +230,9 @@ def test_build_writes_guide_loads_with_attrs():
     carries its column names, and whose /checks hold the land-load exactness (<= 1e-6). ~30 s."""
     import h5py
     import json
-    from mesh.cage_geometry import CageGeometry
-    from fem_cage.reduction import build
-    from fem_cage import reduced_cage as rcf
+    from flexbearing.mesh.cage_geometry import CageGeometry
+    from flexbearing.fem_cage.reduction import build
+    from flexbearing.fem_cage import reduced_cage as rcf
     g = CageGeometry(**SMALL).validate()
     path, red, summary = build(g, 3e-3, 2, 2e-3, "rbe3", 10, checks=True, degree=2)
     assert summary["guide"]["displacement_rel_error_full"] <= 1e-6

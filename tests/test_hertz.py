@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipe, ellipk
 
-from multibody.hertz import (effective_modulus, ellipe_m1, ellipk_m1, ellipticity, hertz_exact,
+from flexbearing.multibody.hertz import (effective_modulus, ellipe_m1, ellipk_m1, ellipticity, hertz_exact,
                              hertz_from_approach, hertz_point_contact, hertz_point_contact_hb,
                              hertz_stiffness, hertz_stiffness_hb, race_curvature_radii)
 

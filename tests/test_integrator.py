@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody import model as M
-from multibody.model import build_model, state_layout
-from multibody.initial import initial_state
-from multibody import integrator as I
-from multibody import dynamics as D
-from multibody import outputs as O
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody import model as M
+from flexbearing.multibody.model import build_model, state_layout
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody import integrator as I
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import outputs as O
 
 OFF = {"traction": False, "drag": False, "damping": False, "hertz_fixed_angle": True}
 IMP = np.zeros((0, 6))
@@ -167,9 +167,9 @@ def test_samples_inside_steps_are_as_accurate_as_stopping_at_them():
     2.5 (measured 0.37-1.86; one tolerance's pair of runs scatters by that much with round-off: a
     change of the right-hand side at 1e-14 moved the 1e-6 ratio from 1.05 to 1.86); every run
     inside steps takes fewer steps."""
-    from coupling.run import default_backend
-    from coupling.scene import load_scene
-    from multibody.profiles import load_at, speed_at
+    from flexbearing.simulation.run import default_backend
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.multibody.profiles import load_at, speed_at
     scene = load_scene(Path(__file__).resolve().parents[1] / "scenes" / "paper_steady_rigid.toml")
     be = default_backend(scene)
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))

@@ -1,4 +1,4 @@
-"""Mass properties and FFRF inertia invariants (fem_cage.invariants).
+"""Mass properties and FFRF inertia invariants (flexbearing.fem_cage.invariants).
 
 1. The nine invariants from the consistent-mass moments equal their defining sums with cross
    products, evaluated independently on a lumped point-mass body (exact to rounding).
@@ -8,8 +8,8 @@
 import numpy as np
 import pytest
 
-from fem_cage.interface import skew, rigid_field
-from fem_cage.invariants import (mass_moments, ffrf_invariants, rigid_properties, ring_analytic,
+from flexbearing.fem_cage.interface import skew, rigid_field
+from flexbearing.fem_cage.invariants import (mass_moments, ffrf_invariants, rigid_properties, ring_analytic,
                                  scalar_mass_matrix)
 import scipy.sparse as sp
 
@@ -56,10 +56,10 @@ def test_rigid_properties_steiner():
 @pytest.fixture(scope="module")
 def ring():
     from mpi4py import MPI
-    from mesh.cage_geometry import NOMINAL_CAGE   # plain rectangular section (no relief, chamfer)
-    from mesh.cage_mesh import cached_ring_mesh
-    from fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
-    from fem_cage.craig_bampton import petsc_to_scipy
+    from flexbearing.mesh.cage_geometry import NOMINAL_CAGE   # plain rectangular section (no relief, chamfer)
+    from flexbearing.mesh.cage_mesh import cached_ring_mesh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
+    from flexbearing.fem_cage.craig_bampton import petsc_to_scipy
     path = cached_ring_mesh(NOMINAL_CAGE, 6e-3, 2)
     domain, _, _, _ = load_cage_mesh(path, MPI.COMM_SELF)
     V, K, M = assemble_stiffness_mass(domain, NOMINAL_CAGE.material, 2)
@@ -68,9 +68,9 @@ def ring():
 
 
 def test_ring_moments_vs_direct_integration(ring):
-    """Quadrature degree 4 = the mass matrix's (fem_cage.elasticity): the same integrals,
+    """Quadrature degree 4 = the mass matrix's (flexbearing.fem_cage.elasticity): the same integrals,
     so agreement to 1e-10 relative (rounding in the sums of ~1e5 terms)."""
-    from fem_cage.invariants import direct_mass_properties
+    from flexbearing.fem_cage.invariants import direct_mass_properties
     domain, X, M, g = ring
     mom = mass_moments(scalar_mass_matrix(M), X)
     d = direct_mass_properties(domain, g.material.density, 4)
@@ -84,7 +84,7 @@ def test_ring_vs_analytic(ring):
     """m, CoM and J_com vs the hollow cylinder; tolerance: 3x the mesh's relative volume error
     (the faceting of the curved surfaces is the only error; J weights the outer surface by r^2,
     ~1.1x the mean, hence a small factor) plus 1e-12."""
-    from fem_cage.invariants import direct_mass_properties
+    from flexbearing.fem_cage.invariants import direct_mass_properties
     domain, X, M, g = ring
     a = ring_analytic(g.outer_radius, g.inner_radius, g.width, g.material.density)
     r = rigid_properties(mass_moments(scalar_mass_matrix(M), X))

@@ -1,4 +1,4 @@
-"""coupling.jobs.run_jobs: independent jobs in this process, on a LocalCluster and on a cluster of
+"""flexbearing.simulation.jobs.run_jobs: independent jobs in this process, on a LocalCluster and on a cluster of
 separate `dask scheduler` / `dask worker` processes. The jobs are standard-library functions
 (operator.truediv, time.sleep), importable on any worker, with results known exactly."""
 import operator
@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from coupling import jobs as J
-from common.validation import InputError
+from flexbearing.simulation import jobs as J
+from flexbearing.common.validation import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
 JOBS = [(1.0, 2.0), (1.0, 0.0), (3.0, 4.0), (5.0, 8.0)]       # the second divides by zero
@@ -73,7 +73,7 @@ def test_ctrl_c_cancels_and_closes_the_cluster():
     code = textwrap.dedent("""
         import signal, sys, time
         signal.signal(signal.SIGINT, signal.default_int_handler)   # a background shell ignores it
-        from coupling.jobs import run_jobs
+        from flexbearing.simulation.jobs import run_jobs
         if __name__ == "__main__":
             try:
                 run_jobs(time.sleep, [(30.0,)] * 4, lambda k, r: None, workers=2, progress=False)

@@ -15,9 +15,9 @@ with G = 0 they are 0 and the rest of the RHS is unchanged bit for bit.
 """
 import numpy as np
 
-from multibody.floating_frame import FlexibleBody
-from multibody import cage_body, dynamics, initial, model as mb
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.floating_frame import FlexibleBody
+from flexbearing.multibody import cage_body, dynamics, initial, model as mb
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 
 
 def _body(land):

@@ -1,9 +1,9 @@
-"""Curved-element validity and quality (mesh.quality) and the repair every cage mesh goes through."""
+"""Curved-element validity and quality (flexbearing.mesh.quality) and the repair every cage mesh goes through."""
 import numpy as np
 import pytest
 
-from mesh import quality as Q
-from common.validation import InputError
+from flexbearing.mesh import quality as Q
+from flexbearing.common.validation import InputError
 
 REF = Q.reference_nodes(10)            # the reference quadratic tetrahedron, straight-sided
 
@@ -111,8 +111,8 @@ def test_det_agrees_with_gmsh_on_a_real_curved_mesh(tmp_path):
     curved tetrahedron of a cage mesh, at the four vertices and the centroid, against ours from
     the file read by meshio (node order converted gmsh -> VTK): equal to 1e-12 relative."""
     import gmsh
-    from mesh.cage_geometry import PAPER_CAGE
-    from mesh.cage_mesh import build_cage_mesh
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh.cage_mesh import build_cage_mesh
     path = build_cage_mesh(PAPER_CAGE.with_(n_pockets=10), 8e-3, 2,
                            tmp_path / "c.msh", 8e-3)
     pts, cells = Q.read_tetrahedra(path)
@@ -132,9 +132,9 @@ def test_det_agrees_with_gmsh_on_a_real_curved_mesh(tmp_path):
 
 def _study_and_calibration_levels():
     """(size, pocket size, order) of every mesh the mesh study and the calibration build."""
-    from fem_cage.calibrate import CALIBRATION_MESH
-    from fem_cage.mesh_study import DEFAULT_STUDY
-    from mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER
+    from flexbearing.fem_cage.calibrate import CALIBRATION_MESH
+    from flexbearing.fem_cage.mesh_study import DEFAULT_STUDY
+    from flexbearing.mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER
     levels = {(s * 1e-3, p * 1e-3, o) for s, p, o, _ in DEFAULT_STUDY}
     levels.add(tuple(CALIBRATION_MESH[:3]))
     levels.add((DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER))
@@ -152,8 +152,8 @@ def test_every_preset_at_every_study_size_has_no_invalid_element(preset, fine, t
     inverted element and none below the quality bound, read back from the written file (the
     before-repair counts are in the sidecar; e.g. the paper cage at 5 mm had 2 inverted cells,
     the calibrated one 48)."""
-    from mesh.cage_geometry import PAPER_CAGE, CALIBRATED_CAGE, TABLE8_EQUIVALENT_CAGE
-    from mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE, CALIBRATED_CAGE, TABLE8_EQUIVALENT_CAGE
+    from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
     g = {"paper": PAPER_CAGE, "calibrated": CALIBRATED_CAGE, "table8": TABLE8_EQUIVALENT_CAGE}[preset]
     for size, pocket, order in _study_and_calibration_levels():
         if (pocket < _FINE) != fine:
@@ -167,10 +167,10 @@ def test_every_preset_at_every_study_size_has_no_invalid_element(preset, fine, t
 
 
 def test_calibration_trial_geometries_mesh_validly(tmp_path):
-    """Trial geometries of the calibration (corners of its parameter box, fem_cage.calibrate) at the
+    """Trial geometries of the calibration (corners of its parameter box, flexbearing.fem_cage.calibrate) at the
     calibration mesh: valid after the repair."""
-    from fem_cage import calibrate as cal
-    from mesh.cage_mesh import build_cage_mesh
+    from flexbearing.fem_cage import calibrate as cal
+    from flexbearing.mesh.cage_mesh import build_cage_mesh
     size, pocket, order, _ = cal.CALIBRATION_MESH
     names = list(cal.DEFAULT_PARAMS)
     box = cal.BOXES["stated"]
@@ -193,9 +193,9 @@ def test_reading_an_invalid_mesh_is_refused_naming_the_cells(tmp_path):
     found (4467 and 4468, x = +-2.08 mm, r = 82.73 mm); the FE layer refuses to read it and names
     them; the same mesh built normally is repaired and read."""
     from mpi4py import MPI
-    from mesh.cage_geometry import PAPER_CAGE
-    from mesh.cage_mesh import build_cage_mesh
-    from fem_cage.elasticity import load_cage_mesh
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh.cage_mesh import build_cage_mesh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh
     bad = build_cage_mesh(PAPER_CAGE, 5e-3, 2, tmp_path / "bad.msh", 5e-3, repair=False)
     with pytest.raises(InputError, match=r"2 inverted element.*cell 446[78] .*r = 82.73 mm"):
         load_cage_mesh(bad, MPI.COMM_SELF)
@@ -206,9 +206,9 @@ def test_reading_an_invalid_mesh_is_refused_naming_the_cells(tmp_path):
 
 def test_cache_keys_carry_the_mesh_version():
     """A mesh or reduced cage built before the quality check (mesh version 1) is never reused."""
-    from mesh.cage_geometry import PAPER_CAGE
-    from mesh import cage_mesh as cm
-    from fem_cage import reduced_cage as rcf
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh import cage_mesh as cm
+    from flexbearing.fem_cage import reduced_cage as rcf
     assert cm.MESH_VERSION >= 2
     assert cm.mesh_key(PAPER_CAGE, 4e-3, 2, 4e-3)["version"] == cm.MESH_VERSION
     assert rcf.cache_key(PAPER_CAGE, 4e-3, 2, 4e-3, "rbe3", 30)["mesh_version"] == cm.MESH_VERSION

@@ -9,15 +9,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mesh.cage_geometry import NOMINAL_CAGE
+from flexbearing.mesh.cage_geometry import NOMINAL_CAGE
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _ring_modes(tmp_path, size, n_modes=16, geometry=NOMINAL_CAGE):
-    from mesh.cage_mesh import build_ring_mesh
-    from fem_cage.modes import cage_modes
-    from fem_cage.classify import classify_modes
+    from flexbearing.mesh.cage_mesh import build_ring_mesh
+    from flexbearing.fem_cage.modes import cage_modes
+    from flexbearing.fem_cage.classify import classify_modes
     path = build_ring_mesh(geometry, size, 2, tmp_path / "ring.msh")
     f, vecs, V, domain, names, info = cage_modes(path, geometry.material, 2, n_modes)
     return f, vecs, V, classify_modes(V, vecs, f, rigid_tol_hz=1.0)
@@ -39,7 +39,7 @@ def test_rigid_modes_and_normalisation(coarse_ring):
     assert np.max(np.abs(f[:6])) < 1e-3 * f[6]
     assert np.all(np.diff(f) >= -1e-9 * f[-1])            # ascending
     # M-orthonormality phi_i^T M phi_j = delta_ij (tolerance: SLEPc tol 1e-9 on the residual).
-    from fem_cage.elasticity import assemble_stiffness_mass
+    from flexbearing.fem_cage.elasticity import assemble_stiffness_mass
     _, K, M = assemble_stiffness_mass(V.mesh, NOMINAL_CAGE.material, 2)
     G = np.array([[vi.dot(M * vj) for vj in vecs] for vi in vecs])
     assert np.allclose(G, np.eye(len(vecs)), atol=1e-6)
@@ -51,7 +51,7 @@ def test_rigid_modes_and_normalisation(coarse_ring):
 def test_coarse_ring_inplane_n2_near_theory(coarse_ring):
     # Coarse (8 mm, curved P2) mesh: n = 2 in-plane within 3 % of the Timoshenko ring
     # (the converged check, 2 %, is the slow test below).
-    from fem_cage.ring_theory import thick_ring_inplane_hz
+    from flexbearing.fem_cage.ring_theory import thick_ring_inplane_hz
     f, vecs, V, cl = coarse_ring
     g = NOMINAL_CAGE
     fe = _inplane(f, cl, 2)
@@ -66,7 +66,7 @@ def test_converged_ring_inplane_bending_matches_ring_theory(tmp_path):
     # (the 3 mm mesh changes these by < 0.05 %). In-plane n = 2..4 within 2 % of the
     # Timoshenko ring (shear, rotary inertia, extension): the remaining gap is the 3-D section
     # (b/h = 3.3, anticlastic stiffening) that beam theory does not model.
-    from fem_cage.ring_theory import thick_ring_inplane_hz
+    from flexbearing.fem_cage.ring_theory import thick_ring_inplane_hz
     f, vecs, V, cl = _ring_modes(tmp_path, 4e-3, n_modes=20)
     g = NOMINAL_CAGE
     assert np.max(np.abs(f[:6])) < 1e-3 * f[6]
@@ -100,7 +100,7 @@ def test_modes_under_mpirun_match_serial(tmp_path):
 def test_mode_shapes_xdmf(coarse_ring, tmp_path):
     # ParaView output: one step per mode, displacement + von Mises, and a JSON sidecar whose
     # frequencies are the solver's.
-    from fem_cage.xdmf import write_modes_xdmf
+    from flexbearing.fem_cage.xdmf import write_modes_xdmf
     f, vecs, V, cl = coarse_ring
     path = write_modes_xdmf(tmp_path / "modes", V, vecs[:8], f[:8], NOMINAL_CAGE.material)
     assert path.exists() and path.with_suffix(".h5").exists()

@@ -1,8 +1,8 @@
-"""The output registry (multibody.output_registry) against what a run really records.
+"""The output registry (flexbearing.multibody.output_registry) against what a run really records.
 
 One table says, for every dataset a run can write, its scene output, SI unit and dimensions; the
-recording (coupling.run), the results file (coupling.results), the scene validation
-(coupling.scene) and the report (coupling.windows) read it. These tests tie it to the code that
+recording (flexbearing.simulation.run), the results file (flexbearing.simulation.results), the scene validation
+(flexbearing.simulation.scene) and the report (flexbearing.analysis.windows) read it. These tests tie it to the code that
 produces the values: every key the evaluation returns is in the registry with the shape its
 dimensions say, and a real run that records every scene output writes exactly the registry's
 datasets, each with the registry's unit and dimension names.
@@ -13,9 +13,9 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling.results import output_items
-from multibody import output_registry as R
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.simulation.results import output_items
+from flexbearing.multibody import output_registry as R
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 
 Z = PAPER_BEARING.n_balls
 # the sizes of the dimension names (module docstring of the registry); the modal ones come from the
@@ -25,9 +25,9 @@ RIGID_GROUPS = tuple(g for g in R.GROUPS if g not in ("von_mises", "cage_modes")
 
 
 def _rigid_evaluation() -> dict:
-    from multibody.initial import initial_state
-    from multibody.model import build_model
-    from multibody.outputs import evaluate_outputs
+    from flexbearing.multibody.initial import initial_state
+    from flexbearing.multibody.model import build_model
+    from flexbearing.multibody.outputs import evaluate_outputs
     model = build_model(PAPER_BEARING, PAPER_OIL, {})
     w = 10000 * np.pi / 30
     y = initial_state(model, w, 10e3, 2e3)
@@ -54,8 +54,8 @@ def test_registry_entries_are_consistent():
     for g in R.GROUPS:                                           # every scene output records something
         assert R.recorded_by([g]) - R.recorded_by([]), g
     # the scene validation accepts exactly the registry's groups
-    from coupling.scene import loads_scene
-    from common.validation import InputError
+    from flexbearing.simulation.scene import loads_scene
+    from flexbearing.common.validation import InputError
     with pytest.raises(InputError, match=", ".join(repr(g) for g in R.GROUPS)):
         loads_scene('[operation]\nduration = 0.1\n[operation.speed]\ntable_rpm = [[0.0, 1000]]\n'
                     '[operation.load]\naxial_load = 0\n'
@@ -100,8 +100,8 @@ record = %s
 
 
 def test_a_rigid_run_records_exactly_the_registry(tmp_path):
-    from coupling.run import run_scene
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.run import run_scene
+    from flexbearing.simulation.scene import loads_scene
     scene = loads_scene(RIGID_SCENE % str(list(RIGID_GROUPS)).replace("'", '"'), "registry.toml")
     run_scene(scene, tmp_path / "r.h5", quiet=True)
     _check_file(tmp_path / "r.h5", RIGID_GROUPS)
@@ -110,8 +110,8 @@ def test_a_rigid_run_records_exactly_the_registry(tmp_path):
 @pytest.mark.slow
 def test_a_flexible_run_records_exactly_the_registry(tmp_path, paper_reduced_cage):
     """The flexible cage's own outputs (von Mises, modal coordinates) too; 0.2 ms of the paper cage."""
-    from coupling.run import run_scene
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.run import run_scene
+    from flexbearing.simulation.scene import loads_scene
     text = (RIGID_SCENE % str(list(R.GROUPS)).replace("'", '"')).replace('model = "rigid"',
                                                                             'model = "flexible"')
     run_scene(loads_scene(text, "registry.toml"), tmp_path / "f.h5", quiet=True)

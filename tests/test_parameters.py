@@ -3,9 +3,9 @@ import math
 
 import pytest
 
-from mesh.cage_geometry import PAPER_CAGE
-from common.validation import InputError
-from multibody.bearing import PAPER_BEARING, PAPER_OIL, ENGINE_OIL
+from flexbearing.mesh.cage_geometry import PAPER_CAGE
+from flexbearing.common.validation import InputError
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL, ENGINE_OIL
 
 
 def test_paper_preset_is_valid():

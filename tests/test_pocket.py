@@ -5,8 +5,8 @@ import pytest
 from scipy.integrate import dblquad, quad
 from scipy.optimize import brentq
 
-from multibody.hertz import effective_modulus, hertz_exact
-from multibody.pocket import (MARTIN_LOAD, MARTIN_OUTLET, MARTIN_PRESSURE_CENTRE, bht_min_film,
+from flexbearing.multibody.hertz import effective_modulus, hertz_exact
+from flexbearing.multibody.pocket import (MARTIN_LOAD, MARTIN_OUTLET, MARTIN_PRESSURE_CENTRE, bht_min_film,
                               pocket_curvature_radii, pocket_film_load, pocket_hertz_stiffness,
                               pocket_normal_force, pocket_rolling_resistance, pocket_sliding_resistance)
 

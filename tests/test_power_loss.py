@@ -1,4 +1,4 @@
-"""Power loss by source and the power balance (multibody.power_loss).
+"""Power loss by source and the power balance (flexbearing.multibody.power_loss).
 
 The check is the work–energy theorem of the model's own equations,
     dE/dt = T_drive·omega_i − Σ_s P_s,
@@ -13,16 +13,16 @@ import math
 import numpy as np
 import pytest
 
-from multibody import dynamics as D
-from multibody import outputs as O
-from multibody import integrator as I
-from multibody import model as M
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.drag import ehl_pressure_rolling_force, ehl_rolling_resistance
-from multibody.geometry import ring_surface_velocity
-from multibody.initial import initial_state
-from multibody.model import build_model, state_layout
-from multibody.power_loss import SOURCES, power_balance, window_power
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody import integrator as I
+from flexbearing.multibody import model as M
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.drag import ehl_pressure_rolling_force, ehl_rolling_resistance
+from flexbearing.multibody.geometry import ring_surface_velocity
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.model import build_model, state_layout
+from flexbearing.multibody.power_loss import SOURCES, power_balance, window_power
 
 OMEGA = 14000 * math.pi / 30
 SP = np.array([[0.0, OMEGA]])
@@ -201,7 +201,7 @@ def test_uniform_sliding_dissipates_traction_times_slide_speed():
 def test_pure_rolling_on_the_outer_race_dissipates_the_pressure_rolling_force():
     """Ball centre at v_c, surface at the contact at rest on the fixed outer race (w_x = −v_c/rho):
     no sliding, P_traction = 0, and the rolling loss is |F_H|·v_c, F_H = 2·(Rx/r_b)·|F_R| along the
-    entrainment (multibody.drag)."""
+    entrainment (flexbearing.multibody.drag)."""
     model = build_model(PAPER_BEARING, PAPER_OIL, {"damping": False})
     p = model.p
     rb = 0.5 * p[M.P_DM]

@@ -1,10 +1,10 @@
-"""Speed and load spectra (multibody.profiles) against hand-computed values."""
+"""Speed and load spectra (flexbearing.multibody.profiles) against hand-computed values."""
 import math
 
 import numpy as np
 import pytest
 
-from multibody.profiles import (HALF_SINE, RECTANGULAR, breakpoints, impact_factor, load_at,
+from flexbearing.multibody.profiles import (HALF_SINE, RECTANGULAR, breakpoints, impact_factor, load_at,
                                 speed_angle_at, speed_at, speed_derivative_at)
 
 RPM = 2.0 * math.pi / 60.0

@@ -1,4 +1,4 @@
-"""Quasi-static Jones–Harris solver (multibody/quasi_static.py).
+"""Quasi-static Jones–Harris solver (flexbearing/multibody/quasi_static.py).
 
 References used as expected values (never the solver's own output):
 * Jones/Harris pure-thrust equation (Harris & Kotzalas, Rolling Bearing Analysis, 5th ed., Vol. 1,
@@ -25,9 +25,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, fsolve
 
-from multibody import quasi_static as qs
-from multibody.bearing import PAPER_BEARING
-from multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
+from flexbearing.multibody import quasi_static as qs
+from flexbearing.multibody.bearing import PAPER_BEARING
+from flexbearing.multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
 
 DW, DM, Z, F, A0 = 22.23e-3, 125.3e-3, 16, 0.5232, math.radians(40.0)
 E_EFF = effective_modulus(207e9, 0.3, 207e9, 0.3)
@@ -282,7 +282,7 @@ def test_inner_race_control_that_needs_impossible_friction_is_reported():
     # force unloads the inner contacts, so inner-race control would need the inner friction to carry the
     # gyroscopic moment, f = lambda_i·M_g/Dw (module docstring), with almost no normal load there. Such a state
     # does not exist; the solver must say so (in the engineer's terms) instead of iterating on.
-    from coupling.validate import design_clearance
+    from flexbearing.studies.validate import design_clearance
     bear = PAPER_BEARING.with_(radial_clearance=design_clearance(PAPER_BEARING))
     g = qs.grooves_from_bearing(bear)
     wi = 8000 * math.pi / 30
@@ -350,12 +350,12 @@ def test_jones_equals_outer_control_where_the_outer_race_wins_everywhere(b218):
 
 
 def test_initial_state_equilibrium_equals_this_solver():
-    # multibody.initial.quasi_static (the dynamics' own start: scipy hybrid Powell on the ring, its own ball Newton,
+    # flexbearing.multibody.initial.quasi_static (the dynamics' own start: scipy hybrid Powell on the ring, its own ball Newton,
     # the dynamics' Hertz tables) and this solver are separate assemblies of the same frictionless equations.
     # Paper case at rest, 55 kN / 4 kN: they must agree to their solver tolerances (measured 2e-9 on the loads).
-    from multibody.bearing import PAPER_OIL
-    from multibody.model import build_model
-    from multibody.initial import quasi_static as initial_quasi_static
+    from flexbearing.multibody.bearing import PAPER_OIL
+    from flexbearing.multibody.model import build_model
+    from flexbearing.multibody.initial import quasi_static as initial_quasi_static
     g = qs.grooves_from_bearing(PAPER_BEARING)
     m = build_model(PAPER_BEARING, PAPER_OIL, {})
     r = qs.solve_quasi_static(g, 0.0, fx=55e3, fz=-4e3)

@@ -7,8 +7,8 @@ import sys
 import numpy as np
 import pytest
 
-from fem_cage import reduced_cage as rcf
-from mesh.cage_geometry import PAPER_CAGE
+from flexbearing.fem_cage import reduced_cage as rcf
+from flexbearing.mesh.cage_geometry import PAPER_CAGE
 
 
 def _synthetic(m=10, Z=4, nv=30, seed=0):
@@ -94,7 +94,7 @@ def test_cache_key_depends_on_every_input():
                 rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, False),
                 rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, False),
                 rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, True, False)]
-    # the runtime's 8-argument call (coupling.flexible_cage) gets the land-load and inertia-relief
+    # the runtime's 8-argument call (flexbearing.coupling.flexible_cage) gets the land-load and inertia-relief
     # augmented version-4 file
     assert rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True) == \
         rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, True, True)
@@ -108,7 +108,7 @@ def test_cache_key_depends_on_every_input():
 
 def test_reading_does_not_import_dolfinx(tmp_path):
     p = rcf.write(tmp_path / "c.h5", _synthetic(), {})
-    code = ("import sys; from fem_cage import reduced_cage as r; from fem_cage.von_mises import "
+    code = ("import sys; from flexbearing.fem_cage import reduced_cage as r; from flexbearing.fem_cage.von_mises import "
             f"MaxVonMises; rc = r.read({str(p)!r}).truncate(8); ev = MaxVonMises(rc.stress_modes);"
             "ev(rc.omega * 0 + 1.0); "
             "assert 'dolfinx' not in sys.modules and 'ufl' not in sys.modules, 'FE stack imported'")
@@ -119,15 +119,15 @@ def test_cli_on_cached_file_never_imports_dolfinx(tmp_path):
     """`flexbearing reduce --json --xdmf` with the paper cage's file in the cache reads the file
     only (a synthetic file stands in for it here)."""
     import os
-    import mesh.cage_mesh as cm
+    import flexbearing.mesh.cage_mesh as cm
     key = rcf.cache_key(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE,
                         rcf.DEFAULT_COUPLING, rcf.DEFAULT_N_FIXED, cm.DEFAULT_DEGREE)
     cache = tmp_path / "cache"
     env = dict(os.environ, FLEXBEARING_CACHE=str(cache))
-    code = ("import sys; from fem_cage import reduced_cage as r; import os; "
+    code = ("import sys; from flexbearing.fem_cage import reduced_cage as r; import os; "
             f"r.write(r.cache_path({key!r}), __import__('tests.test_reduced_cage', fromlist=['x'])"
             "._synthetic(m=30), {'content_hash': 'x'}, {'static': {'max_rel_error_full': 1e-10}}); "
-            "from coupling.cli import main; "
+            "from flexbearing.cli.main import main; "
             f"rc = main(['reduce', '--quiet', '--json', {str(tmp_path / 's.json')!r}, '--xdmf', "
             f"{str(tmp_path / 'm.xdmf')!r}]); "
             "assert rc == 0; assert 'dolfinx' not in sys.modules, 'dolfinx imported'")

@@ -1,4 +1,4 @@
-"""coupling.report (with coupling.windows, coupling.plots) on small synthetic run files whose statistics are known in closed form.
+"""flexbearing.analysis.report (with flexbearing.analysis.windows, flexbearing.analysis.plots) on small synthetic run files whose statistics are known in closed form.
 
 The synthetic run: Z = 4 balls, dt = 1 ms, 0.6 s in three phases (acceleration 0–0.2 s, uniform
 0.2–0.4 s, deceleration 0.4–0.6 s), one 20 ms impact centred at 0.3 s. Signals:
@@ -27,10 +27,10 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling import field_export, plots, report, windows
-from coupling.results import ResultsWriter
-from coupling.scene import loads_scene
-from common.validation import InputError
+from flexbearing.analysis import field_export, plots, report, windows
+from flexbearing.simulation.results import ResultsWriter
+from flexbearing.simulation.scene import loads_scene
+from flexbearing.common.validation import InputError
 
 Z = 4
 DT = 1e-3
@@ -175,7 +175,7 @@ def test_phase_table_equals_hand_computed(tmp_path):
 
 
 def test_percentile_is_the_interpolated_order_statistic(tmp_path):
-    """p99 / p1 (coupling.windows module doc, Hyndman & Fan definition 7): position h = q (n - 1)
+    """p99 / p1 (flexbearing.analysis.windows module doc, Hyndman & Fan definition 7): position h = q (n - 1)
     in the sorted worst-ball values, linear between the two order statistics around it."""
     rows = windows.phase_table(write_run(tmp_path / "run.h5"))
     rel = 1e-9
@@ -256,7 +256,7 @@ TETS = np.array([[0, 1, 2, 3], [1, 2, 3, 4], [1, 2, 4, 5]])
 
 def _fake_flexible_run(tmp_path):
     """A flexible run: modal coordinates q(t) in a tiny reduced cage's full basis (3 modes)."""
-    from fem_cage.reduced_cage import write
+    from flexbearing.fem_cage.reduced_cage import write
     rng = np.random.default_rng(7)
     S = rng.normal(size=(NV, 6, M)) * 1e7                    # Pa per unit q
     Phi = rng.normal(size=(NV, 3, M)) * 1e-5                 # m per unit q
@@ -331,7 +331,7 @@ def test_von_mises_xdmf_explicit_frames_and_bad_frames(tmp_path):
 
 
 def test_report_command_end_to_end(tmp_path):
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     run, *_ = _fake_flexible_run(tmp_path)
     steady = write_run(tmp_path / "steady.h5")
     out = tmp_path / "report"
@@ -465,7 +465,7 @@ def test_report_has_the_power_section_only_when_recorded(tmp_path):
     assert json.loads(plain["json"].read_text())["power_loss"] == []
 
 
-# ---------------------------------------------------------------- report.html (coupling.html_page)
+# ---------------------------------------------------------------- report.html (flexbearing.analysis.html_page)
 
 def test_html_page_holds_the_markdown_tables_and_the_plots(tmp_path):
     """report.html: every Markdown table of report.md becomes an HTML table with the same cells, in
@@ -519,7 +519,7 @@ def test_html_page_holds_the_markdown_tables_and_the_plots(tmp_path):
 
 
 def test_html_escapes_text_and_keeps_a_missing_plot_as_text(tmp_path):
-    from coupling.html_page import markdown_to_html
+    from flexbearing.analysis.html_page import markdown_to_html
     page = markdown_to_html("# a < b & c\n\n| x | y |\n|---|---:|\n| `p<1` | **2** |\n| &nbsp;z | 3 |\n\n"
                             "![lost](none.png)\n", tmp_path)
     assert "<h1>a &lt; b &amp; c</h1>" in page
@@ -564,7 +564,7 @@ def test_cage_strength_against_the_yield_strength(tmp_path):
 
 
 def test_yield_strength_in_the_scene():
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.scene import loads_scene
     base = SCENE.format(cage="flexible", record='["von_mises"]')
     assert loads_scene(base).flexible["yield_strength"] == 835e6
     own = base.replace('model = "flexible"', 'model = "flexible"\nyield_strength = 1.1e9')

@@ -3,8 +3,8 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling.results import (ResultsWriter, output_statistics, read_checkpoint, summary_path, unit_for)
-from coupling.scene import loads_scene
+from flexbearing.simulation.results import (ResultsWriter, output_statistics, read_checkpoint, summary_path, unit_for)
+from flexbearing.simulation.scene import loads_scene
 from test_run import SCENE
 
 
@@ -48,7 +48,7 @@ def test_statistics_skip_nan_and_split_columns(tmp_path):
 def test_statistics_all_finite_path_matches_masked_sums():
     """An all-finite block skips the masked copies (issue 21); its sums are those of the masked
     path to the bit, for a whole output and for a strided column of it."""
-    from coupling.results import _Stats
+    from flexbearing.simulation.results import _Stats
     a = np.random.default_rng(3).standard_normal((700, 20, 3)) * 1e3
     t = np.arange(700) * 1e-4
     for block in (a, a[..., 1]):

@@ -13,9 +13,9 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling.results import output_items, read_checkpoint, read_outputs
-from coupling.run import RunInterrupted, run_scene
-from common.validation import InputError
+from flexbearing.simulation.results import output_items, read_checkpoint, read_outputs
+from flexbearing.simulation.run import RunInterrupted, run_scene
+from flexbearing.common.validation import InputError
 from test_run import SCENE, fake_advance, fake_advance_sampled, fake_backend, fake_scene
 
 HERE = Path(__file__).resolve().parent
@@ -146,8 +146,8 @@ def test_sigkill_then_resume_equals_uninterrupted(tmp_path, reference):
 @pytest.mark.slow
 def test_real_model_interrupt_and_resume_bitwise(tmp_path):
     """The same with the real rigid-cage dynamics (multibody): paper steady loads, 2 ms."""
-    from coupling.run import default_backend
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.run import default_backend
+    from flexbearing.simulation.scene import loads_scene
     text = """
 name = "short_steady_rigid"
 [operation]
@@ -179,7 +179,7 @@ checkpoint_every = 5
 
 
 def test_a_resumed_file_keeps_its_dimension_scales_and_compression(tmp_path, reference):
-    """Resume truncates and extends compressed, dimension-scaled datasets (coupling.results format
+    """Resume truncates and extends compressed, dimension-scaled datasets (flexbearing.simulation.results format
     2): the resumed file still opens in xarray with its named dimensions, and holds the
     uninterrupted run's numbers."""
     xr = pytest.importorskip("xarray")
@@ -200,7 +200,7 @@ def test_a_resumed_file_keeps_its_dimension_scales_and_compression(tmp_path, ref
 
 
 def test_an_output_evaluation_that_fails_in_the_writer_thread_keeps_the_samples_before(tmp_path, reference):
-    """The writer thread evaluates a checkpoint interval's outputs (coupling.run): if evaluating
+    """The writer thread evaluates a checkpoint interval's outputs (flexbearing.simulation.run): if evaluating
     sample 17 raises, the file holds samples 0-16 and a checkpoint at sample 16, the error reaches
     the caller, and resuming (with a working backend) gives the uninterrupted run bit for bit."""
     from test_run import fake_outputs
@@ -230,7 +230,7 @@ def test_a_block_the_writer_thread_fails_to_write_is_written_once_after(tmp_path
     """A write of the writer thread fails once (a full disk that frees up): the interrupted run
     writes that interval's samples itself, once — the file's times strictly increase, its
     checkpoint is its last sample — and resuming gives the uninterrupted run bit for bit."""
-    from coupling import results as RS
+    from flexbearing.simulation import results as RS
     ref, _ = reference
     out = tmp_path / "run.h5"
     real = RS.ResultsWriter.write_block
@@ -258,7 +258,7 @@ def test_a_block_the_writer_thread_fails_to_write_is_written_once_after(tmp_path
     assert_same_results(ref, out)
 
 
-# ---- the same with a backend that integrates across samples (coupling.run's advance_sampled):
+# ---- the same with a backend that integrates across samples (flexbearing.simulation.run's advance_sampled):
 # a call ends at every SAMPLES_PER_CALL-th sample, checkpoint and breakpoint; samples inside it are
 # not states the integrator can go on from, so no checkpoint may be written there
 
@@ -327,7 +327,7 @@ def test_sampled_evaluation_failure_keeps_samples_up_to_a_state_to_go_on_from(tm
 
 
 def test_sampled_failure_keeps_the_samples_up_to_it_after_the_checkpoint(tmp_path, reference_sampled):
-    """An integrator call that fails (as multibody.integrator.SimulationUnstable does) hands over the
+    """An integrator call that fails (as flexbearing.multibody.integrator.SimulationUnstable does) hands over the
     samples it passed before the failure (`exc.samples`): the failed run's file holds them after its
     checkpoint (the last state the integrator stopped at), RunInterrupted.t is the last sample's time,
     and a resume truncates them and gives the uninterrupted run bit for bit."""

@@ -1,13 +1,13 @@
-"""Analytic ring frequencies (fem_cage.ring_theory) against closed forms and their limits."""
+"""Analytic ring frequencies (flexbearing.fem_cage.ring_theory) against closed forms and their limits."""
 import math
 
 import numpy as np
 import pytest
 
-from fem_cage.ring_theory import (thin_ring_inplane_hz, thin_ring_outofplane_hz,
+from flexbearing.fem_cage.ring_theory import (thin_ring_inplane_hz, thin_ring_outofplane_hz,
                                   thick_ring_inplane_hz, torsion_constant_rectangle,
                                   cowper_shear_coefficient)
-from common.materials import Material
+from flexbearing.common.materials import Material
 
 STEEL = Material(density=7850.0, youngs_modulus=200e9, poisson_ratio=0.3)
 

@@ -1,4 +1,4 @@
-"""The run orchestrator (coupling.run) with a small fake physics backend whose answers are known.
+"""The run orchestrator (flexbearing.simulation.run) with a small fake physics backend whose answers are known.
 
 Fake model (same signatures as multibody.{model, initial, integrator, dynamics}):
     phi' = omega(t)                      inner-ring angle: phi(t) = integral of the speed spectrum
@@ -18,11 +18,11 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling.results import output_items, read_outputs, summary_path
-from coupling.run import RunInterrupted, run_scene
-from coupling.scene import RPM, loads_scene
-from common.validation import InputError
-from multibody.profiles import load_at, speed_angle_at, speed_at
+from flexbearing.simulation.results import output_items, read_outputs, summary_path
+from flexbearing.simulation.run import RunInterrupted, run_scene
+from flexbearing.simulation.scene import RPM, loads_scene
+from flexbearing.common.validation import InputError
+from flexbearing.multibody.profiles import load_at, speed_angle_at, speed_at
 
 W0, ZETA, MASS = 2 * math.pi * 200.0, 0.05, 10.0
 
@@ -72,9 +72,9 @@ def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h):
 
 
 def fake_advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts, tol, h):
-    """fake_advance that does not stop at sample_times (coupling.run's `advance_sampled`): the
+    """fake_advance that does not stop at sample_times (flexbearing.simulation.run's `advance_sampled`): the
     state at a sample inside a step is the cubic Hermite interpolant of the step's ends and
-    derivatives (as multibody.integrator does for BS32)."""
+    derivatives (as flexbearing.multibody.integrator does for BS32)."""
     args = (speed_table, load_table, impacts, np.zeros(3))
     y = np.array(y, dtype=np.float64)
     n = nr = i = 0
@@ -232,7 +232,7 @@ def test_only_requested_outputs_are_evaluated(tmp_path):
 
 
 def test_recorded_keys_follow_the_scene_outputs():
-    from coupling.run import recorded_keys
+    from flexbearing.simulation.run import recorded_keys
     returned = ["contact_load", "contact_angle", "contact_stress", "approach", "pocket_force",
                 "cage_land_force_magnitude", "cage_speed", "nominal_cage_speed", "slip_rate",
                 "cage_centre", "inner_ring_speed", "external_load", "von_mises_max",
@@ -250,9 +250,9 @@ def test_recorded_keys_follow_the_scene_outputs():
 def test_case_set_and_slip_rate_validation(tmp_path, capsys):
     from pathlib import Path
 
-    from coupling.run import run_case_set_slip_rate
-    from coupling.cli_run import parse_cases, print_slip_rate_table
-    from coupling.scene import load_case_set
+    from flexbearing.simulation.run import run_case_set_slip_rate
+    from flexbearing.cli.run import parse_cases, print_slip_rate_table
+    from flexbearing.simulation.scene import load_case_set
     path = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
     full = load_case_set(path)
     assert [c["id"] for c in full.cases] == list(range(1, 16))
@@ -319,7 +319,7 @@ def test_failure_keeps_a_valid_file(tmp_path):
 
 
 def test_cli_run_refuses_bad_scene_before_computing(tmp_path, capsys):
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     bad = tmp_path / "bad.toml"
     bad.write_text(SCENE.replace("axial_load = 100.0", "axial_load = -100.0"))
     assert main(["run", str(bad), "-o", str(tmp_path / "x.h5"), "--quiet"]) == 2
@@ -330,13 +330,14 @@ def test_cli_run_refuses_bad_scene_before_computing(tmp_path, capsys):
 
 def test_rigid_scene_does_not_import_the_fe_stack():
     """DESIGN: the FE stack is never imported by a run whose cage is rigid. The integrator links
-    the compiled von Mises kernel of the per-step stress monitor (fem_cage.von_mises: numpy +
+    the compiled von Mises kernel of the per-step stress monitor (flexbearing.fem_cage.von_mises: numpy +
     numba only, no FE), nothing else of fem_cage."""
     import subprocess
-    code = ("import sys; from coupling.scene import load_scene; from coupling.run import default_backend; "
+    code = ("import sys; from flexbearing.simulation.scene import load_scene; from flexbearing.simulation.run import default_backend; "
             "s = load_scene('scenes/paper_steady_rigid.toml'); default_backend(s); "
-            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('dolfinx', 'gmsh', 'petsc4py', "
-            "'slepc4py', 'ufl', 'ffcx', 'fem_cage') and m not in ('fem_cage', 'fem_cage.von_mises')))")
+            "print(sorted(m for m in sys.modules if (m.split('.')[0] in ('dolfinx', 'gmsh', 'petsc4py', "
+            "'slepc4py', 'ufl', 'ffcx') or m.startswith('flexbearing.fem_cage.')) "
+            "and m != 'flexbearing.fem_cage.von_mises'))")
     from pathlib import Path
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=Path(__file__).resolve().parents[1])
@@ -347,7 +348,7 @@ def test_rigid_scene_does_not_import_the_fe_stack():
 
 
 def _short_case_set(tmp_path):
-    from coupling.scene import load_case_set
+    from flexbearing.simulation.scene import load_case_set
     path = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
     short = tmp_path / "cases.toml"
     short.write_text(path.read_text().replace("duration = 1.0 ", "duration = 0.004 ")
@@ -359,7 +360,7 @@ def test_case_set_on_two_workers_equals_serial_and_resume_reads_back(tmp_path):
     """The real rigid dynamics, 4 ms of cases 2 and 13: on a Dask LocalCluster of two workers the
     rows equal the serial ones bit for bit; with --resume the finished cases are read back, their
     files untouched."""
-    from coupling.run import run_case_set_slip_rate
+    from flexbearing.simulation.run import run_case_set_slip_rate
     cs = _short_case_set(tmp_path)
     serial = run_case_set_slip_rate(cs, [2, 13], tmp_path / "a", quiet=True)
     parallel = run_case_set_slip_rate(cs, [2, 13], tmp_path / "b", quiet=True, workers=2)
@@ -375,7 +376,7 @@ def test_case_set_on_two_workers_equals_serial_and_resume_reads_back(tmp_path):
 def test_a_failed_case_does_not_stop_the_others(tmp_path):
     """Case 2 (5,000 rpm) fails in its physics; case 1 (4,000 rpm) still runs, and CasesIncomplete
     carries its row and names case 2."""
-    from coupling.run import CasesIncomplete, run_case_set_slip_rate
+    from flexbearing.simulation.run import CasesIncomplete, run_case_set_slip_rate
     cs = _short_case_set(tmp_path)
 
     def advance(model, y, t, t_next, speed_table, *a, **k):
@@ -390,7 +391,7 @@ def test_a_failed_case_does_not_stop_the_others(tmp_path):
 
 if __name__ == "__main__":      # used by tests/test_resume.py to run a fake scene in a subprocess
     out = sys.argv[1]
-    from coupling import results
+    from flexbearing.simulation import results
 
     # every checkpoint, the run loop's (written by the writer thread) and the last one, goes through it
     real = results.ResultsWriter._write_checkpoint

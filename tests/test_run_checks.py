@@ -1,11 +1,11 @@
-"""The physical checks of a finished run (coupling.run_checks) against independent values."""
+"""The physical checks of a finished run (flexbearing.simulation.run_checks) against independent values."""
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from coupling import run_checks as C
-from multibody import model as M
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.simulation import run_checks as C
+from flexbearing.multibody import model as M
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 
 
 def test_hertz_energy_bound_is_the_peak_of_a_suddenly_loaded_hertz_oscillator():

@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from coupling.scene import RPM, load_scene, loads_scene
-from common.validation import InputError
+from flexbearing.simulation.scene import RPM, load_scene, loads_scene
+from flexbearing.common.validation import InputError
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
@@ -62,11 +62,11 @@ def test_paper_unsteady_spectra():
 
 
 def test_every_scene_in_scenes_dir_loads():
-    from coupling.scene import load_case_set
-    from coupling.study import load_study
+    from flexbearing.simulation.scene import load_case_set
+    from flexbearing.studies.study import load_study
     for path in sorted(SCENES.glob("*.toml")):
-        if "[unknowns." in path.read_text():        # the uncertainty study's unknowns (coupling.uncertainty)
-            from coupling.uncertainty import load_unknowns
+        if "[unknowns." in path.read_text():        # the uncertainty study's unknowns (flexbearing.studies.uncertainty)
+            from flexbearing.studies.uncertainty import load_unknowns
             with pytest.raises(InputError, match="flexbearing uncertainty"):
                 load_scene(path)
             load_unknowns(path)
@@ -206,8 +206,8 @@ def test_toml_syntax_error_is_input_error():
 
 def test_integrator_method_key():
     """[integrator] method: the integrator's methods, named in the refusal; dopri5 by default."""
-    from coupling.scene import INTEGRATOR_METHODS
-    from multibody.integrator import METHODS
+    from flexbearing.simulation.scene import INTEGRATOR_METHODS
+    from flexbearing.multibody.integrator import METHODS
     assert tuple(sorted(INTEGRATOR_METHODS)) == tuple(sorted(METHODS))
     assert loads_scene(BASE).method == "dopri5"
     assert loads_scene(BASE + '[integrator]\nmethod = "bs32"\n').method == "bs32"
@@ -216,13 +216,13 @@ def test_integrator_method_key():
 
 def test_a_scene_run_with_bs32_integrates_with_bs32(tmp_path):
     """The scene's method reaches the integrator: 2 ms of the paper's steady rigid scene with bs32
-    take the steps of multibody.integrator.advance_sampled with method bs32 from the same initial
-    state (21 samples: one call of the run loop, coupling.run.SAMPLES_PER_CALL), and not dopri5's,
+    take the steps of flexbearing.multibody.integrator.advance_sampled with method bs32 from the same initial
+    state (21 samples: one call of the run loop, flexbearing.simulation.run.SAMPLES_PER_CALL), and not dopri5's,
     which are fewer (3rd against 5th order at the same tolerance)."""
     import tomllib
-    from coupling.run import SAMPLES_PER_CALL, default_backend, run_scene
-    from coupling.scene import parse_scene
-    from multibody import integrator as I
+    from flexbearing.simulation.run import SAMPLES_PER_CALL, default_backend, run_scene
+    from flexbearing.simulation.scene import parse_scene
+    from flexbearing.multibody import integrator as I
     data = tomllib.loads((SCENES / "paper_steady_rigid.toml").read_text())
     data["operation"]["duration"] = 0.002
     data["operation"]["speed"]["phases"][0]["duration"] = 0.002
@@ -234,7 +234,7 @@ def test_a_scene_run_with_bs32_integrates_with_bs32(tmp_path):
     be = default_backend(scene)
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))
     f0 = np.zeros(3)
-    from multibody.profiles import load_at, speed_at
+    from flexbearing.multibody.profiles import load_at, speed_at
     load_at(0.0, scene.load_table, scene.impacts, f0)
     Fa, Fr = scene.initial_loads()
     steps = {}

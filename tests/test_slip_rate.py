@@ -1,16 +1,16 @@
 """Slip-rate validation data and definitions (paper §3.2, Tables 4/5) and, marked slow, the runs.
 
 The fast tests check the transcription of Table 5 against the paper's own error column and the
-slip definition; the slow ones run the dynamic model on the cases (coupling.validate).
+slip definition; the slow ones run the dynamic model on the cases (flexbearing.studies.validate).
 """
 import math
 
 import numpy as np
 import pytest
 
-from coupling import validate as V
-from multibody import dynamics as D
-from multibody.geometry import nominal_cage_speed
+from flexbearing.studies import validate as V
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody.geometry import nominal_cage_speed
 
 # Table 5, last column: the paper's "slip rate error" (%) = |sim − test|/test
 PAPER_ERROR_COLUMN = [6.79, 6.70, 7.45, 4.38, 5.35, 12.28, 5.37, 11.91, 7.75, 7.95, 5.04, 3.18, 4.77, 4.82, 11.46]
@@ -64,7 +64,7 @@ def test_validation_bearing_runs_in_two_point_contact_at_the_shim_angle():
 @pytest.mark.slow
 def test_slip_rate_case_1_runs_and_settles():
     """Case 1 (4000 rpm, 1100/200 N) at the validation oil state settles within 2.5 s of
-    simulated time (Aitken criterion of coupling.validate; measured 1.65 s since the pressure
+    simulated time (Aitken criterion of flexbearing.studies.validate; measured 1.65 s since the pressure
     rolling force's sign was corrected in session 8, 1.0 s before) and the cage runs below the
     inner-ring speed's epicyclic bound (0 < nc < ni/2)."""
     rows = V.run_slip_rate_validation(cases=[1], quiet=True, t_max=2.5)
@@ -76,7 +76,7 @@ def test_slip_rate_case_1_runs_and_settles():
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, reason="issue 4 goal not met: benchmarks/results/slip_rate.md (mean error 135.9 % settled, session 10; "
-                   "free-ball kinematics and the 4106 fit's light-load traction, diagnosis in coupling.validate)")
+                   "free-ball kinematics and the 4106 fit's light-load traction, diagnosis in flexbearing.studies.validate)")
 def test_slip_rate_case_1_within_goal():
     """Goal (c): no case above 12 % relative error to the test. Case 1 as the representative."""
     r = V.run_slip_rate_validation(cases=[1], quiet=True, t_max=1.5)[0]
@@ -84,15 +84,15 @@ def test_slip_rate_case_1_within_goal():
 
 
 def test_steady_start_of_the_light_load_high_speed_cases():
-    """start="steady" (multibody.steady): case 6 (12,000 rpm, 1100/200 N) starts from the fixed point of
+    """start="steady" (flexbearing.multibody.steady): case 6 (12,000 rpm, 1100/200 N) starts from the fixed point of
     the thrust-only dynamics, so its first 50 ms already turn at that cage speed; the radial load
     and the weight then act (within 1 %, their effect on the cage speed here). With the paper's fit,
     case 1 (4000 rpm) has no such fixed point (the fit's dead zone) and falls back to the
     quasi-static start, saying so; the EHL law (the default, no dead zone) has one."""
     import math
-    from common.validation import InputError
-    from multibody.model import P_GRAV
-    from multibody.steady import steady_thrust_state
+    from flexbearing.common.validation import InputError
+    from flexbearing.multibody.model import P_GRAV
+    from flexbearing.multibody.steady import steady_thrust_state
     case6 = [c for c in V.slip_rate_cases() if c["case"] == 6][0]
     oil = V.validation_oil(None, V.case_oil_air_fraction(V.VALIDATION_OIL_AIR_FRACTION, 12000, V.VALIDATION_OIL_AIR_SCALING))
     row = V.run_slip_case(case6, V.VALIDATION_BEARING, oil, t_min=0.05, t_max=0.05, start="steady")
@@ -126,7 +126,7 @@ def test_cases_in_parallel_give_the_same_rows_in_case_order(serial_rows):
     deterministic integration, so the rows must equal the serial ones bit for bit, and come back
     in case order (they are started highest speed first). 0.1 s of cases 7 and 1; a bad worker
     count is refused with its name."""
-    from common.validation import InputError
+    from flexbearing.common.validation import InputError
     kw = PARALLEL_KW
     serial = serial_rows
     parallel = V.run_slip_rate_validation(workers=2, **kw)
@@ -150,7 +150,7 @@ def test_an_interrupted_validation_keeps_the_finished_cases(tmp_path, monkeypatc
     written case 1 to F (complete: false), prints it, and exits with 130; the Python API raises
     ValidationInterrupted carrying the same row and the missing case."""
     import json
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     real = V.run_slip_case
 
     def ctrl_c_on_case_7(case, *a, **k):
@@ -178,8 +178,8 @@ def test_an_interrupted_validation_keeps_the_finished_cases(tmp_path, monkeypatc
 def test_validate_cli_passes_the_ball_model_options(monkeypatch):
     """`flexbearing validate slip-rate --ball-attitude no_pivot --transverse-traction off` runs the
     cases with those model options, the gyroscopic pair's ring reaction off, as `python -m
-    coupling.validate` does with the same flags (one function builds both)."""
-    from coupling.cli import main
+    flexbearing.studies.validate` does with the same flags (one function builds both)."""
+    from flexbearing.cli.main import main
     seen = {}
 
     def record(cases=None, quiet=False, on_row=None, options=None, bearing=None, **kw):
@@ -194,7 +194,7 @@ def test_validate_cli_passes_the_ball_model_options(monkeypatch):
     assert seen["options"] == V.validation_model_options("no_pivot", "off")
     assert seen["bearing"] == V.VALIDATION_BEARING
     # the CLI's written-out choices take every attitude the model has
-    from multibody.model import BALL_ATTITUDES
+    from flexbearing.multibody.model import BALL_ATTITUDES
     for attitude in BALL_ATTITUDES:
         assert main(["validate", "slip-rate", "--cases", "1", "--quiet", "--ball-attitude", attitude]) == 0
         assert seen["options"]["ball_attitude"] == attitude
@@ -206,7 +206,7 @@ def test_the_test_bearings_unknowns_can_be_set(monkeypatch, capsys):
     (written out below from the formula, not taken from the code); a shim angle outside [0, 45)°
     is refused naming the field and the range."""
     import math
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     seen = {}
     monkeypatch.setattr(V, "run_slip_rate_validation", lambda **kw: seen.update(kw) or [])
     main(["validate", "slip-rate", "--cases", "1", "--quiet", "--shim-angle", "15"])
@@ -221,8 +221,8 @@ def test_the_test_bearings_unknowns_can_be_set(monkeypatch, capsys):
 
 def test_procedure_flags_are_refused_with_a_case_set(capsys):
     """--case-set runs scenes, which carry their own bearing, model and durations: the flags of
-    coupling.validate's procedure would be ignored, so they are refused, naming them."""
-    from coupling.cli import main
+    flexbearing.studies.validate's procedure would be ignored, so they are refused, naming them."""
+    from flexbearing.cli.main import main
     assert main(["validate", "slip-rate", "--case-set", "scenes/slip_rate_table4.toml", "--cases", "1",
                  "--shim-angle", "15", "--ball-attitude", "no_pivot"]) != 0
     err = capsys.readouterr().err

@@ -1,4 +1,4 @@
-"""Steady running state of a thrust-loaded bearing (multibody/steady.py).
+"""Steady running state of a thrust-loaded bearing (flexbearing/multibody/steady.py).
 
 Reference: the dynamics itself, integrated from a different start. The paper bearing under 55 kN
 axial load at 14,000 rpm (no radial load, no gravity) settles within 0.1 s; the time-averaged
@@ -27,15 +27,15 @@ import math
 import numpy as np
 import pytest
 
-from common.validation import InputError
-from multibody import dynamics as D
-from multibody import outputs as O
-from multibody import integrator as I
-from multibody import model as M
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.initial import initial_state
-from multibody.model import build_model
-from multibody.steady import steady_held_cage_state, steady_thrust_state
+from flexbearing.common.validation import InputError
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody import integrator as I
+from flexbearing.multibody import model as M
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.model import build_model
+from flexbearing.multibody.steady import steady_held_cage_state, steady_thrust_state
 
 W = 14000 * math.pi / 30
 FA = 55e3

@@ -1,5 +1,5 @@
 """The stability stress test's cases (benchmarks/stress_test.py) as tests: each case must finish
-with finite, bounded, physical results (coupling.run_checks) or stop with a diagnostic that names
+with finite, bounded, physical results (flexbearing.simulation.run_checks) or stop with a diagnostic that names
 what stopped it — the ball or cage, the contact, the time and the likely cause for the dynamics;
 the load, the contact and the allowed range for a load refused at setup; the estimate for the
 wall-time guard. The cheap cases run in `make test` (about 1–4 s each), the others are slow.

@@ -1,6 +1,6 @@
-"""The per-step cage stress monitor (multibody.stress_peak) against an independent numpy evaluation.
+"""The per-step cage stress monitor (flexbearing.multibody.stress_peak) against an independent numpy evaluation.
 
-Reference for one state: the full modal coordinates from fem_cage.reduced_cage.static_correction
+Reference for one state: the full modal coordinates from flexbearing.fem_cage.reduced_cage.static_correction
 (residual modes q_k = (Phi_b,k^T F + Omega^2 Q_k)/omega_k^2) and the von Mises stress of every node
 from the stress modes by the textbook formula (von Mises 1913), maximum by brute force. The
 monitor must return that maximum to round-off (relative 1e-12: the monitor sums in load space,
@@ -12,10 +12,10 @@ accepted step of that interval, at the same step and vertex.
 import numpy as np
 import pytest
 
-from fem_cage.reduced_cage import static_correction
-from fem_cage.von_mises import (L_VM, TrackingMaxVonMises, brute_force_max_sq, load_space_blocks,
+from flexbearing.fem_cage.reduced_cage import static_correction
+from flexbearing.fem_cage.von_mises import (L_VM, TrackingMaxVonMises, brute_force_max_sq, load_space_blocks,
                                 load_space_stress)
-from multibody import stress_peak as sp
+from flexbearing.multibody import stress_peak as sp
 
 P, NV, M, N_KEEP = 6, 400, 24, 12          # P load points: 5 pockets + the land row
 
@@ -92,7 +92,7 @@ def test_monitor_equals_brute_force_and_holds_the_peak(setup):
 
 def _cage_arrays(n_nodes, n_modes):
     """The monitor reads only the rotation A, the scratch rows and node_load of the cage arrays."""
-    from multibody.floating_frame import CageArrays
+    from flexbearing.multibody.floating_frame import CageArrays
     fields = dict.fromkeys(CageArrays._fields, np.zeros(1))
     fields.update(A=np.eye(3), scratch=np.zeros((8, 3)), node_load=np.zeros((n_nodes, 6)),
                   land_modes=np.zeros((3, n_modes)))
@@ -143,16 +143,16 @@ def test_monitor_refuses_a_mismatched_search(setup):
 @pytest.mark.slow
 def test_recorded_maximum_is_the_exhaustive_maximum_over_a_real_run(paper_reduced_cage, tmp_path):
     """The paper's steady scene (flexible cage, 14,000 rpm, 55 kN / 4 kN) cut to 3 ms with a 1 ms,
-    50 kN impact, run by coupling.run (30 samples of 0.1 ms), every accepted step traced by the
+    50 kN impact, run by flexbearing.simulation.run (30 samples of 0.1 ms), every accepted step traced by the
     monitor: for
     each sample interval the recorded maximum, its time and vertex and the step count equal those
-    of brute force (fem_cage.von_mises.brute_force_max_sq, every node, the same node kernel) over
+    of brute force (flexbearing.fem_cage.von_mises.brute_force_max_sq, every node, the same node kernel) over
     the traced steps of that interval, bitwise; the peak's full modal coordinates give the same
     maximum by the textbook formula over every vertex (1e-12: summation order)."""
     import h5py
-    from coupling import flexible_cage as fc
-    from coupling.run import run_scene
-    from coupling.scene import loads_scene
+    from flexbearing.coupling import flexible_cage as fc
+    from flexbearing.simulation.run import run_scene
+    from flexbearing.simulation.scene import loads_scene
     from pathlib import Path
     # the paper's steady scene cut to 3 ms, with a 1 ms, 50 kN impact in the middle
     path = Path(__file__).resolve().parents[1] / "scenes" / "paper_steady.toml"
@@ -194,13 +194,13 @@ def test_recorded_maximum_is_the_exhaustive_maximum_over_a_real_run(paper_reduce
 
 
 def test_stress_recovery_load_space_round_trip():
-    """coupling.flexible_cage.StressRecovery on a synthetic reduced cage: the load-space vector
+    """flexbearing.coupling.flexible_cage.StressRecovery on a synthetic reduced cage: the load-space vector
     y = (Omega^2, q_kept, node loads) the monitor builds maps back to the same full modal
     coordinates as the direct formula (full_coordinates_of vs full_coordinates, exact up to the
     square root of Omega^2: 1e-15), and the search's maximum on y equals the textbook evaluation
     of S q_full over every vertex (__call__, numpy) at the same vertex (1e-12: summation order)."""
     from types import SimpleNamespace
-    from coupling.flexible_cage import StressRecovery
+    from flexbearing.coupling.flexible_cage import StressRecovery
     rng = np.random.default_rng(11)
     Z, m, n = 4, 30, 500
     S = rng.normal(size=(n, 6, m)) * 1e8

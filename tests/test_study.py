@@ -1,4 +1,4 @@
-"""`flexbearing study` (coupling.study): a scene over a range of one parameter.
+"""`flexbearing study` (flexbearing.studies.study): a scene over a range of one parameter.
 
 A two-run study of a short rigid-cage scene under pure thrust: each run carries its value (the
 recorded external load), the study's tables are the runs' own report windows, and the mean
@@ -13,8 +13,8 @@ import h5py
 import numpy as np
 import pytest
 
-from coupling.study import load_study, run_study, study_table
-from common.validation import InputError
+from flexbearing.studies.study import load_study, run_study, study_table
+from flexbearing.common.validation import InputError
 
 BASE = """
 name = "thrust"
@@ -83,9 +83,9 @@ def test_each_run_carries_its_value(thrust_study):
 
 
 def test_tables_are_the_runs_report_windows(thrust_study):
-    """study.json holds coupling.windows.phase_table of each run unchanged (same settle), and the
+    """study.json holds flexbearing.analysis.windows.phase_table of each run unchanged (same settle), and the
     tables index the windows by position: whole run, phase 1 (the ramp), phase 2."""
-    from coupling.windows import cage_motion_table, phase_table
+    from flexbearing.analysis.windows import cage_motion_table, phase_table
     study, out, result = thrust_study
     saved = json.loads((out / "fa" / "study.json").read_text())
     for r in saved["runs"]:
@@ -109,8 +109,8 @@ def test_mean_contact_stress_follows_the_quasi_static_solution(thrust_study):
     (outer-race control) at its load within 1.5 % (measured: outer −1.0 / −0.5 %, inner +0.1 / −0.2 %
     at 30 / 55 kN; the free balls' skid and the pockets shift the loads by that much), and they rise
     with the axial load as the paper's Fig. 23 shows."""
-    from multibody.bearing import PAPER_BEARING
-    from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
+    from flexbearing.multibody.bearing import PAPER_BEARING
+    from flexbearing.multibody.quasi_static import grooves_from_bearing, solve_quasi_static
     study, out, result = thrust_study
     g = grooves_from_bearing(PAPER_BEARING)
     means = []
@@ -240,7 +240,7 @@ def test_a_study_on_a_cluster_of_separate_processes(thrust_study, dask_cluster, 
     """`flexbearing study --scheduler ADDRESS` on a scheduler and two worker processes started as a
     cluster's are (tests/conftest.py DaskCluster): the same windows to the last bit as the runs
     one after the other in this process (each run is one deterministic integration)."""
-    from coupling import cli
+    from flexbearing.cli import main as cli
     study, out, result = thrust_study
     path = _write(tmp_path)
     code = cli.main(["study", str(path), "-o", str(tmp_path / "out"), "--scheduler", dask_cluster.address,
@@ -256,9 +256,9 @@ def test_a_study_on_a_cluster_of_separate_processes(thrust_study, dask_cluster, 
 def test_a_failed_run_is_reported_the_others_finish_and_a_rerun_does_only_it(tmp_path, monkeypatch):
     """A run that raises does not stop the study: the other run finishes (its file complete), the
     study stops with StudyIncomplete naming the failed run; run again, only the failed run is sent
-    out (a finished run is read back, coupling.run.finished_run) and the study completes."""
-    import coupling.study as S
-    from coupling.run import finished_run
+    out (a finished run is read back, flexbearing.simulation.run.finished_run) and the study completes."""
+    import flexbearing.studies.study as S
+    from flexbearing.simulation.run import finished_run
     real = S._run_one
     calls = []
 
@@ -285,10 +285,10 @@ def test_a_failed_run_is_reported_the_others_finish_and_a_rerun_does_only_it(tmp
 def test_the_reduced_cage_is_built_once_per_distinct_cage_and_reaches_the_runs_by_path(tmp_path, monkeypatch):
     """Three flexible-cage runs over two distinct cages (mesh sizes 6, 6 and 7 mm): two builds,
     before any run; each run gets the path of its own cage (content hash,
-    coupling.flexible_cage.reduced_cage_hash). No FE work here: the build and the runs are
+    flexbearing.coupling.flexible_cage.reduced_cage_hash). No FE work here: the build and the runs are
     stand-ins that record what they were given."""
-    import coupling.study as S
-    from coupling.flexible_cage import reduced_cage_hash
+    import flexbearing.studies.study as S
+    from flexbearing.coupling.flexible_cage import reduced_cage_hash
     base = BASE.replace('model = "rigid"', 'model = "flexible"')
     study_text = STUDY.replace('keys = ["operation.load.axial_load"]', 'keys = ["cage.mesh_size"]').replace(
         "values = [30e3, 55e3]", "values = [6e-3, 6e-3, 7e-3]")

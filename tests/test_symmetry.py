@@ -25,7 +25,7 @@ signed speed, a hard-coded sense of whirl) breaks them. Tolerance: 1e-9 of each 
 entry (measured: axial mirror ≤ 4e-16, Z mirror 1.2e-12, rotations ≤ 4e-11; the cage's angular
 acceleration, by a central difference, 1.4e-10 against a bound of 1e-8). The Z mirror found a
 defect when it was written: the tangential squeeze force of the guide land kept its sign when the
-cage whirls faster than half its spin (multibody.guide_land), 1.5e-5 of the cage's accelerations
+cage whirls faster than half its spin (flexbearing.multibody.guide_land), 1.5e-5 of the cage's accelerations
 at this state.
 """
 import math
@@ -33,12 +33,12 @@ import math
 import numpy as np
 import pytest
 
-from multibody import cage_body as CB
-from multibody import dynamics as D
-from multibody import model as M
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.initial import initial_state
-from multibody.model import build_model, state_layout
+from flexbearing.multibody import cage_body as CB
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import model as M
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.model import build_model, state_layout
 
 OMEGA = 14000 * math.pi / 30
 FA, FR = 55e3, 4e3
@@ -129,7 +129,7 @@ def _euler_zyx(A):
 
 
 def _rate_matrix(by, bz):
-    """G with w = G·(phi', by', bz') (multibody.cage_body.cage_angular_velocity)."""
+    """G with w = G·(phi', by', bz') (flexbearing.multibody.cage_body.cage_angular_velocity)."""
     cy, sy, cz, sz = math.cos(by), math.sin(by), math.cos(bz), math.sin(bz)
     return np.array([[cz * cy, -sz, 0.0], [sz * cy, cz, 0.0], [-sy, 0.0, 1.0]])
 
@@ -257,7 +257,7 @@ def test_rotation_about_the_shaft_axis(gamma_deg, on_rim):
 @pytest.mark.slow
 @pytest.mark.parametrize("gamma_deg, on_rim", [(7.3, False), (211.0, True)])
 def test_rotation_about_the_shaft_axis_flexible_cage(paper_reduced_cage, gamma_deg, on_rim):
-    """The same rotation with the reduced paper cage (26 modes, coupling.flexible_cage) as a
+    """The same rotation with the reduced paper cage (26 modes, flexbearing.coupling.flexible_cage) as a
     floating-frame body: the modal coordinates live in the cage's body frame, which turns with
     the bearing, so the map leaves them and their rates unchanged, and f(R·y) = R·f(y) holds to
     rounding whether or not the mesh itself is symmetric. Checks the frame-objectivity of the
@@ -266,7 +266,7 @@ def test_rotation_about_the_shaft_axis_flexible_cage(paper_reduced_cage, gamma_d
     modal coordinates: the static centrifugal deformation plus a random one of its size, rates
     random of that size times 2000 1/s. Bounds as the rigid cage's (1e-9 of each block, 1e-8 for
     w'); measured: modal accelerations 1.4e-13, cage accelerations 6.5e-11 (on the rim), w' 9.6e-12."""
-    from coupling.flexible_cage import flexible_cage_body
+    from flexbearing.coupling.flexible_cage import flexible_cage_body
     basis = flexible_cage_body(paper_reduced_cage, 26, 1e-5, centrifugal_correction=False)
     model = build_model(PAPER_BEARING, PAPER_OIL, {}, cage_body=basis.body)
     lay = state_layout(model)
@@ -309,7 +309,7 @@ def test_quasi_static_solution_mirrors(control):
     (ball j at −psi_j), the ring's z and tilt_y and every spin reversed; −Fx gives the contact angles
     mirrored (sign reversed) and the ring's x and tilts reversed. Bound 1e-9 (measured 8e-13,
     the solver's tolerance)."""
-    from multibody.quasi_static import grooves_from_bearing, solve_quasi_static
+    from flexbearing.multibody.quasi_static import grooves_from_bearing, solve_quasi_static
     g = grooves_from_bearing(PAPER_BEARING)
     a = solve_quasi_static(g, OMEGA, fx=FA, fy=1.5e3, fz=-FR, control=control)
     z = len(a.psi)

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from multibody.hertz import effective_modulus, hertz_point_contact, race_curvature_radii
-from multibody.traction import (TRACTION_FIT_4106, slice_load_share, slip_polynomial_from_three_points,
+from flexbearing.multibody.hertz import effective_modulus, hertz_point_contact, race_curvature_radii
+from flexbearing.multibody.traction import (TRACTION_FIT_4106, slice_load_share, slip_polynomial_from_three_points,
                                 sliced_traction, traction_coefficient, traction_coefficients,
                                 traction_coefficients_table)
 
@@ -172,7 +172,7 @@ def test_origin_law_passes_through_zero_with_the_fits_plateau():
     form (1e-12), mu(0) = 0, mu'(0) = B + C·D (central difference of the closed form, step 1e-7:
     truncation ~1e-7 relative), odd, and the fit's plateau D at large slip (C = 5.9 here: e^{−5C} ≈ 2e-13). Conditions: the light outer contact of slip-rate test case 1 (Q 205 N, UR 18.6 m/s,
     Rx 12.4 mm), where the fit itself has a dead zone (mu = 0 for s < 0.03)."""
-    from multibody.traction import TRACTION_ORIGIN_4106
+    from flexbearing.multibody.traction import TRACTION_ORIGIN_4106
     args = (205.3, 18.55, 0.012407, E_M50, 0.055, 413.15, K0)
     A, B, C, D = traction_coefficients_table(*args, TRACTION_FIT_4106)
     assert A + D < 0 and traction_coefficient(0.02, A, B, C, D) == 0.0      # the fit's dead zone

@@ -1,4 +1,4 @@
-"""The bounded traction law (multibody.traction, module docstring "Bounded law") and the curve maximum.
+"""The bounded traction law (flexbearing.multibody.traction, module docstring "Bounded law") and the curve maximum.
 
 What is checked, and why these tolerances:
 * `traction_curve_maximum` against the analytic stationary point s* = 1/C − A/B of
@@ -18,8 +18,8 @@ import math
 import numpy as np
 import pytest
 
-from multibody import traction as T
-from multibody.hertz import effective_modulus, race_curvature_radii
+from flexbearing.multibody import traction as T
+from flexbearing.multibody.hertz import effective_modulus, race_curvature_radii
 
 E_EFF = effective_modulus(210e9, 0.3, 210e9, 0.3)
 ETA0, K0 = 0.055, 0.0965788

@@ -1,4 +1,4 @@
-"""The EHL film-shear traction law (multibody.traction, "EHL film-shear law"; issue 25).
+"""The EHL film-shear traction law (flexbearing.multibody.traction, "EHL film-shear law"; issue 25).
 
 Checked against: its closed-form limits (the Newtonian–Maxwell creep slope at s -> 0, the Eyring
 sinh law, the limiting-shear plateau), an independent numerical integration of the
@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
-from multibody import traction as T
-from multibody.bearing import PAPER_OIL
-from multibody.hertz import effective_modulus, race_curvature_radii
+from flexbearing.multibody import traction as T
+from flexbearing.multibody.bearing import PAPER_OIL
+from flexbearing.multibody.hertz import effective_modulus, race_curvature_radii
 
 E_EFF = effective_modulus(210e9, 0.3, 210e9, 0.3)
 TAB = T.ehl_traction_table(PAPER_OIL.viscosity_temperature_coeff)
@@ -120,7 +120,7 @@ def test_no_dead_zone_anywhere(scale, rise):
 
 def test_against_the_published_4106_fit_inside_its_data_range():
     # Wang, Yang & Wang (2004): the paper's 4106 fit, a regression of measured traction curves;
-    # inside its data range (p0 >= 1 GPa, multibody.traction "Bounded law"): the paper's steady
+    # inside its data range (p0 >= 1 GPa, flexbearing.multibody.traction "Bounded law"): the paper's steady
     # scene (55 kN, 14,000 rpm, 20 °C; inner 4.5 kN at 36°, outer 5 kN at 30°, UR ~50 m/s) and
     # reference/formulas.md's check contact (3 kN at 25°, 43.1 m/s, 100 °C). The curves differ in
     # shape (the law peaks at s ~ 0.003–0.01 as disc-machine EHL curves do, the fit at s ~ 0.3–0.5),
@@ -139,9 +139,9 @@ def test_against_the_published_4106_fit_inside_its_data_range():
 
 
 def test_model_option_and_scene_key_select_the_law():
-    from common.validation import InputError
-    from multibody.bearing import PAPER_BEARING
-    from multibody.model import build_model
+    from flexbearing.common.validation import InputError
+    from flexbearing.multibody.bearing import PAPER_BEARING
+    from flexbearing.multibody.model import build_model
     assert build_model(PAPER_BEARING, PAPER_OIL, {}).traction_table.shape == (4, 4)      # the paper's fit
     tab = build_model(PAPER_BEARING, PAPER_OIL, {"traction_law": "ehl", "traction_scale": 1.5,
                                                  "contact_temperature_rise": 20.0}).traction_table
@@ -153,19 +153,19 @@ def test_model_option_and_scene_key_select_the_law():
         build_model(PAPER_BEARING, PAPER_OIL, {"traction_law": "ehl", "traction_scale": 5.0})
     with pytest.raises(InputError, match="applies to traction_law = 'ehl' only"):
         build_model(PAPER_BEARING, PAPER_OIL, {"traction_scale": 1.5})
-    from coupling.scene import loads_scene
+    from flexbearing.simulation.scene import loads_scene
     text = open("scenes/paper_steady_rigid.toml").read().replace("[cage]", '[model]\ntraction_law = "ehl"\n\n[cage]', 1)
     assert loads_scene(text).model_options["traction_law"] == "ehl"
 
 
 def test_power_balance_closes_with_the_ehl_law():
     # the slices' forces lie along their slip at the slice centre, so P = T_t·du0 − M_n·du1 +
-    # T_tau·dv is still the exact traction power (multibody.dynamics._race): the work–energy
+    # T_tau·dv is still the exact traction power (flexbearing.multibody.dynamics._race): the work–energy
     # balance of the paper case's disturbed state closes as with the fit (tests/test_power_loss.py)
     import test_power_loss as P
-    from multibody.bearing import PAPER_BEARING
-    from multibody.model import build_model
-    from multibody.power_loss import power_balance
+    from flexbearing.multibody.bearing import PAPER_BEARING
+    from flexbearing.multibody.model import build_model
+    from flexbearing.multibody.power_loss import power_balance
     model = build_model(PAPER_BEARING, PAPER_OIL, {"traction": True, "drag": False, "damping": False,
                                                    "traction_law": "ehl", **P.FIXED})
     y = P._perturbed_state(model)

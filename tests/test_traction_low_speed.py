@@ -1,7 +1,7 @@
-"""The fit's low-rolling-speed regularisation (multibody.traction, "Low rolling speed"; issue 21).
+"""The fit's low-rolling-speed regularisation (flexbearing.multibody.traction, "Low rolling speed"; issue 21).
 
 The dynamics evaluate the 4106 fit at UR_eff = max(|UR|, u_reg). Checked on the compiled
-right-hand side (multibody.dynamics.rhs) of the paper bearing:
+right-hand side (flexbearing.multibody.dynamics.rhs) of the paper bearing:
 
 * below u_reg the outer contact's rolling traction is Q·mu(du/u_reg) with the coefficients of
   Ub(u_reg), recomputed here by hand from the fit's power laws (TRACTION_FIT_4106) and the curve
@@ -20,11 +20,11 @@ import math
 import numpy as np
 import pytest
 
-from multibody import dynamics as D
-from multibody import model as M
-from multibody.bearing import PAPER_BEARING, PAPER_OIL
-from multibody.initial import initial_state
-from multibody.traction import TRACTION_FIT_4106
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import model as M
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.traction import TRACTION_FIT_4106
 
 U_REG = 10.0
 S_LIN = 2e-3
@@ -119,6 +119,6 @@ def test_no_effect_above_u_reg():
 
 
 def test_out_of_range_is_refused():
-    from common.validation import InputError
+    from flexbearing.common.validation import InputError
     with pytest.raises(InputError, match="slip_regularisation_speed"):
         M.build_model(PAPER_BEARING, PAPER_OIL, {"slip_regularisation_speed": 0.0})

@@ -1,4 +1,4 @@
-"""The slip-rate uncertainty study (coupling.uncertainty, issue 23 item 2): the Sobol' estimators
+"""The slip-rate uncertainty study (flexbearing.studies.uncertainty, issue 23 item 2): the Sobol' estimators
 against the Ishigami function's analytic indices, the sampling and scaling against hand values,
 the unknowns file's validation, the surrogate, and one job of the fast path against the dynamic run."""
 from __future__ import annotations
@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from common.validation import InputError
-from coupling import uncertainty as U
+from flexbearing.common.validation import InputError
+from flexbearing.studies import uncertainty as U
 
 ROOT = Path(__file__).resolve().parents[1]
 UNKNOWNS = ROOT / "scenes" / "slip_rate_unknowns.toml"
@@ -172,7 +172,7 @@ def test_quadratic_surrogate_recovers_a_quadratic_exactly():
 
 
 def _synthetic_rows(study, points, slip_of):
-    from coupling.validate import slip_rate_cases
+    from flexbearing.studies.validate import slip_rate_cases
     rows = []
     for p in points:
         for c in slip_rate_cases():
@@ -206,9 +206,9 @@ def test_analyse_on_a_known_response(tmp_path):
 def test_steady_job_against_the_dynamic_validation_case_12():
     """Case 12 at the nominal point: the steady fixed point with weight against the dynamic
     validation run of session 14 (slip_rate_session14_ehl.json, same inputs: −7.80 %). Tolerance
-    0.5 points: the frozen-azimuth approximation (multibody.steady) differs from the dynamics by
+    0.5 points: the frozen-azimuth approximation (flexbearing.multibody.steady) differs from the dynamics by
     0.05–0.65 points over the 15 nominal cases (benchmarks/results/slip_rate_uncertainty.md)."""
-    from coupling.validate import slip_rate_cases
+    from flexbearing.studies.validate import slip_rate_cases
     study = U.load_unknowns(UNKNOWNS)
     dyn = {r["case"]: r["slip_pct"] for r in json.loads(
         (ROOT / "benchmarks/results/slip_rate_session14_ehl.json").read_text())["rows"]}
@@ -223,8 +223,8 @@ def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys
     an interrupted study): nothing is recomputed, the band of case 12 is printed (synthetic slips
     test − 0.5 .. test + 0.5 points, so the test is inside: 1 of 15), the surrogate's best points are
     run with the model, the report is written."""
-    from coupling.cli import main
-    from coupling.validate import slip_rate_cases
+    from flexbearing.cli.main import main
+    from flexbearing.studies.validate import slip_rate_cases
     study = U.load_unknowns(UNKNOWNS)
     d = tmp_path / "out" / study.name
     d.mkdir(parents=True)
@@ -254,7 +254,7 @@ def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys
 
 
 def test_cli_bad_input_exit_2(tmp_path, capsys):
-    from coupling.cli import main
+    from flexbearing.cli.main import main
     p = tmp_path / "u.toml"
     p.write_text(UNKNOWNS.read_text().replace("points = 64", "points = 8"))
     assert main(["uncertainty", str(p), "-o", str(tmp_path)]) == 2

@@ -2,7 +2,7 @@
 damages a file: the defects of issue 22 (item 2), each reproduced on the code before its fix.
 
 The runs use the fake physics backend of tests/test_run.py (streaming and files are what is
-tested); the command line is driven through coupling.cli.main, which is what `flexbearing` calls.
+tested); the command line is driven through flexbearing.cli.main.main, which is what `flexbearing` calls.
 """
 import hashlib
 import json
@@ -15,11 +15,11 @@ from pathlib import Path
 import h5py
 import pytest
 
-from common.validation import InputError
-from coupling import cli
-from coupling.results import read_checkpoint
-from coupling.run import RunInterrupted, run_scene
-from coupling.scene import load_scene, loads_scene
+from flexbearing.common.validation import InputError
+from flexbearing.cli import main as cli
+from flexbearing.simulation.results import read_checkpoint
+from flexbearing.simulation.run import RunInterrupted, run_scene
+from flexbearing.simulation.scene import load_scene, loads_scene
 from test_run import SCENE, fake_backend, fake_scene
 
 HERE = Path(__file__).resolve().parent
@@ -198,11 +198,11 @@ def test_read_only_folder(tmp_path, capsys, tiny):
 def test_ctrl_c_during_setup(tmp_path, capsys, tiny, monkeypatch):
     """Before: a KeyboardInterrupt traceback from the model build. Now: one line and exit 130
     (the run's own Ctrl-C code), no empty file left."""
-    import coupling.run
+    import flexbearing.simulation.run
 
     def interrupted(scene):
         raise KeyboardInterrupt
-    monkeypatch.setattr(coupling.run, "default_backend", interrupted)
+    monkeypatch.setattr(flexbearing.simulation.run, "default_backend", interrupted)
     out = tmp_path / "r.h5"
     code, err = run_cli(["run", tiny, "-o", out], capsys)
     assert code == 130 and "interrupted during setup" in err and "Traceback" not in err
@@ -224,7 +224,7 @@ def test_real_ctrl_c_during_setup(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     # SIGINT back to Python's handler: a child of a background shell (nohup, CI) inherits it ignored
     code = ("import signal, sys, time; signal.signal(signal.SIGINT, signal.default_int_handler)\n"
-            "from coupling import cli; from multibody import initial; "
+            "from flexbearing.cli import main as cli; from flexbearing.multibody import initial; "
             "solve = initial.initial_state\n"
             "def slow_initial_state(*a, **k):\n"
             "    print('SETUP', flush=True); time.sleep(60); return solve(*a, **k)\n"
@@ -333,7 +333,7 @@ def test_every_size_option_is_in_metres(capsys):
     for cmd in ("mesh", "modes", "reduce", "calibrate-cage"):
         args = parser.parse_args([cmd, "--size", "4e-3", "--pocket-size", "2e-3"])
         assert (args.size, args.pocket_size) == (4e-3, 2e-3)
-    from coupling.cli_modes import _level           # mesh-study --levels: metres in, mm to fem_cage.mesh_study
+    from flexbearing.cli.modes import _level           # mesh-study --levels: metres in, mm to fem_cage.mesh_study
     with pytest.raises(InputError, match="sizes are in metres"):
         _level("4,2,2,3")
     assert _level("4e-3,2e-3,2,3") == (4.0, 2.0, 2, 3)
@@ -358,11 +358,11 @@ def test_axial_load_beyond_the_contacts_is_refused_before_the_run(tmp_path, caps
     approach and the largest load of that direction the model carries."""
     import numpy as np
 
-    import multibody.initial as I
-    from multibody import model as M
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
-    from multibody.dynamics import DELTA_MAX_FRAC
-    from multibody.outputs import evaluate_outputs
+    import flexbearing.multibody.initial as I
+    from flexbearing.multibody import model as M
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.dynamics import DELTA_MAX_FRAC
+    from flexbearing.multibody.outputs import evaluate_outputs
     scene = tmp_path / "big.toml"
     scene.write_text(TINY.replace("axial_load = 55e3", "axial_load = 1e7"))
     out = tmp_path / "big.h5"
@@ -372,7 +372,7 @@ def test_axial_load_beyond_the_contacts_is_refused_before_the_run(tmp_path, caps
     assert not out.exists()
     limit = float(re.search(r"up to about ([0-9.e+]+) N", line).group(1))
     assert 2.0e6 < limit < 2.6e6          # the paper bearing: 202 um at 2 MN, 257 um at 3 MN
-    # the limit against another path: the dynamics' own recorded approach (multibody.outputs, not
+    # the limit against another path: the dynamics' own recorded approach (flexbearing.multibody.outputs, not
     # initial.deepest_contact) at the equilibria of 0.97x and 1.03x that load; the bisection stops
     # within 1 % and the limit is printed to 3 digits, hence the 3 % margins
     model = M.build_model(PAPER_BEARING, PAPER_OIL, {})
@@ -390,7 +390,7 @@ def test_axial_load_beyond_the_contacts_is_refused_before_the_run(tmp_path, caps
 def test_a_run_the_physics_stops_does_not_advise_resume(tmp_path, capsys):
     """A SimulationUnstable stop comes back from the checkpoint the same way (the integrator is
     deterministic): the message says so instead of advising --resume."""
-    from multibody.integrator import SimulationUnstable
+    from flexbearing.multibody.integrator import SimulationUnstable
     calls = {"n": 0}
 
     def unstable(*a, **k):
@@ -414,7 +414,7 @@ def test_tolerance_below_the_rounding_level_is_refused():
     """integrator.tolerance = 1e-14 was accepted and the step collapsed to 1e-12 s at t = 0.28 ms of
     the 14,000 rpm impact case (1e-13: at 0.56 ms); the range now ends at 1e-12, which finishes
     (benchmarks/stress_test.py, case tol_1e-12)."""
-    from coupling.scene import MIN_TOLERANCE
+    from flexbearing.simulation.scene import MIN_TOLERANCE
     assert MIN_TOLERANCE == 1e-12
     with pytest.raises(InputError, match=r"integrator.tolerance .*1e-12"):
         loads_scene(TINY + "[integrator]\ntolerance = 1e-14\n")

@@ -1,4 +1,4 @@
-"""coupling.validate: the pure-rolling cage speed of the slip diagnosis and the traction-law plumbing.
+"""flexbearing.studies.validate: the pure-rolling cage speed of the slip diagnosis and the traction-law plumbing.
 
 * `pure_rolling_cage_speed_ratio` is checked against an independent vector computation: with the
   returned omega_c, the ball (spin axis at pitch angle beta, spin omega_R from the outer contact) has
@@ -13,9 +13,9 @@ import math
 import numpy as np
 import pytest
 
-from coupling import validate as V
-from common.validation import InputError
-from multibody import traction as T
+from flexbearing.studies import validate as V
+from flexbearing.common.validation import InputError
+from flexbearing.multibody import traction as T
 
 DW, DM = 0.022, 0.167
 

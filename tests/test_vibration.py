@@ -1,4 +1,4 @@
-"""Small vibrations about the equilibrium at rest (multibody.vibration) and the dynamics' own vibrations.
+"""Small vibrations about the equilibrium at rest (flexbearing.multibody.vibration) and the dynamics' own vibrations.
 
 References:
 * a thrust-loaded angular-contact bearing at rest (218 size, two contacts per ball on one line through
@@ -8,7 +8,7 @@ References:
       K = Z·[[k_i s² + g_i c², −k_i s, −g_i c], [−k_i s, k_i + k_o, 0], [−g_i c, 0, g_i + g_o]],
       M = diag(m_ring/Z, m_b, m_b)·Z,   s, c = sin, cos of the contact angle, g = Q/d;
 * Guyan condensation of the balls = the bearing stiffness with frozen kinematics (quasi_static);
-* the dynamic model (multibody.dynamics, dissipation off, at rest) struck by a 20 us pulse must ring at
+* the dynamic model (flexbearing.multibody.dynamics, dissipation off, at rest) struck by a 20 us pulse must ring at
   the linear model's frequencies: an independent check of the dynamics' contact geometry and masses;
   at 10,000 rpm (slow test) at the lines of the model written in the frame orbiting with the balls,
   where the ring's Coriolis and gyroscopic terms split each radial–tilt mode into a forward and a
@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 from scipy.linalg import eigh
 
-from multibody import geometry as geo
-from multibody import quasi_static as qs
-from multibody.vibration import condensed_stiffness, linear_model, lines_at_speed, natural_modes
+from flexbearing.multibody import geometry as geo
+from flexbearing.multibody import quasi_static as qs
+from flexbearing.multibody.vibration import condensed_stiffness, linear_model, lines_at_speed, natural_modes
 
 
 def test_axial_modes_of_a_thrust_loaded_bearing_match_the_three_coordinate_model():
@@ -51,8 +51,8 @@ def test_axial_modes_of_a_thrust_loaded_bearing_match_the_three_coordinate_model
 
 @pytest.fixture(scope="module")
 def paper_at_rest():
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
-    from multibody.model import P_IID, P_MI, build_model
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.model import P_IID, P_MI, build_model
     model = build_model(PAPER_BEARING, PAPER_OIL, dict(traction=False, drag=False, rolling_resistance=False,
                                                        damping=False))
     g = qs.grooves_from_bearing(PAPER_BEARING)
@@ -88,8 +88,8 @@ def _spectral_peaks(signal, n_peaks, dt, f_min=500.0):
 
 def _struck_ring(model, speed, radial_load, n, dt=1e-6):
     """Ring x and z sampled every dt after a 20 us half-sine pulse (200 N axial, 500 N radial) at 0.1 ms."""
-    from multibody import integrator as I
-    from multibody.initial import initial_state
+    from flexbearing.multibody import integrator as I
+    from flexbearing.multibody.initial import initial_state
     y = initial_state(model, speed, 55e3, radial_load)
     speed_table, load = np.array([[0.0, speed]]), np.array([[0.0, 55e3, 0.0, -radial_load]])
     pulse = np.array([[1e-4, 2e-5, 200.0, 0.0, -500.0, 0.0]])
@@ -113,8 +113,8 @@ def test_the_struck_ring_at_speed_rings_at_the_orbiting_frame_lines(rpm):
     # 7039 / 7106, axial 3905 against 3902 (the fixed-frame model with the ring's gyroscopics alone gives 2023 /
     # 2135 / 7058 / 7086). 14,000 rpm (the third contact unloaded): 1612 / 1847 / 4055 / 4222 against 1611 / 1847
     # / 4049 / 4217, axial 3367 against 3361. Measured within 0.2 %; tolerance 0.3 %.
-    from multibody.bearing import PAPER_BEARING, PAPER_OIL
-    from multibody.model import P_IID, P_IIP, P_MI, build_model
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.model import P_IID, P_IIP, P_MI, build_model
     model = build_model(PAPER_BEARING, PAPER_OIL, dict(traction=False, drag=False, rolling_resistance=False,
                                                        damping=False))
     speed = rpm * math.pi / 30

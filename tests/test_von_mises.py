@@ -1,12 +1,12 @@
-"""The exact max-von-Mises searches (fem_cage.von_mises) against brute force and the textbook
+"""The exact max-von-Mises searches (flexbearing.fem_cage.von_mises) against brute force and the textbook
 formula. Synthetic stress modes with hot spots stand in for a cage (the real cage: the stateless
 search by `flexbearing reduce --json`; the run's tracking search over a real run by
 tests/test_stress_peak.py (slow) and benchmarks/bench_von_mises.py)."""
 import numpy as np
 import pytest
 
-from fem_cage.stress_modes import von_mises
-from fem_cage.von_mises import MaxVonMises, MaxVonMisesSorted, L_VM
+from flexbearing.fem_cage.stress_modes import von_mises
+from flexbearing.fem_cage.von_mises import MaxVonMises, MaxVonMisesSorted, L_VM
 
 
 def _modes(n=3000, m=20, seed=0):
@@ -64,8 +64,8 @@ def test_bad_shape():
 
 
 # ------------------------------------------------------------------ the run's tracking search
-from fem_cage.reduced_cage import static_correction                     # noqa: E402
-from fem_cage.von_mises import (TrackingMaxVonMises, brute_force_max_sq,  # noqa: E402
+from flexbearing.fem_cage.reduced_cage import static_correction                     # noqa: E402
+from flexbearing.fem_cage.von_mises import (TrackingMaxVonMises, brute_force_max_sq,  # noqa: E402
                                 load_space_blocks, load_space_stress)
 
 N_KEEP, P = 12, 5
@@ -97,7 +97,7 @@ def _load_vector(rng, n_el, scale_q=1e-6, scale_f=10.0):
 
 
 def test_load_space_stress_is_the_residual_static_correction():
-    """W y equals S q_full with q_full = (0, q_kept, fem_cage.reduced_cage.static_correction(F,
+    """W y equals S q_full with q_full = (0, q_kept, flexbearing.fem_cage.reduced_cage.static_correction(F,
     Omega^2 Q_cf)) (an independent numpy path): 1e-12 of the largest stress (summation order)."""
     S, omega, phi_b, q_cf, _ = _cage_like()
     W = load_space_stress(S, omega, phi_b, q_cf, N_KEEP)
@@ -210,7 +210,7 @@ def test_a_saved_search_reads_back_and_finds_the_same_maxima(tmp_path, monkeypat
 
 
 def test_a_search_with_its_own_state_shares_the_tables_and_stays_exact():
-    """TrackingMaxVonMises.with_own_state (coupling.flexible_cage: the writer thread's search beside
+    """TrackingMaxVonMises.with_own_state (flexbearing.coupling.flexible_cage: the writer thread's search beside
     the compiled monitor's): the tables are the same objects (no copy of the large arrays), the
     scratch and references are not; two trajectories searched alternately, one on each, with the
     peak-hold of the run, give bitwise the brute-force maximum at every step on both, and the first

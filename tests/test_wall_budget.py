@@ -1,4 +1,4 @@
-"""The wall-time guard of a run (coupling.wall_budget): a run whose step rate predicts more than the
+"""The wall-time guard of a run (flexbearing.simulation.wall_budget): a run whose step rate predicts more than the
 threshold warns early with the estimate; with max_wall_time it stops at a checkpoint and resumes.
 
 The fake backend of tests/test_run.py with a fixed sleep per integrator call makes the wall time
@@ -9,9 +9,9 @@ import warnings
 
 import pytest
 
-import coupling.wall_budget as WB
-from coupling.results import read_outputs
-from coupling.run import RunInterrupted, run_scene
+import flexbearing.simulation.wall_budget as WB
+from flexbearing.simulation.results import read_outputs
+from flexbearing.simulation.run import RunInterrupted, run_scene
 from test_run import fake_advance, fake_backend, fake_scene
 
 

@@ -73,7 +73,7 @@ def test_truncate_scene_cuts_phases_and_impacts():
     # the impact [0.01, 0.03] s stays, the one at [0.1, 0.12] s is dropped
     assert [i.get("t_center") for i in d["operation"]["load"]["impacts"]] == [0.02]
     assert data["operation"]["duration"] == 0.6            # the input is not modified
-    from coupling.scene import parse_scene
+    from flexbearing.simulation.scene import parse_scene
     full = {"operation": d["operation"], "output": {"sample_interval": 1e-3, "record": ["cage_speed"]}}
     assert parse_scene(full).duration == 0.05               # a valid scene
 

@@ -1,0 +1,32 @@
+"""`flexbearing export`: a run's results for other tools (flexbearing.analysis.export).
+
+    flexbearing export RUN.h5 [--netcdf FILE.nc] [--csv DIR]
+
+--netcdf: one netCDF-4 file (named dimensions, time coordinate, CF units); --csv: one CSV per
+output in DIR for spreadsheets. The results file itself opens in xarray as it is:
+xarray.open_dataset(RUN.h5, group="outputs").
+"""
+from __future__ import annotations
+
+from flexbearing.common.validation import InputError
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("export", help="a run's results as netCDF or CSV (for xarray, spreadsheets, other tools)",
+                              description=__doc__.split("\n\n")[0])
+    p.add_argument("run", help="results file (.h5) written by `flexbearing run`")
+    p.add_argument("--netcdf", metavar="FILE", help="write one netCDF-4 file (.nc)")
+    p.add_argument("--csv", metavar="DIR", help="write one CSV per output into DIR")
+    p.set_defaults(func=cmd_export)
+
+
+def cmd_export(args) -> int:
+    from flexbearing.analysis.export import write_csv, write_netcdf
+    if not args.netcdf and not args.csv:
+        raise InputError("give --netcdf FILE and/or --csv DIR (what to write)")
+    if args.netcdf:
+        print(f"netCDF: {write_netcdf(args.run, args.netcdf)}")
+    if args.csv:
+        files = write_csv(args.run, args.csv)
+        print(f"CSV: {len(files)} files in {args.csv}")
+    return 0

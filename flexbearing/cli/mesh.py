@@ -1,0 +1,136 @@
+"""`flexbearing mesh`: mesh the cage, write FILE.msh and FILE.xdmf (+ .h5) beside it.
+
+Also the cage geometry and mesh options that `modes` and `mesh-study` share (flexbearing.cli.modes).
+The work: flexbearing.mesh.cage_mesh (gmsh, quality check and repair, flexbearing.mesh.quality), flexbearing.fem_cage.xdmf.
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from flexbearing.common.validation import InputError
+from flexbearing.mesh.cage_geometry import CAGE_PRESETS
+from flexbearing.mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_ORDER, DEFAULT_POCKET_SIZE
+
+
+def add_geometry_arguments(p):
+    """Cage geometry options shared by mesh/modes/mesh-study (lengths in mm on the command line)."""
+    g = p.add_argument_group("cage geometry (mm; default: the paper preset)")
+    g.add_argument("--preset", choices=tuple(CAGE_PRESETS), default="paper",
+                   help="paper = PAPER_CAGE (multibody's preset), nominal = SPEC §1 defaults, "
+                        "calibrated = fitted to Table 8 inside the Table 3 envelope (CALIBRATED_CAGE), "
+                        "table8 = 7.0 mm-wall ring that reproduces Table 8, outside the envelope "
+                        "(TABLE8_EQUIVALENT_CAGE)")
+    g.add_argument("--pocket-diameter-mm", type=float)
+    g.add_argument("--land-width-mm", type=float)
+    g.add_argument("--relief-depth-mm", type=float)
+    g.add_argument("--chamfer-mm", type=float)
+    g.add_argument("--bore-chamfer-mm", type=float, help="bore-edge chamfer (default: --chamfer-mm)")
+    g.add_argument("--n-pockets", type=int)
+
+
+def geometry_from_args(args):
+    """The preset's geometry with the options' changes (mm on the command line), validated."""
+    g = CAGE_PRESETS[args.preset]
+    ch = {}
+    for opt, field in (("pocket_diameter_mm", "pocket_diameter"), ("land_width_mm", "land_width"),
+                       ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer"),
+                       ("bore_chamfer_mm", "bore_chamfer")):
+        v = getattr(args, opt, None)
+        if v is not None:
+            ch[field] = v * 1e-3
+    if getattr(args, "n_pockets", None) is not None:
+        ch["n_pockets"] = args.n_pockets
+    return g.with_(**ch).validate()
+
+
+MAX_ELEMENT_SIZE = 0.05     # m: coarser than the cage's section; a larger number is a size in mm
+
+
+def element_size(text: str) -> float:
+    """argparse type of --size/--pocket-size: an element size in metres, in (0, MAX_ELEMENT_SIZE]."""
+    import argparse
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (an element size in m, e.g. 4e-3)") from None
+    if not 0.0 < v <= MAX_ELEMENT_SIZE:
+        raise argparse.ArgumentTypeError(f"{v:g} m is outside the allowed range (0, {MAX_ELEMENT_SIZE:g}] m; "
+                                         f"sizes are in metres (4 mm = 4e-3)")
+    return v
+
+
+def add_mesh_arguments(p, size: float = DEFAULT_MESH_SIZE, pocket_size: float = DEFAULT_POCKET_SIZE):
+    p.add_argument("--size", type=element_size, default=size,
+                   help=f"global element size, m (default {size:g})")
+    p.add_argument("--pocket-size", type=element_size, default=pocket_size,
+                   help=f"element size on the pocket walls, m (default {pocket_size:g})")
+    p.add_argument("--order", type=int, default=DEFAULT_ORDER, choices=(1, 2),
+                   help="1 = linear tets, 2 = curved quadratic tets (default)")
+
+
+def quality_line(summary: dict, repair: dict | None) -> str:
+    """One line a user reads: element count, the worst Jacobian ratio against its bound, the worst
+    scaled Jacobian, and what the repair changed."""
+    s = (f"{summary['n_cells']:,} cells, {summary['n_inverted']} inverted, min Jacobian ratio "
+         f"{summary['min_jacobian_ratio']:.3f} (bound {summary['bound']:g}), min scaled Jacobian "
+         f"{summary['min_scaled_jacobian']:.3f}")
+    if repair is not None:
+        s += (f"; repaired {repair['n_cells_flattened']} curved cell(s) of "
+              f"{repair['quality_before']['n_below_bound']} below the bound "
+              f"({repair['quality_before']['n_inverted']} inverted), nodes moved up to "
+              f"{repair['max_node_shift_m'] * 1e6:.0f} µm off the surface")
+    return s
+
+
+def cmd_check(path) -> int:
+    """`flexbearing mesh --check FILE`: the quality of any mesh file; exit 1 if it would be refused."""
+    from flexbearing.mesh.quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
+    q = mesh_file_quality(path)
+    print(f"{path}: {quality_line(q.summary(), None)}")
+    try:
+        require_valid(q, MIN_JACOBIAN_RATIO, str(path))
+    except InputError as exc:
+        print(f"refused: {exc}")
+        return 1
+    print("valid: every element passes")
+    return 0
+
+
+def cmd_mesh(args) -> int:
+    from mpi4py import MPI
+    from flexbearing.fem_cage.xdmf import write_mesh_xdmf
+    from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+    if args.check:
+        return cmd_check(Path(args.check))
+    if not args.output:
+        raise InputError("flexbearing mesh: give -o/--output FILE.msh (or --check FILE to check a mesh)")
+    g = geometry_from_args(args)
+    out = Path(args.output)
+    if out.suffix != ".msh":
+        out = out.with_suffix(".msh")
+    t0 = time.perf_counter()
+    if MPI.COMM_WORLD.rank == 0:
+        build_cage_mesh(g, args.size, args.order, out, pocket_size=args.pocket_size)
+    MPI.COMM_WORLD.barrier()
+    x = write_mesh_xdmf(out)
+    if not args.quiet and MPI.COMM_WORLD.rank == 0:
+        print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} mm, "
+              f"pocket size {args.pocket_size:g} m, order {args.order})")
+        rep = mesh_quality_of(out)
+        print("quality: " + quality_line(rep["quality"], rep["repair"]))
+    return 0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("mesh", help="mesh the cage (gmsh): FILE.msh + FILE.xdmf",
+                              description="Mesh the cage with gmsh (tagged pockets, guide, volume). "
+                              "Every mesh is checked (Jacobian of each curved tetrahedron) and its "
+                              "badly curved elements repaired (flexbearing.mesh.quality).")
+    add_geometry_arguments(p)
+    add_mesh_arguments(p)
+    p.add_argument("-o", "--output", help="output .msh file (XDMF and FILE.quality.json written beside it)")
+    p.add_argument("--check", metavar="FILE", help="only check an existing mesh file: every tetrahedron's "
+                   "Jacobian (inverted, badly curved) and shape; exit 1 if flexbearing would refuse it")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_mesh)

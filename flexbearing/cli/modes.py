@@ -1,0 +1,130 @@
+"""`flexbearing modes | mesh-study | calibrate-cage`: the cage's free–free modal analysis.
+
+The work: flexbearing.fem_cage.modes (run_modes, mode_table), flexbearing.fem_cage.mesh_study, flexbearing.fem_cage.calibrate.
+"""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+from flexbearing.cli.mesh import MAX_ELEMENT_SIZE, add_geometry_arguments, add_mesh_arguments, geometry_from_args
+from flexbearing.mesh.cage_mesh import DEFAULT_DEGREE
+
+
+def _comm():
+    from mpi4py import MPI
+    return MPI.COMM_WORLD
+
+
+def mesh_for(args, g) -> Path:
+    """The .msh to use: --mesh FILE, else the cached mesh for (geometry, size, order)."""
+    from flexbearing.mesh.cage_mesh import cached_cage_mesh, cache_path
+    comm = _comm()
+    if getattr(args, "mesh", None):
+        return Path(args.mesh)
+    size, ps = args.size, args.pocket_size
+    if comm.rank == 0:
+        cached_cage_mesh(g, size, args.order, ps)
+    comm.barrier()
+    return cache_path(g, size, args.order, ps)
+
+
+def cmd_modes(args) -> int:
+    from flexbearing.fem_cage.modes import mode_table, run_modes
+    comm = _comm()
+    t0 = time.perf_counter()
+    g = geometry_from_args(args)
+    path = mesh_for(args, g)
+    tm = time.perf_counter() - t0
+    res, V, vecs = run_modes(g, path, args.degree, args.n_modes, classify=not args.no_classify)
+    res["timing_s"]["mesh"] = tm
+    res["wall_s"] = time.perf_counter() - t0
+    res["mesh"] = {"file": str(path), "size_m": args.size, "pocket_size_m": args.pocket_size,
+                   "order": args.order, "degree": args.degree, "geometry": g.to_dict()}
+    labels = [m["label"] for m in res["modes"]] if "modes" in res else None
+    if args.xdmf:
+        from flexbearing.fem_cage.xdmf import write_modes_xdmf
+        x = write_modes_xdmf(args.xdmf, V, vecs, res["frequencies_hz"], g.material, labels)
+        res["xdmf"] = str(x)
+    if comm.rank == 0:
+        if not args.quiet:
+            print(mode_table(res["frequencies_hz"], labels))
+            print(f"{res['ndofs']} dofs, P{args.degree} on order-{args.order} mesh, {comm.size} MPI rank(s), "
+                  f"wall {res['wall_s']:.1f} s (mesh {tm:.1f}, assemble {res['timing_s']['assemble']:.1f}, "
+                  f"eigensolve {res['timing_s']['eigensolve']:.1f})")
+            if args.xdmf:
+                print(f"mode shapes: {res['xdmf']}")
+        if args.json:
+            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+            Path(args.json).write_text(json.dumps(res, indent=1, default=float))
+    return 0
+
+
+def cmd_mesh_study(args) -> int:
+    from flexbearing.fem_cage.mesh_study import run_mesh_study, DEFAULT_STUDY
+    g = geometry_from_args(args)
+    levels = DEFAULT_STUDY if not args.levels else [_level(s) for s in args.levels]
+    run_mesh_study(g, levels, Path(args.output), n_modes=args.n_modes, quiet=args.quiet)
+    return 0
+
+
+def _level(text: str) -> tuple:
+    """--levels SIZE,POCKET,ORDER,DEGREE (sizes in m, as every --size) -> flexbearing.fem_cage.mesh_study's level
+    (sizes in mm)."""
+    from flexbearing.common.validation import InputError
+    try:
+        size, pocket, order, degree = (float(x) for x in text.split(","))
+    except ValueError:
+        raise InputError(f"--levels {text!r}: give SIZE,POCKET,ORDER,DEGREE, sizes in m (e.g. 4e-3,2e-3,2,3)") from None
+    for v in (size, pocket):
+        if not 0.0 < v <= MAX_ELEMENT_SIZE:
+            raise InputError(f"--levels {text!r}: size {v:g} m is outside the allowed range "
+                             f"(0, {MAX_ELEMENT_SIZE:g}] m; sizes are in metres (4 mm = 4e-3)")
+    return (size * 1e3, pocket * 1e3, int(order), int(degree))
+
+
+def cmd_calibrate(args) -> int:
+    from flexbearing.fem_cage.calibrate import run_calibration
+    run_calibration(Path(args.output), size=args.size, pocket_size=args.pocket_size,
+                    order=args.order, degree=args.degree, params=args.params, quiet=args.quiet,
+                    max_evals=args.max_evals)
+    return 0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("modes", help="free-free modes of the cage vs the paper's Table 8",
+                              description="Free-free modal analysis of the cage (dolfinx + SLEPc).")
+    add_geometry_arguments(p)
+    add_mesh_arguments(p)
+    p.add_argument("--mesh", help="use this .msh instead of the cached mesh")
+    p.add_argument("--degree", type=int, default=DEFAULT_DEGREE, choices=(1, 2, 3),
+                   help=f"Lagrange degree (default {DEFAULT_DEGREE}: the converged default, see mesh-study)")
+    p.add_argument("--n-modes", type=int, default=27)
+    p.add_argument("--json", help="write frequencies, ndofs, wall time, mesh info to this JSON file")
+    p.add_argument("--xdmf", help="write mode shapes (displacement, von Mises) to this XDMF file")
+    p.add_argument("--no-classify", action="store_true", help="skip the mode-family classification")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_modes)
+
+    p = subparsers.add_parser("mesh-study", help="mesh convergence: frequency vs dofs, CSV + PNG",
+                              description="Mesh convergence study of the cage modes.")
+    add_geometry_arguments(p)
+    p.add_argument("--levels", nargs="+", metavar="SIZE,POCKET,ORDER,DEGREE",
+                   help="mesh levels, sizes in m (default: the built-in sequence)")
+    p.add_argument("--n-modes", type=int, default=27)
+    p.add_argument("-o", "--output", default="out/mesh-study", help="output folder")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_mesh_study)
+
+    p = subparsers.add_parser("calibrate-cage",
+                              help="fit unknown cage geometry to the paper's Table 8 (least squares)",
+                              description="Model updating of the cage geometry against Table 8.")
+    add_mesh_arguments(p, size=8e-3, pocket_size=8e-3)        # the calibration's coarse mesh
+    p.add_argument("--degree", type=int, default=3, choices=(1, 2, 3))
+    p.add_argument("--params", nargs="+", default=None,
+                   help="parameters to fit (default: pocket_diameter chamfer land_width relief_depth)")
+    p.add_argument("--max-evals", type=int, default=40)
+    p.add_argument("-o", "--output", default="out/calibrate-cage", help="output folder")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_calibrate)

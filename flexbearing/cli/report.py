@@ -1,0 +1,82 @@
+"""`flexbearing report`: time-history plots, per-phase tables and the cage's von Mises field of a run.
+
+    flexbearing report RUN.h5 [--compare OTHER.h5] [-o DIR] [--frames auto|t1,t2,...]
+                              [--series T0:T1[:N]] [--displacement-scale S] [--quiet]
+
+The work: flexbearing.analysis.report (write_report); the statistics are defined in flexbearing.analysis.windows.
+"""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+
+def print_table(rows: list[dict], file=None) -> None:
+    # imported here: every command builds this module's parser, only `report` prints tables
+    # (flexbearing.analysis.report loads the plots and windows modules)
+    from flexbearing.analysis.report import _fmt, _stat_rows
+    from flexbearing.analysis.windows import QUANTITIES, window_title
+    file = sys.stdout if file is None else file    # the stream at call time, not at import
+    keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
+    w = max(len(lab) for lab, _, _ in _stat_rows(keys)) if keys else 10
+    for r in rows:
+        print(f"{window_title(r)}  ({r['n_samples']} samples)", file=file)
+        for lab, field, qd in _stat_rows(keys):
+            print(f"  {lab:<{w}}  {_fmt(r.get(field), qd.scale):>10}", file=file)
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("report", help="plots, per-phase tables and the cage's von Mises field of a run",
+                              description="Report of a run: one PNG per quantity and an overview, "
+                                          "report.md/report.json with peak, p99 and mean per phase of the "
+                                          "speed profile and per impact, and (flexible cage) a picture of the "
+                                          "cage's von Mises field at the run's maximum and ParaView XDMF "
+                                          "files of it (10-node tetrahedra, every node drawn): the peaks "
+                                          "(--frames) and a time series with the balls (--series). "
+                                          "Headless check and screenshot: xvfb-run -a pvpython "
+                                          "docs/paraview_open.py DIR (README).")
+    p.add_argument("run", help="results file of `flexbearing run` (.h5)")
+    p.add_argument("--compare", metavar="OTHER.h5", help="overlay and tabulate another run beside it "
+                                                         "(e.g. the steady scene)")
+    p.add_argument("-o", "--output", metavar="DIR", help="output folder (default: <run>_report beside the run)")
+    p.add_argument("--frames", default="auto", help="von Mises frames: auto (max in each phase and each "
+                                                   "impact) or times in s, e.g. 0.1,0.3")
+    p.add_argument("--series", metavar="T0:T1[:N]",
+                   help="ParaView time series of the window T0..T1 s at every N-th sample (default every "
+                        "one): the cage placed and deformed, coloured by von Mises (series_cage.xdmf), "
+                        "and the balls and the cage centre (series_points.xdmf); needs a flexible-cage "
+                        "run for the cage and the scene output \"kinematics\" for the balls")
+    p.add_argument("--displacement-scale", type=float, metavar="S",
+                   help="magnification of the series' displacement_scaled field (Warp By Vector at scale "
+                        "1 then draws the cage S times deformed; default: the largest displacement drawn "
+                        "as about 1%% of the cage's outside diameter)")
+    p.add_argument("--settle", type=float, default=0.0, metavar="S",
+                   help="leave samples before t = S seconds (start-up transient) out of the tables")
+    p.add_argument("--reduced-cage", metavar="FILE", help="reduced cage file (default: the one the run names)")
+    p.add_argument("--quiet", action="store_true", help="print only the written paths, not the table")
+    p.set_defaults(func=cmd_report)
+
+
+def cmd_report(args) -> int:
+    from flexbearing.analysis.report import write_report
+    run = Path(args.run)
+    out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
+    res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
+                       reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle,
+                       series=args.series, displacement_scale=args.displacement_scale)
+    if not args.quiet:
+        print_table(json.loads(res["json"].read_text())["phases"])
+    print(f"report: {res['report']} (and {res['html'].name}, plots embedded)")
+    print(f"plots:  {len(res['plots'])} PNG in {out_dir}")
+    if res["stress_picture"]:
+        print(f"stress: {res['stress_picture']}")
+    if res["xdmf"]:
+        print(f"xdmf:   {res['xdmf']}")
+    if res["series"]:
+        for key in ("cage", "points"):
+            if res["series"][key]:
+                print(f"series: {res['series'][key]} ({res['series']['n_frames']} frames)")
+        for note in res["series"]["notes"]:
+            print(f"series: {note}")
+    return 0

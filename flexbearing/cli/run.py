@@ -1,0 +1,283 @@
+"""`flexbearing run` and `flexbearing validate`.
+
+    flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--max-wall-time S] [--quiet]
+    flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--scheduler ADDRESS]
+                                   [--ball-attitude A]
+                                   [--transverse-traction on|off] [--shim-angle DEG]
+                                   [--radial-clearance M] [--quiet]
+
+`run` validates the scene before anything else, streams the results to RUN.h5 (default
+out/<scene name>.h5) and writes RUN.summary.json beside it. Ctrl-C keeps what was computed and a
+checkpoint; `--resume` continues from it. `validate slip-rate` runs the steady test cases of the
+paper's Tables 4/5 (flexbearing.studies.validate) and prints our slip rate beside the test's and the paper's.
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+from pathlib import Path
+
+from flexbearing.common.validation import InputError
+
+# printed tables only: SI -> engineer's units (the files stay SI)
+_PRINT_UNITS = {"Pa": (1e-6, "MPa"), "m": (1e6, "um"), "rad/s": (60.0 / (2 * 3.141592653589793), "rpm"),
+                "1": (100.0, "%")}
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("run", help="run a scene (TOML) and stream the results to HDF5",
+                              description="Run a scene: results streamed to an HDF5 file, "
+                                          "summary in <file>.summary.json beside it.")
+    p.add_argument("scene", help="scene file (TOML), e.g. scenes/paper_steady_rigid.toml")
+    p.add_argument("-o", "--output", help="results file (.h5); default out/<scene name>.h5")
+    p.add_argument("--resume", action="store_true",
+                   help="continue the run in the results file from its last checkpoint")
+    p.add_argument("--force", action="store_true", help="overwrite an existing results file")
+    p.add_argument("--max-wall-time", type=float, default=None, metavar="S",
+                   help="stop (at a checkpoint, resumable) a run whose step rate predicts more than S "
+                        "seconds of wall time; without it such a run only warns when it predicts more "
+                        "than an hour")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_run)
+
+    v = subparsers.add_parser("validate", help="verification against the paper's test data",
+                              description="Verification runs against published data.")
+    vs = v.add_subparsers(dest="what", metavar="WHAT")
+    s = vs.add_parser("slip-rate", help="cage slip rate vs the paper's Table 5 (15 steady test cases)")
+    s.add_argument("--json", metavar="FILE", help="also write the table as JSON")
+    s.add_argument("--cases", default="1-15", help="case numbers, e.g. 1-8 or 1,4,12 (default 1-15)")
+    s.add_argument("--case-set", default=None, metavar="TOML",
+                   help="run the cases of this case set as scenes (e.g. scenes/slip_rate_table4.toml), "
+                        "one results file per case in --out; default: flexbearing.studies.validate's procedure "
+                        "(each case until the cage speed settles)")
+    s.add_argument("--out", default="out/validate/slip_rate", help="with --case-set: folder of the per-case results")
+    s.add_argument("--resume", action="store_true", help="with --case-set: continue existing per-case results")
+    s.add_argument("--t-max", type=float, default=None,
+                   help="longest simulated time per case, s (default: flexbearing.studies.validate's, 15 s: the "
+                        "light-load high-speed cases need 4-15 s to settle)")
+    s.add_argument("--start", default=None, choices=("quasi_static", "steady"),
+                   help="initial state of each case: pure rolling at the quasi-static equilibrium (default) or the "
+                        "steady thrust state (flexbearing.multibody.steady), which spares the light-load high-speed cases "
+                        "their seconds of settling")
+    s.add_argument("--workers", type=int, default=None,
+                   help="cases run at once on a local Dask cluster (default: the number of CPUs; 1 = one "
+                        "after the other in this process)")
+    s.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run the cases on the existing Dask cluster whose scheduler is at ADDRESS, e.g. "
+                        "tcp://10.0.0.5:8786")
+    # flexbearing.multibody.model.BALL_ATTITUDES, written out so that the CLI starts without importing numba
+    # (tests/test_slip_rate.py checks that it takes every one of them)
+    s.add_argument("--ball-attitude", default=None, choices=("free", "outer", "inner", "jones", "no_pivot"),
+                   help="model option ball_attitude (default: free balls, flexbearing.studies.validate's "
+                        "VALIDATION_BALL_ATTITUDE); no_pivot is the paper's hypothesis, with --transverse-traction "
+                        "off as there; constrained attitudes run without the gyroscopic pair's ring reaction, "
+                        "as in flexbearing.studies.validate (it destabilises them at the test's light loads)")
+    s.add_argument("--transverse-traction", default="on", choices=("on", "off"),
+                   help="model option transverse_traction (off = the paper's T_eta = 0)")
+    s.add_argument("--shim-angle", type=float, default=None, metavar="DEG",
+                   help="shim angle of the test bearing's split inner ring, degrees (default 30, assumed), "
+                        "with the design clearance of that angle unless --radial-clearance is given")
+    s.add_argument("--radial-clearance", type=float, default=None, metavar="M",
+                   help="diametral clearance Pd of the test bearing, m (default: the design clearance)")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(func=cmd_validate_slip_rate)
+    v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
+
+
+def _format_value(value, unit: str) -> tuple[str, str]:
+    if value is None:
+        return "-", unit
+    f, u = _PRINT_UNITS.get(unit, (1.0, unit))
+    return f"{value * f:.6g}", u
+
+
+def print_summary(summary: dict, file=None) -> None:
+    file = sys.stdout if file is None else file    # the stream at call time, not at import
+    print(f"scene {summary['scene']} ({summary['cage_model']} cage): {summary['n_samples']} samples, "
+          f"status {summary['status']}", file=file)
+    sps = summary.get("steps_per_s")
+    rate = f", {sps:,.0f} steps/s" if sps else ""
+    print(f"wall time {summary['wall_time_s']:.3f} s (+ setup {summary['setup_time_s']:.3f} s), "
+          f"{summary['n_steps']} steps ({summary['n_rejected']} rejected){rate}", file=file)
+    rows = []
+    for name, st in summary["outputs"].items():
+        for label, s in [(name, st)] + [(f"{name}[{c}]", cs) for c, cs in st.get("columns", {}).items()]:
+            mx, u = _format_value(s["max"], st["unit"])
+            me, _ = _format_value(s["mean"], st["unit"])
+            mn, _ = _format_value(s["min"], st["unit"])
+            rows.append((label, u, mx, me, mn))
+    if rows:
+        w = max(len(r[0]) for r in rows)
+        print(f"{'output':<{w}}  {'unit':>6}  {'max':>12}  {'mean':>12}  {'min':>12}", file=file)
+        for r in rows:
+            print(f"{r[0]:<{w}}  {r[1]:>6}  {r[2]:>12}  {r[3]:>12}  {r[4]:>12}", file=file)
+
+
+def cmd_run(args) -> int:
+    from flexbearing.simulation.results import summary_path
+    from flexbearing.simulation.run import RunInterrupted, run_scene
+    from flexbearing.simulation.scene import load_scene
+
+    scene = load_scene(args.scene)                      # refuses bad scenes before any work
+    out = Path(args.output) if args.output else Path("out") / f"{scene.name}.h5"
+    try:
+        summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet,
+                            max_wall_time=args.max_wall_time)
+    except RunInterrupted as exc:
+        print(f"flexbearing run: {exc}", file=sys.stderr)
+        if exc.resumable:
+            print(f"  resume: flexbearing run {args.scene} -o {out} --resume", file=sys.stderr)
+        return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
+    print_summary(summary)
+    print(f"results: {out}\nsummary: {summary_path(out)}")
+    return 0
+
+
+def parse_cases(text: str, n_max: int = 15) -> list[int]:
+    """'1-8' -> [1..8]; '1,4,12' -> [1, 4, 12]; each in [1, n_max]."""
+    cases: list[int] = []
+    for part in str(text).split(","):
+        part = part.strip()
+        try:
+            if "-" in part:
+                a, b = (int(x) for x in part.split("-", 1))
+                if b < a:
+                    raise ValueError
+                cases.extend(range(a, b + 1))
+            else:
+                cases.append(int(part))
+        except ValueError:
+            raise InputError(f"--cases = {text!r}: use case numbers like 1-8 or 1,4,12") from None
+    for c in cases:
+        if not 1 <= c <= n_max:
+            raise InputError(f"--cases: case {c} is outside the allowed range [1, {n_max}]")
+    return sorted(set(cases))
+
+
+def cmd_validate_slip_rate(args) -> int:
+    """Default: flexbearing.studies.validate.run_slip_rate_validation (the dynamics' own procedure: each case
+    runs until the cage speed settles, oil temperature VALIDATION_OIL_TEMPERATURE_C). With
+    --case-set FILE: every case of FILE is run as a scene through flexbearing.simulation.run (one resumable
+    results file per case in --out, fixed duration, slip averaged from average_from)."""
+    from flexbearing.simulation.run import CasesIncomplete, RunInterrupted, run_case_set_slip_rate
+    from flexbearing.simulation.scene import load_case_set
+
+    if args.case_set is None:
+        return _validate_procedure(args)
+    # these shape flexbearing.studies.validate's procedure; a case set's scenes carry their own [bearing],
+    # [model] and durations, so they would be ignored without a word
+    given = [flag for flag, value, default in (
+        ("--t-max", args.t_max, None), ("--start", args.start, None),
+        ("--ball-attitude", args.ball_attitude, None), ("--transverse-traction", args.transverse_traction, "on"),
+        ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None))
+        if value != default]
+    if given:
+        raise InputError(f"{', '.join(given)} cannot be used with --case-set (they set flexbearing.studies.validate's "
+                         f"procedure; a case set's scenes carry their own bearing, model and durations)")
+    case_set = load_case_set(args.case_set)
+    cases = parse_cases(args.cases, max(c["id"] for c in case_set.cases))
+    workers = (os.cpu_count() or 1) if args.workers is None else args.workers
+    try:
+        rows = run_case_set_slip_rate(case_set, cases, args.out, resume=args.resume, quiet=args.quiet,
+                                      workers=workers, scheduler=args.scheduler)
+    except CasesIncomplete as exc:
+        print_slip_rate_table(exc.rows)
+        print(f"flexbearing validate: {exc}\n  the failed cases again, the finished ones read back: "
+              f"flexbearing validate slip-rate --case-set {args.case_set} --cases {args.cases} --resume",
+              file=sys.stderr)
+        return 1
+    except RunInterrupted as exc:
+        print(f"flexbearing validate: {exc}" + (f"\n  continue with: flexbearing validate slip-rate "
+              f"--case-set {args.case_set} --cases {args.cases} --resume" if exc.resumable else ""), file=sys.stderr)
+        return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
+    return _write_json(print_slip_rate_table(rows), args.json)
+
+
+def _validate_procedure(args) -> int:
+    """`validate slip-rate` without --case-set: flexbearing.studies.validate's own procedure (module docstring
+    of cmd_validate_slip_rate)."""
+    import flexbearing.studies.validate as val
+    cases = parse_cases(args.cases, len(val.slip_rate_cases()))
+    kw = {} if getattr(args, "t_max", None) is None else {"t_max": args.t_max}
+    if getattr(args, "start", None) is not None:
+        kw["start"] = args.start
+    workers = getattr(args, "workers", None)
+    kw["workers"] = (os.cpu_count() or 1) if workers is None else workers
+    kw["scheduler"] = getattr(args, "scheduler", None)
+    kw["bearing"] = val.validation_bearing(getattr(args, "shim_angle", None),
+                                           getattr(args, "radial_clearance", None))
+    kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),
+                                                 getattr(args, "transverse_traction", "on"))
+
+    def table_of(raw, file):
+        rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
+                 "radial_load": r["radial_load"], "speed_rpm": r["speed_rpm"],
+                 "slip_ours": r["slip_pct"] / 100.0, "slip_test": r["test_slip_pct"] / 100.0,
+                 "slip_paper": r["paper_slip_pct"] / 100.0, "settled": r.get("settled"),
+                 "t_end_s": r.get("t_end"), "wall_time_s": r.get("wall_s"), "n_steps": r.get("steps"),
+                 "oil_temperature_c": r.get("oil_temperature_c")} for r in raw]
+        table = print_slip_rate_table(rows, file=file)
+        table["summary_by_group"] = val.summarise(raw)
+        return table
+
+    def stream(raw):                   # every finished case is on disk at once
+        if args.json:
+            import io
+            _write_json({**table_of(raw, io.StringIO()), "complete": False}, args.json, quiet=True)
+
+    try:
+        raw = val.run_slip_rate_validation(cases=cases, quiet=args.quiet, on_row=stream, **kw)
+    except val.ValidationInterrupted as exc:
+        table_of(exc.rows, sys.stdout)
+        print(f"flexbearing validate: {exc}" + (f"; the finished cases are in {args.json}" if args.json else ""),
+              file=sys.stderr)
+        return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
+    return _write_json({**table_of(raw, sys.stdout), "complete": True}, args.json)
+
+
+def _write_json(table: dict, path, quiet: bool = False) -> int:
+    if path:
+        out = Path(path)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = out.with_name(out.name + ".part")
+        tmp.write_text(json.dumps(table, indent=2, default=float) + "\n")
+        os.replace(tmp, out)                     # a reader never sees half a file
+        if not quiet:
+            print(f"written: {path}")
+    return 0
+
+
+def print_slip_rate_table(rows, file=None) -> dict:
+    """rows: dicts with case, axial_load, radial_load, speed_rpm, slip_ours, slip_test, slip_paper
+    (slip rates as fractions). Prints the table in % with the relative errors
+    |ours − test|/test and |paper − test|/test, and their mean and max; returns it as a dict."""
+    file = sys.stdout if file is None else file    # the stream at call time, not at import
+    out = []
+    print(f"{'case':>4} {'Fa/N':>6} {'Fr/N':>6} {'n/rpm':>7} {'test/%':>7} {'paper/%':>8} {'ours/%':>7} "
+          f"{'err ours/%':>10} {'err paper/%':>11}", file=file)
+    for r in rows:
+        e_ours = abs(r["slip_ours"] - r["slip_test"]) / r["slip_test"]
+        e_paper = abs(r["slip_paper"] - r["slip_test"]) / r["slip_test"]
+        out.append({**r, "error_ours": e_ours, "error_paper": e_paper})
+        note = "  (not settled)" if r.get("settled") is False else ""
+        print(f"{r['case']:>4} {r['axial_load']:>6.0f} {r['radial_load']:>6.0f} {r['speed_rpm']:>7.0f} "
+              f"{100 * r['slip_test']:>7.2f} {100 * r['slip_paper']:>8.2f} {100 * r['slip_ours']:>7.2f} "
+              f"{100 * e_ours:>10.2f} {100 * e_paper:>11.2f}{note}", file=file)
+    result = {"cases": out}
+    if out:
+        for who in ("ours", "paper"):
+            errs = [r[f"error_{who}"] for r in out]
+            result[f"mean_error_{who}"] = sum(errs) / len(errs)
+            result[f"max_error_{who}"] = max(errs)
+        unsettled = [r["case"] for r in out if "slip_drift" in r
+                     and abs(r["slip_drift"]) > 0.02 * max(abs(r["slip_ours"]), 1e-3)]
+        result["unsettled_cases"] = unsettled
+        if unsettled:
+            print(f"warning: cases {', '.join(map(str, unsettled))}: the slip rate still drifts by more "
+                  f"than 2 % across the averaging window (cage speed not settled: run longer)", file=file)
+        print(f"relative error vs test: ours mean {100 * result['mean_error_ours']:.2f} %, "
+              f"max {100 * result['max_error_ours']:.2f} %; paper mean "
+              f"{100 * result['mean_error_paper']:.2f} %, max {100 * result['max_error_paper']:.2f} %",
+              file=file)
+    return result

@@ -1,0 +1,324 @@
+"""The reduced cage file (flexbearing's "modal neutral file"): schema, writer, reader, cache.
+
+numpy + h5py only: a run that finds its reduced cage in the cache never imports dolfinx.
+
+Schema "flexbearing.reduced_cage", version 4 (HDF5; SI units: m, kg, s, Pa, rad)
+-------------------------------------------------------------------------------
+Root attributes
+  schema = "flexbearing.reduced_cage", schema_version = 4, content_hash (16 hex: cache key of
+  every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
+  pocket_size, FE degree, coupling, n_fixed, centrifugal_vector, guide_load_vectors,
+  inertia_relief_vectors), coupling ("rbe2" | "rbe3"),
+  centrifugal_vector (bool: basis augmented with the fixed-interface centrifugal response),
+  guide_load_vectors (bool: ... with the fixed-interface responses to the 3 unit land loads),
+  inertia_relief_vectors (bool: ... with those to the 6 rigid-body inertia loads M R),
+  n_modes (M = 6Z + n_fixed + 1 + 3 + 6 with all three augmentations (default; 160 on the paper
+  cage), each one dropped removes its count),
+  n_rigid = 6, default_n_keep = 26, created_by, units = "SI", notes (the truncation caveat below).
+/mesh           vertices (Nn, 3) m: the geometry nodes (vertices + edge nodes of the curved
+                quadratic mesh) where stress and displacement are given; tets (Nc, 4) int64:
+                the corner nodes of each cell (a P1 tetrahedron skeleton for any XDMF writer);
+                tets10 (Nc, 10): all nodes in VTK tetra10 order (quadratic mesh only); attrs: source_msh (path at build time),
+                msh_sha256, n_dofs (of the full model), element (e.g. "P3 on curved order-2
+                tetrahedra"), quality (JSON: the mesh's element quality — inverted cells, worst
+                Jacobian ratio and scaled Jacobian — and what the repair of badly curved cells
+                changed; flexbearing.mesh.cage_mesh.mesh_quality_of).
+/interface      positions (Z, 3) m: interface node i at pocket i's centre; pocket (Z) int;
+                dof_names = ux uy uz rx ry rz (node DOF order, body frame).
+/modes          frequency_hz (M), omega (M) rad/s, ascending; modes 0–5 rigid (omega = 0):
+                translations of the CoM along x, y, z, then rotations about the principal axes
+                through the CoM (ascending principal moment); modes 6.. elastic.
+                modal_mass (M, M) = identity, modal_stiffness (M) = omega^2 (diagonal);
+                interface (Z, 6, M): mode k at interface node i, DOF d (translations m, rotations
+                rad per unit q); vertex_displacement (Nn, 3, M) m per unit q at /mesh/vertices;
+                rigid_twist (6, 6): (t, omega) about the body origin of each rigid mode.
+/invariants     mass, center_of_mass (3), inertia_origin (3,3), inertia_com (3,3),
+                I1..I9 (flexbearing.fem_cage.invariants docstring; I5 (3,M,M), I8 (3,3,M), I9 (3,3,M,M)),
+                raw consistent-mass moments (what flexbearing.multibody.floating_frame contracts):
+                first (3) = ∫rho x, second (3,3) = ∫rho x_a x_b, S1 (3,M) = ∫rho Phi,
+                Sx (3,3,M) = ∫rho x_a Phi_k,b, SS (3,3,M,M) = ∫rho Phi_j,a Phi_k,b (Shabana's
+                S_ab); Mff = I6 = identity.
+/stress         modes (Nn, 6, M) Pa per unit q at /mesh/vertices (Voigt xx yy zz yz xz xy;
+                averaged nodal stress, flexbearing.fem_cage.stress_modes); rigid columns are exactly 0.
+/loads          guide_modal_loads (M, 3): G = Phi^T [f_y f_z f_t], the modal loads (N m per unit
+                q, i.e. generalised forces) of the land (guide-surface) load per unit land force
+                along body y, along body z (N) and per unit land torque about the cage axis x (N m),
+                in the same full basis as /modes/interface and /stress/modes; the modal force of a
+                land load L = (F_y, F_z, M_x) is G @ L. f_y, f_z, f_t: consistent nodal loads of
+                a radial traction c cos(theta) e_r, c sin(theta) e_r and a uniform shear c_t
+                e_theta on the guide surface (facet tag 200), theta = atan2(z, y), with exact unit
+                resultant force / torque (flexbearing.fem_cage.reduction.guide_load_vectors: the equations,
+                and the caveat that they keep the resultant and torque of the film load but not
+                its local pressure peak near the minimum film). attrs: columns (JSON list
+                ["land force y N", "land force z N", "land torque x N m"]), units,
+                distribution, guide_area_m2.
+/checks         attrs: JSON of the verification summary (static exactness, stress recovery,
+                frequencies, invariants), when computed.
+
+Version history: 1 = stress at mesh vertices only, /mesh/tets (Nc, 4); 2 = stress and displacement
+at all geometry nodes, /mesh/tets (Nc, 4) corner skeleton + /mesh/tets10, FE degree in the key;
+3 = the CB basis is augmented (default) with the fixed-interface static response to the
+centrifugal load about the bearing axis, u_cf = K_ii^-1 M x_perp (interface held; fem_cage.
+craig_bampton Eq. (2)) before the modified-CB orthonormalisation: one more mode, same datasets,
+root attribute centrifugal_vector and the flag in parameters/cache key. Why: with constraint +
+fixed-interface modes only, the full basis is statically exact for interface (pocket) loads but
+not for body loads — the spinning cage's hoop stress was off by tens of percent on a thin test
+ring; constraint modes + u_cf hold the exact free–free static centrifugal response
+(tests/test_cb_centrifugal.py). 4 = /loads/guide_modal_loads, and the basis is augmented
+(default) with the fixed-interface static responses to the three unit land loads and to the six
+rigid-body inertia loads (flexbearing.fem_cage.reduction.reduce_model): nine more modes, root attributes
+guide_load_vectors and inertia_relief_vectors, both flags in parameters/cache key. Why: the land
+force of the outer-ring-guided cage acts on the guide surface, and it (like a single pocket
+force) has a net force, so its quasi-static response in the free cage is the inertia-relief
+solution; with these vectors the full basis holds it exactly (tests/test_guide_loads.py). Paper
+cage, F_y = 100 N + M_x = 1 N m (`flexbearing reduce --check`, check_guide): full basis vs full
+FE 1.8e-11 in displacement, 1.1e-10 in max von Mises; the schema-3 basis 1.7 % and +173 %. The
+26 kept modes alone miss 99.6 % of that max von Mises: the land load is carried by the static
+correction (static_correction with guide_modal_loads), not by the kept modes.
+read() also accepts version-2 and 3 files (same layout without /loads:
+ReducedCage.guide_modal_loads is None; centrifugal_vector of a version-2 file reads False;
+guide_load_vectors and inertia_relief_vectors read False).
+
+Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
+constraint modes + n_fixed fixed-interface modes + the centrifugal vector, M-orthonormalised,
+sorted by frequency; version 4 adds the 3 land-load and 6 inertia-relief vectors). The
+runtime keeps the first n_keep (default 26 = 6 rigid + 20 elastic, the paper's count of 26
+"modal frequencies" with the rigid ones included, as ADAMS numbers them). Only the full basis is
+statically exact for loads at the interface nodes and (version 3) for the centrifugal load and
+(version 4) for land loads and, in the free cage, for loads with a net force (to solver
+precision); a truncated basis is not — the file's /checks give the static error of both. Frame convention for the floating frame
+of reference: the elastic modes (6..) are M-orthogonal to all rigid motions, i.e. they satisfy
+the linearised mean-axis (Tisserand) conditions ∫rho Phi dV = 0 and ∫rho x × Phi dV = 0 about
+the CoM; a runtime whose body frame carries the rigid motion drops modes 0–5 (`elastic()`).
+Damping (paper: D = beta K): in modal coordinates D = beta diag(omega^2), see modal_damping().
+Measured on the paper cage (benchmarks/results/reduce_paper.json): a 26-mode truncation under-reads
+the quasi-static stress of a pocket load by ~97 %; keep 26 modes dynamic and add the quasi-static
+coordinates of the other modes (static_correction(), mode-acceleration method) to recover the
+full basis' static answer at no integrator cost.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from flexbearing.mesh.cage_mesh import MESH_VERSION
+
+SCHEMA = "flexbearing.reduced_cage"
+SCHEMA_VERSION = 4
+READABLE_VERSIONS = (2, 3, 4)        # 2, 3: no /loads; 2: basis without the centrifugal vector
+GUIDE_LOAD_COLUMNS = ("land force y N", "land force z N", "land torque x N m")
+N_RIGID = 6
+DEFAULT_N_KEEP = 26
+DEFAULT_N_FIXED = 30
+DEFAULT_COUPLING = "rbe3"
+COUPLINGS = ("rbe2", "rbe3")
+TRUNCATION_NOTE = ("Full orthonormalised CB basis stored; statically exact for interface loads "
+                   f"only with all modes. Truncation to n_keep (default {DEFAULT_N_KEEP}) is not statically "
+                   "exact: see /checks static_error_truncated.")
+
+
+def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str,
+              n_fixed: int, degree: int = 3, centrifugal: bool = True, guide_loads: bool = True,
+              inertia_relief: bool = True) -> dict:
+    """Every input that changes the reduced cage (the dict hashed into the file name): geometry
+    and material, mesh size / geometric order / pocket size, FE degree, coupling, n_fixed,
+    centrifugal (basis augmented with the fixed-interface centrifugal response), guide_loads
+    (... with the responses to the unit land loads), inertia_relief (... with the responses to
+    the rigid-body inertia loads). The schema version is in the key, so a version-3 cache entry
+    is never taken for a version-4 request."""
+    return {"schema_version": SCHEMA_VERSION, "geometry": geometry.to_dict(),
+            "mesh_size": float(mesh_size), "order": int(order), "degree": int(degree),
+            "pocket_size": None if pocket_size is None else float(pocket_size),
+            "coupling": str(coupling), "n_fixed": int(n_fixed),
+            "centrifugal_vector": bool(centrifugal), "guide_load_vectors": bool(guide_loads),
+            "inertia_relief_vectors": bool(inertia_relief), "mesh_version": MESH_VERSION}
+
+
+def cache_path(key: dict) -> Path:
+    from flexbearing.common.cache import cache_dir, content_hash
+    return cache_dir() / "reduced_cage" / f"{content_hash(key)}.h5"
+
+
+def find_cached(key: dict) -> Path | None:
+    """Path of the cached reduced cage for these inputs, or None (never builds anything)."""
+    p = cache_path(key)
+    return p if p.exists() else None
+
+
+def file_sha256(path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+@dataclass
+class ReducedCage:
+    """The file's content as arrays (see the schema). Slicing helpers return new objects."""
+    frequency_hz: np.ndarray
+    omega: np.ndarray
+    interface_positions: np.ndarray
+    interface_modes: np.ndarray          # (Z, 6, M)
+    modal_stiffness: np.ndarray          # (M,)
+    invariants: dict
+    stress_modes: np.ndarray             # (Nv, 6, M)
+    vertices: np.ndarray
+    tets: np.ndarray
+    vertex_displacement: np.ndarray      # (Nv, 3, M)
+    attrs: dict = field(default_factory=dict)
+    checks: dict = field(default_factory=dict)
+    modes: np.ndarray = None             # indices of the kept modes in the file's full basis
+    tets10: np.ndarray | None = None     # (Nc, 10) VTK tetra10 order, quadratic meshes
+    guide_modal_loads: np.ndarray | None = None   # (M, 3) per unit land F_y, F_z (N), M_x (N m);
+    #                                               None for schema 2-3 files
+
+    def __post_init__(self):
+        if self.modes is None:
+            self.modes = np.arange(len(self.omega))
+
+    @property
+    def n_modes(self) -> int:
+        return len(self.omega)
+
+    def select(self, idx) -> "ReducedCage":
+        """The same body with only the modes idx (indices into this object's modes)."""
+        idx = np.asarray(idx)
+        inv = dict(self.invariants)
+        for k in ("I3", "I4", "Sx", "S1", "I8"):          # last axis = mode
+            inv[k] = inv[k][..., idx]
+        inv["I5"] = inv["I5"][:, idx][:, :, idx]
+        inv["I6"] = inv["I6"][idx][:, idx]
+        for k in ("I9", "SS"):                           # last two axes = modes
+            inv[k] = inv[k][..., idx, :][..., idx]
+        return ReducedCage(self.frequency_hz[idx], self.omega[idx], self.interface_positions,
+                           self.interface_modes[:, :, idx], self.modal_stiffness[idx], inv,
+                           self.stress_modes[:, :, idx], self.vertices, self.tets,
+                           self.vertex_displacement[:, :, idx], self.attrs, self.checks,
+                           self.modes[idx], self.tets10,
+                           None if self.guide_modal_loads is None else self.guide_modal_loads[idx])
+
+    def truncate(self, n_keep: int = DEFAULT_N_KEEP) -> "ReducedCage":
+        """The first n_keep modes by frequency (rigid ones included)."""
+        from flexbearing.common.validation import require_range
+        require_range("reduced_cage.n_keep", n_keep, 1, self.n_modes)
+        return self.select(np.arange(int(n_keep)))
+
+    def elastic(self) -> "ReducedCage":
+        """Drop the rigid modes (mean-axis frame: the body frame carries the rigid motion)."""
+        return self.select(np.flatnonzero(self.modes >= N_RIGID))
+
+
+def static_correction(interface_modes: np.ndarray, omega: np.ndarray, interface_loads: np.ndarray,
+                      first: int, modal_load: np.ndarray | None = None) -> np.ndarray:
+    """Quasi-static coordinates of the modes first.. (mode-acceleration / residual-flexibility
+    method; Craig & Kurdila, "Fundamentals of Structural Dynamics", 2006, §14.3):
+
+        q_k = (Phi_b,k^T F + g_k) / omega_k^2,   k >= first                           (S)
+
+    interface_modes (Z, 6, M), omega (M), interface_loads (Z, 6) forces N / moments N m at the
+    interface nodes in the body frame; modal_load (M,) optional distributed load already in modal
+    form, g_k (e.g. centrifugal_modal_load: Omega^2 Q_k; a land load L = (F_y, F_z, M_x):
+    guide_modal_loads @ L). Keeping modes < first dynamic and adding (S) for the rest
+    restores the static exactness of the full basis (a static load has q_k = (S) for every
+    elastic mode because the modal stiffness is diagonal) without putting the high frequencies
+    (up to ~100 kHz on the paper cage) into the integrator. Rigid modes (omega = 0) are skipped."""
+    Pb = interface_modes[:, :, first:].reshape(-1, interface_modes.shape[2] - first)
+    w2 = np.asarray(omega[first:]) ** 2
+    f = Pb.T @ np.asarray(interface_loads, dtype=float).ravel()
+    if modal_load is not None:
+        f = f + np.asarray(modal_load, dtype=float)[first:]
+    return np.where(w2 > 0, f / np.where(w2 > 0, w2, 1.0), 0.0)
+
+
+def centrifugal_modal_load(invariants: dict, spin: float) -> np.ndarray:
+    """Modal centrifugal load of the cage spinning at Omega = spin (rad/s) about its axis x:
+
+        Omega^2 Q_k,  Q_k = ∫rho Phi_k · x_perp dV = Sx[1,1,k] + Sx[2,2,k],  x_perp = (0, y, z)
+
+    (N m per unit q; the generalised force of the body force rho Omega^2 x_perp; Shabana,
+    "Dynamics of Multibody Systems", ch. 5, the centrifugal term of the elastic equations). With a
+    version-3 file (centrifugal vector in the basis) the full basis' static answer
+    q_k = Omega^2 Q_k / omega_k^2 is the exact free–free FE response (tests/test_cb_centrifugal.py)."""
+    Sx = np.asarray(invariants["Sx"])
+    return float(spin) ** 2 * (Sx[1, 1, :] + Sx[2, 2, :])
+
+
+def modal_damping(omega: np.ndarray, beta: float) -> np.ndarray:
+    """Stiffness-proportional damping in modal coordinates, D = beta K = beta diag(omega^2)
+    (paper Eq. of the flexible cage, D = beta K); returns the diagonal, N s/m per unit q."""
+    return beta * np.asarray(omega) ** 2
+
+
+def write(path, data: dict, attrs: dict, checks: dict | None = None) -> Path:
+    """Write atomically (temporary file + rename): a concurrent reader never sees half a file."""
+    import h5py
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=".h5", dir=path.parent)
+    os.close(fd)
+    try:
+        with h5py.File(tmp, "w") as f:
+            f.attrs["schema"] = SCHEMA
+            f.attrs["schema_version"] = SCHEMA_VERSION
+            f.attrs["units"] = "SI"
+            f.attrs["n_rigid"] = N_RIGID
+            f.attrs["default_n_keep"] = DEFAULT_N_KEEP
+            f.attrs["notes"] = TRUNCATION_NOTE
+            for k, v in attrs.items():
+                f.attrs[k] = json.dumps(v) if isinstance(v, (dict, list)) else v
+            for name, arr in data.items():
+                f.create_dataset(name, data=np.asarray(arr))
+            g = f.require_group("checks")
+            g.attrs["summary"] = json.dumps(checks or {}, default=_jsonable)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    return path
+
+
+def _jsonable(x):
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    return repr(x)
+
+
+def read(path) -> ReducedCage:
+    """Load a reduced cage file (checks schema and version)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        if f.attrs.get("schema") != SCHEMA:
+            raise ValueError(f"{path}: not a {SCHEMA} file")
+        ver = int(f.attrs["schema_version"])
+        if ver not in READABLE_VERSIONS:
+            raise ValueError(f"{path}: schema_version {ver}, this flexbearing reads "
+                             f"{', '.join(map(str, READABLE_VERSIONS))}")
+        attrs = {k: (json.loads(v) if k == "parameters" else v) for k, v in f.attrs.items()}
+        attrs.setdefault("centrifugal_vector", False)
+        attrs.setdefault("guide_load_vectors", False)
+        attrs.setdefault("inertia_relief_vectors", False)
+        # None for version 2-3 (and for a hand-made file without /loads, e.g. a test's synthetic
+        # cage): the runtime then applies the land load to the floating frame only
+        gml = f["loads/guide_modal_loads"][()] if "loads/guide_modal_loads" in f else None
+        inv = {k: (f["invariants"][k][()]) for k in f["invariants"]}
+        checks = json.loads(f["checks"].attrs.get("summary", "{}"))
+        return ReducedCage(
+            frequency_hz=f["modes/frequency_hz"][()], omega=f["modes/omega"][()],
+            interface_positions=f["interface/positions"][()],
+            interface_modes=f["modes/interface"][()],
+            modal_stiffness=f["modes/modal_stiffness"][()], invariants=inv,
+            stress_modes=f["stress/modes"][()], vertices=f["mesh/vertices"][()],
+            tets=f["mesh/tets"][()], vertex_displacement=f["modes/vertex_displacement"][()],
+            attrs=attrs, checks=checks,
+            tets10=f["mesh/tets10"][()] if "tets10" in f["mesh"] else None,
+            guide_modal_loads=gml)

@@ -1,0 +1,295 @@
+"""Steady running state of a thrust-loaded bearing: the fixed point of the dynamics' own equations.
+
+Under a pure axial load, without gravity and with the cage centred, every ball meets the same
+loads at every azimuth, so the steady state is the same for all balls and constant in the frame
+that turns with the cage. It is found directly instead of by integrating until the transients
+have died (which at light load and high speed takes the dynamics 5–15 s of simulated time:
+benchmarks/results/slip_rate.md, "Long runs").
+
+Unknowns (9): ball centre x, r in its plane; the ball's azimuth relative to its pocket centre
+(the ball presses on the pocket wall to push the cage against its drag); the common orbital
+speed = cage speed; the ball's absolute angular velocity (3 components in (e_x, e_r, e_t)); the
+inner ring's axial position; the cage's axial position. Equations (9): the corresponding
+accelerations of `flexbearing.multibody.dynamics.rhs` vanish (ball x, r, orbit and three angular
+accelerations; ring axial; cage spin; cage axial), each scaled to a force per ball. Solved by
+MINPACK's hybrid Powell method (scipy.optimize.root "hybr"), Levenberg–Marquardt as fallback,
+from the quasi-static start (`flexbearing.multibody.initial.initial_state`) with the ball against the
+driving side of its pocket.
+
+This is Harris's skidding analysis of a thrust-loaded angular-contact ball bearing (T. A. Harris,
+"An analytical method to predict skidding in thrust-loaded, angular-contact ball bearings",
+J. Lubr. Technol. 93(1):17–24, 1971), made with the dynamics' own force models: the ball spin
+follows from the traction at both contacts (no race-control hypothesis), with churning drag,
+pocket and guide-land forces. The result is a state vector y of the dynamics: integrating from it
+stays there (tests/test_steady.py), and a run started from it needs no settling.
+
+Limits: a fixed point exists only where the traction can balance the drag at some skid; where the
+traction law is flat over the slips involved (the 4106 fit's dead zone at light loads,
+flexbearing.multibody.traction "Origin law") the equations are singular and no root is found — `converged`
+is False and the dynamics must be integrated instead. Measured on the slip-rate cases (validation
+oil state, Fr and gravity left out; benchmarks/bench_steady.py): roots for cases 4, 5, 6, 10, 11,
+14, 15, none for 1–3, 7–9, 12, 13; 0.3–0.5 s each, most of it the quasi-static start (the root
+search itself 20–40 ms). The fixed point has a centred cage. Whether the dynamics stay there is a
+separate question: with the weight on (the slip validation) they settle within 0.3 points of it
+(cases 5, 6); without it, at light load, the outer-ring-guided cage whirls out to its rim
+(tests/test_cage_whirl.py) and the skid changes (case 4, 15 s: cage 198 against 267 rad/s).
+
+Under a combined load (or with weight) the balls differ by azimuth: `steady_held_cage_state`
+solves every ball separately with the balls frozen at their azimuths and the cage held off-centre
+in its guide film (6Z + 11 unknowns, Newton with a Levenberg–Marquardt fallback, 0.3–0.7 s for the
+paper bearing); its docstring says what the frozen azimuths leave out.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from flexbearing.common.validation import InputError, require_range
+from flexbearing.multibody import dynamics as D
+from flexbearing.multibody import outputs as O
+from flexbearing.multibody import model as M
+from flexbearing.multibody.initial import initial_state
+
+UNKNOWNS = ("ball_x", "ball_r", "pocket_offset", "orbit_speed", "ball_w_x", "ball_w_r", "ball_w_t",
+            "ring_x", "cage_x")
+
+
+def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: np.ndarray | None = None,
+                        tol: float = 1e-10) -> tuple[np.ndarray, dict]:
+    """(y, info): the steady state (module docstring) at inner-ring speed speed_rad_s (rad/s) and
+    axial load axial_load (N, along +X), as a full state vector of `model` (flexbearing.multibody.model layout,
+    ball j at azimuth 2·pi·j/Z + pocket_offset, cage angle 0). info: converged, residual (max scaled
+    residual, N per ball), cage_speed (rad/s), slip_rate ((nm − nc)/nm, nm at the mean loaded
+    contact angle, the paper's definition), the unknowns by name, nfev, and outputs (the
+    flexbearing.multibody.outputs.evaluate_outputs dict of y). tol: residual tolerance relative to the axial
+    load per ball."""
+    require_range("steady.speed_rad_s", speed_rad_s, 0.0, 1e5, lo_open=True, unit="rad/s")
+    require_range("steady.axial_load", abs(axial_load), 0.0, 1e7, lo_open=True, unit="N")
+    p = model.p
+    if p[M.P_GRAV] != 0.0:
+        raise InputError(f"model.gravity = {p[M.P_GRAV]} m/s^2: the steady thrust state needs 0 "
+                         "(with weight the balls differ by azimuth and there is no common steady state)")
+    from scipy.optimize import root
+
+    z = model.n_balls
+    lay = M.state_layout(model)
+    r0, c0 = lay["ring"], lay["cage"]
+    speed_table = np.array([[0.0, speed_rad_s]])
+    load_table = np.array([[0.0, axial_load, 0.0, 0.0]])
+    impacts = np.zeros((0, 6))
+    work = D.new_work(model)
+    y0 = initial_state(model, speed_rad_s, axial_load, 0.0) if y_start is None else np.asarray(y_start, float)
+    dydt = np.zeros_like(y0)
+    # start: quasi-static ball, displaced towards the pocket side that drives the cage (the pocket
+    # force is the soft linear Kc·z inside the clearance, paper §2.3.1; starting at the centre, where
+    # it vanishes, slows the search at light loads)
+    u0 = np.array([y0[0], y0[1], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], y0[5], y0[6], y0[7], y0[8],
+                   y0[r0], y0[c0]])
+    w_ball = abs(y0[6]) + abs(y0[7]) + 1.0
+    scale_u = np.array([1e-6, 1e-6, 1e-4, 1e-3 * abs(y0[5]) + 1e-3, 1e-3 * w_ball, 1e-3 * w_ball,
+                        1e-3 * w_ball, 1e-6, 1e-6])
+    # accelerations -> forces per ball (N), relative to the axial load per ball
+    half_dw, half_dm = 0.5 * p[M.P_DW], 0.5 * p[M.P_DM]
+    scale_r = np.array([p[M.P_MB], p[M.P_MB], p[M.P_MB] * half_dm, p[M.P_IB] / half_dw, p[M.P_IB] / half_dw,
+                        p[M.P_IB] / half_dw, p[M.P_MI] / z, p[M.P_ICP] / half_dm / z, p[M.P_MC] / z])
+    scale_r /= abs(axial_load) / z
+
+    def state(v):
+        u = u0 + v * scale_u
+        y = np.zeros_like(y0)
+        for j in range(z):
+            y[9 * j:9 * j + 9] = (u[0], u[1], 2.0 * math.pi * j / z + u[2], 0.0, 0.0, u[3], u[4], u[5], u[6])
+        y[r0] = u[7]
+        y[c0] = u[8]
+        y[c0 + 9] = u[3]                # the cage turns with the balls
+        return y
+
+    def residual(v):
+        y = state(v)
+        D.rhs(0.0, y, dydt, p, model.flags, model.hertz_table, model.traction_table, speed_table, load_table,
+              impacts, work, model.cage)
+        return scale_r * np.array([dydt[3], dydt[4], dydt[5], dydt[6], dydt[7], dydt[8], dydt[r0 + 5],
+                                   dydt[c0 + 9], dydt[c0 + 6]])
+
+    sol = root(residual, np.zeros(9), method="hybr", options=dict(xtol=1e-12))
+    nfev = sol.nfev
+    if np.max(np.abs(sol.fun)) > tol:
+        sol = root(residual, sol.x, method="lm", options=dict(xtol=1e-14, ftol=1e-14))
+        nfev += sol.nfev
+    y = state(sol.x)
+    res = float(np.max(np.abs(sol.fun)))
+    out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
+    info = dict(converged=bool(res <= tol), residual=res, cage_speed=float(y[c0 + 9]),
+                slip_rate=float(out["slip_rate"]), nfev=int(nfev))
+    info.update(zip(UNKNOWNS, (u0 + sol.x * scale_u).tolist()))
+    info["outputs"] = out
+    return y, info
+
+
+# ------------------------------------------------------------------ combined load, frozen azimuths
+HELD_CAGE_UNKNOWNS = ("ball_x", "ball_r", "pocket_offset", "ball_w_x", "ball_w_r", "ball_w_t")
+
+
+def _newton(residual, n: int, tol: float, max_iter: int = 60, h: float = 1e-3):
+    """(v, f, iterations, nfev): damped Newton on residual(v) = 0 from v = 0, Jacobian by central
+    differences of step h (the unknowns are scaled so that 1 is a meaningful change), Armijo
+    backtracking on |f|; where the Newton direction does not decrease |f| (a kink of the piecewise
+    pocket or traction law between the iterate and the root) a Levenberg–Marquardt step
+    (J^T J + mu·diag(J^T J)) dv = −J^T f with growing mu. Used where MINPACK's hybrid method stalls
+    (the combined-load state below: hybr ends at a residual of 2e-2 there)."""
+    v = np.zeros(n)
+    f = residual(v)
+    nfev = 1
+    jac = np.empty((n, n))
+    step = np.zeros(n)
+    for it in range(1, max_iter + 1):
+        for k in range(n):
+            step[k] = h
+            jac[:, k] = (residual(v + step) - residual(v - step)) / (2.0 * h)
+            step[k] = 0.0
+        nfev += 2 * n
+        norm0 = np.linalg.norm(f)
+        dv = np.linalg.lstsq(jac, -f, rcond=None)[0]
+        lam, accepted = 1.0, False
+        while lam >= 1e-3:
+            f_try = residual(v + lam * dv)
+            nfev += 1
+            if np.linalg.norm(f_try) < (1.0 - 1e-4 * lam) * norm0:
+                accepted = True
+                break
+            lam *= 0.5
+        if not accepted:
+            jtj, jtf = jac.T @ jac, jac.T @ f
+            d = np.diag(jtj).copy() + 1e-12
+            for mu in 10.0 ** np.arange(-4, 7):
+                dv = np.linalg.solve(jtj + mu * np.diag(d), -jtf)
+                lam = 1.0
+                f_try = residual(v + dv)
+                nfev += 1
+                if np.linalg.norm(f_try) < norm0:
+                    accepted = True
+                    break
+        if not accepted:
+            return v, f, it, nfev
+        v, f = v + lam * dv, f_try
+        if np.max(np.abs(f)) <= tol:
+            return v, f, it, nfev
+    return v, f, max_iter, nfev
+
+
+def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, tol: float = 1e-9
+                           ) -> tuple[np.ndarray, dict]:
+    """(y, info): the frozen-azimuth equilibrium of the bearing under a combined load with the cage
+    held off-centre in its guide film.
+
+    The balls are frozen at their azimuths psi_j = phase + 2·pi·j/Z + pocket_offset_j and every
+    acceleration of `flexbearing.multibody.dynamics.rhs` is set to zero:
+
+        per ball j (6Z):  x'' = r'' = psi'' = 0,  dw/dt = 0 (3)    unknowns x, r, pocket_offset, w (3)
+        cage (6):         translations'' = 0, omega_c' = 0, tilts'' = 0
+                          unknowns: centre (x, y, z), tilts, omega_c (= every ball's orbit speed)
+        inner ring (5):   translations'' = tilts'' = 0              unknowns: its 5 displacements
+
+    6Z + 11 equations: each ball's pocket force is what its traction, drag and inertia leave over,
+    the cage centre moves until the guide-land film force balances the resultant of the pocket
+    forces (F_land + sum_j F_pocket,j = 0) and the cage speed until their torque balances the land
+    and churning drag. This is Harris's skidding analysis (J. Lubr. Technol. 93(1):17–24, 1971,
+    written for a thrust load, where all balls are alike: `steady_thrust_state`) with per-ball
+    unknowns, made with the dynamics' own force models; it is the state in which
+    `flexbearing.analysis.cage_motion` reports a cage as "held".
+
+    Approximation: the balls' states are taken as functions of the azimuth that do not lag behind
+    the load, i.e. d/dt of a ball's pocket offset and spin along its orbit is neglected. Measured
+    against the dynamics integrated from this state (paper bearing, 14,000 rpm, Fr 4 kN, rigid cage;
+    benchmarks/held_cage_mechanism.py, Fa 45–65 kN): the mean pocket force agrees within 7 %, the
+    first azimuthal harmonic of the pocket force lags the frozen one by 42–56° with 74–97 % of its
+    amplitude, so the cage's film force is 25–31 % smaller and turned by about 50°.
+
+    load = (Fx, Fy, Fz) on the inner ring, N. phase: azimuth of pocket 0 (rad, from +Y to +Z); the
+    solution varies with it at the ball-pass period only. Rigid cage only. info: converged,
+    residual (max scaled residual, N per ball relative to the axial load per ball), iterations,
+    nfev, cage_speed, cage_centre (x, y, z, m), cage_eccentricity_ratio, cage_land_force (y, z, N),
+    pocket_resultant (x, y, z, N, on the cage), pocket_offset (Z,), outputs (evaluate_outputs).
+    """
+    load = np.asarray(load, dtype=float)
+    if load.shape != (3,):
+        raise InputError(f"steady.load = {load.tolist()}: give (Fx, Fy, Fz) in N")
+    require_range("steady.speed_rad_s", speed_rad_s, 0.0, 1e5, lo_open=True, unit="rad/s")
+    require_range("steady.axial_load", abs(load[0]), 0.0, 1e7, lo_open=True, unit="N")
+    for name, v in zip(("Fy", "Fz"), load[1:]):
+        require_range(f"steady.load {name}", v, -1e7, 1e7, unit="N")
+    require_range("steady.phase", phase, -2 * math.pi, 2 * math.pi, unit="rad")
+    if model.n_modes != 0:
+        raise InputError(f"model.n_modes = {model.n_modes}: the held-cage state is for a rigid cage "
+                         "(build the model with n_modes = 0)")
+    p = model.p
+    z = model.n_balls
+    lay = M.state_layout(model)
+    r0, c0 = lay["ring"], lay["cage"]
+    speed_table = np.array([[0.0, speed_rad_s]])
+    load_table = np.array([[0.0, load[0], load[1], load[2]]])
+    impacts = np.zeros((0, 6))
+    work = D.new_work(model)
+    y0 = initial_state(model, speed_rad_s, 0.0, 0.0, load=tuple(load))
+    dydt = np.zeros_like(y0)
+    n = 6 * z + 11
+    nb = 6 * z
+    # start: the quasi-static balls, each against the driving side of its pocket (as
+    # steady_thrust_state), the cage centred axially on the balls so that the pocket walls do not
+    # push it sideways from the first iterate
+    u0 = np.zeros(n)
+    for j in range(z):
+        b = y0[9 * j:9 * j + 9]
+        u0[6 * j:6 * j + 6] = (b[0], b[1], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], b[6], b[7], b[8])
+    u0[nb] = np.mean(y0[5:9 * z:9])
+    u0[nb + 1:nb + 6] = y0[r0:r0 + 5]
+    u0[nb + 6] = np.mean(y0[0:9 * z:9])
+    half_dw, half_dm = 0.5 * p[M.P_DW], 0.5 * p[M.P_DM]
+    w_ball = np.mean(np.abs(y0[6:9 * z:9])) + np.mean(np.abs(y0[7:9 * z:9])) + 1.0
+    scale_u = np.empty(n)
+    scale_r = np.empty(n)
+    scale_u[:nb] = np.tile([1e-6, 1e-6, 1e-4, 1e-3 * w_ball, 1e-3 * w_ball, 1e-3 * w_ball], z)
+    scale_r[:nb] = np.tile([p[M.P_MB], p[M.P_MB], p[M.P_MB] * half_dm, p[M.P_IB] / half_dw,
+                            p[M.P_IB] / half_dw, p[M.P_IB] / half_dw], z)
+    scale_u[nb] = 1e-3 * abs(u0[nb]) + 1e-3
+    scale_r[nb] = p[M.P_ICP] / half_dm
+    scale_u[nb + 1:] = (1e-6, 1e-6, 1e-6, 1e-5, 1e-5, 1e-6, 1e-6, 1e-6, 1e-5, 1e-5)
+    scale_r[nb + 1:] = (p[M.P_MI], p[M.P_MI], p[M.P_MI], p[M.P_IID] / half_dm, p[M.P_IID] / half_dm,
+                        p[M.P_MC], p[M.P_MC], p[M.P_MC], p[M.P_ICD] / half_dm, p[M.P_ICD] / half_dm)
+    scale_r /= abs(load[0]) / z
+
+    def state(v):
+        u = u0 + v * scale_u
+        y = np.zeros_like(y0)
+        omega_c = u[nb]
+        for j in range(z):
+            x, r, offset, wx, wr, wt = u[6 * j:6 * j + 6]
+            y[9 * j:9 * j + 9] = (x, r, phase + 2.0 * math.pi * j / z + offset, 0.0, 0.0, omega_c, wx, wr, wt)
+        y[r0:r0 + 5] = u[nb + 1:nb + 6]
+        y[c0:c0 + 6] = (u[nb + 6], u[nb + 7], u[nb + 8], phase, u[nb + 9], u[nb + 10])
+        y[c0 + 9] = omega_c
+        return y
+
+    def residual(v):
+        D.rhs(0.0, state(v), dydt, p, model.flags, model.hertz_table, model.traction_table, speed_table,
+              load_table, impacts, work, model.cage)
+        f = np.empty(n)
+        f[:nb] = dydt[:9 * z].reshape(z, 9)[:, 3:9].ravel()
+        f[nb] = dydt[c0 + 9]
+        f[nb + 1:nb + 6] = dydt[r0 + 5:r0 + 10]
+        f[nb + 6:nb + 9] = dydt[c0 + 6:c0 + 9]
+        f[nb + 9:nb + 11] = dydt[c0 + 10:c0 + 12]
+        return scale_r * f
+
+    v, f, iterations, nfev = _newton(residual, n, tol)
+    y = state(v)
+    res = float(np.max(np.abs(f)))
+    out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
+    info = dict(converged=bool(res <= tol), residual=res, iterations=int(iterations), nfev=int(nfev),
+                cage_speed=float(y[c0 + 9]), cage_centre=y[c0:c0 + 3].copy(),
+                cage_eccentricity_ratio=float(out["cage_eccentricity_ratio"]),
+                cage_land_force=out["cage_land_force"].copy(),
+                pocket_resultant=out["pocket_force_on_cage"].sum(axis=0),
+                pocket_offset=(u0 + v * scale_u)[2:nb:6].copy(), outputs=out)
+    return y, info

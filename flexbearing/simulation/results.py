@@ -1,0 +1,497 @@
+"""One HDF5 file per run, written while the run goes, plus the summary.json beside it.
+
+Layout (SI units in the `unit` attribute of every dataset):
+
+    /                      attrs: format, format_version, scene_name, scene_hash, status
+                           ("running" | "interrupted" | "failed: ..." | "complete"), duration,
+                           sample_interval, n_samples_expected, cage_model, summary (JSON, at the end)
+    /scene                 the scene's TOML text, as loaded
+    /outputs/time          (n,) s
+    /outputs/<name>        (n, ...) one row per sample, e.g. contact_stress (n, Z, 3) Pa; attrs
+                           unit, units (the same in CF/udunits spelling: "N m" for "N·m", "1" for
+                           counts), dims (names of the axes, e.g. "time, ball, contact") and, for
+                           labelled last axes, columns ("outer, inner_left, inner_right"), from
+                           flexbearing.multibody.output_registry; chunks of a checkpoint interval of samples
+                           (chunk_rows), deflate +
+                           shuffle (COMPRESSION)
+    /outputs/<dimension>   HDF5 dimension scales (format 2): time is /outputs/time itself; ball,
+                           contact, axis, ... (output_registry.DIMENSIONS) hold their labels or
+                           indices and are attached to every output's axes, so that
+                           xarray.open_dataset(run.h5, group="outputs") gives named dimensions
+                           with time as a coordinate (output_items() skips them)
+    /checkpoint/slot0, slot1   y (state), dydt (the integrator's FSAL derivative at y, if any), attrs t,
+                           h, n_samples, n_steps, n_rejected, wall_time, seq
+
+Crash safety. Samples are buffered in memory and written in blocks: each block is appended to the
+chunked, resizable datasets, then a checkpoint describing the state at the block's last sample is
+written, then the file is flushed. Between blocks the file is not touched, so a kill during the
+integration leaves a consistent file. `checkpoint_in_background` hands the block (and, from
+flexbearing.simulation.run, the evaluation of its samples' outputs) and its checkpoint to one writer thread and
+returns: that work then runs on a second core while the integration goes on (flexbearing.multibody.integrator's
+compiled loop releases the GIL); the next checkpoint, `checkpoint`, `set_status` and `close` wait for
+it, so blocks are written one at a time and in order, exactly as the synchronous path writes them.
+The checkpoint is
+double-buffered: the slot being written is first invalidated (seq = -1) and gets its sequence number
+last, so a kill inside a checkpoint write leaves the other slot valid. On Ctrl-C or an exception the
+run writes what it has and a checkpoint at its last sample before closing.
+
+Resume. `open_for_resume` picks the valid checkpoint with the highest sequence number and truncates
+every output dataset to the checkpoint's sample count; the run continues from the checkpoint's
+(y, t, h) and the integrator's derivative there (dydt: the first stage of its next step, as in the
+uninterrupted run). The integrator is deterministic, so the resumed file's datasets equal an
+uninterrupted run's bit for bit (tests/test_resume.py).
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from flexbearing.multibody import output_registry as R
+
+FORMAT = "flexbearing-results"
+FORMAT_VERSION = 2        # 2: dimension scales, CF `units`, compressed chunks (1 is still read)
+CHUNK_ROWS = 256          # rows per HDF5 chunk along time when the block size is not known
+
+
+def chunk_rows(checkpoint_every: int) -> int:
+    """Rows per chunk of a run's datasets: its checkpoint interval, i.e. one block (within 64 ... 1024).
+
+    A block then fills its own chunks, each compressed once; with 256-row chunks and the default
+    200-sample blocks every chunk was compressed twice (once partly filled at a checkpoint's flush)
+    and the writer thread took 4.1 instead of 2.6 s on the paper's steady rigid run (issue 21)."""
+    return int(min(max(int(checkpoint_every), 64), 1024))
+
+
+# Every output dataset's filters (HDF5 deflate + byte shuffle: readable by any HDF5 or netCDF-4
+# reader, no plugin). Measured on the paper's steady flexible run: benchmarks/bench_results_file.py.
+COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
+
+# Units, dimension names and column labels of the recorded quantities: flexbearing.multibody.output_registry
+# (a backend's OUTPUT_UNITS dict wins; name fragments are the last resort for names it does not
+# know, ordered: the more specific fragment first).
+_UNIT_RULES = (("ratio", "1"), ("angular_velocity", "rad/s"), ("angle", "rad"), ("tilt", "rad"),
+               ("von_mises", "Pa"), ("stress", "Pa"), ("pressure", "Pa"), ("film", "m"),
+               ("thickness", "m"), ("torque", "N·m"), ("force", "N"), ("load", "N"), ("drag", "N"),
+               ("slip", "1"), ("speed", "rad/s"), ("omega", "rad/s"), ("velocity", "m/s"),
+               ("orbit", "m"), ("position", "m"), ("centre", "m"), ("offset", "m"),
+               ("displacement", "m"), ("approach", "m"))
+
+
+def unit_for(name: str, known: dict | None = None) -> str:
+    if known and name in known:
+        return known[name]
+    if name in R.OUTPUT:
+        return R.OUTPUT[name].unit
+    if name == "time":
+        return "s"
+    for frag, unit in _UNIT_RULES:
+        if frag in name:
+            return unit
+    return "unknown"
+
+
+def summary_path(results_path) -> Path:
+    """run.h5 -> run.summary.json (beside the results; one per run, so runs in one folder coexist)."""
+    p = Path(results_path)
+    return p.with_name(p.stem + ".summary.json")
+
+
+def _attach_dimensions(out, name: str, ds, dims) -> None:
+    """Make /outputs/time the `time` dimension scale, and attach to a new dataset's axes the scales of
+    its dimensions (time first, then flexbearing.multibody.output_registry's dims, each a scale dataset in
+    /outputs created at its first use: the labels of its columns, or the index 0..n-1), so that
+    `xarray.open_dataset(run.h5, group="outputs")` names them. The axes of a dataset the registry
+    does not know (a test's backend) are `<name>_dim1`, ... ."""
+    import h5py
+    if name == "time":
+        ds.make_scale("time")
+        return
+    ds.dims[0].attach_scale(out["time"])
+    if dims is None:           # not in the registry: its own dimensions (netCDF needs every axis named)
+        dims = tuple(f"{name}_dim{i}" for i in range(1, ds.ndim))
+    for axis, dim in enumerate(dims, start=1):
+        n = ds.shape[axis]
+        if dim not in out:
+            labels = R.DIMENSION_LABELS.get(dim)
+            if labels is not None and len(labels) == n:
+                scale = out.create_dataset(dim, data=np.array(labels, dtype=object), dtype=h5py.string_dtype())
+            else:
+                scale = out.create_dataset(dim, data=np.arange(n, dtype=np.int64))
+            scale.make_scale(dim)
+        scale = out[dim]
+        if scale.shape != (n,):
+            raise RuntimeError(f"output {name!r}: dimension {dim!r} has {n} entries, {scale.shape[0]} elsewhere")
+        ds.dims[axis].attach_scale(scale)
+
+
+def different_scene(path, file_hash, scene):
+    """The InputError for a results file that another scene wrote (resume, or a study's re-run)."""
+    from flexbearing.common.validation import InputError
+    return InputError(f"--resume: {path} was written by a different scene (scene hash {file_hash} in the "
+                      f"file, {scene.content_hash()} for {scene.path or scene.name}); resume needs the same "
+                      f"scene, or write a new file")
+
+
+def output_items(out):
+    """(name, dataset) of the recorded outputs in a results file's /outputs group, time included:
+    every dataset but the dimension scales (ball, contact, ...)."""
+    from h5py import h5ds
+    return [(k, ds) for k, ds in out.items() if k == "time" or not h5ds.is_scale(ds.id)]
+
+
+class ResultsWriter:
+    """Append-only writer of one run's results, with checkpoints. Use `create` or `open_for_resume`."""
+
+    def __init__(self, h5file, units: dict | None = None, rows_per_chunk: int = CHUNK_ROWS):
+        self.f = h5file
+        self.units = dict(units or {})
+        self.buffer: dict[str, list] = {}
+        self.n_written = int(self.f["outputs/time"].shape[0]) if "outputs/time" in self.f else 0
+        self.previous_status = ""
+        self.rows_per_chunk = int(rows_per_chunk)
+        self._pool = None          # the writer thread of checkpoint_in_background (created on first use)
+        self._pending = None       # its block being written (a Future)
+
+    # ---- opening
+    @classmethod
+    def create(cls, path, scene, units: dict | None = None) -> "ResultsWriter":
+        import h5py
+        f = h5py.File(path, "w")
+        f.attrs["format"] = FORMAT
+        f.attrs["format_version"] = FORMAT_VERSION
+        f.attrs["scene_name"] = scene.name
+        f.attrs["scene_hash"] = scene.content_hash()
+        f.attrs["scene_path"] = scene.path
+        f.attrs["cage_model"] = scene.cage_model
+        f.attrs["duration"] = scene.duration
+        f.attrs["sample_interval"] = scene.sample_interval
+        f.attrs["n_samples_expected"] = scene.n_samples
+        f.attrs["status"] = "running"
+        f.attrs["n_resumes"] = 0
+        f.create_dataset("scene", data=scene.text or json.dumps(scene.data, default=repr))
+        f.create_group("outputs")
+        cp = f.create_group("checkpoint")
+        for s in ("slot0", "slot1"):
+            cp.create_group(s).attrs["seq"] = -1
+        f.flush()
+        return cls(f, units, chunk_rows(scene.checkpoint_every))
+
+    @classmethod
+    def open_for_resume(cls, path, scene, units: dict | None = None):
+        """Open an existing run of `scene`; return (writer, checkpoint dict or None).
+
+        None means no valid checkpoint (the run must start over; the file has been reset)."""
+        import h5py
+
+        from flexbearing.common.validation import InputError
+        # checked before HDF5 opens it for writing: h5py's "r+" writes a superblock into an empty file
+        if not h5py.is_hdf5(path):
+            raise InputError(f"--resume: {path} is not an HDF5 results file ({Path(path).stat().st_size} "
+                             f"bytes); it cannot be resumed and was left untouched: start a new run with "
+                             f"--force (overwrites it) or write to another file with -o")
+        try:
+            f = h5py.File(path, "r+")
+        except OSError as exc:
+            raise InputError(f"--resume: {path} is damaged ({exc}); it cannot be resumed and was left "
+                             f"untouched: start a new run with --force or write to another file with -o") from None
+        try:
+            if f.attrs.get("format") != FORMAT:
+                raise InputError(f"{path} is not a flexbearing results file (format attribute "
+                                 f"{f.attrs.get('format')!r}, expected {FORMAT!r})")
+            if f.attrs["scene_hash"] != scene.content_hash():
+                raise different_scene(path, f.attrs["scene_hash"], scene)
+            cp = read_checkpoint(f)
+        except Exception:
+            f.close()
+            raise
+        w = cls(f, units)
+        w.previous_status = str(f.attrs.get("status", ""))
+        w.n_written = 0 if cp is None else cp["n_samples"]
+        if "outputs" in f:
+            for name, ds in output_items(f["outputs"]):
+                ds.resize(w.n_written, axis=0)      # drop samples written after the checkpoint
+        f.attrs["status"] = "running"
+        f.attrs["n_resumes"] = int(f.attrs.get("n_resumes", 0)) + 1
+        f.flush()
+        return w, cp
+
+    # ---- writing
+    def add_sample(self, t: float, values: dict) -> None:
+        """Buffer one sample (written by the next `write_block`)."""
+        _append(self.buffer, t, values)
+
+    @property
+    def n_buffered(self) -> int:
+        return len(self.buffer.get("time", ()))
+
+    def write_block(self, buffer: dict | None = None) -> None:
+        """Append the buffered samples (or `buffer`, a detached buffer) to the datasets (created at
+        the first block)."""
+        if buffer is None:
+            buffer, self.buffer = self.buffer, {}
+        nb = len(buffer.get("time", ()))
+        if nb == 0:
+            return
+        out = self.f["outputs"]
+        n0 = self.n_written
+        for k, rows in buffer.items():
+            if len(rows) != nb:
+                raise RuntimeError(f"output {k!r} has {len(rows)} samples in a block of {nb}")
+            block = np.stack(rows)
+            if k not in out:
+                if n0 != 0:
+                    raise RuntimeError(f"output {k!r} appeared after {n0} samples")
+                ds = out.create_dataset(k, shape=(0,) + block.shape[1:], maxshape=(None,) + block.shape[1:],
+                                        dtype=np.float64, chunks=(self.rows_per_chunk,) + block.shape[1:],
+                                        **COMPRESSION)
+                ds.attrs["unit"] = unit = unit_for(k, self.units)
+                ds.attrs["units"] = R.cf_units(unit)           # CF spelling, for xarray/netCDF tools
+                entry = R.OUTPUT.get(k)
+                dims = None
+                if entry is not None and len(entry.dims) == block.ndim - 1:
+                    dims = entry.dims
+                    ds.attrs["dims"] = ", ".join(("time",) + entry.dims)
+                cols = entry.columns if entry is not None else None
+                if cols and block.ndim >= 2 and block.shape[-1] == len(cols):
+                    ds.attrs["columns"] = ", ".join(cols)
+                _attach_dimensions(out, k, ds, dims)
+            ds = out[k]
+            if ds.shape[1:] != block.shape[1:]:
+                raise RuntimeError(f"output {k!r} changed shape from {ds.shape[1:]} to {block.shape[1:]}")
+            ds.resize(n0 + nb, axis=0)
+            ds[n0:n0 + nb] = block
+        self.n_written = n0 + nb
+
+    def checkpoint(self, y, t: float, h: float, n_steps: int, n_rejected: int, wall_time: float,
+                   dydt=None) -> None:
+        """Write buffered samples, then the state at the last written sample, then flush. `dydt`:
+        the integrator's derivative at that state (its FSAL stage), so that a resumed run takes the
+        same first step as the uninterrupted one; None when there is none."""
+        self.wait()
+        self._write_checkpoint(self.buffer, y, t, h, n_steps, n_rejected, wall_time, dydt)
+        self.buffer = {}
+
+    def checkpoint_in_background(self, y, t: float, h: float, n_steps: int, n_rejected: int,
+                                 wall_time: float, dydt=None, samples=None) -> None:
+        """`checkpoint` done by the writer thread (module docstring): waits for the previous block,
+        detaches the buffer and returns. `y` must not change afterwards (pass a copy). `samples`: a
+        function the thread calls first; its [(t, values)] are added to the block (flexbearing.simulation.run
+        evaluates a checkpoint interval's outputs there). If the thread fails, its block is not in
+        the file (n_written does not advance; a partly written block is overwritten by the next)
+        and `wait` raises: the caller writes those samples again (flexbearing.simulation.run keeps them)."""
+        from concurrent.futures import ThreadPoolExecutor
+        self.wait()
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="results-writer")
+        block, self.buffer = self.buffer, {}
+        def job():
+            if samples is not None:
+                for t_s, values in samples():
+                    _append(block, t_s, values)
+            self._write_checkpoint(block, y, t, h, n_steps, n_rejected, wall_time, dydt)
+        self._pending = self._pool.submit(job)
+
+    def wait(self) -> None:
+        """Wait for the block the writer thread is writing; re-raise its error (e.g. disk full)."""
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            pending.result()
+
+    def _write_checkpoint(self, block: dict, y, t, h, n_steps, n_rejected, wall_time, dydt) -> None:
+        self.write_block(block)
+        cp = self.f["checkpoint"]
+        seqs = [int(cp[s].attrs["seq"]) for s in ("slot0", "slot1")]
+        slot = cp["slot0"] if seqs[0] <= seqs[1] else cp["slot1"]   # overwrite the older slot
+        slot.attrs["seq"] = -1
+        self.f.flush()
+        y = np.asarray(y, dtype=np.float64)
+        if "y" in slot and slot["y"].shape == y.shape:
+            slot["y"][...] = y
+        else:
+            if "y" in slot:
+                del slot["y"]
+            slot.create_dataset("y", data=y)
+        if "dydt" in slot and (dydt is None or slot["dydt"].shape != np.shape(dydt)):
+            del slot["dydt"]
+        if dydt is not None:
+            if "dydt" in slot:
+                slot["dydt"][...] = dydt
+            else:
+                slot.create_dataset("dydt", data=np.asarray(dydt, dtype=np.float64))
+        slot.attrs.update({"t": float(t), "h": float(h), "n_samples": int(self.n_written),
+                           "n_steps": int(n_steps), "n_rejected": int(n_rejected),
+                           "wall_time": float(wall_time)})
+        self.f.flush()
+        slot.attrs["seq"] = max(seqs) + 1
+        self.f.flush()
+
+    def set_status(self, status: str) -> None:
+        self.wait()
+        self.f.attrs["status"] = status
+        self.f.flush()
+
+    def close(self) -> None:
+        try:
+            self.wait()
+        finally:
+            if self._pool is not None:
+                self._pool.shutdown(wait=True)
+                self._pool = None
+            if self.f.id.valid:
+                self.f.close()
+
+
+def _append(buffer: dict, t: float, values: dict) -> None:
+    """One sample into a block buffer {name: [rows]}."""
+    buffer.setdefault("time", []).append(np.float64(t))
+    for k, v in values.items():
+        buffer.setdefault(k, []).append(np.array(v, dtype=np.float64, copy=True))
+
+
+def read_checkpoint(f) -> dict | None:
+    """The newest valid checkpoint of an open results file, or None."""
+    best = None
+    if "checkpoint" not in f:
+        return None
+    for s in ("slot0", "slot1"):
+        g = f["checkpoint"][s]
+        seq = int(g.attrs.get("seq", -1))
+        if seq >= 0 and "y" in g and (best is None or seq > best["seq"]):
+            best = {"seq": seq, "y": g["y"][...], "dydt": g["dydt"][...] if "dydt" in g else None,
+                    **{k: g.attrs[k] for k in
+                    ("t", "h", "n_samples", "n_steps", "n_rejected", "wall_time")}}
+    if best is not None:
+        for k in ("n_samples", "n_steps", "n_rejected", "seq"):
+            best[k] = int(best[k])
+        for k in ("t", "h", "wall_time"):
+            best[k] = float(best[k])
+    return best
+
+
+class _Stats:
+    """Running max/mean/min (and the time of the max) over blocks; non-finite entries skipped."""
+
+    def __init__(self):
+        self.vmax, self.vmin, self.total, self.count, self.nan, self.t_max = -math.inf, math.inf, 0.0, 0, 0, math.nan
+
+    def add(self, a: np.ndarray, t: np.ndarray) -> None:
+        a = a.reshape(a.shape[0], -1)
+        ok = np.isfinite(a)
+        n_ok = int(np.count_nonzero(ok))
+        self.nan += int(a.size - n_ok)
+        if n_ok == 0:
+            return
+        if n_ok == a.size:
+            # every entry finite (most outputs): no masked copies. a.ravel() holds the entries in
+            # the order of a[ok], so the sum is the same to the bit
+            row_max, vmin, total = a.max(axis=1), a.min(), a.ravel().sum()
+        else:
+            row_max = np.where(ok, a, -np.inf).max(axis=1)
+            vmin, total = np.where(ok, a, np.inf).min(), a[ok].sum()
+        r = int(np.argmax(row_max))
+        if row_max[r] > self.vmax:
+            self.vmax, self.t_max = float(row_max[r]), float(t[r])
+        self.vmin = min(self.vmin, float(vmin))
+        self.total += float(total)
+        self.count += n_ok
+
+    def result(self) -> dict:
+        c = self.count
+        return {"max": self.vmax if c else None, "mean": self.total / c if c else None,
+                "min": self.vmin if c else None, "t_max": self.t_max if c else None, "non_finite": self.nan}
+
+
+def output_statistics(f, block_rows: int = 65536) -> dict:
+    """max/mean/min (and the time of the max) of every recorded output over all samples and all its
+    components, read block by block; for outputs with named columns (attribute `columns`, e.g.
+    outer/inner_left/inner_right contacts) the same per column under "columns". NaN entries (a
+    quantity that does not exist at that instant) are left out and counted."""
+    out = f["outputs"]
+    time = out["time"][...]
+    stats = {}
+    for name, ds in output_items(out):
+        if name == "time" or ds.shape[0] == 0:
+            continue
+        cols = [c.strip() for c in str(ds.attrs.get("columns", "")).split(",") if c.strip()]
+        whole = _Stats()
+        per = {c: _Stats() for c in cols}
+        for i0 in range(0, ds.shape[0], block_rows):
+            a = ds[i0:i0 + block_rows]
+            t = time[i0:i0 + a.shape[0]]
+            whole.add(a, t)
+            for j, c in enumerate(cols):
+                per[c].add(a[..., j], t)
+        stats[name] = {"unit": str(ds.attrs.get("unit", "unknown")), "shape": list(ds.shape[1:]),
+                       **whole.result()}
+        if cols:
+            stats[name]["columns"] = {c: per[c].result() for c in cols}
+    return stats
+
+
+def write_summary(results_path, extra: dict) -> dict:
+    """Compute the per-output statistics from the file and write <stem>.summary.json beside it
+    (and the same JSON into the file's `summary` attribute)."""
+    import h5py
+    with h5py.File(results_path, "r+") as f:
+        summary = dict(extra)
+        summary["results_file"] = str(Path(results_path).name)
+        summary["status"] = str(f.attrs["status"])
+        summary["n_samples"] = int(f["outputs/time"].shape[0]) if "outputs/time" in f else 0
+        summary["outputs"] = output_statistics(f) if "outputs/time" in f else {}
+        text = json.dumps(summary, indent=2, allow_nan=False, default=float)
+        f.attrs["summary"] = text
+    summary_path(results_path).write_text(text + "\n")
+    return summary
+
+
+def read_outputs(path) -> dict[str, np.ndarray]:
+    """All recorded outputs of a results file as arrays (small runs, tests, reports)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        return {k: ds[...] for k, ds in output_items(f["outputs"])}
+
+
+def check_run(path) -> Path:
+    """`path` as a Path if it is a flexbearing results file (InputError naming it otherwise)."""
+    import h5py
+    from flexbearing.common.validation import InputError
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"run file {str(path)!r} does not exist (a results file written by "
+                         f"`flexbearing run`, .h5)")
+    try:
+        with h5py.File(path, "r") as f:
+            fmt = f.attrs.get("format")
+            ok = "outputs/time" in f
+    except OSError as exc:
+        raise InputError(f"run file {str(path)!r} is not an HDF5 file ({exc})") from None
+    if fmt != "flexbearing-results" or not ok:
+        raise InputError(f"{path} is not a flexbearing results file (format attribute {fmt!r}, "
+                         f"expected 'flexbearing-results' with /outputs/time)")
+    return path
+
+
+def scene_of_run(f):
+    """The Scene a run was made from (its stored TOML text; f an open results file), or None if it
+    cannot be parsed."""
+    from flexbearing.simulation.scene import loads_scene, parse_scene
+    if "scene" not in f:
+        return None
+    raw = f["scene"][()]
+    text = raw.decode() if isinstance(raw, bytes) else str(raw)
+    try:
+        return loads_scene(text, str(f.attrs.get("scene_path", "")))
+    except Exception:
+        pass
+    try:   # results.py stores the parsed scene as JSON when it has no TOML text (case sets)
+        return parse_scene(json.loads(text), path=str(f.attrs.get("scene_path", "")))
+    except Exception:
+        return None
+
+
+def sample_interval(f, t) -> float:
+    """The run's sample interval, s: its attribute, else the mean spacing of the samples t."""
+    return float(f.attrs.get("sample_interval", np.diff(t).mean() if len(t) > 1 else 1.0))
