@@ -275,7 +275,8 @@ def steady_case_slip(point: dict, case: dict) -> dict:
                 cage_speed=info["cage_speed"], nominal_cage_speed=float(out["nominal_cage_speed"]),
                 contact_angle_outer_deg=math.degrees(float(np.mean(out["contact_angle_outer"]))),
                 contact_angle_inner_deg=math.degrees(float(np.mean(np.abs(out["contact_angle_inner_loaded"])))),
-                cage_eccentricity_ratio=info["cage_eccentricity_ratio"], cpu_s=time.process_time() - t0)
+                cage_eccentricity_ratio=info["cage_eccentricity_ratio"], reason=info.get("reason", ""),
+                continuation_steps=len(info.get("continuation", [])), cpu_s=time.process_time() - t0)
 
 
 # ------------------------------------------------------------------------------------ the study
