@@ -62,7 +62,8 @@ import numpy as np
 __all__ = [
     "Quantity", "Series", "Cage", "Bearing", "Oil", "Unknown", "Point", "Check", "ValidationSeries",
     "RaceControlKinematics", "Brackets", "BracketRange", "load_series", "load_all",
-    "epicyclic_cage_speed", "race_control_kinematics", "brackets", "slip_percent",
+    "epicyclic_cage_speed", "race_control_kinematics", "cage_speed_ratio", "split_for_slip",
+    "bracket_table", "brackets", "slip_percent",
     "point_brackets", "VALIDATION_DIR",
 ]
 
@@ -140,13 +141,21 @@ def race_control_kinematics(speed_rpm: float, ball_diameter: float, pitch_diamet
         beta = math.atan2(math.sin(ao), math.cos(ao) + gamma)
     else:
         beta = math.atan2(math.sin(ai), math.cos(ai) - gamma)
-    ci, co = math.cos(ai - beta), math.cos(ao - beta)
-    if ci <= 0 or co <= 0:
-        raise ValueError(f"pitch angle {math.degrees(beta):.3f} deg leaves no rolling at a contact "
-                         f"(alpha_i = {inner_contact_angle_deg}, alpha_o = {outer_contact_angle_deg})")
-    ratio = 1.0 / (1.0 + (1.0 + gamma * math.cos(ao)) * ci / ((1.0 - gamma * math.cos(ai)) * co))
-    spin = (1.0 - ratio) * (1.0 - gamma * math.cos(ai)) / (gamma * ci)
+    ratio, spin = cage_speed_ratio(gamma, ai, ao, beta)
     return RaceControlKinematics(control, speed_rpm * ratio, math.degrees(beta), spin)
+
+
+def cage_speed_ratio(gamma: float, alpha_i: float, alpha_o: float, beta: float) -> tuple[float, float]:
+    """(n_c/n_i, omega_R/omega_i) for any ball pitch angle ``beta`` (radians throughout): rolling
+    without slip at both contact centres, outer ring stationary (Harris & Kotzalas, 5th ed.,
+    Vol. 2; the module docstring)."""
+    ci, co = math.cos(alpha_i - beta), math.cos(alpha_o - beta)
+    if ci <= 0 or co <= 0 or gamma * math.cos(alpha_i) >= 1:
+        raise ValueError(f"pitch angle {math.degrees(beta):.3f} deg leaves no rolling at a contact "
+                         f"(alpha_i = {math.degrees(alpha_i)}, alpha_o = {math.degrees(alpha_o)} deg)")
+    ratio = 1.0 / (1.0 + (1.0 + gamma * math.cos(alpha_o)) * ci / ((1.0 - gamma * math.cos(alpha_i)) * co))
+    spin = (1.0 - ratio) * (1.0 - gamma * math.cos(alpha_i)) / (gamma * ci)
+    return ratio, spin
 
 
 def brackets(speed_rpm: float, ball_diameter: float, pitch_diameter: float,
@@ -631,3 +640,90 @@ def point_brackets(vs: ValidationSeries, point: Point, angle_case: str = "free")
     mm = {k: (float(np.min(v)), float(np.max(v))) for k, v in res.items()}
     known = len(set(dms)) == len(set(ds)) == len(set(a0s)) == 1
     return BracketRange(point.id, n, angle_case, mm["i"], mm["o"], mm["e"], mm["si"], mm["so"], known)
+
+
+def split_for_slip(speed_rpm: float, ball_diameter: float, pitch_diameter: float,
+                   free_contact_angle_deg: float, slip: float, control: str) -> float | None:
+    """Symmetric contact-angle split Delta (alpha_i = alpha_0 + Delta, alpha_o = alpha_0 - Delta)
+    at which the pure ``control`` bracket gives the cage slip ``slip`` [%] against the epicyclic
+    speed at the free angle alpha_0. None when no split in [0, alpha_0) reaches it (e.g. a
+    positive slip under outer-race control, whose slip is <= 0 for alpha_i >= alpha_o)."""
+    hi = min(free_contact_angle_deg, 89.0 - free_contact_angle_deg) - 1e-6
+
+    def f(delta):
+        b = brackets(speed_rpm, ball_diameter, pitch_diameter, free_contact_angle_deg + delta,
+                     free_contact_angle_deg - delta, reference_angle_deg=free_contact_angle_deg)
+        return (b.inner_slip_percent if control == "inner" else b.outer_slip_percent) - slip
+
+    lo, flo, fhi = 0.0, f(0.0), f(hi)
+    if flo == 0.0:
+        return 0.0
+    if flo * fhi > 0:
+        return None
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        fm = f(mid)
+        if flo * fm <= 0:
+            hi = mid
+        else:
+            lo, flo = mid, fm
+    return 0.5 * (lo + hi)
+
+
+def _fmt_span(lo_hi: tuple[float, float], digits: int = 0) -> str:
+    lo, hi = (0.0 if abs(v) < 0.5 * 10 ** (-digits) else v for v in lo_hi)
+    if abs(hi - lo) <= 10 ** (-digits) / 2:
+        return f"{lo:.{digits}f}"
+    return f"{lo:.{digits}f}–{hi:.{digits}f}"
+
+
+def bracket_table(vs: ValidationSeries) -> str:
+    """Markdown table: per point the measured cage speed/slip and the two brackets at the free
+    contact angle (and at measured operating angles where the source gives them), plus the
+    symmetric contact-angle split each bracket would need to reproduce a measured slip."""
+    head = ("| point | speed, rpm | measured | inner-control n_c, rpm (slip %) | "
+            "outer-control n_c, rpm (slip %) | split for inner / outer control, deg |\n"
+            "|---|---|---|---|---|---|\n")
+    rows = []
+    for p in vs.points:
+        meas = []
+        for key, q in p.measured.items():
+            meas.append(f"{key.removeprefix('measured_')} = {q.value if q.value is not None else q.span()}")
+        meas_s = "; ".join(meas) if meas else "not readable"
+        br = point_brackets(vs, p, "free")
+        slip = p.measured.get("measured_cage_slip_percent")
+        if br is not None and slip is not None and slip.value is not None:
+            n_r = tuple(e * (1.0 - slip.value / 100.0) for e in br.epicyclic_rpm)
+            meas_s += f" (n_c = {_fmt_span(n_r)} rpm over the unknowns)"
+        if br is None:
+            rows.append(f"| {p.id} | {_fmt_span(p.conditions['speed_rpm'].span())} | {meas_s} | "
+                        "— (speed only bounded) | — | — |")
+            continue
+        split = "—"
+        if slip is not None and slip.value is not None:
+            res = {}
+            for control in CONTROLS:
+                vals = []
+                for dm in sorted(set(_span(vs, "pitch_diameter"))):
+                    for d in sorted(set(_span(vs, "ball_diameter"))):
+                        for a0 in sorted(set(_span(vs, "free_contact_angle_deg"))):
+                            vals.append(split_for_slip(br.speed_rpm, d, dm, a0, slip.value, control))
+                ok = [v for v in vals if v is not None]
+                res[control] = ("none" if not ok else _fmt_span((min(ok), max(ok)), 1)
+                                + ("" if len(ok) == len(vals) else " (not everywhere)"))
+            split = f"{res['inner']} / {res['outer']}"
+        rows.append(f"| {p.id} | {br.speed_rpm:.0f} | {meas_s} | {_fmt_span(br.inner_rpm)} "
+                    f"({_fmt_span(br.inner_slip_percent, 2)}) | {_fmt_span(br.outer_rpm)} "
+                    f"({_fmt_span(br.outer_slip_percent, 2)}) | {split} |")
+        brm = point_brackets(vs, p, "measured")
+        if brm is not None:
+            rows.append(f"| {p.id} (measured angles) | {brm.speed_rpm:.0f} | | {_fmt_span(brm.inner_rpm)} "
+                        f"({_fmt_span(brm.inner_slip_percent, 2)}) | {_fmt_span(brm.outer_rpm)} "
+                        f"({_fmt_span(brm.outer_slip_percent, 2)}) | |")
+    return head + "\n".join(rows) + "\n"
+
+
+if __name__ == "__main__":  # python3 -m flexbearing.studies.race_control: the docs' bracket tables
+    for _vs in load_all():
+        print(f"### {_vs.series.id}\n")
+        print(bracket_table(_vs))
