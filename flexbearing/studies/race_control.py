@@ -32,7 +32,8 @@ With alpha_i = alpha_o = alpha both brackets reduce to the classical epicyclic c
 n_c = n_i/2 (1 - D cos alpha / d_m), whatever beta (proved in tests/test_race_control.py). The
 brackets only separate when the two contact angles differ (at speed, the centrifugal force makes
 alpha_o < alpha_i). Note on the sign of the split: with alpha_i > alpha_o, inner-race control gives
-a cage slower than n_c(alpha) and outer-race control a faster one, for alpha between them.
+a cage slower than the epicyclic speed at the mean angle and outer-race control a faster one
+(tests/test_race_control.py::test_bracket_signs_with_the_centrifugal_split).
 
 References
 ----------
