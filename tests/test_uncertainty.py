@@ -134,7 +134,7 @@ def _edit(tmp_path, old, new):
     ("nominal = 150.0", "nominal = 200.0", "unknowns.oil_temperature.nominal = 200"),
     ('unit = "°C"', 'unit = "K"', "unknowns.oil_temperature.unit = 'K'"),
     ("seed = 20261126", "seed = -1", "study.seed = -1"),
-    ("[unknowns.shim_angle]\n", "[unknowns.shim_angle]\ncolour = 1\n", "unknown key(s) colour"),
+    ("[unknowns.shim_angle]\n", "[unknowns.shim_angle]\ncolour = 1\n", "unknowns.shim_angle: unknown key 'colour'"),
 ])
 def test_unknowns_file_errors_name_field_and_range(tmp_path, old, new, message):
     with pytest.raises(InputError) as e:

@@ -61,7 +61,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from flexbearing.analysis.html_page import write_html
-from flexbearing.common.validation import InputError
+from flexbearing.common.validation import InputError, require_table
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
               "display_scale", "settle")
@@ -136,11 +136,11 @@ def set_key(data: dict, parts: list, value, where: str) -> None:
 
 def load_study(path) -> Study:
     """Read and validate a study file and build (and validate) the scene of every run."""
-    from flexbearing.simulation.scene import _number, _table, parse_scene, read_toml
+    from flexbearing.simulation.scene import _number, parse_scene, read_toml
     path = Path(path)
     data = read_toml(path, "study file")
-    _table(data, "study file", ("study",))
-    s = _table(data.get("study", {}), "study", STUDY_KEYS)
+    require_table("study file", data, ("study",))
+    s = require_table("study", data.get("study", {}), STUDY_KEYS)
     for k in ("name", "scene", "keys", "values"):
         if k not in s:
             raise InputError(f"study.{k} is missing")

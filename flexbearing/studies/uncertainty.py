@@ -63,7 +63,7 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbearing.common.validation import InputError, require_range
+from flexbearing.common.validation import InputError, require_range, require_table
 
 UNKNOWN_KINDS = ("uniform", "log_uniform", "choice")
 BALL_MATERIALS = ("steel", "Si3N4")           # names of the choice "ball_material" (ball_material_named)
@@ -143,11 +143,11 @@ def load_unknowns(path) -> UnknownsStudy:
     from flexbearing.simulation.scene import read_toml
     path = Path(path)
     data = read_toml(path, "unknowns file")
-    _only(data, "unknowns file", ("study", "unknowns"))
+    require_table("unknowns file", data, ("study", "unknowns"))
     head = data.get("study")
     if not isinstance(head, dict):
         raise InputError(f"{path}: [study] is missing")
-    _only(head, "study", ("name", "description", "points", "seed"))
+    require_table("study", head, ("name", "description", "points", "seed"))
     points = head.get("points", MIN_POINTS)
     if isinstance(points, bool) or not isinstance(points, int) or points < MIN_POINTS:
         raise InputError(f"study.points = {points!r} is not allowed; allowed: an integer >= {MIN_POINTS}")
@@ -168,19 +168,11 @@ def load_unknowns(path) -> UnknownsStudy:
                          tuple(unknowns), str(path))
 
 
-def _only(d, where, allowed):
-    if not isinstance(d, dict):
-        raise InputError(f"{where} must be a table")
-    extra = [k for k in d if k not in allowed]
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(allowed)}")
-
-
 def _parse_unknown(name, spec) -> Unknown:
     where = f"unknowns.{name}"
     if name not in UNKNOWN_LIMITS:
         raise InputError(f"{where}: {name!r} is not an unknown of the model; allowed: {', '.join(UNKNOWN_LIMITS)}")
-    _only(spec, where, ("kind", "lo", "hi", "values", "nominal", "unit", "reason"))
+    require_table(where, spec, ("kind", "lo", "hi", "values", "nominal", "unit", "reason"))
     kind = spec.get("kind")
     if kind not in UNKNOWN_KINDS:
         raise InputError(f"{where}.kind = {kind!r} is not known; allowed: {', '.join(UNKNOWN_KINDS)}")
