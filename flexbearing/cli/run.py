@@ -160,7 +160,8 @@ def cmd_validate_slip_rate(args) -> int:
     runs until the cage speed settles, oil temperature VALIDATION_OIL_TEMPERATURE_C). With
     --case-set FILE: every case of FILE is run as a scene through flexbearing.simulation.run (one resumable
     results file per case in --out, fixed duration, slip averaged from average_from)."""
-    from flexbearing.simulation.run import CasesIncomplete, RunInterrupted, run_case_set_slip_rate
+    from flexbearing.simulation.stopped import CasesIncomplete, RunInterrupted
+    from flexbearing.studies.case_sets import run_case_set_slip_rate
     from flexbearing.simulation.scene import load_case_set
 
     if args.case_set is None:

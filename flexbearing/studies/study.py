@@ -62,6 +62,7 @@ from pathlib import Path
 
 from flexbearing.analysis.html_page import write_html
 from flexbearing.common.validation import InputError, require_table
+from flexbearing.simulation.stopped import StudyIncomplete
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
               "display_scale", "settle")
@@ -220,15 +221,6 @@ def _build_reduced_cage(scene, quiet: bool) -> str:
     return str(Path(reduced_cage_path(scene, quiet=quiet)).resolve())
 
 
-class StudyIncomplete(RuntimeError):
-    """Some runs of the study failed (flexbearing.simulation.jobs.JobFailure each, in `failures`); the others are
-    finished and on disk, and running the study again reuses them."""
-
-    def __init__(self, message: str, failures: list):
-        super().__init__(message)
-        self.failures = failures
-
-
 def _prepare_reduced_cages(study: Study, todo: list[int], quiet: bool, workers, scheduler) -> dict:
     """Each distinct reduced cage of the runs `todo` (by content hash, flexbearing.coupling.flexible_cage.
     reduced_cage_hash) built or found in the cache once, before the runs start (otherwise every
@@ -250,7 +242,8 @@ def _prepare_reduced_cages(study: Study, todo: list[int], quiet: bool, workers, 
                         scheduler=scheduler, names=[f"reduced cage {h}" for h in hashes],
                         description="reduced cages", progress=False)
     if failures:
-        raise StudyIncomplete("building the reduced cage failed: " + "; ".join(map(str, failures)), failures)
+        raise StudyIncomplete("building the reduced cage failed: " + "; ".join(map(str, failures)),
+                              failures=failures)
     return paths
 
 
@@ -306,7 +299,7 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
     if failures:
         raise StudyIncomplete(f"{len(failures)} of {n} runs failed ({'; '.join(map(str, failures))}); "
                               f"the other runs are finished in {folder}: run the study again to retry "
-                              f"the failed ones", failures)
+                              f"the failed ones", failures=failures)
     result = collect(study, out_dir, summaries)
     result["wall_time_s"] = time.perf_counter() - t0
     (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))

@@ -106,6 +106,7 @@ from dataclasses import replace
 import numpy as np
 
 from flexbearing.simulation.jobs import require_workers, run_jobs, runs_in_this_process
+from flexbearing.simulation.stopped import ValidationInterrupted
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
 from flexbearing.multibody import traction as TR
@@ -470,15 +471,6 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
         raise ValidationInterrupted(f"slip-rate validation stopped ({why}); cases not finished: {missing}",
                                     in_case_order(), missing, exc) from exc
     return in_case_order()
-
-
-class ValidationInterrupted(Exception):
-    """`run_slip_rate_validation` stopped early: `rows` holds the finished cases (case order),
-    `missing` the case numbers that did not finish, `cause` the Ctrl-C or the error."""
-
-    def __init__(self, message: str, rows: list[dict], missing: list[int], cause: BaseException):
-        super().__init__(message)
-        self.rows, self.missing, self.cause = rows, missing, cause
 
 
 def _run_validation_case(c, bearing, oil, options, tol, t_max, oil_air_scaling, kw) -> dict:
