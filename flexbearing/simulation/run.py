@@ -33,7 +33,6 @@ import numpy as np
 from flexbearing.common.file_lock import exclusive_file
 from flexbearing.common.validation import InputError
 from flexbearing.multibody import output_registry as R
-from flexbearing.multibody.output_registry import recorded_keys  # noqa: F401  (the rule, for callers)
 from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.run_backend import OutputRequest, RunBackend, rigid_backend
 from flexbearing.simulation.progress import RunProgress

@@ -9,7 +9,8 @@ A run (flexbearing.simulation.run), a study's runs, a case set's cases and the s
     ├── Interrupted                  the loop itself stopped (Ctrl-C, an error, the wall budget);
     │   │                            `resumable`: False when resuming would stop the same way
     │   ├── RunInterrupted           one run: its results file holds a checkpoint at `t`
-    │   └── ValidationInterrupted    the slip-rate validation: `missing` the cases not finished
+    │   ├── ValidationInterrupted    the slip-rate validation: `missing` the cases not finished
+    │   └── UncertaintyInterrupted   the uncertainty study: its rows file holds every finished job
     └── Incomplete                   the loop ran to its end but some jobs failed
         │                            (flexbearing.simulation.jobs.JobFailure each, in `failures`)
         ├── CasesIncomplete          a slip-rate case set
@@ -65,6 +66,15 @@ class ValidationInterrupted(Interrupted):
     def __init__(self, message: str, rows: list, missing: list[int], cause: BaseException):
         super().__init__(message, rows, cause)
         self.missing = missing
+
+
+class UncertaintyInterrupted(Interrupted):
+    """The uncertainty study stopped early; every finished (point, case) is in its rows file
+    (`rows_file`), and running it again runs only the others."""
+
+    def __init__(self, message: str, rows_file: str, cause: BaseException):
+        super().__init__(message, cause=cause)
+        self.rows_file = rows_file
 
 
 class CasesIncomplete(Incomplete):
