@@ -40,7 +40,7 @@ from flexbearing.common.validation import InputError, require_range
 from flexbearing.fem_cage import reduced_cage as rcf
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID, static_correction
 from flexbearing.fem_cage.stress_modes import von_mises
-from flexbearing.fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress
+from flexbearing.fem_cage.von_mises_search import TrackingMaxVonMises, load_space_blocks, load_space_stress
 from flexbearing.multibody import initial, integrator, model as mb, outputs, stress_peak
 from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rotation
 from flexbearing.multibody.floating_frame import FlexibleBody
@@ -181,8 +181,8 @@ class StressRecovery:
     centrifugal modal load. The stress field is sigma = S·q_full (stress modes of the full basis).
 
     The run evaluates it in load space, sigma_n = W_n·y with y = (Omega_x², q_kept, F_nodes and L)
-    (flexbearing.fem_cage.von_mises.load_space_stress, built here once: ~2 s on the 4 mm paper cage), by the
-    exact tracking search flexbearing.fem_cage.von_mises.TrackingMaxVonMises inside a compiled peak-hold the
+    (flexbearing.fem_cage.von_mises_search.load_space_stress, built here once: ~2 s on the 4 mm paper cage), by the
+    exact tracking search flexbearing.fem_cage.von_mises_search.TrackingMaxVonMises inside a compiled peak-hold the
     integrator runs after every accepted step (`monitor`, flexbearing.multibody.stress_peak). `__call__`
     evaluates a full modal vector directly (numpy, every vertex: the textbook formula, an
     independent path for the first sample of a run and for checks).
