@@ -5,6 +5,7 @@ The work: flexbearing.mesh.cage_mesh (gmsh, quality check and repair, flexbearin
 """
 from __future__ import annotations
 
+import argparse
 import time
 from pathlib import Path
 
@@ -49,7 +50,6 @@ MAX_ELEMENT_SIZE = 0.05     # m: coarser than the cage's section; a larger numbe
 
 def element_size(text: str) -> float:
     """argparse type of --size/--pocket-size: an element size in metres, in (0, MAX_ELEMENT_SIZE]."""
-    import argparse
     try:
         v = float(text)
     except ValueError:

@@ -13,6 +13,7 @@ paper's Tables 4/5 (flexbearing.studies.validate) and prints our slip rate besid
 """
 from __future__ import annotations
 
+import io
 import json
 import os
 import sys
@@ -224,7 +225,6 @@ def _validate_procedure(args) -> int:
 
     def stream(raw):                   # every finished case is on disk at once
         if args.json:
-            import io
             _write_json({**table_of(raw, io.StringIO()), "complete": False}, args.json, quiet=True)
 
     try:

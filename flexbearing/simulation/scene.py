@@ -90,7 +90,7 @@ from flexbearing.common.validation import InputError, require_range, require_tab
 from flexbearing.multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
 from flexbearing.multibody.model import DEFAULT_OPTIONS
 from flexbearing.multibody.output_registry import GROUPS
-from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints
+from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints, load_at
 
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
@@ -160,7 +160,6 @@ class Scene:
 
     def initial_loads(self) -> tuple[float, float]:
         """(Fa, Fr) at t = 0 without impacts: Fa = Fx, Fr = |(Fy, Fz)| (for the quasi-static start)."""
-        from flexbearing.multibody.profiles import load_at
         out = np.zeros(3)
         load_at(0.0, self.load_table, self.impacts[:0], out)
         return float(out[0]), float(math.hypot(out[1], out[2]))
@@ -267,7 +266,7 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         if k == "n_modes":
             flexible[k] = _integer("cage.n_modes", v, 1, 500)
         elif k == "stress_monitor_interval":
-            from flexbearing.multibody.stress_peak import MAX_INTERVAL
+            from flexbearing.multibody.stress_peak import MAX_INTERVAL   # the compiled monitor: flexible only
             flexible[k] = _integer("cage.stress_monitor_interval", v, 1, MAX_INTERVAL)
         elif k == "element_order":
             flexible[k] = _integer("cage.element_order", v, 1, 3)   # FE degree (default P3)

@@ -97,23 +97,26 @@ seconds (cage inertia against a small net torque): values at t_max are not stead
 """
 from __future__ import annotations
 
+import argparse
+import json
 import math
 import os
 import sys
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
+from flexbearing.common.validation import InputError, require_range
+from flexbearing.multibody import integrator as I, outputs as O, traction as TR
+from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody.geometry import nominal_cage_speed
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.model import BALL_ATTITUDES, build_model, P_GRAV, with_traction_table
+from flexbearing.multibody.steady import steady_thrust_state
 from flexbearing.simulation.jobs import require_workers, run_jobs, runs_in_this_process
 from flexbearing.simulation.stopped import ValidationInterrupted
-from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
-from flexbearing.multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
-from flexbearing.multibody import traction as TR
-from flexbearing.multibody.initial import initial_state
-from flexbearing.multibody.geometry import nominal_cage_speed
-from flexbearing.multibody import outputs as O
-from flexbearing.multibody import integrator as I
 
 # (case, group, Fa N, Fr N, speed rpm, test slip %, paper simulated slip %) — paper Tables 4 and 5
 _TABLE5 = [
@@ -149,7 +152,6 @@ def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: fl
     shim angle alphaD in degrees (default 30°, SPEC) and diametral clearance Pd in m (default: the
     design clearance of that shim angle, `design_clearance`). Checked by Bearing.validate, which
     names the field and the allowed range."""
-    from flexbearing.common.validation import require_range
     if shim_angle_deg is not None:
         require_range("shim angle (--shim-angle)", shim_angle_deg, 0.0, 45.0, hi_open=True, unit="°")
     b = PAPER_BEARING if shim_angle_deg is None else replace(PAPER_BEARING, shim_angle=math.radians(shim_angle_deg))
@@ -202,7 +204,6 @@ def race_control_kinematics(alpha_outer: float, alpha_inner: float, race: str, b
     contact line in the cage frame, `pure_rolling_cage_speed_ratio`), this is zero spin relative to
     the race itself, which turns at omega_c (outer) or omega_i − omega_c (inner) about e_x."""
     if race not in ("outer", "inner"):
-        from flexbearing.common.validation import InputError
         raise InputError(f"race = {race!r} is not known; allowed: 'outer', 'inner'")
     rho = 0.5 * ball_diameter
     nox, nor = math.sin(alpha_outer), math.cos(alpha_outer)
@@ -235,7 +236,6 @@ def case_oil_air_fraction(fraction_ref: float, speed_rpm: float, scaling: str = 
         return fraction_ref
     if scaling == "inverse_speed":
         return fraction_ref * OIL_AIR_REFERENCE_RPM / speed_rpm
-    from flexbearing.common.validation import InputError
     raise InputError(f"oil_air_scaling = {scaling!r} is not known; allowed: 'constant', 'inverse_speed'")
 
 
@@ -270,7 +270,6 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0, oil=
     elif law == "origin":
         tab = np.array(TR.TRACTION_ORIGIN_4106, dtype=np.float64)
     else:
-        from flexbearing.common.validation import InputError
         raise InputError(f"traction law = {law!r} is not known; allowed: 'ehl', 'fit', 'bounded', 'origin'")
     if traction_scale != 1.0:
         tab[[0, 1, 3], 0] *= traction_scale
@@ -311,13 +310,11 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     load and gravity act from t = 0. Where that fixed point does not exist (the traction fit's dead
     zone) the quasi-static start is used; the row's "start" says which one ran."""
     if start not in ("quasi_static", "steady"):
-        from flexbearing.common.validation import InputError
         raise InputError(f"start = {start!r} is not known; allowed: 'quasi_static', 'steady'")
     model = build_validation_model(bearing, oil, options, traction_law, traction_scale)
     omega, y, sp, ld, imp = steady_case_start(model, case)
     started = "quasi_static"
     if start == "steady":
-        from flexbearing.multibody.steady import steady_thrust_state
         p0 = model.p.copy()
         p0[P_GRAV] = 0.0
         y_s, info = steady_thrust_state(model._replace(p=p0), omega, case["axial_load"])
@@ -517,8 +514,6 @@ def format_table(rows: list[dict]) -> str:
 
 def write_report(rows: list[dict], directory, stem: str = "slip_rate", note: str = "") -> None:
     """benchmarks/results/<stem>.md (table + summary) and <stem>.json (rows + summary)."""
-    import json
-    from pathlib import Path
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     clean = [{k: v for k, v in r.items() if k != "window_means"} for r in rows]
@@ -546,8 +541,6 @@ def validation_model_options(ball_attitude=None, transverse_traction: str = "on"
 def main(argv=None) -> None:
     """python -m flexbearing.studies.validate [--cases 1,2] [--oil-temperature C] [--oil-air-fraction X]
     [--shim-angle DEG] [--radial-clearance M] [--t-max S] [--json FILE] [--out-dir DIR] [--quiet]"""
-    import argparse
-    import json
     ap = argparse.ArgumentParser(description="steady slip-rate validation (paper Table 5)")
     ap.add_argument("--cases", default=None, help="comma-separated case numbers (default: all 15)")
     ap.add_argument("--oil-temperature", type=float, default=None, help="°C (default: calibrated)")
