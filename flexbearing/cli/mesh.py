@@ -18,7 +18,7 @@ def add_geometry_arguments(p):
     """Cage geometry options shared by mesh/modes/mesh-study (lengths in mm on the command line)."""
     g = p.add_argument_group("cage geometry (mm; default: the paper preset)")
     g.add_argument("--preset", choices=tuple(CAGE_PRESETS), default="paper",
-                   help="paper = PAPER_CAGE (multibody's preset), nominal = SPEC §1 defaults, "
+                   help="paper = PAPER_CAGE (multibody's preset), nominal = the assumed defaults, "
                         "calibrated = fitted to Table 8 inside the Table 3 envelope (CALIBRATED_CAGE), "
                         "table8 = 7.0 mm-wall ring that reproduces Table 8, outside the envelope "
                         "(TABLE8_EQUIVALENT_CAGE)")

@@ -49,7 +49,7 @@ held at zero); the kinematics (omega_m, omega_b, hence F_c and M_g) by fixed-poi
 around that; the start is a bracketed 1-D solve of the axial (then radial) ring displacement at
 zero speed, and the speed is raised in steps (continuation) when needed.
 
-Geometry input: `grooves_from_bearing` (split inner ring, SPEC §2) or `angular_contact_grooves`
+Geometry input: `grooves_from_bearing` (split inner ring, geometry of flexbearing.multibody.geometry) or `angular_contact_grooves`
 (ordinary angular-contact bearing: one inner groove, used for the textbook comparisons).
 Output: `QuasiStaticResult` (see its docstring): per-ball arrays, SI units.
 """
@@ -92,7 +92,7 @@ class Grooves:
 
 
 def grooves_from_bearing(bearing) -> Grooves:
-    """Split-inner-ring three-point-contact bearing (`flexbearing.multibody.bearing.Bearing`), SPEC §2."""
+    """Split-inner-ring three-point-contact bearing (`flexbearing.multibody.bearing.Bearing`; paper §2.2.1)."""
     b = bearing.validate()
     xo, ro = geo.outer_groove_centre(b.pitch_diameter, b.ball_diameter, b.fe)
     xl, rl, xr, rr = geo.inner_groove_centres(b.pitch_diameter, b.ball_diameter, b.fi,

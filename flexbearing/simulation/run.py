@@ -40,7 +40,7 @@ from flexbearing.simulation.results import FORMAT, ResultsWriter, different_scen
 from flexbearing.simulation.stopped import RunInterrupted
 from flexbearing.simulation.wall_budget import WallBudget
 
-GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (RunLoop.integrate: why; measured in issue 21)
+GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (RunLoop._integrate says why)
 SAMPLES_PER_CALL = 25          # samples per compiled call at most (progress and Ctrl-C respond
                                # after each; ~0.05 s of wall time on the paper's scenes)
 
@@ -161,7 +161,7 @@ class RunLoop:
     (flexbearing.simulation.results), while the compiled integration (nogil) goes on. The evaluation
     uses its own model (its own scratch arrays; the integration's are in use). Evaluating after
     every interval in the integrating thread made the loop's steps ~30 % dearer (caches) and cost
-    0.5 ms a sample (measured on the paper's scenes, issue 21).
+    0.5 ms a sample (measured on the paper's scenes, benchmarks/results/speed.md).
 
     Records move pending (integrated, not handed over) → inflight (in the writer thread, not known
     written) → written (the last sample in the file: what an interruption's checkpoint records).

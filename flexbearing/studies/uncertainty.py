@@ -1,4 +1,4 @@
-"""Slip-rate validation under the test bearing's unknown inputs (issue 23, item 2).
+"""Slip-rate validation under the test bearing's unknown inputs.
 
 The paper (Yang, Liu, Deng, Lubricants 2025, 13, 249, Tables 4/5) gives loads, speeds and slips of
 15 steady cases but not the shim angle, the clearance, the oil temperature, the traction of its oil
@@ -187,7 +187,7 @@ def _parse_unknown(name, spec) -> Unknown:
         raise InputError(f"{where}.kind = {kind!r} is not known; allowed: {', '.join(UNKNOWN_KINDS)}")
     reason = spec.get("reason", "")
     if not isinstance(reason, str) or not reason.strip():
-        raise InputError(f"{where}.reason is missing: say why the range (paper, SPEC or practice)")
+        raise InputError(f"{where}.reason is missing: say why the range (paper, assumption or practice)")
     lo_lim, hi_lim, unit = UNKNOWN_LIMITS[name]
     if spec.get("unit", unit) != unit:
         raise InputError(f"{where}.unit = {spec.get('unit')!r}; allowed: {unit!r} (the model's unit)")

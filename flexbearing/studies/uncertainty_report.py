@@ -65,7 +65,7 @@ def report_markdown(analysis: dict, command: str = "", fast_path_check: str = ""
     points and the plain statement. fast_path_check: a markdown section on the steady fixed point
     against the dynamic validation (`fast_path_table`)."""
     a = analysis
-    L = ["# Slip rate under the test bearing's unknown inputs (issue 23, item 2)", ""]
+    L = ["# Slip rate under the test bearing's unknown inputs", ""]
     if command:
         L += ["Reproduce (resumable; rows in out/uncertainty/<name>/rows.jsonl):", "", f"    {command}", ""]
     L += [f"{a['n_points']} scrambled Sobol' points of the unknowns below × Table 4's 15 cases, each the steady "
