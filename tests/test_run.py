@@ -407,3 +407,18 @@ if __name__ == "__main__":      # used by tests/test_resume.py to run a fake sce
     results.ResultsWriter._write_checkpoint = announcing
     slow = fake_backend(advance=lambda *a, **k: (__import__("time").sleep(0.01), fake_advance(*a, **k))[1])
     run_scene(fake_scene(), out, quiet=True, backend=slow)
+
+
+def test_the_job_loops_stop_with_one_exception_family():
+    """A run, a case set, a study and the validation end early with members of one family
+    (flexbearing.simulation.stopped), so a caller catches WorkStopped once; Interrupted carries
+    whether resuming helps, Incomplete the failed jobs beside the finished rows."""
+    from flexbearing.simulation import stopped as S
+    from flexbearing.simulation.jobs import JobFailure
+    run = S.RunInterrupted("run interrupted", 0.01, "r.h5", KeyboardInterrupt(), resumable=False)
+    assert isinstance(run, S.Interrupted) and isinstance(run, S.WorkStopped)
+    assert (run.t, run.path, run.resumable, run.rows) == (0.01, "r.h5", False, [])
+    cases = S.CasesIncomplete("1 of 2 cases failed", [{"case": 1}], [JobFailure(1, "case 2", "boom")])
+    assert isinstance(cases, S.Incomplete) and isinstance(cases, S.WorkStopped)
+    assert cases.rows == [{"case": 1}] and [f.name for f in cases.failures] == ["case 2"]
+    assert issubclass(S.StudyIncomplete, S.Incomplete) and issubclass(S.ValidationInterrupted, S.Interrupted)

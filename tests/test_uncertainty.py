@@ -261,3 +261,21 @@ def test_cli_bad_input_exit_2(tmp_path, capsys):
     assert main(["uncertainty", str(p), "-o", str(tmp_path)]) == 2
     assert "study.points = 8" in capsys.readouterr().err
     assert main(["uncertainty", str(UNKNOWNS), "-o", str(tmp_path), "--cases", "x"]) == 2
+
+
+def test_a_ctrl_c_of_the_study_is_one_of_the_job_loops_stops(tmp_path, monkeypatch):
+    """A Ctrl-C while the jobs run comes back as UncertaintyInterrupted, of the one family every job
+    loop stops with (flexbearing.simulation.stopped), naming the rows file that keeps the finished
+    jobs; nothing is lost (the rows are appended as they finish)."""
+    from flexbearing.simulation.stopped import Interrupted, UncertaintyInterrupted, WorkStopped
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(U, "run_jobs", interrupted)
+    study = U.load_unknowns(UNKNOWNS)
+    with pytest.raises(UncertaintyInterrupted) as info:
+        U.run_study(study, tmp_path, cases=[1], workers=1, progress=False)
+    assert isinstance(info.value, Interrupted) and isinstance(info.value, WorkStopped)
+    assert isinstance(info.value.cause, KeyboardInterrupt)
+    assert info.value.rows_file == str(tmp_path / study.name / "rows.jsonl")
+    assert "run the same command again" in str(info.value)
