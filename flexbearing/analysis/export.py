@@ -28,19 +28,20 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.common.validation import InputError
-from flexbearing.simulation.results import check_run, output_items
+from flexbearing.simulation.results import opened, output_items
 from flexbearing.multibody import output_registry as R
 
 RUN_ATTRS = ("scene_name", "scene_hash", "scene_path", "cage_model", "status", "duration",
              "sample_interval", "n_samples_expected", "format_version")
 
 
-def results_dataset(path):
-    """The run's /outputs as an xarray.Dataset (loaded into memory), with the run's attributes."""
-    import h5py
+def results_dataset(run):
+    """The run's /outputs as an xarray.Dataset (loaded into memory), with the run's attributes
+    (run: an open flexbearing.simulation.results.Run or a path). xarray reads format 2 through
+    its own netCDF-4 reader."""
     import xarray as xr
-    path = check_run(path)
-    with h5py.File(path, "r") as f:
+    with opened(run) as r:
+        path, f = r.path, r.file
         version = int(f.attrs.get("format_version", 1))
         attrs = {k: _plain(f.attrs[k]) for k in RUN_ATTRS if k in f.attrs}
         if "scene" in f:

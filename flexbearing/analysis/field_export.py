@@ -186,7 +186,7 @@ def parse_frames(frames, t: np.ndarray, dt: float):
     return sorted(set(out))
 
 
-def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> Path:
+def write_von_mises_xdmf(run, out_dir, frames="auto", reduced_cage=None) -> Path:
     """ParaView frames of the cage's von Mises field: <out_dir>/von_mises.xdmf (+ .h5, + .json).
 
     The mesh's 10-node tetrahedra (cage_cells) in the cage's body frame, at rest; point data
@@ -197,24 +197,24 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
     "t1,t2,..." or a list of times in s (nearest samples).
     reduced_cage: path of the reduced cage file (default: the run's attribute reduced_cage_file).
     The JSON sidecar lists each frame's time, reason, the recorded max von Mises and the field's
-    maximum over the nodes (equal: the run searches the same nodes)."""
+    maximum over the nodes (equal: the run searches the same nodes). run: an open
+    flexbearing.simulation.results.Run or a path."""
     import h5py
 
-    from flexbearing.simulation.results import check_run, sample_interval, scene_of_run
+    from flexbearing.simulation.results import opened
     from flexbearing.analysis.windows import impact_windows, speed_phases
-    path = check_run(run_h5)
-    with h5py.File(path, "r") as f:
+    with opened(run) as r:
+        path, f = r.path, r.file
         _require_modal_coordinates(path, f)
-        out = f["outputs"]
-        t = out["time"][...]
+        out = r.outputs
+        t = r.t
         vm_rec = out["von_mises_max"][...] if "von_mises_max" in out else None
         vtx_rec = out["von_mises_max_vertex"][...] if "von_mises_max_vertex" in out else None
         # the step of the sample interval where the maximum occurred (runs since the per-step
         # monitor): its modal coordinates are what cage_modal_coordinates_full holds
         t_peak = out["von_mises_max_time"][...] if "von_mises_max_time" in out else None
         rc_path, rc_hash = _run_cage_file(f, reduced_cage)
-        scene = scene_of_run(f)
-        dt = sample_interval(f, t)
+        scene, dt = r.scene, r.dt
         idx = parse_frames(frames, t, dt)
         reasons = {}
         if idx is None:
@@ -379,7 +379,7 @@ def nice_scale(target: float) -> float:
     return 10.0 ** e
 
 
-def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_scale=None) -> dict:
+def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scale=None) -> dict:
     """The time series of `--series T0:T1[:N]` (module doc): <out_dir>/series_cage.xdmf (the
     cage, placed and deformed, coloured by von Mises), series_points.xdmf (the balls and the cage
     centre), their heavy data series.h5 and series.json (frame, placement, scale, per-frame
@@ -390,7 +390,7 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
     import h5py
     if displacement_scale is not None and not (displacement_scale > 0 and math.isfinite(displacement_scale)):
         raise InputError(f"--displacement-scale = {displacement_scale!r} must be a finite number > 0")
-    d = _read_series(run_h5, series, reduced_cage)
+    d = _read_series(run, series, reduced_cage)
     n = len(d["idx"])
     rc = d["rc"]
     size = n * (0 if rc is None else len(rc.vertices)) * 8 * 10     # 10 float64 per node and frame
@@ -433,19 +433,16 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
     return paths
 
 
-def _read_series(run_h5, series: str, reduced_cage) -> dict:
-    """What the series needs from the run, with a note for each part it did not record."""
-    import h5py
-
-    from flexbearing.simulation.results import check_run, sample_interval, scene_of_run
-    path = check_run(run_h5)
+def _read_series(run, series: str, reduced_cage) -> dict:
+    """What the series needs from the run (an open Run or a path), with a note for each part it
+    did not record."""
+    from flexbearing.simulation.results import opened
     notes = []
-    with h5py.File(path, "r") as f:
-        out = f["outputs"]
-        t = out["time"][...]
-        idx = parse_series(series, t, sample_interval(f, t))
+    with opened(run) as r:
+        path, f, out, t = r.path, r.file, r.outputs, r.t
+        idx = parse_series(series, t, r.dt)
         d = {"path": path, "idx": idx, "t": t[idx], "notes": notes, "rc": None, "balls": None,
-             "bearing": getattr(scene_of_run(f), "bearing", None)}
+             "bearing": getattr(r.scene, "bearing", None)}
         if "cage_modal_coordinates_full" in out:
             d["q_full"] = out["cage_modal_coordinates_full"][idx, :]
             d["vm_rec"] = out["von_mises_max"][idx] if "von_mises_max" in out else None
