@@ -16,7 +16,10 @@ import time
 from pathlib import Path
 
 SETTLE_S = 0.05
-SCENES = Path(__file__).resolve().parent.parent / "scenes"
+def _scenes_folder() -> Path:
+    """The example scenes shipped with the package (pyproject.toml maps scenes/ to flexbearing.scenes)."""
+    from importlib.resources import files
+    return Path(str(files("flexbearing.scenes")))
 
 
 def register(subparsers) -> None:
@@ -30,7 +33,7 @@ def register(subparsers) -> None:
 
 
 def _scene_path(name: str, rigid: bool) -> Path:
-    return SCENES / (f"{name}_rigid.toml" if rigid else f"{name}.toml")
+    return _scenes_folder() / (f"{name}_rigid.toml" if rigid else f"{name}.toml")
 
 
 def run(args) -> int:
