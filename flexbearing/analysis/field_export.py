@@ -72,6 +72,7 @@ from flexbearing.common.validation import InputError
 
 SERIES_CAGE = "series_cage.xdmf"
 SERIES_POINTS = "series_points.xdmf"
+SERIES_RINGS = "series_rings.xdmf"
 SERIES_H5 = "series.h5"
 SERIES_JSON = "series.json"
 # A series beyond this size is refused with the every-N-th hint: a whole demo run at every sample
@@ -264,7 +265,7 @@ def series_markdown(result: dict | None, spec: str | None) -> str:
     if result is None:
         return ("Time series over a window: not asked for (`flexbearing report RUN.h5 --series T0:T1[:N]` "
                 "writes the deformed cage coloured by von Mises and the balls; README: ParaView).")
-    files = [f"`{Path(result[k]).name}`" for k in ("cage", "points") if result[k]]
+    files = [f"`{Path(result[k]).name}`" for k in ("cage", "points", "rings") if result.get(k)]
     meta = json.loads(Path(result["json"]).read_text())
     text = (f"Time series {spec}: {' and '.join(files)} (+ `{SERIES_H5}`, facts in `{SERIES_JSON}`), "
             f"{result['n_frames']} frames, {meta['frame']}")
@@ -386,7 +387,7 @@ def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scal
     recorded and written maxima, and what the run did not record). Either part is left out, with
     the reason in "notes", when the run lacks what it needs; InputError when both are.
     displacement_scale: s of "displacement_scaled" (None: auto, module doc).
-    Returns {"cage", "points", "json", "notes", "n_frames"} (paths None when not written)."""
+    Returns {"cage", "points", "rings", "json", "notes", "n_frames"} (paths None when not written)."""
     import h5py
     if displacement_scale is not None and not (displacement_scale > 0 and math.isfinite(displacement_scale)):
         raise InputError(f"--displacement-scale = {displacement_scale!r} must be a finite number > 0")
@@ -421,14 +422,17 @@ def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scal
         d["centre"] = np.zeros_like(d["centre"])
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    for stale in (SERIES_CAGE, SERIES_POINTS):     # of an earlier series in the same folder
+    for stale in (SERIES_CAGE, SERIES_POINTS, SERIES_RINGS):     # of an earlier series in the same folder
         (out_dir / stale).unlink(missing_ok=True)
-    paths = {"cage": None, "points": None, "json": out_dir / SERIES_JSON, "notes": d["notes"], "n_frames": n}
+    paths = {"cage": None, "points": None, "rings": None, "json": out_dir / SERIES_JSON, "notes": d["notes"],
+             "n_frames": n}
     with h5py.File(out_dir / SERIES_H5, "w") as g:
         if rc is not None:
             paths["cage"] = _write_series_cage(g, out_dir, d, rot, displacement_scale, meta)
         if inertial:
             paths["points"] = _write_series_points(g, out_dir, d, meta)
+        if d["bearing"] is not None:
+            paths["rings"] = _write_series_rings(g, out_dir, d, meta, inertial)
     paths["json"].write_text(json.dumps(meta, indent=1) + "\n")
     return paths
 
@@ -460,6 +464,8 @@ def _read_series(run, series: str, reduced_cage) -> dict:
             notes.append("the balls are not written and the cage stays in its body frame: the run did not "
                          "record \"kinematics\" (ball positions; the cage's spin angle is estimated from "
                          "them); add it to [output] record of the scene")
+        if "inner_ring_position" in out and "inner_ring_tilt" in out:
+            d["ring_position"], d["ring_tilt"] = out["inner_ring_position"][idx], out["inner_ring_tilt"][idx]
         if "cage_centre" in out and "cage_tilt" in out:
             d["centre"], d["tilt"], d["orbit"] = out["cage_centre"][idx], out["cage_tilt"][idx], True
         else:
@@ -558,3 +564,33 @@ def _write_series_points(g, out_dir: Path, d: dict, meta) -> Path:
                       {"frame": meta["frame"], "units": "SI (m)", "run": meta["run"],
                        "points": f"balls 1..{Z} (ball = number, diameter = D_w), then the cage centre "
                                  f"(ball = 0, diameter = 0)"})
+
+
+def _write_series_rings(g, out_dir: Path, d: dict, meta, inertial: bool) -> Path:
+    """The rings of write_series (flexbearing.analysis.rings): the outer ring fixed, the inner
+    ring at its recorded position and tilt (at rest when the run did not record "kinematics"), one
+    quadrilateral surface with point data "ring" (1 outer, 2 inner), series_rings.xdmf."""
+    from flexbearing.analysis import rings
+    b = d["bearing"]
+    outer = rings.revolve(rings.outer_ring_profile(b))
+    inner = rings.revolve(rings.inner_ring_profile(b))
+    n_out = len(outer.points)
+    quads = np.r_[outer.quads, inner.quads + n_out]
+    _dataset(g, "rings/topology", quads, "1")
+    _dataset(g, "rings/ring", np.r_[np.full(n_out, 1), np.full(len(inner.points), 2)].astype(np.int64), "1")
+    moved = inertial and "ring_position" in d
+    grids = []
+    for i in range(len(d["t"])):
+        if moved or i == 0:
+            Ac = rings.inner_ring_placement(d["ring_position"][i], d["ring_tilt"][i]) if moved else np.c_[np.eye(3), np.zeros(3)]
+            _dataset(g, f"rings/geometry/{i}", np.r_[outer.points, inner.points @ Ac[:, :3].T + Ac[:, 3]], "m")
+        grids.append({"time": float(d["t"][i]), "geometry": f"/rings/geometry/{i if moved else 0}",
+                      "attributes": [("ring", "Scalar", "/rings/ring", "1", "Int")]})
+    meta["rings"] = {"file": SERIES_RINGS, "outer": "fixed (the bearing frame)",
+                     "inner": "at its recorded position and tilt (inner_ring_position, inner_ring_tilt)" if moved
+                     else "at rest: the run did not record \"kinematics\" (inner_ring_position)",
+                     "profile": "flexbearing.analysis.rings (grooves drawn, clearance and chamfers not)"}
+    return write_xdmf(out_dir / SERIES_RINGS, SERIES_H5, "rings", "Quadrilateral", "/rings/topology", quads.shape,
+                      n_out + len(inner.points), grids,
+                      {"frame": "bearing frame (x the bearing axis), outer ring fixed", "units": "SI (m)",
+                       "run": meta["run"], "ring": "1 = outer ring, 2 = inner ring"})

@@ -312,13 +312,27 @@ def stress_picture_section(r: Report) -> list[str]:
 
 def paraview_section(r: Report) -> list[str]:
     from flexbearing.analysis import field_export
-    return ["## Cage von Mises field (ParaView)", "", f"Frames at the peaks: {r.xdmf_note}", "",
-            field_export.series_markdown(r.series, r.series_spec), ""]
+    md = ["## Cage von Mises field (ParaView)", "", f"Frames at the peaks: {r.xdmf_note}", "",
+          field_export.series_markdown(r.series, r.series_spec), ""]
+    pv = (r.series or {}).get("paraview")
+    if pv:
+        if pv.get("state"):
+            md += [f"The whole bearing in ParaView: `{Path(pv['state']).name}` (File > Load State; from another "
+                   "folder tick \"Search files under specified directory\"): the cage warped by "
+                   "displacement_scaled and coloured by its von Mises stress in MPa over "
+                   f"[0, {pv['recorded_max_mpa']:,.0f}] MPa (the largest maximum the run recorded in the "
+                   "window), the balls, the rings (the outer one cut away towards the camera), the camera "
+                   f"at the azimuth of the window's stress maximum, t = {pv['time']:.6g} s"
+                   + (f"; movie `{Path(pv['movie']).name}`" if pv.get("movie") else "") + ".", ""]
+        elif pv.get("note"):
+            md += [pv["note"] + ".", ""]
+    return md
 
 
 # The report's stages with their expected shares of its wall time (the progress bar's estimate)
-REPORT_STAGES = {"series": 10.0, "tables": 1.0, "plots": 6.0, "von Mises frames": 3.0,
-                 "stress picture": 4.0, "page": 1.0}
+REPORT_STAGES = {"series": 10.0, "ParaView scene": 10.0, "tables": 1.0, "plots": 6.0, "von Mises frames": 3.0,
+                 "stress picture": 4.0, "page": 1.0, "pdf": 3.0}
+SERIES_STAGES = ("series", "ParaView scene")
 FLEXIBLE_STAGES = ("von Mises frames", "stress picture")
 
 # The report, in page order: a section is a function Report -> Markdown lines ([] leaves it out).
@@ -330,20 +344,32 @@ SECTIONS = [title_section, summary_section, notes_section, comparison_section, p
 
 def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
                  quiet: bool = True, settle: float = 0.0, series: str | None = None,
-                 displacement_scale: float | None = None, sections=None) -> dict:
+                 displacement_scale: float | None = None, sections=None, movie: bool = False,
+                 pdf: bool = False) -> dict:
     """Plots, the report (report.md, report.json), the same as one self-contained page with the
     plots embedded (report.html, flexbearing.analysis.html_page) and, for a flexible-cage run, the
     picture of the cage's stress field at the run's maximum and the von Mises XDMF frames; with
     `series` ("T0:T1[:N]") the ParaView time series of that window (flexbearing.analysis.field_export.
     write_series, written first: a bad window stops the report). The results files are opened
     once (flexbearing.simulation.results.Run) and handed to every reader. `sections`: the
-    report's sections in page order (default SECTIONS). Returns {"report", "html", "json",
-    "plots", "xdmf", "stress_picture", "series"} (None where not written)."""
+    report's sections in page order (default SECTIONS). With a series and ParaView's pvpython
+    installed, the ParaView scene bearing.pvsm (flexbearing.analysis.paraview_state) and, with `movie`,
+    bearing.avi; with `pdf`, report.pdf printed by headless Chromium (flexbearing.analysis.pdf).
+    Returns {"report", "html", "json", "plots", "xdmf", "stress_picture", "series", "paraview",
+    "pdf"} (None where not written)."""
     from contextlib import ExitStack
 
     from flexbearing.analysis import field_export
+    from flexbearing.analysis.paraview_state import NEEDS, pvpython_command, write_paraview_scene
     from flexbearing.common.progress import Stages
     t_start = time.perf_counter()
+    if movie and series is None:
+        raise InputError("--movie needs --series T0:T1[:N] (the window the movie shows)")
+    if movie and pvpython_command() is None:
+        raise InputError(f"--movie needs {NEEDS}")
+    if pdf:
+        from flexbearing.analysis.pdf import require_chromium
+        require_chromium()
     with ExitStack() as stack:
         run = stack.enter_context(Run(run_h5))
         cmp = stack.enter_context(Run(compare)) if compare is not None else None
@@ -352,7 +378,8 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         out_dir.mkdir(parents=True, exist_ok=True)
         say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
         todo = {k: w for k, w in REPORT_STAGES.items()
-                if (k != "series" or series is not None) and (run.flexible or k not in FLEXIBLE_STAGES)}
+                if (k not in SERIES_STAGES or series is not None) and (run.flexible or k not in FLEXIBLE_STAGES)
+                and (k != "pdf" or pdf)}
         step = stack.enter_context(Stages(f"report of {run.path.name}", todo, quiet))
         series_out = None
         if series is not None:
@@ -360,6 +387,12 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
             say(f"report: ParaView series {series} of {run.path.name}")
             series_out = field_export.write_series(run, out_dir, series, reduced_cage=reduced_cage,
                                                    displacement_scale=displacement_scale)
+            step("ParaView scene")
+            series_out["paraview"] = paraview = {"note": None}
+            if pvpython_command() is None:
+                paraview["note"] = f"bearing.pvsm not written: it needs {NEEDS}"
+            else:
+                paraview.update(write_paraview_scene(out_dir, movie=movie))
         step("tables")
         data = read_run(run)
         rows = phase_rows(*data, True, settle)
@@ -412,9 +445,15 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
             "power_loss": r.power_rows, "cage_strength": strength_rows,
             "report_wall_time_s": time.perf_counter() - t_start}, indent=1, allow_nan=False,
             default=float) + "\n")
+        pdf_path = None
+        if pdf:
+            step("pdf")
+            from flexbearing.analysis.pdf import print_pdf
+            pdf_path = print_pdf(page)
         step(None)
     return {"report": report, "html": page, "json": js, "plots": r.plots, "xdmf": r.xdmf,
-            "stress_picture": r.picture, "series": series_out}
+            "stress_picture": r.picture, "series": series_out,
+            "paraview": None if series_out is None else series_out["paraview"], "pdf": pdf_path}
 
 
 def _impact_amplification(t, arrays, scene, dt) -> list[dict]:
