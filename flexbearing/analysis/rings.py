@@ -50,9 +50,9 @@ def outer_ring_profile(b) -> RingProfile:
     rc = 0.5 * b.pitch_diameter + 0.5 * b.ball_diameter - ro      # groove centre radius
     if not rc < land < rc + ro:
         raise ValueError(f"guide land radius {land:g} m does not cut the outer groove (centre {rc:g} m, radius {ro:g} m)")
-    xg = math.sqrt(ro * ro - (land - rc) ** 2)                     # the groove's edges on the land
-    xs = np.linspace(xg, -xg, N_GROOVE)
-    groove_r = rc + np.sqrt(ro * ro - xs * xs)
+    half = math.acos((land - rc) / ro)                             # the groove's edges on the land
+    a = np.linspace(half, -half, N_GROOVE)                         # equal angles along the arc
+    xs, groove_r = ro * np.sin(a), rc + ro * np.cos(a)
     x = np.r_[-B, B, B, xs, -B]
     r = np.r_[R_out, R_out, land, groove_r, land]
     return RingProfile(x[::-1].copy(), r[::-1].copy())

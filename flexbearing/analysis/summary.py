@@ -123,7 +123,7 @@ def headline_rows(whole: dict, strength: dict | None, power: dict | None) -> lis
         if row:
             out.append(row)
     if strength and strength.get("utilization_peak") is not None:
-        out.append(("Cage utilization σ_vM / R_e, peak (1)",
+        out.append(("Cage utilization σ_vM / R_e, peak",
                     f"**{strength['utilization_peak']:.2f}** (R_e = {strength['yield_strength'] / 1e6:,.0f} MPa)"))
     if power and power.get("loss") is not None:
         out.append(("Power loss, mean (W)", f"**{power['loss']:,.0f} W**; friction torque "

@@ -461,6 +461,13 @@ def read_outputs(path) -> dict[str, np.ndarray]:
 
 def check_run(path) -> Path:
     """`path` as a Path if it is a flexbearing results file (InputError naming it otherwise)."""
+    path, f = _open_run(path)
+    f.close()
+    return path
+
+
+def _open_run(path):
+    """(Path, the file open for reading) of a flexbearing results file; InputError naming it otherwise."""
     import h5py
     from flexbearing.common.validation import InputError
     path = Path(path)
@@ -468,15 +475,15 @@ def check_run(path) -> Path:
         raise InputError(f"run file {str(path)!r} does not exist (a results file written by "
                          f"`flexbearing run`, .h5)")
     try:
-        with h5py.File(path, "r") as f:
-            fmt = f.attrs.get("format")
-            ok = "outputs/time" in f
+        f = h5py.File(path, "r")
     except OSError as exc:
         raise InputError(f"run file {str(path)!r} is not an HDF5 file ({exc})") from None
-    if fmt != "flexbearing-results" or not ok:
+    fmt = f.attrs.get("format")
+    if fmt != "flexbearing-results" or "outputs/time" not in f:
+        f.close()
         raise InputError(f"{path} is not a flexbearing results file (format attribute {fmt!r}, "
                          f"expected 'flexbearing-results' with /outputs/time)")
-    return path
+    return path, f
 
 
 class Run:
@@ -487,14 +494,12 @@ class Run:
             run.t, run.scene, run.dt          # sample times (s), the Scene (or None), sample interval (s)
             run.outputs["contact_stress"]     # an h5py dataset (SI, its `unit` attribute)
 
-    The file is checked once (`check_run`); the sample times, the scene and the sample interval
+    The file is opened and checked once (as `check_run` checks it); the sample times, the scene and the sample interval
     are read once, when first asked for. A reader given a path instead of a Run opens its own
     (`opened`), so each reader still works alone."""
 
     def __init__(self, path):
-        import h5py
-        self.path = check_run(path)
-        self.file = h5py.File(self.path, "r")
+        self.path, self.file = _open_run(path)
         self._t = self._scene = None
         self._scene_read = False
 
