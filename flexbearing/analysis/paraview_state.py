@@ -20,6 +20,9 @@ SCENE_SCRIPT = Path(__file__).with_name("paraview_scene.py")
 STATE = "bearing.pvsm"
 MOVIE = "bearing.avi"            # FFMPEG (ParaView 5.11 of Debian 12 has it); .ogv: Ogg Theora
 SETTINGS = "paraview_scene.json"
+# pvpython under xvfb-run now and then aborts creating its window (vtkXOpenGLRenderWindow, SIGABRT;
+# once in the seven starts while this was written): a second start succeeds
+ATTEMPTS = 3
 NEEDS = "ParaView's pvpython (Debian: apt-get install paraview xvfb)"
 
 
@@ -49,10 +52,14 @@ def write_paraview_scene(folder, movie: bool = False, png=None, time: float | No
                 "png": None if png is None else str(Path(png).resolve()),
                 "movie": str(folder / MOVIE) if movie else None, "time": time, "size": list(size)}
     (folder / SETTINGS).write_text(json.dumps(settings, indent=1) + "\n")
-    out = subprocess.run(cmd + [str(SCENE_SCRIPT), str(folder / SETTINGS)], capture_output=True,
-                         text=True, timeout=timeout)
-    line = next((l for l in out.stdout.splitlines() if l.startswith("FLEXBEARING_PARAVIEW ")), None)
+    for attempt in range(ATTEMPTS):
+        out = subprocess.run(cmd + [str(SCENE_SCRIPT), str(folder / SETTINGS)], capture_output=True,
+                             text=True, timeout=timeout)
+        line = next((l for l in out.stdout.splitlines() if l.startswith("FLEXBEARING_PARAVIEW ")), None)
+        if line is not None:
+            break
     if line is None:
         tail = "\n".join((out.stdout + out.stderr).strip().splitlines()[-8:])
-        raise RuntimeError(f"pvpython did not build the scene (exit status {out.returncode}):\n{tail}")
+        raise RuntimeError(f"pvpython did not build the scene in {ATTEMPTS} starts (exit status "
+                           f"{out.returncode}):\n{tail}")
     return json.loads(line.split(" ", 1)[1])
