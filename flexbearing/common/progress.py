@@ -10,6 +10,7 @@ results (stdout) stay clean.
 from __future__ import annotations
 
 import sys
+import threading
 
 
 class Stages:
@@ -27,6 +28,16 @@ class Stages:
         self.bar = tqdm(total=float(sum(self.weights.values())), desc=task, file=sys.stderr,
                         mininterval=0.5, dynamic_ncols=True,
                         bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]")
+        # a stage can last minutes without an update: redraw the clock every second meanwhile
+        # (a daemon thread; it waits while a compiled solver holds the GIL)
+        self._stop = threading.Event()
+        threading.Thread(target=self._tick, daemon=True).start()
+
+    def _tick(self) -> None:
+        while not self._stop.wait(1.0):
+            bar = self.bar
+            if bar is not None:
+                bar.refresh()
 
     def __call__(self, stage: str | None) -> None:
         if self.current is not None and self.bar is not None:
@@ -40,8 +51,9 @@ class Stages:
 
     def close(self) -> None:
         if self.bar is not None:
-            self.bar.close()
-            self.bar = None
+            self._stop.set()
+            bar, self.bar = self.bar, None
+            bar.close()
 
     def __enter__(self) -> "Stages":
         return self
