@@ -103,6 +103,18 @@ def test_sections_are_a_list_the_caller_can_extend(tmp_path):
     assert out["report"].read_text().rstrip().endswith("## Extra\n\n5 windows")
 
 
+def test_time_left_scales_the_measured_weights_by_this_machine_s_speed():
+    from flexbearing.common.progress import time_left
+    w = {"a": 10.0, "b": 30.0, "c": 60.0}
+    # nothing finished: the weights themselves (reference seconds)
+    assert time_left(w, [], "a", 0.0, 4.0) == 6.0 + 90.0
+    # "a" took 20 s instead of 10: this machine runs at half the reference speed
+    assert time_left(w, ["a"], "b", 20.0, 15.0) == 60.0 - 15.0 + 120.0
+    # a stage over its estimate counts as finished; the rest stays
+    assert time_left(w, ["a"], "b", 20.0, 100.0) == 120.0
+    assert time_left(w, ["a", "b", "c"], None, 200.0, 0.0) == 0.0
+
+
 def test_stages_advance_by_their_weights():
     """The bar's total is the sum of the weights and a finished stage advances it by its own, so
     the estimate of the time left is elapsed × (weights left / weights done)."""

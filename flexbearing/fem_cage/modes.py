@@ -110,9 +110,10 @@ def cage_modes(mesh_path, material, degree: int = 2, n_modes: int = 27, comm=Non
     return freqs, vecs, V, domain, names, info
 
 
-# The parts of run_modes with their wall times on the paper cage (s; P3, 4 mm mesh, 2 shared
-# cores): the progress bar's estimate (flexbearing.common.progress)
-MODES_STAGES = {"read mesh": 2.0, "K and M": 20.0, "eigensolve (SLEPc)": 35.0, "classify": 3.0}
+# The parts of run_modes with their wall times on the paper cage (s; P3, 4 mm mesh, 160,572 dofs;
+# `flexbearing modes` on 2 cores shared with other jobs, 2 min 26 s in all): the progress bar's
+# estimate (flexbearing.common.progress)
+MODES_STAGES = {"read mesh": 11.0, "K and M": 34.0, "eigensolve (SLEPc)": 95.0, "classify": 3.0}
 
 
 def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True, quiet: bool = True):

@@ -22,10 +22,11 @@ from flexbearing.mesh.cage_mesh import TAG_GUIDE
 
 # ------------------------------------------------------------------ the reduction
 
-# The parts of `build` with their wall times on the paper cage (s; P3, 4 mm mesh, 160,572 dofs,
-# 2 shared cores): the progress bar's estimate (flexbearing.common.progress)
-REDUCE_STAGES = {"mesh": 5.0, "K and M": 40.0, "interface": 5.2, "Craig-Bampton modes (SLEPc)": 49.5,
-                 "invariants": 4.4, "stress modes": 5.9, "checks": 120.0, "write": 5.0}
+# The parts of `build` with their wall times on the paper cage (s; P3, 4 mm mesh, 160,572 dofs;
+# `flexbearing reduce --force` on 2 cores shared with other jobs, load 6-9, 7 min 9 s in all): the
+# progress bar's estimate (flexbearing.common.progress). "checks" was not measured: a guess.
+REDUCE_STAGES = {"mesh": 3.0, "K and M": 7.0, "interface": 16.0, "Craig-Bampton modes (SLEPc)": 267.0,
+                 "invariants": 46.0, "stress modes": 81.0, "checks": 300.0, "write": 4.0}
 
 
 def centrifugal_load(M, X: np.ndarray) -> np.ndarray:
