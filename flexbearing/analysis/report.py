@@ -317,12 +317,13 @@ def paraview_section(r: Report) -> list[str]:
     pv = (r.series or {}).get("paraview")
     if pv:
         if pv.get("state"):
+            cage = ("the cage warped by displacement_scaled and coloured by its von Mises stress in MPa over "
+                    f"[0, {pv['recorded_max_mpa']:,.0f}] MPa (the largest maximum the run recorded in the "
+                    "window), " if "recorded_max_mpa" in pv else "no cage (the run has no stress field), ")
             md += [f"The whole bearing in ParaView: `{Path(pv['state']).name}` (File > Load State; from another "
-                   "folder tick \"Search files under specified directory\"): the cage warped by "
-                   "displacement_scaled and coloured by its von Mises stress in MPa over "
-                   f"[0, {pv['recorded_max_mpa']:,.0f}] MPa (the largest maximum the run recorded in the "
-                   "window), the balls, the rings (the outer one cut away towards the camera), the camera "
-                   f"at the azimuth of the window's stress maximum, t = {pv['time']:.6g} s"
+                   "folder tick \"Search files under specified directory\"): " + cage + "the balls, the rings "
+                   "(the outer one cut away towards the camera), the camera at the azimuth of the window's "
+                   f"stress maximum (without one: of the radial load), t = {pv['time']:.6g} s"
                    + (f"; movie `{Path(pv['movie']).name}`" if pv.get("movie") else "") + ".", ""]
         elif pv.get("note"):
             md += [pv["note"] + ".", ""]

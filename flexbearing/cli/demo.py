@@ -63,9 +63,11 @@ def run(args) -> int:
         results[name] = path
     report_dir = out / "report"
     # the first 0.05 s is the start-up transient from the quasi-static initial state: not a result
-    write_report(results["paper_unsteady"], report_dir, compare=results["paper_steady"],
-                 settle=SETTLE_S, quiet=args.quiet, series=SERIES)
-    print(f"== report: {report_dir}/report.md and report.html (plots, tables"
-          f"{'' if rigid else ', von Mises XDMF for ParaView'})")
+    res = write_report(results["paper_unsteady"], report_dir, compare=results["paper_steady"],
+                       settle=SETTLE_S, quiet=args.quiet, series=SERIES)
+    print(f"== report: {report_dir}/report.html (and report.md: plots, tables"
+          f"{'' if rigid else ', von Mises XDMF'}); ParaView series of impact 2 ({SERIES} s)")
+    pv = res["paraview"] or {}
+    print(f"== ParaView: {pv['state']} (File > Load State)" if pv.get("state") else f"== ParaView: {pv.get('note')}")
     print(f"flexbearing demo finished in {time.perf_counter() - t0:.0f} s")
     return 0
