@@ -264,7 +264,7 @@ def series_markdown(result: dict | None, spec: str | None) -> str:
     """The report's paragraph on the time series (write_series' result, or None: not asked for)."""
     if result is None:
         return ("Time series over a window: not asked for (`flexbearing report RUN.h5 --series T0:T1[:N]` "
-                "writes the deformed cage coloured by von Mises and the balls; README: ParaView).")
+                "writes the deformed cage coloured by von Mises, the balls and the rings; docs/paraview.md).")
     files = [f"`{Path(result[k]).name}`" for k in ("cage", "points", "rings") if result.get(k)]
     meta = json.loads(Path(result["json"]).read_text())
     text = (f"Time series {spec}: {' and '.join(files)} (+ `{SERIES_H5}`, facts in `{SERIES_JSON}`), "

@@ -35,7 +35,7 @@ def register(subparsers) -> None:
                                           "files of it (10-node tetrahedra, every node drawn): the peaks "
                                           "(--frames) and a time series with the balls (--series). "
                                           "Headless check and screenshot: xvfb-run -a pvpython "
-                                          "docs/paraview_open.py DIR (README).")
+                                          "docs/paraview_open.py DIR (docs/paraview.md).")
     p.add_argument("run", help="results file of `flexbearing run` (.h5)")
     p.add_argument("--compare", metavar="OTHER.h5", help="overlay and tabulate another run beside it "
                                                          "(e.g. the steady scene)")
