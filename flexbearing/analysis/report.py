@@ -6,9 +6,15 @@ mean), the cage's stress against its yield strength, the contact stress at each 
 quasi-static equilibrium (flexbearing.analysis.amplification), the cage's motion and the power loss; the plots
 (flexbearing.analysis.plots); for a flexible cage the picture of the cage's von Mises field at the run's
 maximum (flexbearing.analysis.stress_picture) and the field for ParaView at the peaks and, with a series
-window, over it with the balls (flexbearing.analysis.field_export). Files stay SI; only the printed tables
-and the plot axes use the engineer's units (MPa, N, µm, rpm, %) and say so. Command line:
-`flexbearing report` (flexbearing.cli.report).
+window, over it with the balls and the rings (flexbearing.analysis.field_export) and the ParaView scene
+(flexbearing.analysis.paraview_state). Files stay SI; only the printed tables and the plot axes use the
+engineer's units (MPa, N, µm, rpm, %) and say so. Command line: `flexbearing report`
+(flexbearing.cli.report).
+
+The page is a list of sections, SECTIONS: each a function of the Report (the run opened once, the
+tables, the files written) returning Markdown lines; the summary block comes first
+(flexbearing.analysis.summary), the inputs table last. A new section is a function added to the
+list.
 """
 from __future__ import annotations
 
