@@ -157,7 +157,6 @@ class Report:
     picture: Path | None = None
     picture_md: list[str] = field(default_factory=list)
     series: dict | None = None
-    wall_time_s: float | None = None   # the report's own (the summary names the run's)
 
 
 def title_section(r: Report) -> list[str]:
@@ -392,7 +391,6 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         series_out = None
         if series is not None:
             step("series")
-            say(f"report: ParaView series {series} of {run.path.name}")
             series_out = field_export.write_series(run, out_dir, series, reduced_cage=reduced_cage,
                                                    displacement_scale=displacement_scale)
             step("ParaView scene")
@@ -413,7 +411,6 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
                    power_rows=power_loss_rows(*read_power(run), True, settle),
                    strength_rows=strength_rows, plots=[], series=series_out)
         step("plots")
-        say(f"report: plots of {run.path.name} -> {out_dir}")
         r.plots = write_plots(run, out_dir, compare=cmp)
         orbit_png = write_orbit_plot(run, out_dir, settle=settle) if r.motion_rows else None
         if orbit_png is not None:
@@ -421,7 +418,6 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         if run.flexible:
             step("von Mises frames")
             try:
-                say("report: von Mises XDMF frames and the stress picture")
                 r.xdmf = field_export.write_von_mises_xdmf(run, out_dir, frames, reduced_cage=reduced_cage)
                 r.xdmf_note = (f"`{r.xdmf.name}` (+ `{r.xdmf.with_suffix('.h5').name}`; frames in "
                                f"`{r.xdmf.with_suffix('.json').name}`)")
