@@ -131,3 +131,31 @@ def test_stages_advance_by_their_weights():
     quiet = Stages("task", ["x", "y"], quiet=True)
     quiet("x"), quiet("y"), quiet(None)                         # silent, no bar
     assert quiet.bar is None and quiet.weights == {"x": 1.0, "y": 1.0}
+
+
+def test_movie_without_a_series_is_refused_before_any_file(tmp_path):
+    from flexbearing.common.validation import InputError
+    with pytest.raises(InputError, match="--movie needs --series"):
+        report.write_report(write_run(tmp_path / "run.h5"), tmp_path / "rep", movie=True)
+    assert not (tmp_path / "rep").exists()
+
+
+def test_missing_viewers_are_named_not_failed(tmp_path, monkeypatch):
+    """Without pvpython the series is written and the report says the state file needs ParaView;
+    --pdf and --movie without their tool stop before any file, naming what to install."""
+    from flexbearing.analysis import paraview_state, pdf
+    from flexbearing.common.validation import InputError
+    monkeypatch.setattr(paraview_state.shutil, "which", lambda name: None)
+    monkeypatch.setattr(pdf.shutil, "which", lambda name: None)
+    run = write_run(tmp_path / "run.h5")
+    with pytest.raises(InputError, match="apt-get install chromium"):
+        report.write_report(run, tmp_path / "a", pdf=True)
+    with pytest.raises(InputError, match="apt-get install paraview"):
+        report.write_report(run, tmp_path / "b", series="0:0.01", movie=True)
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+    from test_field_export import fake_run
+    run, *_ = fake_run(tmp_path / "fake")
+    out = report.write_report(run, tmp_path / "c", series="0:0.02:5")
+    assert out["series"]["cage"].is_file() and out["series"]["rings"].is_file()
+    assert out["paraview"] == {"note": f"bearing.pvsm not written: it needs {paraview_state.NEEDS}"}
+    assert out["paraview"]["note"] + "." in out["report"].read_text()
