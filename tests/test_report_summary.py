@@ -126,8 +126,9 @@ def test_stages_advance_by_their_weights():
     assert s.bar.n == 2.0
     s("c")
     assert s.bar.n == 7.0
+    bar = s.bar
     s(None)
-    assert s.bar is None
+    assert s.bar is None and bar.n == 10.0 and s.done == ["a", "b", "c"]
     quiet = Stages("task", ["x", "y"], quiet=True)
     quiet("x"), quiet("y"), quiet(None)                         # silent, no bar
     assert quiet.bar is None and quiet.weights == {"x": 1.0, "y": 1.0}

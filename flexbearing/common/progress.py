@@ -72,22 +72,26 @@ class Stages:
                 bar.set_postfix_str(f"about {_clock(self.left())} left", refresh=True)
 
     def __call__(self, stage: str | None) -> None:
-        if self.current is not None:
-            self.done.append(self.current)
-            if self.bar is not None:
-                self.bar.update(self.weights.get(self.current, 0.0))
-        self.current = stage
+        finished, self.current = self.current, stage
+        if finished is not None:
+            self.done.append(finished)
         self.t_stage = time.perf_counter()
+        if self.bar is not None:
+            if stage is not None:
+                i = list(self.weights).index(stage) + 1 if stage in self.weights else "?"
+                self.bar.set_description_str(f"{self.task}: {stage} ({i}/{len(self.weights)})", refresh=False)
+                self.bar.set_postfix_str(f"about {_clock(self.left())} left", refresh=False)
+            if finished is not None:
+                self.bar.update(self.weights.get(finished, 0.0))
         if stage is None:
             self.close()
-        elif self.bar is not None:
-            i = list(self.weights).index(stage) + 1 if stage in self.weights else "?"
-            self.bar.set_description_str(f"{self.task}: {stage} ({i}/{len(self.weights)})", refresh=False)
-            self.bar.set_postfix_str(f"about {_clock(self.left())} left")
 
     def close(self) -> None:
         if self.bar is not None:
             self._stop.set()
+            if self.current is not None:        # closed inside a stage (an error): count it
+                self.done.append(self.current)
+                self.current = None
             bar, self.bar = self.bar, None
             bar.set_description_str(self.task, refresh=False)
             bar.set_postfix_str("done", refresh=False)
