@@ -35,7 +35,7 @@ def register(subparsers) -> None:
                                           "files of it (10-node tetrahedra, every node drawn): the peaks "
                                           "(--frames) and a time series with the balls (--series). "
                                           "Headless check and screenshot: xvfb-run -a pvpython "
-                                          "docs/paraview_open.py DIR (README).")
+                                          "docs/paraview_open.py DIR (docs/paraview.md).")
     p.add_argument("run", help="results file of `flexbearing run` (.h5)")
     p.add_argument("--compare", metavar="OTHER.h5", help="overlay and tabulate another run beside it "
                                                          "(e.g. the steady scene)")
@@ -45,8 +45,14 @@ def register(subparsers) -> None:
     p.add_argument("--series", metavar="T0:T1[:N]",
                    help="ParaView time series of the window T0..T1 s at every N-th sample (default every "
                         "one): the cage placed and deformed, coloured by von Mises (series_cage.xdmf), "
-                        "and the balls and the cage centre (series_points.xdmf); needs a flexible-cage "
-                        "run for the cage and the scene output \"kinematics\" for the balls")
+                        "the balls and the cage centre (series_points.xdmf), the rings (series_rings.xdmf) "
+                        "and, with ParaView's pvpython installed, the scene bearing.pvsm (File > Load State); "
+                        "needs a flexible-cage run for the cage and the scene output \"kinematics\" for the "
+                        "balls and the inner ring's position")
+    p.add_argument("--movie", action="store_true",
+                   help="with --series: also a movie of the window, bearing.avi (needs pvpython)")
+    p.add_argument("--pdf", action="store_true",
+                   help="also report.pdf, the page printed by headless Chromium (needs chromium)")
     p.add_argument("--displacement-scale", type=float, metavar="S",
                    help="magnification of the series' displacement_scaled field (Warp By Vector at scale "
                         "1 then draws the cage S times deformed; default: the largest displacement drawn "
@@ -64,7 +70,8 @@ def cmd_report(args) -> int:
     out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
                        reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle,
-                       series=args.series, displacement_scale=args.displacement_scale)
+                       series=args.series, displacement_scale=args.displacement_scale, movie=args.movie,
+                       pdf=args.pdf)
     if not args.quiet:
         print_table(json.loads(res["json"].read_text())["phases"])
     print(f"report: {res['report']} (and {res['html'].name}, plots embedded)")
@@ -74,9 +81,17 @@ def cmd_report(args) -> int:
     if res["xdmf"]:
         print(f"xdmf:   {res['xdmf']}")
     if res["series"]:
-        for key in ("cage", "points"):
-            if res["series"][key]:
+        for key in ("cage", "points", "rings"):
+            if res["series"].get(key):
                 print(f"series: {res['series'][key]} ({res['series']['n_frames']} frames)")
         for note in res["series"]["notes"]:
             print(f"series: {note}")
+    if res.get("paraview"):
+        for key in ("state", "movie"):
+            if res["paraview"].get(key):
+                print(f"paraview: {res['paraview'][key]}")
+        if res["paraview"].get("note"):
+            print(f"paraview: {res['paraview']['note']}")
+    if res.get("pdf"):
+        print(f"pdf:    {res['pdf']}")
     return 0

@@ -81,7 +81,7 @@ def cmd_uncertainty(args) -> int:
 
 
 def _command(args) -> str:
-    """The command line that reproduces the report (as README documents it)."""
+    """The command line that reproduces the report (as docs/commands.md documents it)."""
     parts = ["flexbearing uncertainty", args.unknowns]
     if args.output != "out/uncertainty":
         parts += ["-o", args.output]

@@ -130,6 +130,10 @@ def flexible_cage_body(rc, n_keep: int = DEFAULT_N_KEEP, beta: float = 0.0,
                           np.ascontiguousarray(rc.vertex_displacement @ T))
 
 
+# stiffness-proportional modal damping D = beta K of a scene that does not set cage.damping_beta, s
+DEFAULT_DAMPING_BETA = 1e-5
+
+
 # --------------------------------------------------------------------------- the run's backend
 def _mesh_inputs(scene) -> tuple[float, float, int]:
     """(element size, pocket element size, FE degree) of the scene's reduced cage mesh."""
@@ -308,7 +312,7 @@ def backend(scene, reduced_cage=None):
         raise InputError(f"reduced cage file {path} (hash {rc.attrs.get('content_hash')}) is not the "
                          f"cage of scene {scene.name} (hash {reduced_cage_hash(scene)})")
     n_keep = int(scene.flexible.get("n_modes", DEFAULT_N_KEEP))
-    beta = float(scene.flexible.get("damping_beta", 1e-5))
+    beta = float(scene.flexible.get("damping_beta", DEFAULT_DAMPING_BETA))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
     stress = (StressRecovery(rc, n_keep, cache=search_cache_path(path, rc, n_keep))
               if "von_mises" in scene.outputs else None)

@@ -288,12 +288,12 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
         sc = study.scenes[i]
         cage = cages.get(reduced_cage_hash(sc)) if sc.cage_model == "flexible" else None
         # on a cluster each run is quiet (one progress bar per process would garble the terminal);
-        # the bar of run_jobs counts the runs instead
+        # the bar of run_jobs counts the runs instead (in this process it stands above each run's own)
         jobs.append((sc, str(run_path(out_dir, study, i)), quiet or not here, cage))
     failures = run_jobs(_run_one, jobs, lambda k, summary: done(todo[k], summary), workers=workers,
                         scheduler=scheduler, names=[f"run {i} ({sc.name})" for i, sc in
                                                     ((i, study.scenes[i]) for i in todo)],
-                        description=f"study {study.name}", progress=not (quiet or here))
+                        description=f"study {study.name}", progress=not quiet)
     if failures:
         raise StudyIncomplete(f"{len(failures)} of {n} runs failed ({'; '.join(map(str, failures))}); "
                               f"the other runs are finished in {folder}: run the study again to retry "
