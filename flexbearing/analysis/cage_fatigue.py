@@ -112,6 +112,7 @@ class CageFatigue:
     histories: dict = field(default_factory=dict)      # node -> (T, 6) tensor history, Pa
     times: np.ndarray | None = None
     timing: dict = field(default_factory=dict)
+    reduced_cage: object = None     # the ReducedCage the field lives on
 
 
 def read_history(run_h5, settle: float, reduced_cage=None):
@@ -317,7 +318,8 @@ def cage_fatigue(run_h5, settings: FatigueSettings = FatigueSettings(), reduced_
     cand = list(dict.fromkeys([int(n) for n in worst] + [int(n) for n in hot_nodes]
                               + [int(n) for n in settings.nodes]))
     where = _locations(rc, cand)
-    result = CageFatigue(settings, curve.source, block, per_hour, T, rate, life, sf, peak, counted, times=times)
+    result = CageFatigue(settings, curve.source, block, per_hour, T, rate, life, sf, peak, counted, times=times,
+                         reduced_cage=rc)
     for n in cand:
         sigma = node_history(rc, q, n)
         cyc = rainflow_cycles(eq.signed_von_mises(sigma), repeated=True)
@@ -363,3 +365,84 @@ def _locations(rc, nodes) -> dict:
                   "radius": float(np.hypot(x[1], x[2])), "axial": float(x[0]),
                   "surface": ", ".join(parts) or ("side face or edge" if on.any() else "interior")}
     return out
+
+
+# ---------------------------------------------------------------- files
+
+FATIGUE_H5 = "fatigue.h5"
+FATIGUE_XDMF = "fatigue.xdmf"
+FATIGUE_JSON = "fatigue.json"
+
+
+def facts(result: CageFatigue) -> dict:
+    """The JSON-able facts of a result (SI; inf written as null)."""
+    s = result.settings
+    worst = int(np.argmax(result.damage_rate))
+
+    def num(v):
+        return None if v is None or not math.isfinite(v) else float(v)
+    return {"material": s.material, "sn_curve_source": result.curve_source, "mean_stress_correction": s.correction,
+            "equivalent_stress": "signed von Mises (field); normal stress on the critical plane (candidates)",
+            "block_duration": result.block_duration, "blocks_per_hour": result.blocks_per_hour,
+            "duty_cycle": ("the run's block repeated back to back" if s.blocks_per_hour is None
+                           else "user-given blocks per hour"),
+            "design_life": s.design_life, "settle": s.settle, "samples": result.n_samples,
+            "nodes": len(result.damage_rate), "nodes_counted": int(result.counted.sum()), "screen": SCREEN,
+            "worst_node": worst, "worst_damage_rate": num(result.damage_rate[worst]),
+            "worst_life": num(result.life[worst]), "min_safety_factor": num(np.nanmin(result.safety_factor)),
+            "timing": result.timing,
+            "candidates": [{k: ([num(x) for x in v] if k == "critical_plane_normal" else
+                                num(v) if isinstance(v, float) else v) for k, v in c.items()}
+                           for c in result.candidates],
+            "units": {"damage_rate": "1/s", "life": "s", "safety_factor": "1", "stress": "Pa", "time": "s"}}
+
+
+def write_fatigue_files(result: CageFatigue, rc, out_dir) -> dict:
+    """fatigue.h5 (fields over the nodes, each candidate's tensor history and its signed von
+    Mises cycles), fatigue.xdmf (the fields on the mesh for ParaView, one grid) and fatigue.json
+    (facts) in out_dir; returns their paths. Refuses to write through a symlink."""
+    import h5py
+
+    from flexbearing.analysis.field_export import _dataset, cage_cells, write_xdmf
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    paths = {"h5": out_dir / FATIGUE_H5, "xdmf": out_dir / FATIGUE_XDMF, "json": out_dir / FATIGUE_JSON}
+    for p in paths.values():
+        if p.is_symlink():
+            raise InputError(f"fatigue output {p} is a symbolic link (allowed: a regular file or none); "
+                             f"not written through it")
+    topo_type, cells = cage_cells(rc)
+    life = np.where(np.isfinite(result.life), result.life, np.finfo(float).max)
+    sf = np.where(np.isfinite(result.safety_factor), result.safety_factor, np.finfo(float).max)
+    with h5py.File(paths["h5"], "w") as g:
+        _dataset(g, "mesh/geometry", rc.vertices, "m")
+        _dataset(g, "mesh/topology", cells, "1")
+        _dataset(g, "fields/damage_rate", result.damage_rate, "1/s")
+        _dataset(g, "fields/life", life, "s")
+        _dataset(g, "fields/safety_factor", sf, "1")
+        _dataset(g, "fields/peak_signed_von_mises", result.peak_signed_von_mises, "Pa")
+        _dataset(g, "fields/counted", result.counted.astype(np.int64), "1")
+        g["fields"].attrs["note"] = ("counted = 0: damage_rate is an upper bound and life, safety_factor lower "
+                                     "bounds (screened out: life above 1/screen times the worst node's)")
+        _dataset(g, "time", result.times, "s")
+        for n, sigma in result.histories.items():
+            _dataset(g, f"candidates/{n}/stress", sigma, "Pa").attrs["columns"] = "xx yy zz yz xz xy"
+            cyc = rainflow_cycles(eq.signed_von_mises(sigma), repeated=True)
+            for name in ("range", "mean"):
+                _dataset(g, f"candidates/{n}/signed_von_mises_cycles/{name}", getattr(cyc, name), "Pa")
+            _dataset(g, f"candidates/{n}/signed_von_mises_cycles/count", cyc.count, "1")
+        g.attrs["facts"] = json.dumps(facts(result))
+    write_xdmf(paths["xdmf"], paths["h5"].name, "cage_fatigue", topo_type, "/mesh/topology", cells.shape,
+               len(rc.vertices), [{"time": 0.0, "geometry": "/mesh/geometry", "attributes": [
+                   ("damage_rate", "Scalar", "/fields/damage_rate", "1/s"),
+                   ("life", "Scalar", "/fields/life", "s"),
+                   ("safety_factor", "Scalar", "/fields/safety_factor", "1"),
+                   ("peak_signed_von_mises", "Scalar", "/fields/peak_signed_von_mises", "Pa"),
+                   ("counted", "Scalar", "/fields/counted", "1", "Int")]}],
+               {"frame": "cage body frame (x the cage axis, pocket 0 at +y), cage at rest", "units": "SI",
+                "material": result.settings.material, "mean_stress_correction": result.settings.correction,
+                "design_life_s": result.settings.design_life, "blocks_per_hour": result.blocks_per_hour,
+                "note": "life and safety_factor: float max where infinite; counted = 0: screened-out node "
+                        "(damage_rate an upper bound, life and safety_factor lower bounds)"})
+    paths["json"].write_text(json.dumps(facts(result), indent=1) + "\n")
+    return paths

@@ -135,13 +135,15 @@ def _check_frames(path, frames) -> None:
 
 def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
                  quiet: bool = True, settle: float = 0.0, series: str | None = None,
-                 displacement_scale: float | None = None) -> dict:
+                 displacement_scale: float | None = None, fatigue=None) -> dict:
     """Plots, the per-phase table (report.md, report.json), the same as one self-contained page
     with the plots embedded (report.html, flexbearing.analysis.html_page) and, for a flexible-cage run, the
     picture of the cage's stress field at the run's maximum and the von Mises XDMF frames; with
     `series` ("T0:T1[:N]") the ParaView time series of that window (flexbearing.analysis.field_export.
-    write_series, written first: a bad window stops the report). Returns {"report", "html",
-    "json", "plots", "xdmf", "stress_picture", "series"} (None where not written)."""
+    write_series, written first: a bad window stops the report). fatigue: a
+    flexbearing.analysis.cage_fatigue.FatigueSettings adds the cage's fatigue section
+    (flexbearing.analysis.fatigue_report). Returns {"report", "html", "json", "plots", "xdmf",
+    "stress_picture", "series", "fatigue"} (None where not written)."""
     import h5py
 
     from flexbearing.analysis import field_export
@@ -285,6 +287,12 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     md += picture_md
     md += ["## Cage von Mises field (ParaView)", "", f"Frames at the peaks: {xdmf_note}", "",
            field_export.series_markdown(series_out, series), ""]
+    fatigue_md, fatigue_facts, fatigue_files = [], None, {}
+    if fatigue is not None:
+        from flexbearing.analysis.fatigue_report import fatigue_section
+        say(f"report: cage fatigue of {path.name}")
+        fatigue_md, fatigue_facts, fatigue_files = fatigue_section(path, out_dir, fatigue, reduced_cage, quiet)
+    md += fatigue_md
     report = out_dir / "report.md"
     report.write_text("\n".join(md))
     from flexbearing.analysis.html_page import write_html
@@ -293,10 +301,10 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     js.write_text(json.dumps({"run": str(path), "scene": name, "status": status, "units": {
         q.key: q.unit for q in QUANTITIES}, "phases": rows, "compare": str(cmp_path) if cmp_path else None,
         "compare_phases": cmp_rows, "impact_amplification": amplification, "cage_motion": motion_rows,
-        "power_loss": power_rows, "cage_strength": strength_rows}, indent=1, allow_nan=False,
+        "power_loss": power_rows, "cage_strength": strength_rows, "cage_fatigue": fatigue_facts}, indent=1, allow_nan=False,
         default=float) + "\n")
     return {"report": report, "html": page, "json": js, "plots": plots, "xdmf": xdmf,
-            "stress_picture": picture, "series": series_out}
+            "stress_picture": picture, "series": series_out, "fatigue": fatigue_files or None}
 
 
 def _impact_amplification(t, arrays, scene, dt) -> list[dict]:
