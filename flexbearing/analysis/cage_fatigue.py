@@ -238,16 +238,19 @@ def critical_plane(sigma: np.ndarray, curve, correction: str, blocks_per_hour: f
 
 
 def dominant_cycles(cycles, curve, correction: str, times: np.ndarray, n: int = 3) -> list[dict]:
-    """The n cycles of largest damage share: range, mean (Pa), count, share (1), t_start, t_end (s)."""
+    """The n cycles of largest damage share: range, mean (Pa), count, share (1), t_start <= t_end
+    (s, the times of its two reversals)."""
     dmg = cycle_damage(cycles, curve, correction)
     total = dmg.sum()
     out = []
     for i in np.argsort(-dmg, kind="stable")[:n]:
         if not dmg[i] > 0.0:
             break
+        # a cycle of the repeated block may run across the block's seam: its two reversal times,
+        # sorted, are where in the run it is
+        ta, tb = sorted((float(times[cycles.start[i]]), float(times[cycles.end[i]])))
         out.append({"range": float(cycles.range[i]), "mean": float(cycles.mean[i]), "count": float(cycles.count[i]),
-                    "damage_share": float(dmg[i] / total), "t_start": float(times[cycles.start[i]]),
-                    "t_end": float(times[cycles.end[i]])})
+                    "damage_share": float(dmg[i] / total), "t_start": ta, "t_end": tb})
     return out
 
 
