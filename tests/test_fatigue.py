@@ -280,3 +280,42 @@ def test_fatigue_files_and_bad_settings(tmp_path):
 def test_custom_curve_validates():
     with pytest.raises(InputError, match="fatigue_strength_exponent"):
         SNCurve("x", 1e9, 0.1, 1e9, "none").validate()
+
+
+def test_report_fatigue_section_and_cli_errors(tmp_path, capsys):
+    """`flexbearing report --fatigue` on the synthetic run: the section, its picture and ParaView file;
+    bad fatigue options stop with one line naming the field and exit code 2."""
+    from flexbearing.cli.main import main
+    run, S, n = _synthetic_run(tmp_path)
+    out = tmp_path / "rep"
+    assert main(["report", str(run), "-o", str(out), "--quiet", "--fatigue", "--fatigue-nodes", "4",
+                 "--fatigue-blocks-per-hour", "20"]) == 0
+    md = (out / "report.md").read_text()
+    assert "## Cage fatigue at this duty cycle" in md and "fatigue_damage.png" in md and "fatigue.xdmf" in md
+    assert "4 (yours)" in md and "20 blocks per hour" in md
+    assert (out / "fatigue_damage.png").stat().st_size > 10_000 and (out / "fatigue.xdmf").is_file()
+    import json
+    facts = json.loads((out / "report.json").read_text())["cage_fatigue"]
+    assert facts["blocks_per_hour"] == 20 and facts["mean_stress_correction"] == "goodman"
+    capsys.readouterr()
+    for bad, field in ((["--fatigue-correction", "soderberg"], "mean-stress correction"),
+                       (["--fatigue-blocks-per-hour", "-1"], "fatigue blocks_per_hour = -1"),
+                       (["--fatigue-nodes", "1,x"], "--fatigue-nodes"),
+                       (["--fatigue-material", "brass"], "fatigue material = 'brass'")):
+        assert main(["report", str(run), "-o", str(tmp_path / "bad"), "--quiet", "--fatigue"] + bad) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and field in err[0]
+
+
+def test_signed_von_mises_overreads_out_of_phase_tension_torsion():
+    """tau_a = sigma_a, 90 degrees out of phase: the signed von Mises jumps from +sqrt(3) sigma_a to
+    -sqrt(3) sigma_a where sigma_x changes sign (range 2 sqrt(3) sigma_a; a sample at most one step
+    of 2 pi/P from the flip reads at least sqrt(3 - 2 sin^2(2 pi/P)) sigma_a), while the critical
+    plane's amplitude is 2/sqrt(3) sigma_a (test_critical_plane_of_tension_torsion)."""
+    sa = 200e6
+    P = 360
+    x = eq.signed_von_mises(_tension_torsion(sa, sa, np.pi / 2, per_period=P))
+    cyc = rainflow_cycles(x, repeated=True)
+    r = cyc.range.max()
+    assert 2 * sa * math.sqrt(3 - 2 * math.sin(2 * math.pi / P) ** 2) <= r <= 2 * math.sqrt(3) * sa * (1 + 1e-12)
+    assert cyc.range.max() / 2 > 1.49 * (2 * sa / math.sqrt(3))

@@ -9,10 +9,12 @@ Signed von Mises (the equivalent of the durability codes for proportional loadin
 sigma_vM = sqrt(1/2[(sxx-syy)^2 + (syy-szz)^2 + (szz-sxx)^2] + 3(syz^2 + sxz^2 + sxy^2)) (von Mises
 1913). The sign keeps tension and compression apart, so a fully reversed uniaxial stress stays
 fully reversed (von Mises alone would count it as a pulsating stress at twice the frequency). For
-a uniaxial state sigma_svM = sigma_xx exactly. Its known weakness is non-proportional loading: for
-tension sigma_a sin(wt) with torsion tau_a cos(wt), tau_a = sigma_a/sqrt(3), sigma_vM is constant
-while the sign flips, so it sees a square wave of amplitude sigma_a although the planes of the
-material see smaller, rotating stresses — hence the critical plane below.
+a uniaxial state sigma_svM = sigma_xx exactly. Its known weakness is non-proportional loading:
+for tension sigma_a sin(wt) with torsion tau_a cos(wt), tau_a = sigma_a, the sign follows sigma_x
+and flips where sigma_vM = sqrt(3) sigma_a is largest, so the signed von Mises jumps from
++sqrt(3) sigma_a to -sqrt(3) sigma_a: a range of 2 sqrt(3) sigma_a, while no plane of the material
+sees a normal-stress amplitude above 2/sqrt(3) sigma_a (below) — hence the critical plane at the
+candidate nodes.
 
 Normal stress on the critical plane (the stress-based critical-plane approach for tensile,
 mode-I cracks: Socie & Marquis, "Multiaxial Fatigue", SAE 2000, ch. 5; the "normal stress"
@@ -30,12 +32,12 @@ whose amplitude, maximised over theta, is sigma_a/2 + sqrt(sigma_a^2/4 + tau_a^2
 sqrt(max_c (sigma_a^2 c^2 + 4 tau_a^2 c (1 - c))), c = cos^2 theta, for phi = 90 degrees
 (2/sqrt(3) sigma_a at tau_a = sigma_a) (tests/test_fatigue.py).
 
-Plane search: the normals of a Fibonacci lattice on the half sphere (`plane_normals`, angular
-spacing h ~ sqrt(2 pi / n)); the `n_exact` planes with the largest normal-stress range are counted
-exactly and the worst is taken. Between lattice normals the amplitude of sigma_n changes by at
-most 2 max|sigma| sin^2(h/2)... (a quadratic form of n: its change over an angle h from the
-maximising plane is second order in h, bounded by the spread of the tensor's eigenvalues times
-sin^2 h), which the tests use as their tolerance.
+Plane search (cage_fatigue.critical_plane): the normals of a Fibonacci lattice on the half sphere
+(`plane_normals`, covering radius h ~ 2/sqrt(n)), then a local grid of spacing h/8 around the
+best of them; on each, the planes of largest normal-stress range are counted exactly and the
+worst is taken. Near the maximising plane the amplitude of n . sigma n is stationary, so a plane
+at angle e from it loses at most sin^2(e) (f* + ||C|| + ||S||) of the amplitude f* (C, S the cos
+and sin tensors of a sinusoidal history): the tolerance of tests/test_fatigue.py.
 """
 from __future__ import annotations
 
@@ -108,7 +110,7 @@ def signed_von_mises_block(sig, out):
 
 def plane_normals(n: int) -> np.ndarray:
     """n unit normals of a Fibonacci lattice on the half sphere x >= 0 (a plane and its opposite
-    normal are the same plane), the first along +x... (n, 3)."""
+    normal are the same plane), (n, 3)."""
     k = np.arange(n, dtype=np.float64)
     x = 1.0 - (k + 0.5) / n                          # uniform in [0, 1): equal areas on the half sphere
     r = np.sqrt(np.maximum(0.0, 1.0 - x * x))
