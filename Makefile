@@ -24,6 +24,8 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy p
     python3-xarray python3-netcdf4 python3-h5netcdf \
     python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
     calculix-ccx
+# Small pure-Python PyPI packages, pinned, installed with --no-deps into the venv.
+PIP_PACKAGES := rainflow==3.2.0
 
 # Viewers of the report and the ParaView scene, for the slow tests that open them
 # (tests/test_viewers.py) and for `flexbearing report --pdf / --series` (bearing.pvsm, --movie).
@@ -43,7 +45,10 @@ $(VENV)/.apt-stamp: Makefile
 $(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
 	@[ -x $(PY) ] || $(SYSPY) -m venv --system-site-packages $(VENV)
 	@$(PY) -m pip install -q --no-build-isolation --no-deps -e .
-	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py, distributed, xarray; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
+	@# rainflow (ASTM E1049-85 5.4.4 rainflow counting, pure Python, no dependencies) for the cage's
+	@# fatigue (flexbearing.analysis.fatigue); --no-deps so pip never touches the Debian numpy
+	@$(PY) -m pip install -q --no-deps $(PIP_PACKAGES)
+	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py, distributed, xarray, rainflow; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
 	@touch $@
 
 setup: $(VENV)/.install-stamp

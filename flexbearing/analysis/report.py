@@ -157,6 +157,7 @@ class Report:
     picture: Path | None = None
     picture_md: list[str] = field(default_factory=list)
     series: dict | None = None
+    fatigue_md: list[str] = field(default_factory=list)
 
 
 def title_section(r: Report) -> list[str]:
@@ -338,21 +339,26 @@ def paraview_section(r: Report) -> list[str]:
 # The report's stages with their wall times (s) for the demo's unsteady run against its steady one,
 # series 0.29:0.31:4, 2 shared cores: the progress bar's estimate (flexbearing.common.progress)
 REPORT_STAGES = {"series": 21.0, "ParaView scene": 54.0, "tables": 6.4, "plots": 29.5, "von Mises frames": 5.3,
-                 "stress picture": 8.6, "page": 0.4, "pdf": 4.3}
+                 "stress picture": 8.6, "fatigue": 83.0, "page": 0.4, "pdf": 4.3}
 SERIES_STAGES = ("series", "ParaView scene")
 FLEXIBLE_STAGES = ("von Mises frames", "stress picture")
+
+def cage_fatigue_section(r: Report) -> list[str]:
+    """The cage's fatigue at the run's duty cycle (flexbearing.analysis.fatigue_report), when asked."""
+    return r.fatigue_md
+
 
 # The report, in page order: a section is a function Report -> Markdown lines ([] leaves it out).
 SECTIONS = [title_section, summary_section, notes_section, comparison_section, phases_section,
             strength_section, amplification_section, motion_section, power_section,
-            compare_phases_section, plots_section, stress_picture_section, paraview_section,
-            inputs_section]
+            compare_phases_section, plots_section, stress_picture_section, cage_fatigue_section,
+            paraview_section, inputs_section]
 
 
 def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
                  quiet: bool = True, settle: float = 0.0, series: str | None = None,
                  displacement_scale: float | None = None, sections=None, movie: bool = False,
-                 pdf: bool = False) -> dict:
+                 pdf: bool = False, fatigue=None) -> dict:
     """Plots, the report (report.md, report.json), the same as one self-contained page with the
     plots embedded (report.html, flexbearing.analysis.html_page) and, for a flexible-cage run, the
     picture of the cage's stress field at the run's maximum and the von Mises XDMF frames; with
@@ -362,8 +368,9 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     report's sections in page order (default SECTIONS). With a series and ParaView's pvpython
     installed, the ParaView scene bearing.pvsm (flexbearing.analysis.paraview_state) and, with `movie`,
     bearing.avi; with `pdf`, report.pdf printed by headless Chromium (flexbearing.analysis.pdf).
-    Returns {"report", "html", "json", "plots", "xdmf", "stress_picture", "series", "paraview",
-    "pdf"} (None where not written)."""
+    fatigue: a flexbearing.analysis.cage_fatigue.FatigueSettings adds the cage's fatigue section
+    (flexbearing.analysis.fatigue_report). Returns {"report", "html", "json", "plots", "xdmf",
+    "stress_picture", "series", "paraview", "pdf", "fatigue"} (None where not written)."""
     from contextlib import ExitStack
 
     from flexbearing.analysis import field_export
@@ -386,7 +393,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
         todo = {k: w for k, w in REPORT_STAGES.items()
                 if (k not in SERIES_STAGES or series is not None) and (run.flexible or k not in FLEXIBLE_STAGES)
-                and (k != "pdf" or pdf)}
+                and (k != "pdf" or pdf) and (k != "fatigue" or fatigue is not None)}
         step = stack.enter_context(Stages(f"report of {run.path.name}", todo, quiet))
         series_out = None
         if series is not None:
@@ -434,6 +441,12 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
             except InputError as exc:
                 r.picture_md = ["## Cage von Mises stress at the run's maximum", "", f"Not drawn: {exc}", ""]
                 say(f"report: stress picture not drawn: {exc}")
+        fatigue_facts, fatigue_files = None, {}
+        if fatigue is not None:
+            step("fatigue")
+            from flexbearing.analysis.fatigue_report import fatigue_section
+            r.fatigue_md, fatigue_facts, fatigue_files = fatigue_section(run.path, out_dir, fatigue, reduced_cage,
+                                                                         quiet)
         step("page")
         md = []
         for section in (SECTIONS if sections is None else sections):
@@ -446,7 +459,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         js.write_text(json.dumps({"run": str(run.path), "scene": run.name, "status": run.status, "units": {
             q.key: q.unit for q in QUANTITIES}, "phases": rows, "compare": str(cmp.path) if cmp else None,
             "compare_phases": r.cmp_rows, "impact_amplification": r.amplification, "cage_motion": r.motion_rows,
-            "power_loss": r.power_rows, "cage_strength": strength_rows,
+            "power_loss": r.power_rows, "cage_strength": strength_rows, "cage_fatigue": fatigue_facts,
             "report_wall_time_s": time.perf_counter() - t_start}, indent=1, allow_nan=False,
             default=float) + "\n")
         pdf_path = None
@@ -457,7 +470,8 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         step(None)
     return {"report": report, "html": page, "json": js, "plots": r.plots, "xdmf": r.xdmf,
             "stress_picture": r.picture, "series": series_out,
-            "paraview": None if series_out is None else series_out["paraview"], "pdf": pdf_path}
+            "paraview": None if series_out is None else series_out["paraview"], "pdf": pdf_path,
+            "fatigue": fatigue_files or None}
 
 
 def _impact_amplification(t, arrays, scene, dt) -> list[dict]:

@@ -1,7 +1,7 @@
 """`flexbearing report`: time-history plots, per-phase tables and the cage's von Mises field of a run.
 
     flexbearing report RUN.h5 [--compare OTHER.h5] [-o DIR] [--frames auto|t1,t2,...]
-                              [--series T0:T1[:N]] [--displacement-scale S] [--quiet]
+                              [--series T0:T1[:N]] [--displacement-scale S] [--fatigue ...] [--quiet]
 
 The work: flexbearing.analysis.report (write_report); the statistics are defined in flexbearing.analysis.windows.
 """
@@ -60,8 +60,38 @@ def register(subparsers) -> None:
     p.add_argument("--settle", type=float, default=0.0, metavar="S",
                    help="leave samples before t = S seconds (start-up transient) out of the tables")
     p.add_argument("--reduced-cage", metavar="FILE", help="reduced cage file (default: the one the run names)")
+    p.add_argument("--fatigue", action="store_true",
+                   help="add the cage's fatigue (flexible cage): damage, life and safety factor per node from "
+                        "the run's stress history (rainflow, mean-stress correction, S-N curve, Miner), the "
+                        "worst nodes, a picture of the damage field and fatigue.xdmf for ParaView")
+    p.add_argument("--fatigue-correction", metavar="NAME",
+                   help="mean-stress correction: goodman (default), gerber, swt or none")
+    p.add_argument("--fatigue-material", metavar="NAME", help="S-N curve preset (default 40CrNiMoA)")
+    p.add_argument("--fatigue-blocks-per-hour", type=float, metavar="N",
+                   help="times the run's block is applied per hour (default: the run repeated back to back)")
+    p.add_argument("--fatigue-design-life-h", type=float, metavar="H",
+                   help="design life of the safety factor, hours (default 10000, assumed)")
+    p.add_argument("--fatigue-nodes", default="", metavar="N1,N2,...",
+                   help="extra candidate nodes (rows of the reduced cage's /mesh/vertices)")
     p.add_argument("--quiet", action="store_true", help="print only the written paths, not the table")
     p.set_defaults(func=cmd_report)
+
+
+def _fatigue_settings(args):
+    """FatigueSettings of the --fatigue options (None without --fatigue)."""
+    if not args.fatigue:
+        return None
+    from flexbearing.analysis.cage_fatigue import HOUR, FatigueSettings
+    from flexbearing.common.validation import InputError
+    try:
+        nodes = tuple(int(n) for n in args.fatigue_nodes.split(",") if n.strip())
+    except ValueError:
+        raise InputError(f"--fatigue-nodes = {args.fatigue_nodes!r} must be node numbers separated by commas, "
+                         f"e.g. 13598,12597") from None
+    given = {"material": args.fatigue_material, "correction": args.fatigue_correction,
+             "design_life": None if args.fatigue_design_life_h is None else args.fatigue_design_life_h * HOUR}
+    return FatigueSettings(blocks_per_hour=args.fatigue_blocks_per_hour, nodes=nodes, settle=args.settle,
+                           **{k: v for k, v in given.items() if v is not None}).validate()
 
 
 def cmd_report(args) -> int:
@@ -71,7 +101,7 @@ def cmd_report(args) -> int:
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
                        reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle,
                        series=args.series, displacement_scale=args.displacement_scale, movie=args.movie,
-                       pdf=args.pdf)
+                       pdf=args.pdf, fatigue=_fatigue_settings(args))
     if not args.quiet:
         print_table(json.loads(res["json"].read_text())["phases"])
     print(f"report: {res['report']} (and {res['html'].name}, plots embedded)")
@@ -80,6 +110,8 @@ def cmd_report(args) -> int:
         print(f"stress: {res['stress_picture']}")
     if res["xdmf"]:
         print(f"xdmf:   {res['xdmf']}")
+    if res["fatigue"]:
+        print(f"fatigue: {res['fatigue']['xdmf']} and {res['fatigue']['picture'].name}")
     if res["series"]:
         for key in ("cage", "points", "rings"):
             if res["series"].get(key):
