@@ -17,8 +17,9 @@ Presets (`SN_CURVES`), each with its published source. Only what a source was fo
   4340 "aircraft quality", quenched and tempered, sigma_u = 1172 MPa, from N. E. Dowling,
   "Mechanical Behavior of Materials", 4th ed., Pearson 2013, Table 9.1 ("Constants for stress-life
   curves for various ductile engineering metals, from tests on unnotched axial specimens"):
-  sigma_f' = 1758 MPa, b = -0.0977. Tabulated values, not digitised (quoted from that table; no
-  copy of the book was at hand to re-check them when this module was written). The paper gives no heat
+  sigma_f' = 1758 MPa, b = -0.0977. Tabulated values, not digitised; re-checked against the
+  same book's strain-life table (Table 14.1, AISI 4340 aircraft quality: sigma_u 1172 MPa,
+  sigma_f' 1758 MPa, b -0.0977, the same specimens), which carries the same three numbers. The paper gives no heat
   treatment; GB/T 3077 asks sigma_b >= 980 MPa of quenched-and-tempered 40CrNiMoA, so the table's
   steel is at the strong end of what the cage may be. Mean-stress corrections use the same
   table's sigma_u (a fact of the tested steel, kept with its curve).
