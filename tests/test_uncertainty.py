@@ -245,7 +245,8 @@ def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys
     # nothing recomputed; the surrogate's best point per ball material re-run with the model (2 rows)
     assert len(rows) == 67
     assert sorted(r["point"].split("_")[1] for r in rows[65:]) == ["Si3N4", "steel"]
-    assert all(r["converged"] and abs(r["slip_pct"]) < 20 for r in rows[65:])
+    assert all(r["converged"] and abs(r["slip_pct"]) < 20 for r in rows[65:]), [
+        {k: r.get(k) for k in ("point", "converged", "slip_pct", "residual", "reason")} for r in rows[65:]]
     # --report-only: the same analysis from the rows, no runs
     (tmp_path / "rep" / "slip_rate_uncertainty.md").unlink()
     assert main(["uncertainty", str(UNKNOWNS), "-o", str(tmp_path / "out"), "--cases", "12", "--report-only",
