@@ -34,13 +34,18 @@ VIEWER_PACKAGES := paraview xvfb chromium
 
 .PHONY: setup viewers demo test test-all bench bench-work-precision cost-model stress clean
 
-$(VENV)/.apt-stamp: Makefile
-	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
+# $(call apt_install,PACKAGES): install those of the Debian packages that are missing
+define apt_install
+	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "installing Debian packages: $$missing"; \
 	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
 	fi
 	@mkdir -p $(VENV) && touch $@
+endef
+
+$(VENV)/.apt-stamp: Makefile
+	$(call apt_install,$(APT_PACKAGES))
 
 $(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
 	@[ -x $(PY) ] || $(SYSPY) -m venv --system-site-packages $(VENV)
@@ -54,12 +59,7 @@ $(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
 setup: $(VENV)/.install-stamp
 
 $(VENV)/.viewers-stamp: Makefile
-	@missing=$$(for p in $(VIEWER_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
-	if [ -n "$$missing" ]; then \
-	  echo "installing Debian packages: $$missing"; \
-	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
-	fi
-	@mkdir -p $(VENV) && touch $@
+	$(call apt_install,$(VIEWER_PACKAGES))
 
 viewers: $(VENV)/.viewers-stamp
 
