@@ -134,6 +134,7 @@ from numba import njit
 
 from flexbearing.multibody import model as M
 from flexbearing.multibody.model import (
+    F_INNER_HALVES,
     P_DW, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID,
     P_IIP, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_R1, P_CG,
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
@@ -672,7 +673,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         rv_x, rv_r, rv_t, g1, g2, ring_rc = ring_velocity_in_plane(psi, omega_i, xi, yi, zi, vxi, vyi, vzi,
                                                                    tyd, tzd)
         rv_r_trans = vyi * cs + vzi * sn
-        for c in range(3):
+        # contact 2 (the second inner half) exists on a split ring only (model.F_INNER_HALVES)
+        for c in range(1 + flags[F_INNER_HALVES]):
             ft_lean = 0.0
             if c == 0:
                 xc_g = p[P_XO]

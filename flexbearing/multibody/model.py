@@ -121,7 +121,8 @@ F_HERTZ_FIXED, F_ROLLRES, F_LAND = 7, 8, 9
 F_ATTITUDE = 10                        # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
 F_ATT_RING = 11                        # race control / no pivoting: gyroscopic friction reaction on the inner ring
 F_TRACTION_LAW = 12                    # the traction law of traction_table: index in TRACTION_LAWS
-N_FLAGS = 13
+F_INNER_HALVES = 13                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
+N_FLAGS = 14
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
@@ -332,8 +333,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p = np.zeros(N_PARAMS)
     p[P_DW], p[P_DM], p[P_Z], p[P_FE], p[P_FI] = dw, dm, z, bearing.fe, bearing.fi
     p[P_XO], p[P_RO] = outer_groove_centre(dm, dw, bearing.fe)
-    p[P_XIL], p[P_RIL], p[P_XIR], p[P_RIR] = inner_groove_centres(dm, dw, bearing.fi, bearing.shim_angle,
-                                                                  bearing.radial_clearance)
+    p[P_XIL], p[P_RIL], p[P_XIR], p[P_RIR] = inner_groove_centres(dm, dw, bearing.fi,
+                                                                  *bearing.groove_layout)
     p[P_MB] = bearing.ball_mass
     p[P_IB] = 0.4 * bearing.ball_mass * (0.5 * dw) ** 2
     # inner ring (assumed geometry, module docstring)
@@ -401,6 +402,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     flags[F_NSLICES] = n_slices
     flags[F_NBALLS] = z
     flags[F_NMODES] = n_modes
+    flags[F_INNER_HALVES] = bearing.n_inner_halves
     flags[F_HERTZ_FIXED] = bool(_option(options, "hertz_fixed_angle"))
     attitude = _option(options, "ball_attitude")
     if attitude not in BALL_ATTITUDES:
@@ -414,7 +416,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
         raise InputError(f"model.traction_law = {law!r} is not known; allowed: {list(TRACTION_LAWS)}")
     if law == "ehl":
         ttab = ehl_traction_table(oil.viscosity_temperature_coeff, float(_option(options, "traction_scale")),
-                                  float(_option(options, "contact_temperature_rise")))
+                                  float(_option(options, "contact_temperature_rise")),
+                                  ball_thermal=bearing.ball_thermal, race_thermal=bearing.ring_thermal)
     else:
         for key in ("traction_scale", "contact_temperature_rise"):
             if key in options and options[key] != DEFAULT_OPTIONS[key]:

@@ -107,6 +107,7 @@ import numpy as np
 
 from flexbearing.simulation.jobs import require_workers, run_jobs, runs_in_this_process
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody import clearance as CL
 from flexbearing.multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
 from flexbearing.multibody import traction as TR
 from flexbearing.multibody.initial import initial_state
@@ -137,10 +138,9 @@ CHECK_CASES = tuple(range(9, 16))
 
 
 def design_clearance(bearing=PAPER_BEARING) -> float:
-    """Diametral clearance Pd = 2·(fe − 0.5)·Dw·(1 − cos alphaD), m: the two-point free contact angle
-    equals the shim angle (Bearing.free_contact_angle = alphaD) and the ball just clears the unloaded
-    inner half (flexbearing.multibody.geometry docstring; 88.4 um for the paper bearing). Module docstring."""
-    return 2.0 * (bearing.fe - 0.5) * bearing.ball_diameter * (1.0 - math.cos(bearing.shim_angle))
+    """Diametral clearance Pd = 2·(fe − 0.5)·Dw·(1 − cos alphaD), m, of the bearing's shim angle
+    (flexbearing.multibody.clearance.design_clearance; 88.4 um for the paper bearing). Module docstring."""
+    return CL.design_clearance(bearing.fe, bearing.ball_diameter, bearing.shim_angle)
 
 
 def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: float | None = None):
@@ -156,7 +156,9 @@ def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: fl
     return b.validate()
 
 
-VALIDATION_BEARING = validation_bearing()
+# The paper preset itself (issue 35: Table 1 = Table 3, one bearing definition; its clearance is the
+# design clearance of the 30° shim, flexbearing.multibody.bearing.Bearing docstring).
+VALIDATION_BEARING = PAPER_BEARING
 
 
 def pure_rolling_cage_speed_ratio(alpha_outer: float, alpha_inner: float, beta: float, ball_diameter: float,
