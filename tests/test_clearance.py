@@ -229,3 +229,49 @@ def test_flash_constants_of_a_hybrid_contact():
     assert ratio == pytest.approx(2 * e_st / (e_st + e_sn), rel=1e-12) and 1.18 < ratio < 1.20
     tab = TR.ehl_traction_table(0.03, ball_thermal=SN, race_thermal=ST)
     assert tuple(tab[7, 1:3]) == (k, kappa)
+
+
+# ---------------------------------------------------------------- oil supply
+def test_oil_supply_sets_the_cavity_fraction_law():
+    from flexbearing.multibody.bearing import PAPER_OIL
+    from flexbearing.multibody.oil_supply import cavity_oil_fraction
+    from flexbearing.studies.validate import case_oil_air_fraction
+    fixed = PAPER_OIL
+    assert fixed.cavity_oil_fraction(4000.0) == fixed.cavity_oil_fraction(12000.0) == fixed.oil_air_fraction
+    jet = PAPER_OIL.__class__(supply="jet", oil_air_fraction=0.002, oil_air_reference_rpm=4000.0).validate()
+    # Parker's 1/n at a constant flow: three times the speed, a third of the oil
+    assert jet.cavity_oil_fraction(12000.0) == pytest.approx(0.002 / 3, rel=1e-15)
+    assert jet.cavity_oil_fraction(0.0) == 1.0                       # capped at a full cavity
+    # the slip-rate validation's law is this one
+    assert case_oil_air_fraction(0.002, 10000.0, "inverse_speed") == jet.cavity_oil_fraction(10000.0)
+    # the model: fixed fraction has no reference speed; the rhs evaluates X at the ring's speed
+    assert cavity_oil_fraction(0.05, 0.0, 1234.0) == 0.05
+    from flexbearing.simulation.scene import loads_scene
+    base = ('name = "t"\n[operation]\nduration = 0.1\n[operation.speed]\n'
+            'phases = [{kind = "uniform", duration = 0.1, rpm = 10000}]\n[operation.load]\naxial_load = 1000.0\n'
+            '[output]\nsample_interval = 1e-3\nrecord = ["cage_speed"]\n')
+    sc = loads_scene(base + '[oil]\nsupply = "under_race"\noil_air_fraction = 0.004\n')
+    assert sc.oil.supply == "under_race" and sc.oil.cavity_oil_fraction(8000.0) == pytest.approx(0.002)
+    with pytest.raises(InputError) as e:
+        loads_scene(base + '[oil]\nsupply = "splash"\n')
+    assert "oil.supply = 'splash'" in str(e.value)
+
+
+def test_churning_drag_follows_the_supply_law_in_the_dynamics():
+    # same state, same speed: a jet supply whose X_ref·n_ref/n equals a fixed fraction gives the same
+    # right-hand side to round-off; doubling n_ref doubles the oil and changes the balls' drag
+    from flexbearing.multibody.bearing import PAPER_OIL
+    from flexbearing.multibody.model import build_model
+    from flexbearing.multibody.initial import initial_state
+    from flexbearing.multibody.outputs import evaluate_outputs
+    omega = 8000 * math.pi / 30
+    speed, load = np.array([[0.0, omega]]), np.array([[0.0, 2e3, 0.0, -500.0]])
+    fixed = PAPER_OIL.__class__(oil_air_fraction=0.002).validate()
+    jet = PAPER_OIL.__class__(supply="jet", oil_air_fraction=0.004, oil_air_reference_rpm=4000.0).validate()
+    jet2 = PAPER_OIL.__class__(supply="jet", oil_air_fraction=0.004, oil_air_reference_rpm=8000.0).validate()
+    m0 = build_model(PAPER_BEARING, fixed)
+    y = initial_state(m0, omega, 2e3, 500.0)
+    out = [evaluate_outputs(build_model(PAPER_BEARING, o), 0.0, y, speed, load, np.zeros((0, 6)))["power_loss_churning"]
+           for o in (fixed, jet, jet2)]
+    assert np.allclose(out[1], out[0], rtol=1e-12, atol=0.0)
+    assert np.all(out[2] > 1.5 * out[0])

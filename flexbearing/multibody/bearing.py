@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace, asdict
 
 from flexbearing.common.materials import BEARING_STEEL_THERMAL, M50, Material, Thermal
 from flexbearing.multibody import clearance as CL
+from flexbearing.multibody.oil_supply import SUPPLIES, cavity_oil_fraction
 from flexbearing.mesh.cage_geometry import PAPER_CAGE, CageGeometry
 from flexbearing.common.validation import InputError, require_positive, require_range
 
@@ -28,7 +29,20 @@ class Oil:
     thermal_conductivity: float = 0.0965788        # W/(m·K)
     pressure_viscosity_coeff: float = 1.85e-8      # 1/Pa
     temperature_c: float = 20.0                    # operating oil temperature, °C (paper preset)
-    oil_air_fraction: float = 0.05                 # assumed: oil volume fraction in the cavity
+    oil_air_fraction: float = 0.05                 # assumed: oil volume fraction in the cavity (at the
+                                                   # reference speed for a continuous supply)
+    supply: str = "unspecified"                    # "unspecified" | "jet" | "under_race" (flexbearing.multibody.oil_supply)
+    oil_air_reference_rpm: float = 4000.0          # rpm at which oil_air_fraction holds for jet / under_race
+
+    def cavity_oil_fraction(self, speed_rpm: float) -> float:
+        """Oil volume fraction of the cavity at inner-ring speed n, rpm: fixed, or X_ref·n_ref/n for a
+        jet or under-race supply (flexbearing.multibody.oil_supply)."""
+        return float(cavity_oil_fraction(self.oil_air_fraction, self.supply_reference_rpm, speed_rpm))
+
+    @property
+    def supply_reference_rpm(self) -> float:
+        """n_ref of the 1/n law for a continuous supply, 0 for a fixed fraction (oil_supply.cavity_oil_fraction)."""
+        return 0.0 if self.supply == "unspecified" else self.oil_air_reference_rpm
 
     def viscosity(self, temperature_c: float | None = None) -> float:
         """Dynamic viscosity at atmospheric pressure, Pa·s."""
@@ -47,6 +61,9 @@ class Oil:
         require_range("oil.pressure_viscosity_coeff", self.pressure_viscosity_coeff, 0.0, 1e-7, unit="1/Pa")
         require_range("oil.temperature_c", self.temperature_c, -60.0, 250.0, unit="°C")
         require_range("oil.oil_air_fraction", self.oil_air_fraction, 0.0, 1.0)
+        if self.supply not in SUPPLIES:
+            raise InputError(f"oil.supply = {self.supply!r} must be one of {', '.join(map(repr, SUPPLIES))}")
+        require_range("oil.oil_air_reference_rpm", self.oil_air_reference_rpm, 0.0, 1e5, lo_open=True, unit="rpm")
         return self
 
 

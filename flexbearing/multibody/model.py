@@ -113,7 +113,8 @@ P_LAND_L = 45                          # effective land width used for the Petro
 P_ETA_TRACTION = 46                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
 P_ATT_RATE = 47                        # relaxation rate of the race-control ball attitude constraint, 1/s
 P_UREG = 48                            # regularisation speed of the fit's slide-to-roll ratio, m/s
-N_PARAMS = 49
+P_OIL_WREF = 49                        # reference speed of the cavity oil fraction (rad/s; 0: fixed), oil_supply
+N_PARAMS = 50
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 1, 2, 3, 4, 5, 6
@@ -383,6 +384,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p[P_K0] = oil.thermal_conductivity
     p[P_RHO_OIL] = oil.density
     p[P_OILFRAC] = oil.oil_air_fraction
+    p[P_OIL_WREF] = oil.supply_reference_rpm * math.pi / 30.0
     p[P_CD] = require_range("model.drag_coefficient", _option(options, "drag_coefficient"), 0.0, 5.0)
     p[P_ALPHA_P] = oil.pressure_viscosity_coeff
     p[P_SLIN], p[P_UMIN], p[P_ZETA] = s_lin, u_min, zeta

@@ -22,6 +22,9 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     [oil]
     preset = "paper"          # "paper" (20 °C, PAPER_OIL) | "engine" (100 °C, ENGINE_OIL)
     temperature_c = 20.0      # any field of flexbearing.multibody.bearing.Oil
+    supply = "under_race"     # "unspecified" (fixed cavity oil fraction, the presets) | "jet" | "under_race":
+                              #   the churning drag's oil fraction falls as oil_air_fraction·n_ref/n with
+                              #   n_ref = oil_air_reference_rpm (flexbearing.multibody.oil_supply)
 
     [cage]
     model = "rigid"           # "rigid" | "flexible"
@@ -92,6 +95,7 @@ import numpy as np
 
 from flexbearing.common.materials import YIELD_STRENGTH_40CrNiMoA, Material, ball_material_named
 from flexbearing.multibody.clearance import INNER_RINGS, resolve_inner_ring
+from flexbearing.multibody.oil_supply import SUPPLIES
 from flexbearing.mesh.cage_geometry import CageGeometry
 from flexbearing.common.cache import content_hash
 from flexbearing.common.validation import InputError, require_range
@@ -339,7 +343,9 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
 def _oil(d: dict) -> Oil:
     d = _table(d, "oil", ("preset",) + _OIL_KEYS)
     preset = _string("oil.preset", d.get("preset", "paper"), tuple(OIL_PRESETS))
-    changes = {k: _number(f"oil.{k}", v) for k, v in d.items() if k != "preset"}
+    changes = {k: _number(f"oil.{k}", v) for k, v in d.items() if k not in ("preset", "supply")}
+    if "supply" in d:
+        changes["supply"] = _string("oil.supply", d["supply"], SUPPLIES)
     return dataclasses.replace(OIL_PRESETS[preset], **changes).validate()
 
 

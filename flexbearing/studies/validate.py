@@ -108,6 +108,7 @@ import numpy as np
 from flexbearing.simulation.jobs import require_workers, run_jobs, runs_in_this_process
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody import clearance as CL
+from flexbearing.multibody.oil_supply import cavity_oil_fraction
 from flexbearing.multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
 from flexbearing.multibody import traction as TR
 from flexbearing.multibody.initial import initial_state
@@ -234,8 +235,8 @@ def case_oil_air_fraction(fraction_ref: float, speed_rpm: float, scaling: str = 
     calibrated quantity, the w and dm factors are constant over the test)."""
     if scaling == "constant":
         return fraction_ref
-    if scaling == "inverse_speed":
-        return fraction_ref * OIL_AIR_REFERENCE_RPM / speed_rpm
+    if scaling == "inverse_speed":      # the continuous-supply law, flexbearing.multibody.oil_supply
+        return float(cavity_oil_fraction(fraction_ref, OIL_AIR_REFERENCE_RPM, speed_rpm))
     from flexbearing.common.validation import InputError
     raise InputError(f"oil_air_scaling = {scaling!r} is not known; allowed: 'constant', 'inverse_speed'")
 
