@@ -531,6 +531,7 @@ def page_markdown(analysis: list[dict], command: str, n_samples: int) -> str:
                  + (f"{np.mean(errs):.1f} % / {np.max(errs):.1f} %" if errs else "—") + " | "
                  + (f"{sum(inb)}/{len(inb)}" if inb else "—") + " | "
                  + (f"{sum(c['verdict'] == 'pass' for c in chk)}/{len(chk)}" if chk else "—") + " |")
+    L += _example_block(analysis)
     for a in analysis:
         vs = a["series"]
         L += ["", f"## `{vs.series.id}`: {vs.series.title}", "", f"Source: {vs.series.source}. "
@@ -589,6 +590,31 @@ def page_markdown(analysis: list[dict], command: str, n_samples: int) -> str:
         for ch in vs.checks:
             L.append(f"- ({ch.kind}) {ch.statement} — {ch.source}")
     return "\n".join(L) + "\n"
+
+
+def _example_block(analysis: list[dict]) -> list[str]:
+    """A ```python block (tests/test_examples.py runs it): the paper series' bearing is the preset, and the
+    brackets of the first Table 5 point recomputed from the tabulated operating angles."""
+    a = next((x for x in analysis if x["series"].series.id == "yang2025_table5"), None)
+    row = a["points"][0]["nominal"] if a and a["points"] else None
+    if not row or not row.get("converged") or "inner_control_slip_pct" not in row:
+        return []
+    return ["", "Reading the tables: the brackets of a row follow from its operating angles alone "
+                "(Jones 1960; `race_control.brackets`), and the paper series' bearing is the preset:", "",
+            "```python",
+            "from flexbearing.multibody.bearing import PAPER_BEARING",
+            "from flexbearing.studies import race_control as RC, validate_series as VS",
+            "",
+            'vs = RC.load_series("scenes/validation/yang2025_table5.toml")',
+            "b = VS.series_bearing(vs, VS.nominal_values(vs))",
+            "assert (b.pitch_diameter, b.ball_diameter, b.n_balls, b.inner_ring) == (0.167, 0.022, 20, 'split')",
+            "assert abs(b.radial_clearance - PAPER_BEARING.radial_clearance) < 1e-12      # 88.4 um",
+            f"alpha_i, alpha_o = {row['inner_contact_angle_deg']:.4f}, {row['outer_contact_angle_deg']:.4f}"
+            f"   # point {a['points'][0]['point']}, computed (deg)",
+            f"br = RC.brackets({row['speed_rpm']:.0f}, 0.022, 0.167, alpha_i, alpha_o)",
+            f"assert abs(br.inner_slip_percent - ({row['inner_control_slip_pct']:+.2f})) < 0.01",
+            f"assert abs(br.outer_slip_percent - ({row['outer_control_slip_pct']:+.2f})) < 0.01",
+            "```", ""]
 
 
 def write_page(analysis: list[dict], path, command: str, n_samples: int) -> Path:
