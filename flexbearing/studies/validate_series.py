@@ -399,6 +399,7 @@ def analyse(chosen: list[RC.ValidationSeries], rows: list[dict]) -> list[dict]:
                          reported_model={k: q.value for k, q in p.reported_model.items()},
                          nominal=nominal, band=band, n_samples=len(samples), n_converged=len(ok),
                          n_infeasible=sum(not r.get("feasible", True) for r in samples),
+                         positive_slips=sorted(r["slip_pct"] for r in ok if r["slip_pct"] > 0.0),
                          dynamics_slip_pct=dyn.get(pid) if vs.series.id == "yang2025_table5" else None)
             m = p.measured.get("measured_cage_slip_percent")
             if m is not None and m.value is not None and nominal and nominal.get("converged"):
@@ -513,7 +514,9 @@ def page_markdown(analysis: list[dict], command: str, n_samples: int) -> str:
          f"Band: 5–95 % of the converged steady states at {n_samples} Sobol' samples of the series' declared "
          "unknowns (infeasible combinations, e.g. an angle that no shim angle gives with that clearance, are "
          "left out and counted). Brackets: pure inner- / outer-race control (race_control.brackets) at the model's "
-         "own operating contact angles of the nominal state, with the same n_m.", "",
+         "own operating contact angles of the nominal state, with the same n_m. **Read the band with its last "
+         "column**: a measured value 'inside' a band whose upper end is a gross skid (tens of %) is not agreement; "
+         "the samples with S > 0 are listed with their range, and their unknowns are in the rows file.", "",
          "**Approximations.** Geometry a source does not give (groove radii, cage, pocket and land clearances of "
          "the NASA and 1979 bearings) is the paper bearing's in proportion to the ball; the model's cage is "
          "outer-land guided in every series (the 1979 bearing's is inner-land guided); no thermal model (oil at "
@@ -550,8 +553,8 @@ def page_markdown(analysis: list[dict], command: str, n_samples: int) -> str:
                       "test bearing.", ""]
         L += ["| point | speed, rpm | Fa / Fr, N | measured | computed (nominal) | error | band (5–95 %) | "
               "inner control | outer control | dynamics | α_i / α_o operating, deg | power loss, W | "
-              "pocket / land force, N | samples conv. / infeasible |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "pocket / land force, N | samples conv. / infeasible | samples with S > 0 |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for e in a["points"]:
             n = e["nominal"] or {}
             conv = n.get("converged")
@@ -571,7 +574,9 @@ def page_markdown(analysis: list[dict], command: str, n_samples: int) -> str:
                 f"{_f(n.get('power_loss_W') if conv else None, '{:.0f}')} | "
                 f"{_f(n.get('pocket_force_max_N') if conv else None, '{:.1f}')} / "
                 f"{_f(n.get('cage_land_force_N') if conv else None, '{:.1f}')} | "
-                f"{e['n_converged']}/{e['n_samples']} / {e['n_infeasible']} |")
+                f"{e['n_converged']}/{e['n_samples']} / {e['n_infeasible']} | "
+                + (f"{len(e['positive_slips'])}: {e['positive_slips'][0]:+.1f} … {e['positive_slips'][-1]:+.1f} %"
+                   if e["positive_slips"] else "0") + " |")
         errs = [e["slip_error_pct"] for e in a["points"] if "slip_error_pct" in e]
         if errs:
             right = sum(1 for e in a["points"] if "slip_error_pct" in e and e["nominal"]["slip_pct"] > 0)
