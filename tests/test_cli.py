@@ -87,7 +87,10 @@ def test_quasi_static_modes(tmp_path, capsys):
     import json
     from flexbearing.cli.main import main
     rest = tmp_path / "rest.toml"
-    rest.write_text(open("scenes/paper_steady_rigid.toml").read().replace("rpm = 14000", "rpm = 0"))
+    # the clearance-free paper bearing these frequencies are for (the preset's design clearance, issue 35,
+    # gives 1520 / 3563 Hz: a softer two-point bearing)
+    rest.write_text(open("scenes/paper_steady_rigid.toml").read().replace("rpm = 14000", "rpm = 0")
+                    .replace("[bearing]", "[bearing]\nradial_clearance = 0.0", 1))
     out = tmp_path / "modes.json"
     assert main(["quasi-static", str(rest), "--modes", "6", "--json", str(out)]) == 0
     modes = json.loads(out.read_text())["modes"]
@@ -121,7 +124,12 @@ def test_quasi_static_friction_control_is_the_steady_running_state(tmp_path, cap
     assert d["converged"] and d["slip_rate"] == pytest.approx(info["slip_rate"], rel=1e-9, abs=1e-12)
     assert d["inputs"]["state"] == "thrust"
     held = tmp_path / "held.json"
-    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--control", "friction", "--balls",
+    # the clearance-free bearing: with the preset's design clearance (issue 35) the held-cage continuation
+    # stops at 71 % of the radial load of this case (steady_held_cage_state's reason: the branch turns or
+    # ends there), an open point of the steady solver reported with issue 35
+    clear0 = tmp_path / "steady_rigid_pd0.toml"
+    clear0.write_text(open("scenes/paper_steady_rigid.toml").read().replace("[bearing]", "[bearing]\nradial_clearance = 0.0", 1))
+    assert main(["quasi-static", str(clear0), "--control", "friction", "--balls",
                  "--json", str(held)]) == 0
     text = capsys.readouterr().out
     d = json.loads(held.read_text())

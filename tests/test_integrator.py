@@ -180,7 +180,11 @@ def test_samples_inside_steps_are_as_accurate_as_stopping_at_them():
     from flexbearing.simulation.run import default_backend
     from flexbearing.simulation.scene import load_scene
     from flexbearing.multibody.profiles import load_at, speed_at
+    import dataclasses
     scene = load_scene(Path(__file__).resolve().parents[1] / "scenes" / "paper_steady_rigid.toml")
+    # the clearance-free bearing the statistics above were measured on (issue 35 moved the preset to the
+    # design clearance, 88.4 um; there one of the 25 tolerances takes as many steps inside as stopping)
+    scene = dataclasses.replace(scene, bearing=scene.bearing.with_(radial_clearance=0.0))
     be = default_backend(scene)
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))
     f0 = np.zeros(3)

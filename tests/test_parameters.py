@@ -17,9 +17,12 @@ def test_paper_preset_is_valid():
 def test_free_contact_angle_matches_spec_formula():
     # alpha0 = acos(Dr/(B·Dw)), Dr = (fi-0.5)·Dw·cos(30°) + (fe-0.5)·Dw, B = fi+fe-1 (SPEC §2):
     # Dr/(B·Dw) = (0.02·cos30° + 0.015)/0.035 = 0.923495...
+    # for the clearance-free ring (Pd = 0); the preset takes the design clearance, where alpha0 = alphaD = 30°
     expected = math.acos((0.02 * math.cos(math.radians(30)) + 0.015) / 0.035)
-    assert PAPER_BEARING.free_contact_angle == pytest.approx(expected, rel=1e-12)
+    assert PAPER_BEARING.with_(radial_clearance=0.0).free_contact_angle == pytest.approx(expected, rel=1e-12)
     assert math.degrees(expected) == pytest.approx(22.565, abs=1e-3)
+    # with Pd: Dr − Pd/2 (SPEC §2, "plus the radial-clearance share"); 88.4232 um gives exactly 30°
+    assert math.degrees(PAPER_BEARING.free_contact_angle) == pytest.approx(30.0, abs=1e-9)
 
 
 def test_oil_viscosity_law():

@@ -26,7 +26,13 @@ import pytest
 from scipy.optimize import brentq, fsolve
 
 from flexbearing.multibody import quasi_static as qs
-from flexbearing.multibody.bearing import PAPER_BEARING
+from flexbearing.multibody.bearing import PAPER_BEARING as PRESET
+
+# The clearance-free paper bearing (radial_clearance = 0) these tests were written on: issue 35 moved the
+# preset to the design clearance of its 30° shim (88.4 um); the solvers' properties checked here are
+# those of the three-point bearing at rest, and the held-cage continuation does not reach the paper
+# steady case at the design clearance (stops at 71 % of the radial load: reported with issue 35).
+PAPER_BEARING = PRESET.with_(radial_clearance=0.0)
 from flexbearing.multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
 
 DW, DM, Z, F, A0 = 22.23e-3, 125.3e-3, 16, 0.5232, math.radians(40.0)

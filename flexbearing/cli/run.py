@@ -2,6 +2,7 @@
 
     flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--max-wall-time S] [--quiet]
     flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--scheduler ADDRESS]
+    flexbearing validate series [--samples N] [--series ID]   (flexbearing.cli.validate_series)
                                    [--ball-attitude A]
                                    [--transverse-traction on|off] [--shim-angle DEG]
                                    [--radial-clearance M] [--quiet]
@@ -83,6 +84,8 @@ def register(subparsers) -> None:
                    help="diametral clearance Pd of the test bearing, m (default: the design clearance)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
+    from flexbearing.cli import validate_series as cli_validate_series
+    cli_validate_series.register(vs)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
 
 

@@ -9,7 +9,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace, asdict
 
-from flexbearing.common.materials import M50, Material
+from flexbearing.common.materials import BEARING_STEEL_THERMAL, M50, Material, Thermal
+from flexbearing.multibody import clearance as CL
+from flexbearing.multibody.oil_supply import SUPPLIES, cavity_oil_fraction
 from flexbearing.mesh.cage_geometry import PAPER_CAGE, CageGeometry
 from flexbearing.common.validation import InputError, require_positive, require_range
 
@@ -27,7 +29,20 @@ class Oil:
     thermal_conductivity: float = 0.0965788        # W/(m·K)
     pressure_viscosity_coeff: float = 1.85e-8      # 1/Pa
     temperature_c: float = 20.0                    # operating oil temperature, °C (paper preset)
-    oil_air_fraction: float = 0.05                 # assumed: oil volume fraction in the cavity
+    oil_air_fraction: float = 0.05                 # assumed: oil volume fraction in the cavity (at the
+                                                   # reference speed for a continuous supply)
+    supply: str = "unspecified"                    # "unspecified" | "jet" | "under_race" (flexbearing.multibody.oil_supply)
+    oil_air_reference_rpm: float = 4000.0          # rpm at which oil_air_fraction holds for jet / under_race
+
+    def cavity_oil_fraction(self, speed_rpm: float) -> float:
+        """Oil volume fraction of the cavity at inner-ring speed n, rpm: fixed, or X_ref·n_ref/n for a
+        jet or under-race supply (flexbearing.multibody.oil_supply)."""
+        return float(cavity_oil_fraction(self.oil_air_fraction, self.supply_reference_rpm, speed_rpm))
+
+    @property
+    def supply_reference_rpm(self) -> float:
+        """n_ref of the 1/n law for a continuous supply, 0 for a fixed fraction (oil_supply.cavity_oil_fraction)."""
+        return 0.0 if self.supply == "unspecified" else self.oil_air_reference_rpm
 
     def viscosity(self, temperature_c: float | None = None) -> float:
         """Dynamic viscosity at atmospheric pressure, Pa·s."""
@@ -46,26 +61,52 @@ class Oil:
         require_range("oil.pressure_viscosity_coeff", self.pressure_viscosity_coeff, 0.0, 1e-7, unit="1/Pa")
         require_range("oil.temperature_c", self.temperature_c, -60.0, 250.0, unit="°C")
         require_range("oil.oil_air_fraction", self.oil_air_fraction, 0.0, 1.0)
+        if self.supply not in SUPPLIES:
+            raise InputError(f"oil.supply = {self.supply!r} must be one of {', '.join(map(repr, SUPPLIES))}")
+        require_range("oil.oil_air_reference_rpm", self.oil_air_reference_rpm, 0.0, 1e5, lo_open=True, unit="rpm")
         return self
+
+
+# The paper bearing's numbers that its clearance is derived from (Table 1; shim angle assumed, SPEC §1).
+_PAPER_DW, _PAPER_FE, _PAPER_SHIM = 22e-3, 0.515, math.radians(30.0)
 
 
 @dataclass(frozen=True)
 class Bearing:
-    """Three-point-contact ball bearing with a two-piece inner ring (paper Table 1)."""
+    """Angular-contact ball bearing: the paper's three-point-contact type with a two-piece (split)
+    inner ring (paper Table 1), or an ordinary one-piece inner ring (inner_ring = "one_piece").
+
+    Clearance (SPEC §1 note; flexbearing.multibody.clearance): the shim angle alphaD is defined in the
+    clearance-free state; the operating diametral clearance Pd (the field `radial_clearance`, the
+    diametral value, as flexbearing.multibody.geometry uses it) is a separate input. The paper does not
+    give it; the preset takes the split ring's design clearance 2·(fe − 0.5)·Dw·(1 − cos alphaD) =
+    88.4 um, the smallest with which the ball runs in two-point contact under thrust (the free contact
+    angle then equals the shim angle, 30°), as a split-ring bearing is designed to run. At Pd = 0 the
+    ball is held by all three races at any load below ~the centrifugal split (flexbearing.studies.validate
+    docstring). Declared unknown of the test bearing: Pd in 0–200 um (scenes/validation/yang2025_table5.toml).
+    The paper scenes and the slip-rate validation use this one definition (issue 35).
+
+    One-piece ring: one inner groove whose curvature centre is that of the split ring's loaded half at
+    alphaD = alpha0 with the design clearance (the same radial distance B·Dw − Pd/2 from the outer
+    centre), and the second half removed; `shim_angle` is not used (`groove_layout`)."""
     outside_diameter: float = 199e-3
     bore_diameter: float = 135e-3
     width: float = 29.5e-3
     pitch_diameter: float = 167e-3
-    ball_diameter: float = 22e-3
+    ball_diameter: float = _PAPER_DW
     n_balls: int = 20
-    fe: float = 0.515                      # outer groove radius / ball diameter
+    fe: float = _PAPER_FE                  # outer groove radius / ball diameter
     fi: float = 0.52                       # inner half-groove radius / ball diameter
-    shim_angle: float = math.radians(30.0)  # assumed: alpha_D, contact angle of each inner half
-    radial_clearance: float = 0.0           # assumed: "clearance-free natural state"
+    shim_angle: float = _PAPER_SHIM        # assumed: alpha_D, contact angle of each inner half (split ring)
+    # diametral clearance Pd, m (class docstring): the design clearance of the 30° shim, 88.4 um
+    radial_clearance: float = CL.design_clearance(_PAPER_FE, _PAPER_DW, _PAPER_SHIM)
     guide_land_diameter: float = 179.2e-3   # assumed: outer-ring land that guides the cage
     cage: CageGeometry = field(default=PAPER_CAGE)
     ball_material: Material = field(default=M50)
     ring_material: Material = field(default=M50)
+    inner_ring: str = "split"               # "split" (two halves, three-point type) | "one_piece"
+    ball_thermal: Thermal = BEARING_STEEL_THERMAL   # where the EHL traction law's flash temperature uses it
+    ring_thermal: Thermal = BEARING_STEEL_THERMAL
 
     # -- derived geometry (paper §2.2.1) --
     @property
@@ -75,10 +116,29 @@ class Bearing:
 
     @property
     def free_contact_angle(self) -> float:
-        """alpha0 = acos(Dr / (B·Dw)), Dr = (fi-0.5)·Dw·cos(alphaD) + (fe-0.5)·Dw, B = fi + fe − 1 (Harris & Kotzalas Vol. 1, ch. 2)."""
-        dw = self.ball_diameter
-        dr = (self.fi - 0.5) * dw * math.cos(self.shim_angle) + (self.fe - 0.5) * dw - 0.5 * self.radial_clearance
-        return math.acos(min(1.0, dr / (self.total_curvature * dw)))
+        """alpha0, rad (flexbearing.multibody.clearance): split ring acos(Dr/(B·Dw)),
+        Dr = (fi-0.5)·Dw·cos(alphaD) + (fe-0.5)·Dw − Pd/2; one-piece acos(1 − Pd/(2·B·Dw))."""
+        if self.inner_ring == "one_piece":
+            return CL.one_piece_free_contact_angle(self.fe, self.fi, self.ball_diameter, self.radial_clearance)
+        return CL.split_free_contact_angle(self.fe, self.fi, self.ball_diameter, self.shim_angle,
+                                           self.radial_clearance)
+
+    @property
+    def groove_layout(self) -> tuple[float, float]:
+        """(angle, clearance) that place the inner groove centres
+        (flexbearing.multibody.geometry.inner_groove_centres(dm, Dw, fi, angle, clearance)): a split ring's
+        shim angle and diametral clearance; a one-piece ring's free contact angle alpha0 with the design
+        clearance of that angle, which puts its groove centre B·Dw − Pd/2 radially from the outer one
+        (class docstring; tests/test_clearance.py)."""
+        if self.inner_ring == "one_piece":
+            a0 = self.free_contact_angle
+            return a0, CL.design_clearance(self.fe, self.ball_diameter, a0)
+        return self.shim_angle, self.radial_clearance
+
+    @property
+    def n_inner_halves(self) -> int:
+        """Inner race contacts per ball: 2 (split ring), 1 (one-piece ring)."""
+        return 1 if self.inner_ring == "one_piece" else 2
 
     @property
     def pocket_clearance(self) -> float:
@@ -109,8 +169,21 @@ class Bearing:
         require_range("bearing.n_balls", self.n_balls, 3, math.floor(max_z))
         require_range("bearing.fe", self.fe, 0.5, 0.6, lo_open=True)
         require_range("bearing.fi", self.fi, 0.5, 0.6, lo_open=True)
+        if self.inner_ring not in CL.INNER_RINGS:
+            raise InputError(f"bearing.inner_ring = {self.inner_ring!r} must be one of "
+                             f"{', '.join(map(repr, CL.INNER_RINGS))}")
         require_range("bearing.shim_angle", self.shim_angle, 0.0, math.radians(45.0), hi_open=True, unit="rad")
-        require_range("bearing.radial_clearance", self.radial_clearance, 0.0, 0.01 * self.ball_diameter, unit="m")
+        if self.inner_ring == "one_piece":   # free contact angle below 45°: Pd <= 2·B·Dw·(1 − cos 45°)
+            require_range("bearing.radial_clearance", self.radial_clearance, 0.0,
+                          CL.one_piece_clearance(self.fe, self.fi, self.ball_diameter, math.radians(45.0)),
+                          lo_open=True, unit="m")
+        else:
+            require_range("bearing.radial_clearance", self.radial_clearance, 0.0, 0.01 * self.ball_diameter,
+                          unit="m")
+        for name in ("ball_thermal", "ring_thermal"):
+            th = getattr(self, name)
+            require_positive(f"bearing.{name}.conductivity", th.conductivity, "W/(m·K)")
+            require_positive(f"bearing.{name}.diffusivity", th.diffusivity, "m²/s")
         self.cage.validate()
         if self.cage.n_pockets != self.n_balls:
             raise InputError(f"cage.n_pockets = {self.cage.n_pockets} must equal bearing.n_balls = {self.n_balls}")

@@ -134,6 +134,7 @@ from numba import njit
 
 from flexbearing.multibody import model as M
 from flexbearing.multibody.model import (
+    F_INNER_HALVES, P_OIL_WREF,
     P_DW, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID,
     P_IIP, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_R1, P_CG,
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
@@ -150,6 +151,7 @@ from flexbearing.multibody.geometry import cross, race_contact, ring_point_in_pl
 from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.guide_land import guide_land_force
 from flexbearing.multibody.pocket import pocket_curvature_radii, pocket_resistance_coefficients
+from flexbearing.multibody.oil_supply import cavity_oil_fraction
 from flexbearing.multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from flexbearing.multibody.traction import TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
 from flexbearing.multibody.film import film_thickness as hamrock_dowson_film
@@ -617,7 +619,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     rmz = 0.0
     fo = p[P_FE]
     fi = p[P_FI]
-    rho_mix, eta_mix = oil_air_mixture(p[P_OILFRAC], p[P_RHO_OIL], p[P_ETA0])
+    rho_mix, eta_mix = oil_air_mixture(cavity_oil_fraction(p[P_OILFRAC], p[P_OIL_WREF], omega_i),
+                                       p[P_RHO_OIL], p[P_ETA0])
     c_roll, c_slide, c_root = pocket_film_coefficients(p)
     # the scratch rows, the modal coordinates and the node loads, taken once: every array view
     # costs an atomic reference-count increment and decrement (made per ball they were ~20 % of
@@ -672,7 +675,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         rv_x, rv_r, rv_t, g1, g2, ring_rc = ring_velocity_in_plane(psi, omega_i, xi, yi, zi, vxi, vyi, vzi,
                                                                    tyd, tzd)
         rv_r_trans = vyi * cs + vzi * sn
-        for c in range(3):
+        # contact 2 (the second inner half) exists on a split ring only (model.F_INNER_HALVES)
+        for c in range(1 + flags[F_INNER_HALVES]):
             ft_lean = 0.0
             if c == 0:
                 xc_g = p[P_XO]

@@ -16,7 +16,7 @@ from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rot
 from flexbearing.multibody.dynamics import _hertz_lookup
 from flexbearing.multibody.floating_frame import deformed_moments, mass_matrix
 from flexbearing.multibody.geometry import race_contact, ring_point_in_plane
-from flexbearing.multibody.model import (F_HERTZ_FIXED, P_ALPHA0, P_CG, P_CP, P_DW, P_FE, P_FI, P_GRAV, P_IB, P_IID,
+from flexbearing.multibody.model import (F_HERTZ_FIXED, F_INNER_HALVES, P_ALPHA0, P_CG, P_CP, P_DW, P_FE, P_FI, P_GRAV, P_IB, P_IID,
                              P_KC, P_KN, P_KRIM, P_MB, P_MI, P_RIL, P_RIR, P_RO, P_XIL, P_XIR, P_XO, P_Z)
 from flexbearing.multibody.profiles import load_at
 
@@ -60,7 +60,7 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
         ek += 0.5 * mb * (y[o + 3] ** 2 + y[o + 4] ** 2 + (rb * y[o + 5]) ** 2)
         ev += mb * p[P_GRAV] * rb * math.sin(psi)
         ek += 0.5 * ib * (y[o + 6] ** 2 + y[o + 7] ** 2 + y[o + 8] ** 2)
-        for c in range(3):
+        for c in range(1 + flags[F_INNER_HALVES]):      # one-piece ring: no second inner half
             if c == 0:
                 xc_g = p[P_XO]
                 rc_g = p[P_RO]

@@ -134,6 +134,7 @@ class _Races(NamedTuple):
     fi: float
     cos_fixed: float | None
     htab: np.ndarray
+    n_inner: int = 2                  # inner race contacts (model.F_INNER_HALVES): 1 for a one-piece ring
 
 
 def _races(model) -> _Races:
@@ -141,7 +142,8 @@ def _races(model) -> _Races:
     p = model.p
     fixed = math.cos(p[M.P_ALPHA0]) if model.flags[M.F_HERTZ_FIXED] else None
     return _Races(*(float(p[k]) for k in (M.P_DW, M.P_MB, M.P_XO, M.P_RO, M.P_FE, M.P_XIL, M.P_RIL,
-                                          M.P_XIR, M.P_RIR, M.P_FI)), fixed, model.hertz_table)
+                                          M.P_XIR, M.P_RIR, M.P_FI)), fixed, model.hertz_table,
+                  int(model.flags[M.F_INNER_HALVES]))
 
 
 def _ball_forces(g: _Races, psi, xb, rb, ring, omega_orbit, keep: bool = True):
@@ -155,6 +157,10 @@ def _ball_forces(g: _Races, psi, xb, rb, ring, omega_orbit, keep: bool = True):
     q_sum = 0.0
     res = [] if keep else None
     for c in range(3):
+        if c > g.n_inner:                 # the removed second half of a one-piece ring
+            if keep:
+                res.append((0.0, 1.0, 0.0, 0.0, -1.0, xb, rb))
+            continue
         if c == 0:
             xc, rc, f, kind = g.xo, g.ro, g.fe, 0
         else:

@@ -112,7 +112,8 @@ P_LAND_L = 43                          # effective land width used for the Petro
 P_ETA_TRACTION = 44                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
 P_ATT_RATE = 45                        # relaxation rate of the race-control ball attitude constraint, 1/s
 P_UREG = 46                            # regularisation speed of the fit's slide-to-roll ratio, m/s
-N_PARAMS = 47
+P_OIL_WREF = 47                        # reference speed of the cavity oil fraction (rad/s; 0: fixed), oil_supply
+N_PARAMS = 48
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES = 0, 1, 2, 3, 4
@@ -120,7 +121,8 @@ F_HERTZ_FIXED, F_ROLLRES, F_LAND = 5, 6, 7
 F_ATTITUDE = 8                         # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
 F_ATT_RING = 9                         # race control / no pivoting: gyroscopic friction reaction on the inner ring
 F_TRACTION_LAW = 10                    # the traction law of traction_table: index in TRACTION_LAWS
-N_FLAGS = 11
+F_INNER_HALVES = 11                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
+N_FLAGS = 12
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
@@ -330,8 +332,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p = np.zeros(N_PARAMS)
     p[P_DW], p[P_DM], p[P_Z], p[P_FE], p[P_FI] = dw, dm, z, bearing.fe, bearing.fi
     p[P_XO], p[P_RO] = outer_groove_centre(dm, dw, bearing.fe)
-    p[P_XIL], p[P_RIL], p[P_XIR], p[P_RIR] = inner_groove_centres(dm, dw, bearing.fi, bearing.shim_angle,
-                                                                  bearing.radial_clearance)
+    p[P_XIL], p[P_RIL], p[P_XIR], p[P_RIR] = inner_groove_centres(dm, dw, bearing.fi,
+                                                                  *bearing.groove_layout)
     p[P_MB] = bearing.ball_mass
     p[P_IB] = 0.4 * bearing.ball_mass * (0.5 * dw) ** 2
     # inner ring (assumed geometry, module docstring)
@@ -380,6 +382,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p[P_K0] = oil.thermal_conductivity
     p[P_RHO_OIL] = oil.density
     p[P_OILFRAC] = oil.oil_air_fraction
+    p[P_OIL_WREF] = oil.supply_reference_rpm * math.pi / 30.0
     p[P_ALPHA_P] = oil.pressure_viscosity_coeff
     p[P_SLIN], p[P_UMIN], p[P_ZETA] = s_lin, u_min, zeta
     p[P_UREG] = u_reg
@@ -396,6 +399,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     flags[F_DAMPING] = bool(_option(options, "damping"))
     flags[F_TRANSVERSE] = bool(_option(options, "transverse_traction"))
     flags[F_NSLICES] = n_slices
+    flags[F_INNER_HALVES] = bearing.n_inner_halves
     flags[F_HERTZ_FIXED] = bool(_option(options, "hertz_fixed_angle"))
     attitude = _option(options, "ball_attitude")
     if attitude not in BALL_ATTITUDES:
@@ -409,7 +413,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
         raise InputError(f"model.traction_law = {law!r} is not known; allowed: {list(TRACTION_LAWS)}")
     if law == "ehl":
         ttab = ehl_traction_table(oil.viscosity_temperature_coeff, float(_option(options, "traction_scale")),
-                                  float(_option(options, "contact_temperature_rise")))
+                                  float(_option(options, "contact_temperature_rise")),
+                                  ball_thermal=bearing.ball_thermal, race_thermal=bearing.ring_thermal)
     else:
         for key in ("traction_scale", "contact_temperature_rise"):
             if key in options and options[key] != DEFAULT_OPTIONS[key]:

@@ -92,16 +92,17 @@ class Grooves:
 
 
 def grooves_from_bearing(bearing) -> Grooves:
-    """Split-inner-ring three-point-contact bearing (`flexbearing.multibody.bearing.Bearing`; paper §2.2.1)."""
+    """The grooves of a `flexbearing.multibody.bearing.Bearing`: split inner ring (three-point
+    type, both halves active) or one-piece ring (the second half inactive, Bearing docstring)."""
     b = bearing.validate()
     xo, ro = geo.outer_groove_centre(b.pitch_diameter, b.ball_diameter, b.fe)
     xl, rl, xr, rr = geo.inner_groove_centres(b.pitch_diameter, b.ball_diameter, b.fi,
-                                              b.shim_angle, b.radial_clearance)
+                                              *b.groove_layout)
     m = b.ball_mass
     e = effective_modulus(b.ball_material.youngs_modulus, b.ball_material.poisson_ratio,
                           b.ring_material.youngs_modulus, b.ring_material.poisson_ratio)
     return Grooves(b.pitch_diameter, b.ball_diameter, int(b.n_balls), (xo, xl, xr), (ro, rl, rr),
-                   (b.fe, b.fi, b.fi), (True, True, True), e, m, 0.1 * m * b.ball_diameter ** 2)
+                   (b.fe, b.fi, b.fi), (True, True, b.n_inner_halves == 2), e, m, 0.1 * m * b.ball_diameter ** 2)
 
 
 def angular_contact_grooves(pitch_diameter, ball_diameter, n_balls, fi, fe, contact_angle,

@@ -389,14 +389,36 @@ EHL_TABLE_ROWS = 8
 TRACTION_LAWS = ("fit", "ehl")      # model option traction_law (flexbearing.multibody.model)
 
 
+def flash_constants(ball=None, race=None) -> tuple[float, float]:
+    """(k, kappa) that the flash term 0.532·sqrt(2·kappa·b/U)/k of `ehl_strip_shear` takes for a ball and
+    a race of other materials (flexbearing.common.materials.Thermal; None = bearing steel, the law's
+    constants EHL_STEEL_*). Jaeger's band source at Peclet >> 1: a body's surface temperature is
+    C·q_i/e_i (e = k/sqrt(kappa), the effusivity); the heat divides so that both surfaces have one
+    temperature, q_i = e_i·q/(e_1 + e_2), T = C·q/(e_1 + e_2) (Blok's partition; Jaeger, J. Proc. R.
+    Soc. N.S.W. 76 (1942) 203). The steel law's "half the heat into each" is T = C·q/(2·e), so two
+    bodies enter as one of effusivity (e_1 + e_2)/2: k = (k_1 + k_2)/2 and kappa = (k/e_mean)².
+    Two bodies alike return their own (k, kappa) unchanged (tests/test_traction_ehl.py)."""
+    steel = (EHL_STEEL_CONDUCTIVITY, EHL_STEEL_DIFFUSIVITY)
+    b = steel if ball is None else (ball.conductivity, ball.diffusivity)
+    r = steel if race is None else (race.conductivity, race.diffusivity)
+    if b == r:
+        return b
+    e_mean = 0.5 * (b[0] / math.sqrt(b[1]) + r[0] / math.sqrt(r[1]))
+    k = 0.5 * (b[0] + r[0])
+    return k, (k / e_mean) ** 2
+
+
 def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float = 1.0,
                        contact_temperature_rise: float = 0.0, eyring_stress: float = EHL_EYRING_STRESS,
                        limiting_shear_coeff: float = EHL_LIMITING_SHEAR_COEFF,
-                       shear_modulus: float = EHL_SHEAR_MODULUS) -> np.ndarray:
+                       shear_modulus: float = EHL_SHEAR_MODULUS, ball_thermal=None,
+                       race_thermal=None) -> np.ndarray:
     """The (8, 4) coefficient table of the EHL film-shear law (module docstring): rows 0–5 unused,
     row 6 = (tau0 Pa, gamma_L, G Pa, traction_scale), row 7 = (contact temperature rise K, k_steel
     W/(m·K), kappa_steel m²/s, beta_T 1/K: the oil's viscosity–temperature coefficient). Values
-    outside EHL_RANGES are refused (flexbearing.common.validation.require_range names the field)."""
+    outside EHL_RANGES are refused (flexbearing.common.validation.require_range names the field).
+    ball_thermal, race_thermal (flexbearing.common.materials.Thermal, None = bearing steel): the
+    solids of the flash temperature, combined by `flash_constants` (a silicon nitride ball)."""
     from flexbearing.common.validation import require_range
     for name, value in (("traction_scale", traction_scale), ("contact_temperature_rise", contact_temperature_rise),
                         ("eyring_stress", eyring_stress), ("limiting_shear_coeff", limiting_shear_coeff),
@@ -406,7 +428,8 @@ def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float
     require_range("oil.viscosity_temperature_coeff", viscosity_temperature_coeff, 0.0, 1.0)
     tab = np.zeros((EHL_TABLE_ROWS, 4))
     tab[6] = (eyring_stress, limiting_shear_coeff, shear_modulus, traction_scale)
-    tab[7] = (contact_temperature_rise, EHL_STEEL_CONDUCTIVITY, EHL_STEEL_DIFFUSIVITY, viscosity_temperature_coeff)
+    k_solid, kappa_solid = flash_constants(ball_thermal, race_thermal)
+    tab[7] = (contact_temperature_rise, k_solid, kappa_solid, viscosity_temperature_coeff)
     return tab
 
 

@@ -10,11 +10,21 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
 
     [bearing]                 # any scalar field of flexbearing.multibody.bearing.Bearing (PAPER_BEARING)
     fe = 0.515                # outer groove radius / Dw; must be > 0.5
-    [bearing.ball_material]   # density, youngs_modulus, poisson_ratio (also ring_material)
+    ball_diameter = 22e-3     # m, given here only (the cage's pockets take it from the bearing)
+    inner_ring = "split"      # "split" (two halves, the paper's three-point type) | "one_piece"
+    free_contact_angle = 0.5236  # rad; with shim_angle (rad) and radial_clearance (m, the diametral
+                              #   clearance Pd) any two of the three give the third (split ring; the
+                              #   angle alone: shim = angle and the design clearance); one-piece: the
+                              #   angle or the clearance (flexbearing.multibody.clearance)
+    ball_material = "steel"   # "steel" (M50) | "silicon_nitride": elastic and thermal constants
+    [bearing.ball_material]   # or a table: density, youngs_modulus, poisson_ratio (also ring_material)
 
     [oil]
     preset = "paper"          # "paper" (20 °C, PAPER_OIL) | "engine" (100 °C, ENGINE_OIL)
     temperature_c = 20.0      # any field of flexbearing.multibody.bearing.Oil
+    supply = "under_race"     # "unspecified" (fixed cavity oil fraction, the presets) | "jet" | "under_race":
+                              #   the churning drag's oil fraction falls as oil_air_fraction·n_ref/n with
+                              #   n_ref = oil_air_reference_rpm (flexbearing.multibody.oil_supply)
 
     [cage]
     model = "rigid"           # "rigid" | "flexible"
@@ -83,7 +93,9 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbearing.common.materials import YIELD_STRENGTH_40CrNiMoA, Material
+from flexbearing.common.materials import YIELD_STRENGTH_40CrNiMoA, Material, ball_material_named
+from flexbearing.multibody.clearance import INNER_RINGS, resolve_inner_ring
+from flexbearing.multibody.oil_supply import SUPPLIES
 from flexbearing.mesh.cage_geometry import CageGeometry
 from flexbearing.common.cache import content_hash
 from flexbearing.common.validation import InputError, require_range, require_table
@@ -112,8 +124,12 @@ MIN_TOLERANCE = 1e-12
 
 _MATERIAL_KEYS = tuple(f.name for f in dataclasses.fields(Material))
 _BEARING_SCALARS = tuple(f.name for f in dataclasses.fields(Bearing)
-                         if f.name not in ("cage", "ball_material", "ring_material"))
-_CAGE_SCALARS = tuple(f.name for f in dataclasses.fields(CageGeometry) if f.name != "material")
+                         if f.name not in ("cage", "ball_material", "ring_material", "inner_ring",
+                                           "ball_thermal", "ring_thermal"))
+# derived or given (flexbearing.multibody.clearance.resolve_inner_ring): any two of these for a split ring
+_INNER_RING_KEYS = ("free_contact_angle", "shim_angle", "radial_clearance")
+# the ball diameter is the bearing's (given once, in [bearing]); the cage takes it from there
+_CAGE_SCALARS = tuple(f.name for f in dataclasses.fields(CageGeometry) if f.name not in ("material", "ball_diameter"))
 _FLEXIBLE_KEYS = ("n_modes", "mesh_size", "element_order", "damping_beta", "yield_strength",
                   "stress_monitor_interval")
 _OIL_KEYS = tuple(f.name for f in dataclasses.fields(Oil))
@@ -228,16 +244,42 @@ def _material(base: Material, d, where: str) -> Material:
 
 
 def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
-    b = require_table("bearing", b, _BEARING_SCALARS + ("ball_material", "ring_material"))
+    b = require_table("bearing", b, _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring",
+                                                         "free_contact_angle"))
+    if isinstance(c, dict) and "ball_diameter" in c:
+        raise InputError("cage.ball_diameter: give the ball diameter once, as bearing.ball_diameter "
+                         "(the cage's pockets take it from the bearing)")
     c = require_table("cage", c, ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",))
     changes = {}
+    inner = {}
     for k, v in b.items():
-        if k in ("ball_material", "ring_material"):
+        if k == "ball_material" and isinstance(v, str):
+            named = ball_material_named(v)            # elastic and thermal constants together
+            changes["ball_material"], changes["ball_thermal"] = named.material, named.thermal
+        elif k in ("ball_material", "ring_material"):
             changes[k] = _material(getattr(PAPER_BEARING, k), v, f"bearing.{k}")
         elif k == "n_balls":
             changes[k] = _integer("bearing.n_balls", v, 3, 200)
+        elif k == "inner_ring":
+            changes[k] = _string("bearing.inner_ring", v, INNER_RINGS)
+        elif k in _INNER_RING_KEYS:
+            inner[k] = _number(f"bearing.{k}", v)
         else:
             changes[k] = _number(f"bearing.{k}", v)
+    # free contact angle, shim angle and clearance: what is not given is derived (a split ring given
+    # nothing keeps the preset's shim angle and clearance)
+    # (a split ring's clearance follows its fe and Dw by the design rule unless given)
+    ring = changes.get("inner_ring", PAPER_BEARING.inner_ring)
+    if inner or ring != PAPER_BEARING.inner_ring or changes.keys() & {"fe", "fi", "ball_diameter"}:
+        fe, fi = changes.get("fe", PAPER_BEARING.fe), changes.get("fi", PAPER_BEARING.fi)
+        dw = changes.get("ball_diameter", PAPER_BEARING.ball_diameter)
+        if ring == "split" and not inner.keys() & {"free_contact_angle", "shim_angle"}:
+            inner["shim_angle"] = PAPER_BEARING.shim_angle
+        layout = resolve_inner_ring(ring, fe, fi, dw, inner.get("free_contact_angle"), inner.get("shim_angle"),
+                                    inner.get("radial_clearance"))
+        changes["radial_clearance"] = layout.diametral_clearance
+        if ring == "split":
+            changes["shim_angle"] = layout.shim_angle
     cage_model = _string("cage.model", c.get("model", "rigid"), CAGE_MODELS)
     cage_changes = {}
     for k, v in c.items():
@@ -252,6 +294,7 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
     # the cage has one pocket per ball unless the scene says otherwise
     if "n_balls" in changes and "n_pockets" not in cage_changes:
         cage_changes["n_pockets"] = changes["n_balls"]
+    cage_changes["ball_diameter"] = changes.get("ball_diameter", PAPER_BEARING.ball_diameter)
     changes["cage"] = dataclasses.replace(PAPER_BEARING.cage, **cage_changes)
     bearing = dataclasses.replace(PAPER_BEARING, **changes).validate()
 
@@ -289,7 +332,9 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
 def _oil(d: dict) -> Oil:
     d = require_table("oil", d, ("preset",) + _OIL_KEYS)
     preset = _string("oil.preset", d.get("preset", "paper"), tuple(OIL_PRESETS))
-    changes = {k: _number(f"oil.{k}", v) for k, v in d.items() if k != "preset"}
+    changes = {k: _number(f"oil.{k}", v) for k, v in d.items() if k not in ("preset", "supply")}
+    if "supply" in d:
+        changes["supply"] = _string("oil.supply", d["supply"], SUPPLIES)
     return dataclasses.replace(OIL_PRESETS[preset], **changes).validate()
 
 

@@ -64,7 +64,7 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbearing.common.materials import M50, SI3N4
+from flexbearing.common.materials import BALL_MATERIALS as COMMON_BALL_MATERIALS, ball_material_named
 from flexbearing.common.validation import InputError, require_range, require_table
 from flexbearing.multibody.steady import steady_held_cage_state
 from flexbearing.simulation.jobs import run_jobs
@@ -76,7 +76,7 @@ from flexbearing.studies.sensitivity import (SURROGATE_FORMS, QuadraticSurrogate
 from flexbearing.studies.validate import slip_rate_cases
 
 UNKNOWN_KINDS = ("uniform", "log_uniform", "choice")
-BALL_MATERIALS = ("steel", "Si3N4")           # names of the choice "ball_material" (ball_material_named)
+BALL_MATERIALS = tuple(COMMON_BALL_MATERIALS)  # names of the choice "ball_material" (flexbearing.common.materials)
 MIN_POINTS = 64
 # the unknowns the model knows, with the hard limits a declared range must stay inside (unit as the TOML)
 UNKNOWN_LIMITS = {
@@ -228,13 +228,6 @@ def _plain(v):
     return v if isinstance(v, str) else float(v)
 
 
-def ball_material_named(name: str):
-    """The Material of a ball-material choice (flexbearing.common.materials: M50 steel, Si3N4)."""
-    if name == "steel":
-        return M50
-    if name == "Si3N4":
-        return SI3N4
-    raise InputError(f"ball_material = {name!r} is not known; allowed: {', '.join(BALL_MATERIALS)}")
 
 
 def point_bearing_oil(point: dict, speed_rpm: float):
@@ -243,7 +236,8 @@ def point_bearing_oil(point: dict, speed_rpm: float):
     fraction X_ref·4000/n (flexbearing.studies.validate.case_oil_air_fraction)."""
     b = V.validation_bearing(point["shim_angle"])
     b = replace(b, radial_clearance=b.radial_clearance + point["clearance_excess"],
-                ball_material=ball_material_named(point["ball_material"])).validate()
+                ball_material=ball_material_named(point["ball_material"], "unknowns.ball_material").material,
+                ball_thermal=ball_material_named(point["ball_material"], "unknowns.ball_material").thermal).validate()
     x = V.case_oil_air_fraction(point["oil_air_fraction"], speed_rpm, "inverse_speed")
     oil = V.validation_oil(point["oil_temperature"], x)
     return b, oil, float(point["traction_scale"])

@@ -110,6 +110,8 @@ import numpy as np
 from flexbearing.common.validation import InputError, require_range
 from flexbearing.multibody import integrator as I, outputs as O, traction as TR
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+from flexbearing.multibody import clearance as CL
+from flexbearing.multibody.oil_supply import cavity_oil_fraction
 from flexbearing.multibody.geometry import nominal_cage_speed
 from flexbearing.multibody.initial import initial_state
 from flexbearing.multibody.model import BALL_ATTITUDES, build_model, P_GRAV, with_traction_table
@@ -140,10 +142,9 @@ CHECK_CASES = tuple(range(9, 16))
 
 
 def design_clearance(bearing=PAPER_BEARING) -> float:
-    """Diametral clearance Pd = 2·(fe − 0.5)·Dw·(1 − cos alphaD), m: the two-point free contact angle
-    equals the shim angle (Bearing.free_contact_angle = alphaD) and the ball just clears the unloaded
-    inner half (flexbearing.multibody.geometry docstring; 88.4 um for the paper bearing). Module docstring."""
-    return 2.0 * (bearing.fe - 0.5) * bearing.ball_diameter * (1.0 - math.cos(bearing.shim_angle))
+    """Diametral clearance Pd = 2·(fe − 0.5)·Dw·(1 − cos alphaD), m, of the bearing's shim angle
+    (flexbearing.multibody.clearance.design_clearance; 88.4 um for the paper bearing). Module docstring."""
+    return CL.design_clearance(bearing.fe, bearing.ball_diameter, bearing.shim_angle)
 
 
 def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: float | None = None):
@@ -158,7 +159,9 @@ def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: fl
     return b.validate()
 
 
-VALIDATION_BEARING = validation_bearing()
+# The paper preset itself (issue 35: Table 1 = Table 3, one bearing definition; its clearance is the
+# design clearance of the 30° shim, flexbearing.multibody.bearing.Bearing docstring).
+VALIDATION_BEARING = PAPER_BEARING
 
 
 def pure_rolling_cage_speed_ratio(alpha_outer: float, alpha_inner: float, beta: float, ball_diameter: float,
@@ -233,8 +236,9 @@ def case_oil_air_fraction(fraction_ref: float, speed_rpm: float, scaling: str = 
     calibrated quantity, the w and dm factors are constant over the test)."""
     if scaling == "constant":
         return fraction_ref
-    if scaling == "inverse_speed":
-        return fraction_ref * OIL_AIR_REFERENCE_RPM / speed_rpm
+    if scaling == "inverse_speed":      # the continuous-supply law, flexbearing.multibody.oil_supply
+        return float(cavity_oil_fraction(fraction_ref, OIL_AIR_REFERENCE_RPM, speed_rpm))
+    from flexbearing.common.validation import InputError
     raise InputError(f"oil_air_scaling = {scaling!r} is not known; allowed: 'constant', 'inverse_speed'")
 
 
