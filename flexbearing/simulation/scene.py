@@ -19,6 +19,9 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     [cage]
     model = "rigid"           # "rigid" | "flexible"
     pocket_diameter = 22.5e-3 # any scalar field of flexbearing.mesh.cage_geometry.CageGeometry
+    guidance = "outer"        # "outer" | "inner" (ring lands: bearing.guide_land_diameter,
+                              #   bearing.inner_land_diameter) | "balls" (no land contact)
+    pocket_shape = "cylindrical"  # "cylindrical" | "spherical" (centred on the pitch circle)
     n_modes = 26              # flexible only: modes kept (6 rigid + 20 elastic, as the paper),
     mesh_size = 5e-3          #   FE mesh size [m] (default flexbearing.mesh.cage_mesh.DEFAULT_MESH_SIZE),
     element_order = 3         #   FE degree on the curved mesh (default P3),
@@ -84,7 +87,7 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.common.materials import YIELD_STRENGTH_40CrNiMoA, Material
-from flexbearing.mesh.cage_geometry import CageGeometry
+from flexbearing.mesh.cage_geometry import GUIDANCES, POCKET_SHAPES, CageGeometry
 from flexbearing.common.cache import content_hash
 from flexbearing.common.validation import InputError, require_range
 from flexbearing.multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
@@ -258,11 +261,18 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
             cage_changes[k] = _material(PAPER_BEARING.cage.material, v, "cage.material")
         elif k == "n_pockets":
             cage_changes[k] = _integer("cage.n_pockets", v, 3, 200)
+        elif k == "guidance":
+            cage_changes[k] = _string("cage.guidance", v, GUIDANCES)
+        elif k == "pocket_shape":
+            cage_changes[k] = _string("cage.pocket_shape", v, POCKET_SHAPES)
         else:
             cage_changes[k] = _number(f"cage.{k}", v)
     # the cage has one pocket per ball unless the scene says otherwise
     if "n_balls" in changes and "n_pockets" not in cage_changes:
         cage_changes["n_pockets"] = changes["n_balls"]
+    # and its spherical pockets are centred on the bearing's pitch circle unless it says otherwise
+    if "pitch_diameter" in changes and "pocket_centre_diameter" not in cage_changes:
+        cage_changes["pocket_centre_diameter"] = changes["pitch_diameter"]
     changes["cage"] = dataclasses.replace(PAPER_BEARING.cage, **cage_changes)
     bearing = dataclasses.replace(PAPER_BEARING, **changes).validate()
 
