@@ -121,3 +121,67 @@ def test_spherical_pocket_refusals():
     off.validate()
     with pytest.raises(InputError, match="cage.pocket_centre_diameter"):
         PAPER_BEARING.with_(cage=off).validate()
+
+
+def _mesh_volume_and_groups(path):
+    """Volume of the curved quadratic mesh (gmsh's Gauss points and Jacobians, degree 4) and the
+    nodes of each physical group."""
+    import gmsh
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    try:
+        gmsh.merge(str(path))
+        et = gmsh.model.mesh.getElementType("Tetrahedron", 2)
+        pts, w = gmsh.model.mesh.getIntegrationPoints(et, "Gauss4")
+        _, det, _ = gmsh.model.mesh.getJacobians(et, pts)
+        vol = float(np.sum(np.asarray(det).reshape(-1, len(w)) * w))
+        groups = {}
+        for d, t in gmsh.model.getPhysicalGroups():
+            _, coords = gmsh.model.mesh.getNodesForPhysicalGroup(d, t)
+            groups[gmsh.model.getPhysicalName(d, t)] = coords.reshape(-1, 3)
+    finally:
+        gmsh.finalize()
+    return vol, groups
+
+
+def test_spherical_pocket_mesh_of_an_inner_guided_cage(tmp_path):
+    """An inner-land guided cage with 14 spherical pockets: one group per pocket whose nodes lie on
+    its sphere (centre on the pitch circle), the bore tagged "guide" (200), the outside "outside"
+    (205), no "bore"; and the mesh's volume is the annulus less 14 of the spheres' parts inside
+    it (the dblquad of the module docstring), within 1e-4 (a curved quadratic mesh at 6 mm)."""
+    from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+    g = PAPER_CAGE.with_(n_pockets=14, guidance="inner", pocket_shape="spherical").validate()
+    path = build_cage_mesh(g, 6e-3, 2, tmp_path / "c.msh", pocket_size=4e-3)
+    vol, groups = _mesh_volume_and_groups(path)
+    shift = mesh_quality_of(path)["repair"]["max_node_shift_m"]
+    tol = 1e-9 + 1e-5 * g.outer_radius + shift
+    rp, rc = 0.5 * g.pocket_diameter, 0.5 * g.pocket_centre_diameter
+    for k in range(14):
+        th = 2 * math.pi * k / 14
+        X = groups[f"pocket_{k:02d}"]
+        d = np.linalg.norm(X - rc * np.array([0.0, math.cos(th), math.sin(th)]), axis=1)
+        assert np.max(np.abs(d - rp)) <= tol
+    assert np.max(np.abs(np.hypot(groups["guide"][:, 1], groups["guide"][:, 2]) - g.inner_radius)) <= tol
+    assert np.max(np.abs(np.hypot(groups["outside"][:, 1], groups["outside"][:, 2]) - g.outer_radius)) <= tol
+    assert "bore" not in groups
+    ri, ro, w = g.inner_radius, g.outer_radius, g.width
+
+    def chord(phi, r):
+        s = rp * rp - (r * r + rc * rc - 2 * r * rc * math.cos(phi))
+        return 2.0 * math.sqrt(s) * r if s > 0 else 0.0
+    half = math.asin(rp / rc) * 1.01
+    v_pocket = dblquad(chord, ri, ro, -half, half, epsabs=1e-14, epsrel=1e-10)[0]
+    v_ref = math.pi * (ro ** 2 - ri ** 2) * w - 14 * v_pocket
+    assert vol == pytest.approx(v_ref, rel=1e-4)
+
+
+def test_paper_cage_keeps_its_cache_identity():
+    """The new fields at the paper's values (outer guidance, cylindrical pockets on the 167 mm
+    pitch circle) stay out of the hashed dict, so cached meshes and reduced cages keep their keys;
+    a spherical or inner-guided cage gets its own."""
+    from flexbearing.mesh.cage_mesh import mesh_key
+    d = PAPER_CAGE.to_dict()
+    assert not {"guidance", "pocket_shape", "pocket_centre_diameter"} & set(d)
+    keys = {str(mesh_key(g, 4e-3, 2, 4e-3)) for g in (PAPER_CAGE, PAPER_CAGE.with_(guidance="inner"),
+                                                       PAPER_CAGE.with_(pocket_shape="spherical"))}
+    assert len(keys) == 3

@@ -218,7 +218,11 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
         Kz, Mz = K, M
     timings["interface_s"] = time.perf_counter() - t0
     f_cf = centrifugal_load(M, X)                # physical DOFs; kept for the checks
-    f_guide, guide_info = guide_load_vectors(V, facet_tags)     # (n, 3): f_y f_z f_t
+    if geometry.guidance == "balls":
+        # no land touches a ball-riding cage: its land load is zero, the vectors too
+        f_guide, guide_info = np.zeros((n, 3)), {"area_m2": 0.0, "guidance": "balls"}
+    else:
+        f_guide, guide_info = guide_load_vectors(V, facet_tags)     # (n, 3): f_y f_z f_t
     loads = []
     if centrifugal:
         loads.append(f_cf[:, None])
