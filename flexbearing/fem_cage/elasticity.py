@@ -53,6 +53,13 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
         gmsh.merge(str(path))
         names = {gmsh.model.getPhysicalName(d, t): t for d, t in gmsh.model.getPhysicalGroups()}
     names = comm.bcast(names, root=0)
+    if "cage" not in names:
+        # an untagged mesh (no physical groups) has no cage volume nor pocket walls to couple to
+        if comm.rank == 0:
+            gmsh.finalize()
+        from flexbearing.common.validation import InputError
+        raise InputError(f"mesh {str(path)!r} has no physical group 'cage' (groups: {sorted(names) or 'none'}): "
+                         "make it with `flexbearing mesh` or `flexbearing mesh --cad CAGE.step`")
     try:
         domain, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
     finally:

@@ -190,6 +190,17 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
     if with_pockets and sum(1 for n in groups if n.startswith("pocket_")) != Z:
         raise RuntimeError("cage_mesh: could not find one wall per pocket")
 
+    return tag_and_mesh(vols, groups, Z, size, order, pocket_size if with_pockets else None,
+                        local if with_pockets else None)
+
+
+def tag_and_mesh(vols, groups: dict, Z: int, size: float, order: int, pocket_size: float | None,
+                 local=None) -> dict:
+    """Physical groups of the classified boundary faces `groups` (name -> surface tags, names
+    of the module docstring) and the cage volume(s), then the mesh: `size` everywhere,
+    `pocket_size` on the pocket walls, a `local` refinement zone, curved order 2. Used by the
+    parametric cage and by the CAD cage (flexbearing.mesh.cad_cage). Returns name -> tag."""
+    import gmsh
     names = {"cage": TAG_CAGE}
     gmsh.model.addPhysicalGroup(3, vols, TAG_CAGE)
     gmsh.model.setPhysicalName(3, TAG_CAGE, "cage")
@@ -225,9 +236,9 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
         f.setNumber(ft, "DistMax", dist_max)
         fields.append(ft)
 
-    if with_pockets and pocket_size is not None and pocket_size < size:
+    if pocket_size is not None and pocket_size < size:
         threshold(pocket_surfs, pocket_size, 0.25 * pocket_size, 0.25 * pocket_size + REFINE_GROWTH * size)
-    if with_pockets and local is not None:
+    if local is not None:
         # a refinement zone around some pockets (stress convergence studies): element size h within
         # LOCAL_ZONE of their walls: the pockets, the bars between them and the rails
         pockets, h = local
