@@ -17,8 +17,9 @@ What is found (every boundary face is sampled, `_sample_face`, with its normals)
 The bearing decides what matches: one pocket per ball, equally spaced (the model turns the CAD
 so pocket 0 sits at +y), each centred on the pitch circle in the mid-plane within a tenth of the
 pocket clearance, all of one diameter larger than the ball. Anything else is refused with the one
-line of `InputError` that names what is missing. Units: a STEP file carries its own (gmsh
-converts to metres, Geometry.OCCTargetUnit); a BREP file has none and needs `unit`.
+line of `InputError` that names what is missing. Units: a STEP file carries its own (OCC reads
+it into millimetres, scaled to metres here; `step_length_unit` reports it); a BREP file has none
+and needs `unit`.
 
 The result, `CadCage`, holds the equivalent parametric geometry (diameters, width, pocket count,
 diameter, shape and centre circle, guidance, land width), which the dynamics and the reduction
@@ -65,6 +66,7 @@ class CadCage:
     turned_by: float                  # rad about +x applied to put pocket 0 at +y
     unit: str
     source: str
+    scale: float                      # metres per unit of the gmsh model's numbers
     groups: dict = field(default_factory=dict)   # name -> surface tags
 
     def report_lines(self, pitch_diameter: float, ball_diameter: float) -> list[str]:
@@ -100,8 +102,9 @@ def cad_kind(path) -> str:
     return kind
 
 
-def _import(path: Path, unit: str | None) -> tuple[list, str]:
-    """Import into the current gmsh model in metres; return the volumes and the unit used."""
+def _import(path: Path, unit: str | None) -> tuple[list, str, float]:
+    """Import into the current gmsh model; return the volumes, the unit used and the factor
+    from the model's numbers to metres."""
     import gmsh
     kind = cad_kind(path)
     if not path.is_file():
@@ -111,25 +114,43 @@ def _import(path: Path, unit: str | None) -> tuple[list, str]:
     if kind == "brep" and unit is None:
         raise InputError(f"cage.cad = {str(path)!r}: a BREP file carries no unit; give it "
                          f"(--cad-unit / cage.cad_unit, one of {list(UNITS)})")
-    if kind == "step" and unit is None:
-        gmsh.option.setString("Geometry.OCCTargetUnit", "M")     # the file's own unit, to metres
-        used = "from the file"
+    if kind == "step":
+        declared = step_length_unit(path)
+        if unit is not None and declared is not None and unit != declared:
+            raise InputError(f"cad unit = {unit!r} disagrees with the STEP file's own length unit "
+                             f"{declared!r}; give none for a STEP file (its unit is read from it)")
+        used = f"{declared or 'unknown'} (from the file)"
     else:
-        gmsh.option.setString("Geometry.OCCTargetUnit", "")
         used = unit
-    ents = gmsh.model.occ.importShapes(str(path))
+    # STEP: OCC converts the file's declared unit to its working unit, millimetres. gmsh's
+    # Geometry.OCCTargetUnit would change that working unit for the rest of the process (STEP
+    # written later included, even after gmsh.finalize()), so it is left alone and the model
+    # scaled from mm here.
+    # scale, not dilated: OCC's dilation turns every face into a B-spline (10x slower to sample
+    # and mesh); the faces are measured times `scale` and the mesh written scaled
+    gmsh.model.occ.importShapes(str(path))
     gmsh.model.occ.synchronize()
-    if kind == "step" and unit is not None:
-        # OCC reads STEP in millimetres without a target unit: rescale to the unit given
-        gmsh.model.occ.dilate(gmsh.model.occ.getEntities(3), 0, 0, 0, *(3 * [UNITS[unit] / 1e-3]))
-    elif kind == "brep":
-        gmsh.model.occ.dilate(gmsh.model.occ.getEntities(3), 0, 0, 0, *(3 * [UNITS[unit]]))
-    gmsh.model.occ.synchronize()
+    scale = 1e-3 if kind == "step" else UNITS[unit]
     vols = [t for d, t in gmsh.model.getEntities(3)]
     if len(vols) != 1:
         raise InputError(f"cage.cad = {str(path)!r}: {len(vols)} solids in the file; a cage is one solid")
-    del ents
-    return vols, used
+    return vols, used, scale
+
+
+_STEP_PREFIX = {"$": "m", ".MILLI.": "mm", ".CENTI.": "cm"}
+
+
+def step_length_unit(path) -> str | None:
+    """The length unit a STEP file declares (ISO 10303-41 SI_UNIT or the inch's
+    CONVERSION_BASED_UNIT), as a key of UNITS; None when it declares none we know."""
+    import re
+    text = Path(path).read_text(errors="replace")
+    m = re.search(r"LENGTH_UNIT\(\)\s*NAMED_UNIT\(\*\)\s*SI_UNIT\((\$|\.\w+\.)\s*,\s*\.METRE\.\)", text)
+    if m:
+        return _STEP_PREFIX.get(m.group(1))
+    if re.search(r"CONVERSION_BASED_UNIT\s*\(\s*'INCH'", text, re.I):
+        return "in"
+    return None
 
 
 def _face_samples(tag: int, m: int = 5):
@@ -174,30 +195,33 @@ def fit_face(P: np.ndarray, N: np.ndarray, tol: float) -> dict:
 
 
 def _classify(vol: int, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
-              source: str):
+              source: str, scale: float):
     import gmsh
-    xmin, ymin, zmin, xmax, ymax, zmax = gmsh.model.getBoundingBox(3, vol)
-    r_out = max(abs(ymin), abs(ymax), abs(zmin), abs(zmax))
-    tol = FIT_TOL * r_out
-    if not 0.5 * pitch_diameter < r_out < 2.0 * pitch_diameter:
-        raise InputError(f"cage.cad = {source!r}: the cage is {2 * r_out:.6g} m across, the bearing's "
-                         f"pitch diameter {pitch_diameter:g} m; is the unit right (--cad-unit)?")
-    x_mid = 0.5 * (xmin + xmax)
+    # the bounding box only sizes the fit tolerance: OCC's boxes of transformed (B-spline) faces
+    # are loose; positions come from the fitted faces
+    xmin, ymin, zmin, xmax, ymax, zmax = (scale * v for v in gmsh.model.getBoundingBox(3, vol))
+    tol = FIT_TOL * max(abs(ymin), abs(ymax), abs(zmin), abs(zmax))
     faces = [s for _, s in gmsh.model.getBoundary([(3, vol)], oriented=False)]
-    ring, sides, pockets, other = [], [], [], []
+    fits = []
     for s in faces:
         P, N = _face_samples(s)
-        P = P - np.array([x_mid, 0.0, 0.0])
-        f = fit_face(P, N, tol)
+        P = P * scale
+        fits.append((s, P, fit_face(P, N, tol)))
+    xs_side = [f["x"] for _, _, f in fits if f["kind"] == "plane_x"]
+    x_mid = 0.5 * (min(xs_side) + max(xs_side)) if len(xs_side) >= 2 else 0.5 * (xmin + xmax)
+    shift = np.array([x_mid, 0.0, 0.0])
+    ring, sides, pockets, other = [], [], [], []
+    for s, P, f in fits:
+        P = P - shift
         if f["kind"] == "plane_x":
-            sides.append((s, f["x"]))
+            sides.append((s, f["x"] - x_mid))
         elif f["kind"] == "cylinder" and abs(abs(f["axis"][0]) - 1.0) < 1e-6 \
                 and np.hypot(f["point"][1], f["point"][2]) < tol:
             ring.append((s, f["radius"], float(P[:, 0].min()), float(P[:, 0].max())))
         elif f["kind"] == "cylinder" and abs(f["axis"][0]) < 1e-6:
             a = f["axis"]
             # radial: the axis line passes through the bearing axis
-            c = f["point"]
+            c = f["point"] - shift
             off = c - (c @ a) * a
             if np.linalg.norm(off[1:]) < tol:
                 side = math.copysign(1.0, P.mean(axis=0) @ a)
@@ -207,10 +231,15 @@ def _classify(vol: int, n_balls: int, pitch_diameter: float, ball_diameter: floa
             else:
                 other.append(s)
         elif f["kind"] == "sphere":
-            c = f["centre"]
+            c = f["centre"] - shift
             pockets.append((s, math.atan2(c[2], c[1]), c, "spherical", 2.0 * f["radius"]))
         else:
             other.append(s)
+    r_out = max((r for _, r, _, _ in ring), default=max(abs(ymin), abs(ymax), abs(zmin), abs(zmax)))
+    if not 0.5 * pitch_diameter < r_out < 2.0 * pitch_diameter:
+        raise InputError(f"cage.cad = {source!r}: the cage is {2 * r_out:.6g} m across, the bearing's "
+                         f"pitch diameter {pitch_diameter:g} m; is the unit right (--cad-unit)?")
+    xmin, xmax = (min(xs_side) - x_mid, max(xs_side) - x_mid) if len(xs_side) >= 2 else (xmin - x_mid, xmax - x_mid)
     return x_mid, (xmin, xmax), r_out, ring, sides, pockets, other
 
 
@@ -245,14 +274,14 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
         raise InputError(f"cage.guidance = {guidance!r} is not known; allowed: {list(GUIDANCES)}")
     path = Path(path)
     source = str(path)
-    vols, used = _import(path, unit)
+    vols, used, scale = _import(path, unit)
     x_mid, (xmin, xmax), r_out, ring, sides, pockets, other = _classify(
-        vols[0], n_balls, pitch_diameter, ball_diameter, guidance, source)
+        vols[0], n_balls, pitch_diameter, ball_diameter, guidance, source, scale)
     found = _group_pockets(pockets, n_balls, source)
     # turn (and centre) the solid so pocket 0 is at +y and the mid-plane at x = 0
     turn = -min(found, key=lambda p: abs(p["az"]))["az"]
     occ = gmsh.model.occ
-    occ.translate([(3, vols[0])], -x_mid, 0.0, 0.0)
+    occ.translate([(3, vols[0])], -x_mid / scale, 0.0, 0.0)     # positions above are already centred
     occ.rotate([(3, vols[0])], 0, 0, 0, 1, 0, 0, turn)
     occ.synchronize()
     z = n_balls
@@ -298,9 +327,7 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
     radii = [float(np.mean([t[1] for t in c])) for c in clusters]
     cyl = tuple((r, min(t[2] for t in c), max(t[3] for t in c), len(c)) for r, c in zip(radii, clusters))
     r_o, r_i = radii[-1], radii[0]
-    # width between the two side planes (the bounding box carries the kernel's tolerance gap)
-    xs_side = [x for _, x in sides]
-    width = max(xs_side) - min(xs_side) if len(xs_side) >= 2 and min(xs_side) < 0 < max(xs_side) else xmax - xmin
+    width = xmax - xmin                 # between the side planes (the box only without them)
     groups: dict[str, list[int]] = {}
     for k, p in enumerate(pockets_out):
         groups[CM.pocket_name(k)] = list(p.faces)
@@ -345,7 +372,7 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
         pocket_centre_diameter=pitch_diameter if shape == "spherical" else PAPER_CAGE.pocket_centre_diameter,
         **({"material": material} if material is not None else {}))
     return CadCage(geometry=geometry, pockets=tuple(pockets_out), ring_cylinders=tuple(cyl),
-                   guide_faces=tuple(guide), turned_by=turn, unit=used, source=source,
+                   guide_faces=tuple(guide), turned_by=turn, unit=used, source=source, scale=scale,
                    groups={k: list(v) for k, v in groups.items()})
 
 
@@ -366,9 +393,16 @@ def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_dia
         gmsh.model.add("cad_cage")
         cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
         vols = [t for _, t in gmsh.model.getEntities(3)]
-        CM.tag_and_mesh(vols, cad.groups, n_balls, size, order, pocket_size)
+        k = cad.scale
+        CM.tag_and_mesh(vols, cad.groups, n_balls, size / k, order, None if pocket_size is None else pocket_size / k)
         report = CM._validate_and_repair()
-        CM._write(out)
+        report["repair"]["max_node_shift_m"] *= k              # measured in the model's unit
+        previous = gmsh.option.getNumber("Mesh.ScalingFactor")
+        gmsh.option.setNumber("Mesh.ScalingFactor", k)         # the file in metres
+        try:
+            CM._write(out)
+        finally:
+            gmsh.option.setNumber("Mesh.ScalingFactor", previous)
     finally:
         gmsh.finalize()
     CM.quality_path(out).write_text(json.dumps(report, indent=1))

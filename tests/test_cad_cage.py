@@ -1,0 +1,160 @@
+"""A cage the project has not seen, from CAD (flexbearing.mesh.cad_cage): made here with gmsh's
+OpenCASCADE API and written as STEP (mm) or BREP: inner-ring guided, 14 spherical pockets,
+turned 7° so that no pocket sits at +y.
+
+References are the numbers the test cage was drawn with (outside 176 mm, bore 158 mm, width
+26 mm, pockets 22.4 mm on the 167 mm pitch circle); tolerances from the CAD kernel's precision
+(1e-7 of the part's size: 1e-9 m here, 1e-6 relative). The slow test compares its free–free
+modes on the same mesh with CalculiX (flexbearing.verification.calculix_check).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from flexbearing.common.validation import InputError
+
+Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0   # mm, degrees
+
+
+def make_cad_cage(path, z=Z, pitch=PITCH, dp=DP, sphere_offset_mm=0.0, scale=1.0):
+    """The test cage with gmsh's OCC API, written to `path` (STEP in mm, or BREP in mm·scale)."""
+    import gmsh
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        occ = gmsh.model.occ
+        outer = occ.addCylinder(-WIDTH / 2, 0, 0, WIDTH, 0, 0, OD / 2)
+        inner = occ.addCylinder(-WIDTH / 2, 0, 0, WIDTH, 0, 0, BORE / 2)
+        ring, _ = occ.cut([(3, outer)], [(3, inner)])
+        tools = []
+        for k in range(z):
+            th = 2 * math.pi * k / z + math.radians(TURN)
+            r = pitch / 2 + (sphere_offset_mm if k == 3 else 0.0)
+            tools.append((3, occ.addSphere(0, r * math.cos(th), r * math.sin(th), dp / 2)))
+        ring, _ = occ.cut(ring, tools)
+        if scale != 1.0:
+            occ.dilate(ring, 0, 0, 0, scale, scale, scale)
+        occ.synchronize()
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+    return path
+
+
+@pytest.fixture(scope="module")
+def step_file(tmp_path_factory):
+    return make_cad_cage(tmp_path_factory.mktemp("cad") / "cage14.step")
+
+
+def _read(path, n_balls=Z, guidance="inner", unit=None, pitch=PITCH * 1e-3):
+    import gmsh
+    from flexbearing.mesh.cad_cage import read_cad_cage
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        return read_cad_cage(path, n_balls, pitch, 22e-3, guidance, unit)
+    finally:
+        gmsh.finalize()
+
+
+def test_pockets_and_land_found(step_file):
+    cad = _read(step_file)
+    g = cad.geometry
+    assert len(cad.pockets) == Z
+    assert (g.outside_diameter, g.bore_diameter, g.width, g.pocket_diameter) == pytest.approx(
+        (OD * 1e-3, BORE * 1e-3, WIDTH * 1e-3, DP * 1e-3), rel=1e-6)
+    assert (g.guidance, g.pocket_shape, g.n_pockets) == ("inner", "spherical", Z)
+    assert g.pocket_centre_diameter == PITCH * 1e-3
+    assert cad.turned_by == pytest.approx(-math.radians(TURN), abs=1e-9)
+    for k, p in enumerate(cad.pockets):
+        assert p.azimuth == pytest.approx(2 * math.pi * k / Z, abs=1e-9)
+        c = np.array(p.centre)
+        assert c == pytest.approx([0.0, 0.5 * PITCH * 1e-3 * math.cos(p.azimuth),
+                                   0.5 * PITCH * 1e-3 * math.sin(p.azimuth)], abs=1e-9)
+    assert len(cad.guide_faces) >= 1 and set(cad.guide_faces) == set(cad.groups["guide"])
+    assert "bore" not in cad.groups and "outside" in cad.groups
+    lines = cad.report_lines(PITCH * 1e-3, 22e-3)
+    assert "14 spherical pockets of 22.400 mm (clearance 200.0 µm" in lines[1]
+    g.validate()
+
+
+def test_outer_guidance_takes_the_outside(step_file):
+    cad = _read(step_file, guidance="outer")
+    assert "bore" in cad.groups and "outside" not in cad.groups
+    assert cad.geometry.land_width == pytest.approx(0.5 * WIDTH * 1e-3, rel=1e-6)
+
+
+def test_units_brep_and_step(tmp_path, step_file):
+    """A BREP has no unit: refused without one; with it, the same cage as the STEP (drawn in m
+    here). A STEP file declares its own (mm here): reported, and a different one given is refused;
+    a wrong unit makes a cage of the wrong size, refused by its size against the pitch circle."""
+    brep = make_cad_cage(tmp_path / "cage14.brep", scale=1e-3)
+    with pytest.raises(InputError, match="BREP file carries no unit"):
+        _read(brep)
+    assert _read(brep, unit="m").geometry.outside_diameter == pytest.approx(OD * 1e-3, rel=1e-6)
+    with pytest.raises(InputError, match=r"is the unit right"):
+        _read(brep, unit="mm")
+    with pytest.raises(InputError, match=r"cad unit = 'in' disagrees with the STEP file's own length unit 'mm'"):
+        _read(step_file, unit="in")
+    assert _read(step_file, unit="mm").unit == "mm (from the file)"
+
+
+@pytest.mark.parametrize("case, match", [
+    ("balls", r"14 pockets found, the bearing has bearing.n_balls = 20; a cage needs one pocket per ball"),
+    ("offset", r"pocket 3 is centred at radius 83.6000 mm.*off the pitch circle"),
+    ("suffix", r"not a CAD file; allowed: STEP"),
+])
+def test_refusals_name_what_is_missing(tmp_path, step_file, case, match):
+    with pytest.raises(InputError, match=match):
+        if case == "balls":
+            _read(step_file, n_balls=20)
+        elif case == "offset":
+            _read(make_cad_cage(tmp_path / "off.step", sphere_offset_mm=0.1))
+        else:
+            _read(tmp_path / "cage.igs")
+
+
+def test_mesh_of_the_cad_cage(tmp_path, step_file):
+    """`build_cad_cage_mesh`: tagged like the parametric cage (one group per pocket, guide = the
+    bore), every node of pocket k on its sphere (CAD precision or the repair's reported shift)."""
+    import gmsh
+    from flexbearing.mesh.cad_cage import build_cad_cage_mesh
+    from flexbearing.mesh.cage_mesh import mesh_quality_of
+    out = tmp_path / "cage14.msh"
+    cad = build_cad_cage_mesh(step_file, out, Z, PITCH * 1e-3, 22e-3, "inner", size=8e-3, pocket_size=6e-3)
+    shift = mesh_quality_of(out)["repair"]["max_node_shift_m"]
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.merge(str(out))
+        names = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
+        assert names["cage"] == (3, 1) and names["guide"] == (2, 200)
+        for k in range(Z):
+            d, t = names[f"pocket_{k:02d}"]
+            assert t == 101 + k
+            _, X = gmsh.model.mesh.getNodesForPhysicalGroup(d, t)
+            X = X.reshape(-1, 3)
+            c = np.array(cad.pockets[k].centre)
+            dist = np.abs(np.linalg.norm(X - c, axis=1) - 0.5 * DP * 1e-3)
+            assert dist.max() <= shift + 1e-8
+    finally:
+        gmsh.finalize()
+
+
+@pytest.mark.slow
+def test_cad_cage_modes_against_calculix(tmp_path, step_file):
+    """The first 20 elastic free–free frequencies of the CAD cage, project P2 against CalculiX
+    C3D10 on the same 5 mm curved mesh: within 0.5 % (the quadrature difference, as the paper
+    cage's check in tests/test_calculix.py), and 1e-5 with CalculiX's own 4-point rule."""
+    import shutil
+    if shutil.which("ccx") is None:
+        pytest.skip("CalculiX (ccx) not installed")
+    from flexbearing.mesh.cad_cage import build_cad_cage_mesh
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.verification.calculix_check import frequency_case, project_model
+    out = tmp_path / "cage14.msh"
+    build_cad_cage_mesh(step_file, out, Z, PITCH * 1e-3, 22e-3, "inner", size=5e-3, pocket_size=4e-3)
+    r = frequency_case(project_model(out, PAPER_CAGE.material), PAPER_CAGE.material, 20, msh_path=out)
+    assert r["max_abs_rel_diff"] < 0.005
+    assert r["max_abs_rel_diff_quadrature2"] < 1e-5
