@@ -158,3 +158,51 @@ def test_cad_cage_modes_against_calculix(tmp_path, step_file):
     r = frequency_case(project_model(out, PAPER_CAGE.material), PAPER_CAGE.material, 20, msh_path=out)
     assert r["max_abs_rel_diff"] < 0.005
     assert r["max_abs_rel_diff_quadrature2"] < 1e-5
+
+
+SCENE = """name = "cad14"
+[bearing]
+n_balls = 14
+inner_land_diameter = 157.25e-3
+[cage]
+model = "flexible"
+cad = "cage14.step"
+guidance = "inner"
+{extra}
+[operation]
+duration = 0.01
+[operation.speed]
+phases = [{{ kind = "uniform", duration = 0.01, rpm = 14000 }}]
+[operation.load]
+axial_load = 55e3
+[output]
+sample_interval = 1e-3
+record = ["cage_speed"]
+"""
+
+
+def test_scene_with_a_cad_cage(tmp_path, monkeypatch, step_file):
+    """[cage] cad = "cage14.step" (relative to the scene): the bearing's cage is the file's
+    equivalent geometry, found once and then read from the cache (checked against its key: the
+    file's content); the scene may not give the geometry the file decides; the reduced cage's key
+    names the file by its content."""
+    import shutil
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.coupling.flexible_cage import reduced_cage_key
+    monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path / "cache"))
+    shutil.copy(step_file, tmp_path / "cage14.step")
+    (tmp_path / "s.toml").write_text(SCENE.format(extra=""))
+    s = load_scene(tmp_path / "s.toml")
+    g = s.bearing.cage
+    assert (g.n_pockets, g.pocket_shape, g.guidance) == (Z, "spherical", "inner")
+    assert g.bore_diameter == pytest.approx(BORE * 1e-3, rel=1e-6)
+    assert s.bearing.guide_clearance == pytest.approx(0.375e-3, rel=1e-6)
+    assert list((tmp_path / "cache" / "meshes").glob("*.cad.json"))
+    assert load_scene(tmp_path / "s.toml").bearing.cage == g           # from the cache
+    assert reduced_cage_key(s)["cad"]["cad_sha256"] == s.cad["key"]["cad_sha256"]
+    (tmp_path / "s2.toml").write_text(SCENE.format(extra="pocket_diameter = 22.5e-3"))
+    with pytest.raises(InputError, match=r"cage.pocket_diameter = 0.0225: the geometry of this cage is read from cage.cad"):
+        load_scene(tmp_path / "s2.toml")
+    (tmp_path / "s3.toml").write_text(SCENE.format(extra="").replace('n_balls = 14', 'n_balls = 16'))
+    with pytest.raises(InputError, match=r"14 pockets found, the bearing has bearing.n_balls = 16"):
+        load_scene(tmp_path / "s3.toml")

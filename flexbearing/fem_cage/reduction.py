@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -310,8 +311,13 @@ def file_arrays(red: dict) -> dict:
 
 
 def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, checks=False,
-          n_keep=DEFAULT_N_KEEP, degree=3, centrifugal=True, guide_loads=True, inertia_relief=True):
-    """Mesh, assemble, reduce, optionally verify; write the cache file. Returns (path, red, checks)."""
+          n_keep=DEFAULT_N_KEEP, degree=3, centrifugal=True, guide_loads=True, inertia_relief=True,
+          mesh=None, cad_key=None):
+    """Mesh, assemble, reduce, optionally verify; write the cache file. Returns (path, red, checks).
+
+    mesh: a ready .msh instead of the parametric cage's cached mesh (a CAD cage,
+    flexbearing.mesh.cad_cage.cached_cad_cage_mesh), with cad_key, the content key it was made
+    from, added to the reduced cage's key."""
     from mpi4py import MPI
     from flexbearing.mesh.cage_mesh import cached_cage_mesh
     from .elasticity import load_cage_mesh, assemble_stiffness_mass
@@ -320,7 +326,9 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
         raise RuntimeError("flexbearing reduce runs in serial")
     key = rcf.cache_key(geometry, size, order, pocket_size, coupling, n_fixed, degree, centrifugal,
                         guide_loads, inertia_relief)
-    msh = cached_cage_mesh(geometry, size, order, pocket_size)
+    if cad_key is not None:
+        key["cad"] = cad_key
+    msh = Path(mesh) if mesh is not None else cached_cage_mesh(geometry, size, order, pocket_size)
     domain, _, facet_tags, _ = load_cage_mesh(msh, MPI.COMM_SELF)
     V, K, M = assemble_stiffness_mass(domain, geometry.material, degree)
     t0 = time.perf_counter()

@@ -407,3 +407,68 @@ def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_dia
         gmsh.finalize()
     CM.quality_path(out).write_text(json.dumps(report, indent=1))
     return cad
+
+
+
+# ---------------------------------------------------------------- cached: what a scene's cage.cad needs
+def _cad_key(path, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
+             unit: str | None, material) -> dict:
+    """Every input of `read_cad_cage`: the file by its content (sha256), not its name."""
+    from dataclasses import asdict
+    from flexbearing.common.cache import file_sha256
+    return {"kind": "cad_cage", "cad_sha256": file_sha256(path), "n_balls": int(n_balls),
+            "pitch_diameter": float(pitch_diameter), "ball_diameter": float(ball_diameter),
+            "guidance": guidance, "unit": unit, "material": asdict(material), "fit_tol": FIT_TOL}
+
+
+def _geometry_from_dict(d: dict) -> CageGeometry:
+    from flexbearing.common.materials import Material
+    d = dict(d)
+    d["material"] = Material(**d["material"])
+    return CageGeometry(**d)
+
+
+def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: float,
+                      guidance: str = "outer", unit: str | None = None, material=None):
+    """(equivalent CageGeometry, report lines, key) of a CAD cage, cached by the file's content
+    and the bearing (`_cad_key`): a scene reads it without gmsh once it has been found."""
+    from flexbearing.common.cache import cache_dir, content_hash, write_text_atomic
+    import gmsh
+    material = material or PAPER_CAGE.material
+    cad_kind(path)
+    if not Path(path).is_file():
+        raise InputError(f"cage.cad = {str(path)!r}: no such file")
+    key = _cad_key(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+    store = cache_dir() / "meshes" / f"{content_hash(key)}.cad.json"
+    if store.exists():
+        rec = json.loads(store.read_text())
+        if rec.get("key") == key:                   # checked against its contents, not its name
+            return _geometry_from_dict(rec["geometry"]), rec["report"], key
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+    finally:
+        gmsh.finalize()
+    from dataclasses import asdict
+    rec = {"key": key, "geometry": asdict(cad.geometry), "report": cad.report_lines(pitch_diameter, ball_diameter)}
+    write_text_atomic(store, json.dumps(rec, indent=1))
+    return cad.geometry, rec["report"], key
+
+
+def cached_cad_cage_mesh(path, n_balls: int, pitch_diameter: float, ball_diameter: float,
+                         guidance: str = "outer", unit: str | None = None, material=None,
+                         size: float = CM.DEFAULT_MESH_SIZE, pocket_size: float | None = CM.DEFAULT_POCKET_SIZE,
+                         order: int = CM.DEFAULT_ORDER) -> tuple[Path, dict]:
+    """The CAD cage's mesh from the cache (keyed by the file's content, the bearing and the mesh
+    sizes), built once (`build_cad_cage_mesh`); returns (path, key)."""
+    from flexbearing.common.cache import cache_dir, content_hash
+    material = material or PAPER_CAGE.material
+    key = {**_cad_key(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material),
+           "size": float(size), "pocket_size": None if pocket_size is None else float(pocket_size),
+           "order": int(order), "mesh_version": CM.MESH_VERSION}
+    out = cache_dir() / "meshes" / f"{content_hash(key)}.msh"
+    if not out.exists():
+        build_cad_cage_mesh(path, out, n_balls, pitch_diameter, ball_diameter, guidance, unit, size,
+                            pocket_size, order, material)
+    return out, key
