@@ -206,3 +206,33 @@ def test_scene_with_a_cad_cage(tmp_path, monkeypatch, step_file):
     (tmp_path / "s3.toml").write_text(SCENE.format(extra="").replace('n_balls = 14', 'n_balls = 16'))
     with pytest.raises(InputError, match=r"14 pockets found, the bearing has bearing.n_balls = 16"):
         load_scene(tmp_path / "s3.toml")
+
+
+def test_modes_table_compares_with_table8_only_for_the_paper_cage():
+    """flexbearing modes: Table 8 beside the frequencies for the paper's cage; for another cage
+    its frequencies and families alone, no paper error."""
+    from flexbearing.fem_cage.modes import PAPER_TABLE8_HZ, mode_table
+    freqs = [0.0] * 6 + [PAPER_TABLE8_HZ[7] * 1.01] + [100.0 * k for k in range(8, 28)]
+    paper = mode_table(freqs, paper=True)
+    assert "Table 8" in paper and "+1.00%" in paper and "RMS relative error" in paper
+    other = mode_table(freqs, ["rigid"] * 6 + ["x"] * 21, paper=False)
+    assert "Table 8" not in other and "%" not in other and len(other.splitlines()) == 28
+
+
+def test_untagged_mesh_is_refused_in_one_line(tmp_path):
+    """A mesh without the cage's physical groups (what `modes --mesh` once met as an IndexError)."""
+    import gmsh
+    from flexbearing.fem_cage.elasticity import load_cage_mesh
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.occ.addBox(0, 0, 0, 0.01, 0.01, 0.01)
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.005)
+        gmsh.model.mesh.generate(3)
+        gmsh.option.setNumber("Mesh.SaveAll", 1)
+        gmsh.write(str(tmp_path / "box.msh"))
+    finally:
+        gmsh.finalize()
+    with pytest.raises(InputError, match=r"has no physical group 'cage' \(groups: none\): make it with `flexbearing mesh`"):
+        load_cage_mesh(tmp_path / "box.msh")
