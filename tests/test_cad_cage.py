@@ -234,5 +234,5 @@ def test_untagged_mesh_is_refused_in_one_line(tmp_path):
         gmsh.write(str(tmp_path / "box.msh"))
     finally:
         gmsh.finalize()
-    with pytest.raises(InputError, match=r"has no physical group 'cage' \(groups: none\): make it with `flexbearing mesh`"):
+    with pytest.raises(InputError, match=r"has no physical volume group \(groups: none\): make it with `flexbearing mesh`"):
         load_cage_mesh(tmp_path / "box.msh")
