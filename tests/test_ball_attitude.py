@@ -8,19 +8,28 @@ radial load, 4000 rpm: outer angle ~21°, inner ~36°, so the two contact normal
   the same applied moments), the spin on the controlling race relaxes at the rate k,
   d/dt[(w − w_race·e_x)·n] = −k·(w − w_race·e_x)·n, the yaw w_t relaxes at k, and the
   translational equations are unchanged (the constraint moments are pure couples);
-* motion level (T_RUN = 0.3 s, drag off, started on the race-control kinematics by
+* motion level (T_RUN = 0.2 s, drag off, started on the race-control kinematics by
   flexbearing.multibody.initial): the spin axis of every ball sits at Jones's race-control pitch of the race
   that controls, in Harris & Kotzalas's closed form tan beta = sin a/(cos a ± D/dm) (+ outer,
   − inner; `flexbearing.studies.validate.race_control_kinematics`), within TOL_BETA_DEG = 0.02°; the closed
-  form assumes pure rolling on the controlling race (measured: inner +0.0099° at 0.02 s, +0.0065°
-  at 0.1 s, +0.0042° at 0.2 s, +0.017° at 0.3 s (one ball; +0.015° before the ring took the
-  spin-locking couple); outer +0.0005°, +0.0001°, −0.0001°); and the cage turns at the
+  form assumes pure rolling on the controlling race, and the run's balls skid by a few 1e-4
+  (below), which leaves the axis +0.0043° (inner) and −0.0001° (outer) off it at 0.2 s, the same
+  to three digits on every instruction set tried (host AVX-512, AVX2+FMA `NUMBA_CPU_NAME=znver2`
+  with numpy's AVX-512 kernels off, generic x86-64); and the cage turns at the
   race-control pure-rolling speed of the run's mean contact angles (`race_control_kinematics`, an
   independent 3×3 linear solve) within TOL_CAGE_SPEED = 0.05 % (measured relative difference,
-  inner control: −0.071 % at 0.1 s, −0.030 % at 0.3 s, −0.026 % at 0.5 and 0.8 s; outer control:
-  −0.072 %, −0.015 %, −0.008 %, −0.007 %: a steady skid of a few 1e-4 from the spin moment of the
+  inner control: −0.073 % at 0.1 s, −0.037 % at 0.2 s, −0.030 % at 0.3 s; outer control:
+  −0.075 %, −0.030 %, −0.015 %: a steady skid of a few 1e-4 from the spin moment of the
   non-controlling race, whose component along the rolling axis is ∝ sin(alpha_i − alpha_o); drag
-  is off);
+  is off).
+  Why 0.2 s and not later: imposed inner-race control at this light load is not a stable state
+  of the model. The balls' attitudes drift apart from a round-off seed with a growth rate of
+  about 55 1/s (ball-to-ball spread of beta 1e-5° at 0.16 s, 2e-3° at 0.24 s, 0.07° at 0.28 s,
+  0.4° at 0.34 s, tens of degrees at 0.38 s, the ball mean staying at +0.004° until 0.34 s). A
+  check at 0.3 s sampled that growth, whose size there is set by the last digits of the
+  arithmetic: it passed on one processor and failed on another (issue 36). At 0.2 s the spread is
+  1e-4°, two decades below the margin; reaching the tolerance from there would take a seed about
+  100 times larger. The test fails with the spread in its message if that ever changes.
 * bad option values are refused, naming the field;
 * "no_pivot" (the paper's hypothesis, only the yaw held): its equations, the work of its couple
   (none) and the cage speed at the balls' own pitch (tests at the end of this file).
@@ -44,7 +53,7 @@ CASE = {"axial_load": 2000.0, "radial_load": 0.0, "speed_rpm": 4000.0}
 # it destabilises race control at light load); tests/test_dynamic_vs_quasi_static.py checks it on
 OPTS = {"drag": False, "gravity": 0.0, "attitude_ring_reaction": False}
 TOL_BETA_DEG = 0.02
-T_RUN = 0.3
+T_RUN = 0.2         # s: settled, before the round-off-seeded drift of imposed inner control (docstring)
 TOL_CAGE_SPEED = 5e-4
 
 
@@ -121,6 +130,7 @@ def test_spin_axis_settles_on_the_controlling_race(attitude):
     ws = I.Workspace(model)
     y, t, h, _, _ = I.advance(model, y, 0.0, T_RUN, sp, ld, imp, 1e-5, 1e-6, ws)
     _, work = _rhs(model, y, sp, ld, imp)
+    errors_deg = []
     for j in range(model.n_balls):
         o = 9 * j
         n_o, n_i = _normals(work, j)
@@ -133,8 +143,12 @@ def test_spin_axis_settles_on_the_controlling_race(attitude):
         w_r = y[o + 7]
         # the ball rolls backwards (w_x_rel < 0); its axis tilts by beta towards the contact line
         beta = math.atan2(abs(w_r), abs(w_x_rel))
-        assert math.degrees(abs(beta - expected)) < TOL_BETA_DEG
+        errors_deg.append(math.degrees(beta - expected))
         assert abs(y[o + 8]) < 1e-6 * abs(w_x_rel)
+    errors_deg = np.array(errors_deg)
+    assert np.abs(errors_deg).max() < TOL_BETA_DEG, (
+        f"beta − closed form: ball mean {errors_deg.mean():+.5f}°, ball-to-ball spread "
+        f"{np.ptp(errors_deg):.5f}° (a spread near the tolerance is the drift of the docstring)")
     out = O.evaluate_outputs(model, t, y, sp, ld, imp)
     Q, ang = out["contact_load"], out["contact_angle"]
     zi = np.arange(model.n_balls)

@@ -151,7 +151,7 @@ def test_flexible_run_interrupted_and_resumed_equals_uninterrupted(paper_reduced
     modal coordinates included, lives in the checkpoint; the integrator is deterministic)."""
     from flexbearing.simulation.run import RunInterrupted, default_backend, run_scene
     from flexbearing.simulation.scene import loads_scene
-    from test_resume import assert_same_results, stopping_after
+    from test_resume import assert_same_results
     text = """
 name = "short_flexible"
 [cage]
@@ -173,9 +173,32 @@ record = ["contact_stress", "pocket_force", "guiding_force", "cage_speed", "von_
 checkpoint_every = 5
 """
     scene = loads_scene(text, "short_flexible.toml")
-    run_scene(scene, tmp_path / "a.h5", quiet=True)
-    backend = default_backend(scene)
-    backend.advance = stopping_after(17, KeyboardInterrupt(), inner=backend.advance)
+    # The interruption lands halfway through the run's integrator calls, counted on the
+    # uninterrupted run: a run takes its samples inside steps (advance_sampled) and makes as few
+    # calls as its checkpoints and breakpoints need, so a fixed call number can fall after the
+    # last call and interrupt nothing (issue 36: "DID NOT RAISE")
+    def with_calls(backend, on_call):
+        """The backend with on_call(number) run before each integrator call (either kind)."""
+        count = {"n": 0}
+
+        def wrap(inner):
+            def call(*a, **k):
+                count["n"] += 1
+                on_call(count["n"])
+                return inner(*a, **k)
+            return call
+        backend.advance, backend.advance_sampled = wrap(backend.advance), wrap(backend.advance_sampled)
+        return backend, count
+
+    counting, calls = with_calls(default_backend(scene), lambda n: None)
+    run_scene(scene, tmp_path / "a.h5", quiet=True, backend=counting)
+    assert calls["n"] >= 4, calls
+    half = calls["n"] // 2
+
+    def interrupt_at_half(n):
+        if n == half:
+            raise KeyboardInterrupt()
+    backend, _ = with_calls(default_backend(scene), interrupt_at_half)
     with pytest.raises(RunInterrupted):
         run_scene(scene, tmp_path / "b.h5", quiet=True, backend=backend)
     run_scene(scene, tmp_path / "b.h5", quiet=True, resume=True)
@@ -199,8 +222,10 @@ def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage,
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))
     Fa, Fr = scene.initial_loads()
     y = np.array(be.initial_state(model, 14000 * np.pi / 30, Fa, Fr), dtype=float)
-    kw = dict(speed_table=scene.speed_table, load_table=scene.load_table, impacts=scene.impacts)
-    be.evaluate_outputs(model, 0.0, y, **kw)
+    from flexbearing.multibody.run_backend import OutputRequest
+    request = OutputRequest(tuple(scene.outputs), scene.speed_table, scene.load_table, scene.impacts,
+                            film=False, energy=False)
+    be.evaluate_outputs(model, 0.0, y, request)
     t, h, above = 0.0, scene.initial_step, 0
     S = paper_reduced_cage.stress_modes
     for k in range(1, 31):
@@ -208,8 +233,8 @@ def test_von_mises_is_the_maximum_over_every_integrator_step(paper_reduced_cage,
         ws = be.new_workspace(model)
         y, _, h, ns, _ = be.advance(model, y, t, t1, scene.speed_table, scene.load_table, scene.impacts,
                                     scene.tolerance, h, ws=ws)
-        peak = be.evaluate_outputs(model, t1, y, **kw)
-        direct = be.evaluate_outputs(model, t1, y, **kw)   # monitor was reset: the sample itself
+        peak = be.evaluate_outputs(model, t1, y, request)
+        direct = be.evaluate_outputs(model, t1, y, request)   # monitor was reset: the sample itself
         assert peak["von_mises_steps"] == ns and direct["von_mises_steps"] == 1
         assert t < peak["von_mises_max_time"] <= t1
         assert peak["von_mises_max"] >= direct["von_mises_max"] * (1 - 1e-12)

@@ -159,14 +159,22 @@ def test_continuous_extension_order_against_the_exact_solution(method, local_ord
 
 def test_samples_inside_steps_are_as_accurate_as_stopping_at_them():
     """advance_sampled writes the samples from the continuous extension instead of ending a step at
-    each (issue 21): 2 ms of the paper's steady rigid case from a settled state at t = 2 ms, 19
-    samples at 0.1 ms, against a tol-1e-11 run stopping at every sample. Error: the RMS over the
-    state in the integrator's scales (model.scale) of the worst sample. Over seven tolerances 1e-4
-    ... 1e-7 the geometric mean of error(inside steps)/error(stopping) is at most 1.2 (measured
-    0.84: the error comes from the steps, not from the interpolation) and no single ratio exceeds
-    2.5 (measured 0.37-1.86; one tolerance's pair of runs scatters by that much with round-off: a
-    change of the right-hand side at 1e-14 moved the 1e-6 ratio from 1.05 to 1.86); every run
-    inside steps takes fewer steps."""
+    each: 2 ms of the paper's steady rigid case from a settled state at t = 2 ms, 19 samples at
+    0.1 ms, against a tol-1e-11 run stopping at every sample. Error: the RMS over the state in the
+    integrator's scales (model.scale) of the worst sample.
+
+    The error of one run at one tolerance is a random draw: the ball–pocket contacts switch on and
+    off inside steps, so two equally valid step sequences differ by a factor of up to ~3 either
+    way (the ratio inside/stopping at 3e-7 was 0.42 on one processor and 6.49 on another, the same
+    code and inputs, only the last digits of the arithmetic differing: issue 36). The comparison is
+    therefore statistical, over 25 tolerances 1e-4 ... 1e-7 (an eighth of a decade apart): the
+    geometric mean of error inside / error stopping is at most 1.5. Order 4 dense output inside an
+    order-5 step adds an interpolation error of the step's own order, so a mean a little above 1
+    is expected; 1.5 is the accuracy a tolerance 1.4x tighter buys back (error ~ tol^(5/4)).
+    Measured mean log ratio ± its standard error: +0.14 ± 0.13 (AVX-512 host; numba for generic
+    x86-64: the same), +0.04 ± 0.10 (numba for AVX2+FMA, numpy's AVX-512 kernels off): the bound
+    log 1.5 = 0.41 is 2 and 3.6 standard errors away. Every run inside steps takes fewer steps: that
+    is its purpose, and step counts follow the error estimate, not the contact sequence."""
     from flexbearing.simulation.run import default_backend
     from flexbearing.simulation.scene import load_scene
     from flexbearing.multibody.profiles import load_at, speed_at
@@ -193,12 +201,14 @@ def test_samples_inside_steps_are_as_accurate_as_stopping_at_them():
 
     ref, _ = stopping(1e-11)
     rms = lambda a: float(np.max(np.sqrt(np.mean(((a - ref) / model.scale) ** 2, axis=1))))  # noqa: E731
-    ratios = []
-    for tol in (1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7):
+    log_ratios = []
+    for tol in 10.0 ** -(4.0 + 0.125 * np.arange(25)):
         a, n_stop = stopping(tol)
         _, _, _, n_in, _, b, _ = I.advance_sampled(model, y.copy(), 2e-3, t_end, times, *tabs, tol, 1e-7,
                                                    I.Workspace(model))
-        ratios.append(rms(b) / rms(a))
+        log_ratios.append(math.log(rms(b) / rms(a)))
         assert n_in < n_stop, tol
-    assert np.exp(np.mean(np.log(ratios))) <= 1.2, ratios
-    assert max(ratios) <= 2.5, ratios
+    log_ratios = np.array(log_ratios)
+    standard_error = log_ratios.std(ddof=1) / math.sqrt(len(log_ratios))
+    assert log_ratios.mean() <= math.log(1.5), (
+        f"mean log ratio {log_ratios.mean():+.3f} ± {standard_error:.3f}; ratios {np.exp(log_ratios).round(2)}")

@@ -162,3 +162,50 @@ def test_held_cage_state_refuses_what_it_cannot_solve(paper):
         steady_held_cage_state(model, W, (FA, -4e3))
     with pytest.raises(InputError, match="steady.axial_load = 0"):
         steady_held_cage_state(model, W, (0.0, 0.0, -4e3))
+
+
+# ------------------------------------------------------------ robustness: continuation (issue 36)
+def _sample_case(point_index: int, case_id: int):
+    """Model, speed and load of one (point, case) run of the uncertainty study (its scrambled
+    Sobol' sample is seeded, so point k is the same on every machine)."""
+    from pathlib import Path
+    from flexbearing.studies import uncertainty as U
+    from flexbearing.studies import validate as V
+    study = U.load_unknowns(Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_unknowns.toml")
+    point = U.sample_points(study)[point_index]
+    case = {c["case"]: c for c in V.slip_rate_cases()}[case_id]
+    bearing, oil, scale = U.point_bearing_oil(point, case["speed_rpm"])
+    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
+    return model, case["speed_rpm"] * math.pi / 30.0, np.array([case["axial_load"], 0.0, -case["radial_load"]])
+
+
+def test_continuation_finds_the_root_the_direct_solve_finds(paper):
+    """Where the damped Newton from the quasi-static start converges (the paper bearing, 14,000 rpm,
+    Fa 55 kN, Fr 4 kN), the continuation from the symmetric thrust state, forced, ends on the same
+    root: both are roots to the residual tolerance 1e-9 of the per-ball load (scaled equations), so
+    they differ by the conditioning times that: 1e-8 on the cage speed, 1e-6 of the pitch diameter
+    on the cage centre (a guide clearance is ~1e-3 of it)."""
+    from flexbearing.multibody.steady import _held_cage_continuation
+    model = paper[0]
+    load = np.array([FA, 0.0, -4e3])
+    y, direct = steady_held_cage_state(model, W, load, continuation=False)
+    assert direct["converged"]
+    _, cont = _held_cage_continuation(model, W, load, 0.0, 1e-9, (y, dict(direct, converged=False)))
+    assert cont["converged"] and cont["reason"] == ""
+    assert cont["continuation"][0] == 0.0 and cont["continuation"][-1] == 1.0
+    assert cont["cage_speed"] == pytest.approx(direct["cage_speed"], rel=1e-8)
+    np.testing.assert_allclose(cont["cage_centre"], direct["cage_centre"], atol=1e-6 * PAPER_BEARING.pitch_diameter)
+
+
+def test_held_cage_state_converges_on_a_sample_point_where_newton_alone_stalls():
+    """Point 0 of the uncertainty study, slip-rate case 3 (Fa 1100 N, Fr 200 N, 6000 rpm): the
+    damped Newton from the quasi-static start ended on a stationary point of |F| that is no root
+    (residual 2.7e-2, Jacobian condition ~7e8) on the machine this was measured on; the continuation
+    from the symmetric thrust state reaches a root. Whatever path a processor's rounding takes, the
+    answer must be a root: converged, residual within the tolerance, and if it did fail, the reason
+    names where."""
+    model, omega, load = _sample_case(0, 3)
+    y, info = steady_held_cage_state(model, omega, load)
+    assert info["converged"], info["reason"]
+    assert info["residual"] <= 1e-9
+    assert -0.5 < info["outputs"]["slip_rate"] < 0.5

@@ -178,8 +178,8 @@ def _newton(residual, n: int, tol: float, max_iter: int = 60, h: float = 1e-3):
     return v, f, max_iter, nfev
 
 
-def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, tol: float = 1e-9
-                           ) -> tuple[np.ndarray, dict]:
+def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, tol: float = 1e-9,
+                           continuation: bool = True) -> tuple[np.ndarray, dict]:
     """(y, info): the frozen-azimuth equilibrium of the bearing under a combined load with the cage
     held off-centre in its guide film.
 
@@ -223,6 +223,138 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
     if model.n_modes != 0:
         raise InputError(f"model.n_modes = {model.n_modes}: the held-cage state is for a rigid cage "
                          "(build the model with n_modes = 0)")
+    try:
+        y, info = _held_cage_solve(model, speed_rad_s, load, phase, tol)
+    except InputError as e:             # the quasi-static start itself has no solution
+        if not continuation:
+            raise
+        y, info = None, dict(converged=False, residual=math.inf, reason=f"no quasi-static start: {e}")
+    if info["converged"] or not continuation:
+        return y, info
+    return _held_cage_continuation(model, speed_rad_s, load, phase, tol, (y, info))
+
+
+# the continuation in the load that breaks the balls' symmetry: first step, smallest step
+CONTINUATION_FIRST_STEP = 0.25
+CONTINUATION_MIN_STEP = 1.0 / 64.0
+
+
+def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float,
+                            direct: tuple) -> tuple[np.ndarray, dict]:
+    """Natural-parameter continuation (Allgower & Georg, *Introduction to Numerical Continuation
+    Methods*, SIAM 2003, ch. 1–2) from the symmetric thrust state to the combined load with weight.
+
+    lambda scales what makes the balls differ by azimuth: the radial load (Fy, Fz) and gravity.
+    At lambda = 0 all balls are alike and the state is `steady_thrust_state`'s (9 unknowns,
+    MINPACK's hybrid method: far more robust than a Newton on all 6Z + 11), copied to every ball;
+    where that fails, the held-cage solve of the thrust alone from the quasi-static balls. Then
+    lambda rises to 1, each solve starting from the previous solution; a failed step is halved
+    (down to CONTINUATION_MIN_STEP), a converged one enlarged by 1.5.
+
+    Why: from the quasi-static start the damped Newton of `_held_cage_solve` can end on a
+    near-singular stationary point of |F| that is not a root (measured on a slip-rate case: the
+    Jacobian's condition ~7e8 there, the residual 2.7e-2 and smooth along the Newton direction);
+    following the branch from the symmetric state keeps each iterate near it.
+    info["continuation"]: the lambdas solved; info["reason"]: why a run that fails failed."""
+    y_direct, direct = direct
+    g = model.p[M.P_GRAV]
+    axial = np.array([load[0], 0.0, 0.0])
+    radial = np.array([0.0, load[1], load[2]])
+
+    def at(lam, start):
+        p = model.p.copy()
+        p[M.P_GRAV] = lam * g
+        return _held_cage_solve(model._replace(p=p), speed_rad_s, axial + lam * radial, phase, tol, start=start)
+
+    start = _symmetric_start(model, speed_rad_s, load[0], phase)
+    y, info = at(0.0, start)
+    if not info["converged"]:
+        y, info = at(0.0, None)
+    def failed(y, info, reason):
+        """The direct solve's end (or, where it had no start, this one), not converged, with why."""
+        if y_direct is not None:
+            y, info = y_direct, direct
+        info.update(converged=False, reason=reason)
+        return y, info
+
+    if not info["converged"]:
+        return failed(y, info, f"no root from the quasi-static start ({direct['reason']}) nor of the symmetric thrust "
+                               f"state without weight (residual {info['residual']:.2e}): no fixed point in reach at "
+                               "this speed and thrust (steady_thrust_state's docstring: where the traction cannot "
+                               "balance the drag the dynamics do not settle)")
+    lam, step, path = 0.0, CONTINUATION_FIRST_STEP, [0.0]
+    while lam < 1.0:
+        trial = min(1.0, lam + step)
+        y_t, info_t = at(trial, info["unknowns"])
+        if info_t["converged"]:
+            lam, y, info = trial, y_t, info_t
+            path.append(lam)
+            step *= 1.5
+            continue
+        step *= 0.5
+        if step < CONTINUATION_MIN_STEP:
+            y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.3f} "
+                                      f"of the radial load and weight (residual {info_t['residual']:.2e} at "
+                                      f"{trial:.3f}): the branch turns or ends there (a fold, or a ball leaving the "
+                                      "load zone)")
+            info["continuation"] = path
+            return y, info
+    info["continuation"] = path
+    return y, info
+
+
+def _symmetric_start(model, speed_rad_s: float, axial_load: float, phase: float) -> np.ndarray | None:
+    """The unknowns of `_held_cage_solve` from steady_thrust_state's solution without weight (every
+    ball alike, the inner ring and the cage displaced axially only), or None where it has none."""
+    p = model.p.copy()
+    p[M.P_GRAV] = 0.0
+    s = _thrust_state_by_speed(model._replace(p=p), speed_rad_s, axial_load)
+    if s is None:
+        return None
+    z = model.n_balls
+    nb = 6 * z
+    u = np.zeros(nb + 11)
+    u[:nb] = np.tile([s["ball_x"], s["ball_r"], s["pocket_offset"], s["ball_w_x"], s["ball_w_r"], s["ball_w_t"]], z)
+    u[nb] = s["orbit_speed"]
+    u[nb + 1] = s["ring_x"]
+    u[nb + 6] = s["cage_x"]
+    return u
+
+
+def _thrust_state_by_speed(model, speed_rad_s: float, axial_load: float) -> dict | None:
+    """steady_thrust_state's info at speed_rad_s, by natural-parameter continuation in the speed
+    where the direct solve fails (Allgower & Georg 2003, ch. 1–2): the state at a lower speed
+    (1/2, 1/4, 1/8 of it: less centrifugal force, the contact angles nearer the quasi-static ones)
+    is followed up to the full speed, each solve starting from the previous state, the step
+    halved on failure (down to CONTINUATION_MIN_STEP) and enlarged by 1.5 on success. None where
+    no speed fraction converges or the branch ends before the full speed."""
+    y, s = steady_thrust_state(model, speed_rad_s, axial_load)
+    if s["converged"]:
+        return s
+    for mu in (0.5, 0.25, 0.125):
+        y, s = steady_thrust_state(model, mu * speed_rad_s, axial_load)
+        if s["converged"]:
+            break
+    else:
+        return None
+    step = 0.5 * mu
+    while mu < 1.0:
+        trial = min(1.0, mu + step)
+        y_t, s_t = steady_thrust_state(model, trial * speed_rad_s, axial_load, y_start=y)
+        if s_t["converged"]:
+            mu, y, s = trial, y_t, s_t
+            step *= 1.5
+            continue
+        step *= 0.5
+        if step < CONTINUATION_MIN_STEP:
+            return None
+    return s
+
+
+def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float,
+                     start: np.ndarray | None = None) -> tuple[np.ndarray, dict]:
+    """One damped-Newton solve of the held-cage equations (steady_held_cage_state's docstring) from
+    the quasi-static balls, or from `start` (the unknowns of an earlier solution, info["unknowns"])."""
     p = model.p
     z = model.n_balls
     lay = M.state_layout(model)
@@ -231,22 +363,26 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
     load_table = np.array([[0.0, load[0], load[1], load[2]]])
     impacts = np.zeros((0, 6))
     work = D.new_work(model)
-    y0 = initial_state(model, speed_rad_s, 0.0, 0.0, load=tuple(load))
-    dydt = np.zeros_like(y0)
     n = 6 * z + 11
     nb = 6 * z
-    # start: the quasi-static balls, each against the driving side of its pocket (as
-    # steady_thrust_state), the cage centred axially on the balls so that the pocket walls do not
-    # push it sideways from the first iterate
-    u0 = np.zeros(n)
-    for j in range(z):
-        b = y0[9 * j:9 * j + 9]
-        u0[6 * j:6 * j + 6] = (b[0], b[1], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], b[6], b[7], b[8])
-    u0[nb] = np.mean(y0[5:9 * z:9])
-    u0[nb + 1:nb + 6] = y0[r0:r0 + 5]
-    u0[nb + 6] = np.mean(y0[0:9 * z:9])
+    if start is None:
+        # start: the quasi-static balls, each against the driving side of its pocket (as
+        # steady_thrust_state), the cage centred axially on the balls so that the pocket walls do
+        # not push it sideways from the first iterate
+        y0 = initial_state(model, speed_rad_s, 0.0, 0.0, load=tuple(load))
+        u0 = np.zeros(n)
+        for j in range(z):
+            b = y0[9 * j:9 * j + 9]
+            u0[6 * j:6 * j + 6] = (b[0], b[1], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], b[6], b[7], b[8])
+        u0[nb] = np.mean(y0[5:9 * z:9])
+        u0[nb + 1:nb + 6] = y0[r0:r0 + 5]
+        u0[nb + 6] = np.mean(y0[0:9 * z:9])
+    else:
+        u0 = np.array(start, dtype=float)
+    dydt = np.zeros(lay["n_state"])
     half_dw, half_dm = 0.5 * p[M.P_DW], 0.5 * p[M.P_DM]
-    w_ball = np.mean(np.abs(y0[6:9 * z:9])) + np.mean(np.abs(y0[7:9 * z:9])) + 1.0
+    # the scale of a ball's spin: its w_x and w_r (what y0[6], y0[7] hold in the quasi-static start)
+    w_ball = np.mean(np.abs(u0[3:nb:6])) + np.mean(np.abs(u0[4:nb:6])) + 1.0
     scale_u = np.empty(n)
     scale_r = np.empty(n)
     scale_u[:nb] = np.tile([1e-6, 1e-6, 1e-4, 1e-3 * w_ball, 1e-3 * w_ball, 1e-3 * w_ball], z)
@@ -261,7 +397,7 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
 
     def state(v):
         u = u0 + v * scale_u
-        y = np.zeros_like(y0)
+        y = np.zeros(lay["n_state"])
         omega_c = u[nb]
         for j in range(z):
             x, r, offset, wx, wr, wt = u[6 * j:6 * j + 6]
@@ -291,5 +427,8 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
                 cage_eccentricity_ratio=float(out["cage_eccentricity_ratio"]),
                 cage_land_force=out["cage_land_force"].copy(),
                 pocket_resultant=out["pocket_force_on_cage"].sum(axis=0),
-                pocket_offset=(u0 + v * scale_u)[2:nb:6].copy(), outputs=out)
+                pocket_offset=(u0 + v * scale_u)[2:nb:6].copy(), outputs=out,
+                unknowns=u0 + v * scale_u, continuation=[], reason="")
+    if not info["converged"]:
+        info["reason"] = f"damped Newton ended at residual {res:.2e} after {iterations} iterations"
     return y, info

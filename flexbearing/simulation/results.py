@@ -70,7 +70,7 @@ def chunk_rows(checkpoint_every: int) -> int:
 COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 
 # Units, dimension names and column labels of the recorded quantities: flexbearing.multibody.output_registry
-# (a backend's OUTPUT_UNITS dict wins; name fragments are the last resort for names it does not
+# (a backend's output_units dict wins; name fragments are the last resort for names it does not
 # know, ordered: the more specific fragment first).
 _UNIT_RULES = (("ratio", "1"), ("angular_velocity", "rad/s"), ("angle", "rad"), ("tilt", "rad"),
                ("von_mises", "Pa"), ("stress", "Pa"), ("pressure", "Pa"), ("film", "m"),
