@@ -1,6 +1,6 @@
-"""A cage the project has not seen, from CAD (flexbearing.mesh.cad_cage): made here with gmsh's
-OpenCASCADE API and written as STEP (mm) or BREP: inner-ring guided, 14 spherical pockets,
-turned 7° so that no pocket sits at +y.
+"""A cage the project has not seen, from CAD (flexbearing.mesh.cad_cage): drawn with gmsh's
+OpenCASCADE API (flexbearing.verification.cad_test_cage) and written as STEP (mm) or BREP:
+inner-ring guided, 14 spherical pockets, turned 7° so that no pocket sits at +y.
 
 References are the numbers the test cage was drawn with (outside 176 mm, bore 158 mm, width
 26 mm, pockets 22.4 mm on the 167 mm pitch circle); tolerances from the CAD kernel's precision
@@ -14,32 +14,7 @@ import pytest
 
 from flexbearing.common.validation import InputError
 
-Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0   # mm, degrees
-
-
-def make_cad_cage(path, z=Z, pitch=PITCH, dp=DP, sphere_offset_mm=0.0, scale=1.0):
-    """The test cage with gmsh's OCC API, written to `path` (STEP in mm, or BREP in mm·scale)."""
-    import gmsh
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        occ = gmsh.model.occ
-        outer = occ.addCylinder(-WIDTH / 2, 0, 0, WIDTH, 0, 0, OD / 2)
-        inner = occ.addCylinder(-WIDTH / 2, 0, 0, WIDTH, 0, 0, BORE / 2)
-        ring, _ = occ.cut([(3, outer)], [(3, inner)])
-        tools = []
-        for k in range(z):
-            th = 2 * math.pi * k / z + math.radians(TURN)
-            r = pitch / 2 + (sphere_offset_mm if k == 3 else 0.0)
-            tools.append((3, occ.addSphere(0, r * math.cos(th), r * math.sin(th), dp / 2)))
-        ring, _ = occ.cut(ring, tools)
-        if scale != 1.0:
-            occ.dilate(ring, 0, 0, 0, scale, scale, scale)
-        occ.synchronize()
-        gmsh.write(str(path))
-    finally:
-        gmsh.finalize()
-    return path
+from flexbearing.verification.cad_test_cage import BORE, DP, OD, PITCH, TURN, WIDTH, Z, make_cad_cage
 
 
 @pytest.fixture(scope="module")
