@@ -221,6 +221,13 @@ def _run_one(scene, path: str, quiet: bool, reduced_cage: str | None = None) -> 
 def _build_reduced_cage(scene, quiet: bool) -> str:
     """The reduced cage of the scene: from the cache or built (a job: on a worker, which imports the
     FE stack; the file lock of the cache makes a second builder wait). Returns its path."""
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        # on a Dask worker's task thread: gmsh 4.8's finalize() puts its saved SIGINT handler back
+        # with signal.signal, which Python allows in the main thread only ("signal only works in
+        # main thread"); without a saved handler it leaves SIGINT alone (the worker's own)
+        import gmsh
+        gmsh.oldsig = None
     return str(Path(reduced_cage_path(scene, quiet=quiet)).resolve())
 
 
