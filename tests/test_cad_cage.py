@@ -211,3 +211,14 @@ def test_untagged_mesh_is_refused_in_one_line(tmp_path):
         gmsh.finalize()
     with pytest.raises(InputError, match=r"has no physical volume group \(groups: none\): make it with `flexbearing mesh`"):
         load_cage_mesh(tmp_path / "box.msh")
+
+
+def test_cylindrical_pockets_found(tmp_path):
+    """Radial cylindrical pockets: found by their axes (radial, in the mid-plane), outer guidance."""
+    cad = _read(make_cad_cage(tmp_path / "cyl.step", shape="cylindrical"), guidance="outer")
+    g = cad.geometry
+    assert (g.pocket_shape, g.n_pockets, g.guidance) == ("cylindrical", Z, "outer")
+    assert g.pocket_diameter == pytest.approx(DP * 1e-3, rel=1e-6)
+    for k, p in enumerate(cad.pockets):
+        assert p.azimuth == pytest.approx(2 * math.pi * k / Z, abs=1e-9)
+        assert abs(p.centre[0]) < 1e-9

@@ -15,9 +15,10 @@ Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0  
 
 
 def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere_offset_mm: float = 0.0,
-                  scale: float = 1.0):
+                  scale: float = 1.0, shape: str = "spherical"):
     """Write the test cage to `path` (.step in mm, or .brep in mm·scale); pocket 3 moved radially
-    by sphere_offset_mm (a pocket off the pitch circle, for the refusal). Returns the path."""
+    by sphere_offset_mm (a pocket off the pitch circle, for the refusal); shape "cylindrical":
+    radial cylinders through the ring instead of the spheres. Returns the path."""
     import gmsh
     gmsh.initialize()
     try:
@@ -29,6 +30,11 @@ def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere
         tools = []
         for k in range(z):
             th = 2 * math.pi * k / z + math.radians(TURN)
+            if shape == "cylindrical":
+                r0, length = BORE / 2 - 5.0, (OD - BORE) / 2 + 10.0
+                tools.append((3, occ.addCylinder(0, r0 * math.cos(th), r0 * math.sin(th),
+                                                 0, length * math.cos(th), length * math.sin(th), dp / 2)))
+                continue
             r = pitch / 2 + (sphere_offset_mm if k == 3 else 0.0)
             tools.append((3, occ.addSphere(0, r * math.cos(th), r * math.sin(th), dp / 2)))
         ring, _ = occ.cut(ring, tools)
