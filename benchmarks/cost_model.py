@@ -132,7 +132,7 @@ def loop_pockets(n, y, p, flags, cage):
     for _ in range(n):
         cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
         cage_body_angular_velocity(A, y, c0, w_body)
-        c_roll, c_slide, c_root = D.pocket_film_coefficients(p)
+        c_roll, c_slide, c_root = D.pocket_film_coefficients(p, flags)
         for k in range(cage.Qext.shape[0]):
             cage.Qext[k] = 0.0
         for j in range(z):

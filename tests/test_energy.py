@@ -21,8 +21,8 @@ from flexbearing.multibody import integrator as I
 CONSERVATIVE = {"traction": False, "drag": False, "damping": False, "hertz_fixed_angle": True}
 
 
-def _free_run(tol, duration, rpm=10000.0, fa=5000.0, fr=1000.0, n_out=10):
-    m = build_model(PAPER_BEARING, PAPER_OIL, CONSERVATIVE)
+def _free_run(tol, duration, rpm=10000.0, fa=5000.0, fr=1000.0, n_out=10, bearing=PAPER_BEARING):
+    m = build_model(bearing, PAPER_OIL, CONSERVATIVE)
     w = rpm * math.pi / 30
     y = initial_state(m, w, fa, fr)
     sp = np.array([[0.0, w]])
@@ -51,6 +51,18 @@ def test_free_run_energy_drift_below_one_ppm_per_second():
     """
     E, ev0 = _free_run(I.DEFAULT_TOL, 0.05)
     drift_per_s = abs(E[-1] - E[0]) / 0.05
+    assert drift_per_s / abs(E[0]) < 1e-6
+    assert drift_per_s / abs(ev0) < 1e-3
+    assert np.max(np.abs(E - E[0])) / abs(ev0) < 1e-4
+
+
+def test_free_run_energy_inner_land_guided_cage_with_spherical_pockets():
+    """The same bounds for a cage guided by the inner ring's land with spherical pockets
+    (cage.guidance, cage.pocket_shape): the spherical pocket's potential (offset from the pocket
+    centre) and the inner rim's (offset from the ring's centre) are those of the forces."""
+    cage = PAPER_BEARING.cage.with_(guidance="inner", pocket_shape="spherical")
+    E, ev0 = _free_run(I.DEFAULT_TOL, 0.02, bearing=PAPER_BEARING.with_(cage=cage))
+    drift_per_s = abs(E[-1] - E[0]) / 0.02
     assert drift_per_s / abs(E[0]) < 1e-6
     assert drift_per_s / abs(ev0) < 1e-3
     assert np.max(np.abs(E - E[0])) / abs(ev0) < 1e-4

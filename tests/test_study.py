@@ -311,3 +311,25 @@ def test_the_reduced_cage_is_built_once_per_distinct_cage_and_reaches_the_runs_b
     assert h[0] == h[1] != h[2]
     assert sorted(built) == sorted({h[0], h[2]})
     assert given == [(f"fa_{i}", f"/cache/{h[i]}.h5") for i in range(3)]
+
+
+def test_gmsh_on_a_worker_thread(tmp_path):
+    """A reduced cage built on a Dask worker's task thread meshes with gmsh: its import and its
+    finalize() call signal.signal, which Python refuses off the main thread (every flexible study
+    on --workers N failed with 'signal only works in main thread' before)."""
+    import threading
+    from flexbearing.studies.study import _import_gmsh_off_the_main_thread
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from flexbearing.mesh.cage_mesh import build_ring_mesh
+    errors = []
+
+    def job():
+        try:
+            _import_gmsh_off_the_main_thread()
+            build_ring_mesh(PAPER_CAGE, 20e-3, 1, tmp_path / "ring.msh")
+        except Exception as exc:        # noqa: BLE001 - the test reports it
+            errors.append(repr(exc))
+    t = threading.Thread(target=job)
+    t.start()
+    t.join()
+    assert errors == [] and (tmp_path / "ring.msh").exists()

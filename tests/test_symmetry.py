@@ -329,3 +329,63 @@ def test_quasi_static_solution_mirrors(control):
     u = a.ring_displacement * np.array([-1, 1, 1, -1, -1])
     assert np.max(np.abs(c.ring_displacement - u)) < 1e-9 * np.max(np.abs(u))
     assert c.cage_speed == pytest.approx(a.cage_speed, rel=1e-9)
+
+
+# ---------------------------------------------------------------- other cages (cage.guidance, cage.pocket_shape)
+CAGE_CASES = {
+    "inner-land guided": dict(guidance="inner"),
+    "inner-land guided, on its rim": dict(guidance="inner", on_rim=True),
+    "ball riding, spherical pockets": dict(guidance="balls", pocket_shape="spherical"),
+    # not on its rim: the spherical pockets (Cp 0.25 mm) hold the cage radially before it reaches
+    # the land's rim (Cg 0.375 mm), the balls would sit deep in their pockets
+    "outer-land guided, spherical pockets": dict(pocket_shape="spherical"),
+}
+
+
+def _cage_case(case):
+    """Model and disturbed state of a cage case; `on_rim` puts the cage 2 % beyond its guide
+    clearance from the land's centre (the ring's for the inner land)."""
+    opts = dict(CAGE_CASES[case])
+    on_rim = opts.pop("on_rim", False)
+    bearing = PAPER_BEARING.with_(cage=PAPER_BEARING.cage.with_(**opts))
+    model = build_model(bearing, PAPER_OIL, {})
+    y = _disturbed_state(model, on_rim=on_rim)
+    if on_rim and bearing.cage.guidance == "inner":
+        lay = state_layout(model)
+        r0, c0 = lay["ring"], lay["cage"]
+        e = 1.02 * model.p[M.P_CG]
+        dy, dz = y[r0 + 1:r0 + 3] + e * np.array([0.6, -0.8]) - y[c0 + 1:c0 + 3]
+        y[c0 + 1:c0 + 3] += (dy, dz)
+        for j in range(model.n_balls):
+            psi = y[9 * j + 2]
+            y[9 * j + 2] += (-dy * math.sin(psi) + dz * math.cos(psi)) / y[9 * j + 1]
+    return model, y, on_rim
+
+
+@pytest.mark.parametrize("case", list(CAGE_CASES))
+def test_other_cages_axial_mirror(case):
+    """The axial mirror for the inner-land guided, ball-riding and spherical-pocket cages."""
+    model, y, on_rim = _cage_case(case)
+    f, work = _rhs(model, y, OMEGA, (FA, 0.0, -FR))
+    fm, _ = _rhs(model, _axial_mirror(model, y), OMEGA, (-FA, 0.0, -FR))
+    _assert_equal_blocks(model, fm, _axial_mirror(model, f), f"axial mirror, {case}")
+    assert (work[model.n_balls, M.WR_RIM_F] > 0.0) == on_rim
+
+
+@pytest.mark.parametrize("case", list(CAGE_CASES))
+def test_other_cages_mirror_through_the_axis(case):
+    """The mirror Z -> −Z (the rotation reversed): the inner land's Couette term, whose speed is
+    the ring's, must turn with it."""
+    model, y, on_rim = _cage_case(case)
+    f, work = _rhs(model, y, OMEGA, (FA, 1.5e3, -FR))
+    fm, work_m = _rhs(model, _z_mirror(model, y), -OMEGA, (FA, 1.5e3, FR))
+    _assert_equal_blocks(model, fm, _z_mirror(model, f), f"Z mirror, {case}")
+    z = model.n_balls
+    assert work_m[z, M.WR_RING_TORQUE] == pytest.approx(-work[z, M.WR_RING_TORQUE], rel=1e-9)
+
+
+@pytest.mark.parametrize("case", list(CAGE_CASES))
+def test_other_cages_rotation_about_the_shaft_axis(case):
+    """A rotation by 211° about the shaft axis."""
+    model, y, on_rim = _cage_case(case)
+    _check_rotation(model, y, math.radians(211.0), on_rim)

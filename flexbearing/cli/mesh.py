@@ -105,17 +105,46 @@ def cmd_mesh(args) -> int:
         return cmd_check(Path(args.check))
     if not args.output:
         raise InputError("flexbearing mesh: give -o/--output FILE.msh (or --check FILE to check a mesh)")
-    g = geometry_from_args(args)
     out = Path(args.output)
     if out.suffix != ".msh":
         out = out.with_suffix(".msh")
     t0 = time.perf_counter()
+    if args.cad:
+        return cmd_mesh_cad(args, out, t0)
+    g = geometry_from_args(args)
     if MPI.COMM_WORLD.rank == 0:
         build_cage_mesh(g, args.size, args.order, out, pocket_size=args.pocket_size)
     MPI.COMM_WORLD.barrier()
     x = write_mesh_xdmf(out)
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
         print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} mm, "
+              f"pocket size {args.pocket_size:g} m, order {args.order})")
+        rep = mesh_quality_of(out)
+        print("quality: " + quality_line(rep["quality"], rep["repair"]))
+    return 0
+
+
+def cmd_mesh_cad(args, out: Path, t0: float) -> int:
+    """`flexbearing mesh --cad CAGE.step -o cage.msh`: find the pockets and the land, match them
+    to the bearing (the paper's, with --n-balls/--pitch-diameter-mm/--ball-diameter-mm changes),
+    mesh and check; print what was found."""
+    from mpi4py import MPI
+    from flexbearing.fem_cage.xdmf import write_mesh_xdmf
+    from flexbearing.mesh.cad_cage import build_cad_cage_mesh
+    from flexbearing.mesh.cage_mesh import mesh_quality_of
+    from flexbearing.multibody.bearing import PAPER_BEARING
+    n_balls = args.n_balls or PAPER_BEARING.n_balls
+    dm = args.pitch_diameter_mm * 1e-3 if args.pitch_diameter_mm else PAPER_BEARING.pitch_diameter
+    dw = args.ball_diameter_mm * 1e-3 if args.ball_diameter_mm else PAPER_BEARING.ball_diameter
+    cad = None
+    if MPI.COMM_WORLD.rank == 0:
+        cad = build_cad_cage_mesh(args.cad, out, n_balls, dm, dw, args.guidance, args.cad_unit,
+                                  args.size, args.pocket_size, args.order)
+    MPI.COMM_WORLD.barrier()
+    x = write_mesh_xdmf(out)
+    if not args.quiet and MPI.COMM_WORLD.rank == 0:
+        print("\n".join(cad.report_lines(dm, dw)))
+        print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} m, "
               f"pocket size {args.pocket_size:g} m, order {args.order})")
         rep = mesh_quality_of(out)
         print("quality: " + quality_line(rep["quality"], rep["repair"]))
@@ -132,5 +161,15 @@ def register(subparsers) -> None:
     p.add_argument("-o", "--output", help="output .msh file (XDMF and FILE.quality.json written beside it)")
     p.add_argument("--check", metavar="FILE", help="only check an existing mesh file: every tetrahedron's "
                    "Jacobian (inverted, badly curved) and shape; exit 1 if flexbearing would refuse it")
+    c = p.add_argument_group("a cage from CAD (STEP/BREP): pockets and land found from the geometry")
+    c.add_argument("--cad", metavar="FILE", help="mesh this STEP (.step/.stp) or BREP (.brep) cage instead "
+                   "of the parametric one")
+    c.add_argument("--cad-unit", choices=("m", "mm", "cm", "in"), default=None,
+                   help="length unit of the CAD file (default: a STEP file's own; a BREP file needs it)")
+    c.add_argument("--guidance", choices=("outer", "inner", "balls"), default="outer",
+                   help="what guides the cage: the outer ring's land (outside), the inner ring's (bore), the balls")
+    c.add_argument("--n-balls", type=int, default=None, help="balls of the bearing (default: the paper's 20)")
+    c.add_argument("--pitch-diameter-mm", type=float, default=None, help="default: the paper's 167 mm")
+    c.add_argument("--ball-diameter-mm", type=float, default=None, help="default: the paper's 22 mm")
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_mesh)

@@ -16,6 +16,23 @@ from flexbearing.cli.mesh import element_size
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP
 
 
+def run_scene(args) -> int:
+    """`flexbearing reduce --scene SCENE`: the reduced cage the scene's run uses (its cage, CAD or
+    parametric, mesh size and FE degree), built once and cached under the run's own key."""
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.coupling.flexible_cage import reduced_cage_path
+    from flexbearing.fem_cage import reduced_cage as rcf
+    scene = load_scene(args.scene)
+    if scene.cad and not args.quiet:
+        print("\n".join(scene.cad["report"]))
+    path = reduced_cage_path(scene, quiet=args.quiet)
+    rc = rcf.read(path)
+    if not args.quiet:
+        print(f"reduced cage: {path} ({path.stat().st_size / 1e6:.1f} MB)")
+        print(f"  {rc.n_modes} modes stored; elastic {np.round(rc.frequency_hz[6:16], 1).tolist()} Hz ...")
+    return 0
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser("reduce", help="build the reduced (Craig–Bampton) cage file, or find it in the cache",
                               description=__doc__.split("\n\n")[0])
@@ -43,11 +60,16 @@ def register(subparsers) -> None:
     p.add_argument("--json", type=Path, default=None, help="write the summary (checks, frequencies, costs) here")
     p.add_argument("--xdmf", type=Path, default=None, help="write kept modes' shapes and von Mises for ParaView")
     p.add_argument("-o", "--output", type=Path, default=None, help="also copy the reduced cage file here")
+    p.add_argument("--scene", type=Path, default=None,
+                   help="reduce the cage of this scene (its [cage] table: cad, geometry, mesh_size, "
+                        "element_order) as its run will; the other options then do not apply")
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
+    if getattr(args, "scene", None):
+        return run_scene(args)
     from flexbearing.mesh.cage_geometry import PAPER_CAGE
     from flexbearing.common.validation import require_range, InputError
     from flexbearing.fem_cage import reduced_cage as rcf

@@ -18,3 +18,26 @@ def content_hash(obj) -> str:
     """SHA-256 (first 16 hex digits) of the canonical JSON of obj (dicts sorted, floats repr'd)."""
     text = json.dumps(obj, sort_keys=True, separators=(",", ":"), default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def file_sha256(path) -> str:
+    """SHA-256 of a file's bytes (an input known by its content, not its name)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def write_text_atomic(path, text: str) -> Path:
+    """Write text to path through a temporary file and a rename: a concurrent reader never sees
+    half a file."""
+    import tempfile
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=path.parent)
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.chmod(tmp, 0o644)
+    os.replace(tmp, path)
+    return path

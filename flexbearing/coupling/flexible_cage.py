@@ -145,8 +145,11 @@ def reduced_cage_key(scene) -> dict:
     """Every input that changes the scene's reduced cage (flexbearing.fem_cage.reduced_cage.cache_key); its
     content hash names the cached file (flexbearing.fem_cage.reduced_cage.cache_path)."""
     size, pocket, degree = _mesh_inputs(scene)
-    return rcf.cache_key(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
-                         rcf.DEFAULT_N_FIXED, degree, True)
+    key = rcf.cache_key(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
+                        rcf.DEFAULT_N_FIXED, degree, True)
+    if scene.cad:
+        key["cad"] = scene.cad["key"]          # the CAD file by its content (flexbearing.mesh.cad_cage)
+    return key
 
 
 def reduced_cage_hash(scene) -> str:
@@ -166,8 +169,17 @@ def reduced_cage_path(scene, quiet: bool = False):
         if not quiet:
             print(f"building the reduced cage (mesh {size * 1e3:g} mm, P{degree}, Craig–Bampton; "
                   "a few minutes, once): " + str(rcf.cache_path(key)), flush=True)
+        mesh = cad_key = None
+        if scene.cad:
+            from flexbearing.mesh.cad_cage import cached_cad_cage_mesh
+            b = scene.bearing
+            mesh, _ = cached_cad_cage_mesh(scene.cad["file"], b.n_balls, b.pitch_diameter, b.ball_diameter,
+                                           b.cage.guidance, scene.cad["unit"], b.cage.material, size, pocket,
+                                           cm.DEFAULT_ORDER)
+            cad_key = scene.cad["key"]
         path, _, _ = build(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
-                           rcf.DEFAULT_N_FIXED, quiet=quiet, degree=degree, centrifugal=True)
+                           rcf.DEFAULT_N_FIXED, quiet=quiet, degree=degree, centrifugal=True,
+                           mesh=mesh, cad_key=cad_key)
     return path
 
 

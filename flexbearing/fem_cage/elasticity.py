@@ -52,7 +52,15 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
         gmsh.model.add("cage")
         gmsh.merge(str(path))
         names = {gmsh.model.getPhysicalName(d, t): t for d, t in gmsh.model.getPhysicalGroups()}
-    names = comm.bcast(names, root=0)
+        has_volume = any(d == 3 for d, _ in gmsh.model.getPhysicalGroups())
+    names, has_volume = comm.bcast((names, has_volume if comm.rank == 0 else None), root=0)
+    if not has_volume:
+        # an untagged mesh (no physical volume) gives dolfinx no cells to read
+        if comm.rank == 0:
+            gmsh.finalize()
+        from flexbearing.common.validation import InputError
+        raise InputError(f"mesh {str(path)!r} has no physical volume group (groups: {sorted(names) or 'none'}): "
+                         "make it with `flexbearing mesh` or `flexbearing mesh --cad CAGE.step`")
     try:
         domain, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
     finally:

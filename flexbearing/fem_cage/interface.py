@@ -44,9 +44,10 @@ def skew(a) -> np.ndarray:
 
 
 def pocket_centres(geometry) -> np.ndarray:
-    """Interface node positions (Z, 3), m: pocket axis at the mean radius, mid-plane."""
+    """Interface node positions (Z, 3), m: on the pocket axis in the mid-plane, at the mean radius
+    (cylindrical pockets) or at the sphere's centre (spherical: the pocket force passes through it)."""
     th = np.asarray(geometry.pocket_azimuths())
-    r = geometry.mean_radius
+    r = 0.5 * geometry.pocket_centre_diameter if geometry.pocket_shape == "spherical" else geometry.mean_radius
     return np.column_stack([np.zeros_like(th), r * np.cos(th), r * np.sin(th)])
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -228,7 +229,11 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
         Kz, Mz = K, M
     timings["interface_s"] = time.perf_counter() - t0
     f_cf = centrifugal_load(M, X)                # physical DOFs; kept for the checks
-    f_guide, guide_info = guide_load_vectors(V, facet_tags)     # (n, 3): f_y f_z f_t
+    if geometry.guidance == "balls":
+        # no land touches a ball-riding cage: its land load is zero, the vectors too
+        f_guide, guide_info = np.zeros((n, 3)), {"area_m2": 0.0, "guidance": "balls"}
+    else:
+        f_guide, guide_info = guide_load_vectors(V, facet_tags)     # (n, 3): f_y f_z f_t
     loads = []
     if centrifugal:
         loads.append(f_cf[:, None])
@@ -319,8 +324,13 @@ def file_arrays(red: dict) -> dict:
 
 
 def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, checks=False,
-          n_keep=DEFAULT_N_KEEP, degree=3, centrifugal=True, guide_loads=True, inertia_relief=True):
-    """Mesh, assemble, reduce, optionally verify; write the cache file. Returns (path, red, checks)."""
+          n_keep=DEFAULT_N_KEEP, degree=3, centrifugal=True, guide_loads=True, inertia_relief=True,
+          mesh=None, cad_key=None):
+    """Mesh, assemble, reduce, optionally verify; write the cache file. Returns (path, red, checks).
+
+    mesh: a ready .msh instead of the parametric cage's cached mesh (a CAD cage,
+    flexbearing.mesh.cad_cage.cached_cad_cage_mesh), with cad_key, the content key it was made
+    from, added to the reduced cage's key."""
     from mpi4py import MPI
     from flexbearing.mesh.cage_mesh import cached_cage_mesh
     from .elasticity import load_cage_mesh, assemble_stiffness_mass
@@ -332,8 +342,10 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
                         guide_loads, inertia_relief)
     stage = Stages("reduce the cage", {k: w for k, w in REDUCE_STAGES.items() if k != "checks" or checks},
                    quiet)
+    if cad_key is not None:
+        key["cad"] = cad_key
     stage("mesh")
-    msh = cached_cage_mesh(geometry, size, order, pocket_size)
+    msh = Path(mesh) if mesh is not None else cached_cage_mesh(geometry, size, order, pocket_size)
     stage("K and M")
     domain, _, facet_tags, _ = load_cage_mesh(msh, MPI.COMM_SELF)
     V, K, M = assemble_stiffness_mass(domain, geometry.material, degree)

@@ -1,8 +1,10 @@
-"""The cage as numbers: a ring with Z cylindrical radial pockets and optional guide lands.
+"""The cage as numbers: a ring with Z radial pockets (cylindrical or spherical) and guide lands.
 
 Frame: x along the bearing axis (cage mid-plane at x = 0), pockets are cylinders whose axes
 are radial, at azimuths theta_k = 2*pi*k/Z in the y–z plane (theta measured from +y towards +z),
-centred on the mid-plane. All lengths in metres.
+centred on the mid-plane; a spherical pocket is a sphere of the pocket diameter centred on that
+axis at the pocket-centre (pitch) radius. The cage is guided by the outer ring's land (its outside
+cylinder), the inner ring's land (its bore) or by the balls (`guidance`). All lengths in metres.
 
 Paper values (Yang, Liu, Deng, Lubricants 2025, 13, 249, Tables 1, 3, 7): outside diameter
 178.45 mm, bore 161.15 mm, width 28.3 mm, 20 pockets, 40CrNiMoA (7870 kg/m^3, 209 GPa, 0.295).
@@ -15,6 +17,10 @@ from dataclasses import dataclass, field, asdict, replace
 
 from flexbearing.common.materials import STEEL_40CrNiMoA, Material
 from flexbearing.common.validation import InputError, require_positive, require_range
+
+
+GUIDANCES = ("outer", "inner", "balls")
+POCKET_SHAPES = ("cylindrical", "spherical")
 
 
 @dataclass(frozen=True)
@@ -39,6 +45,17 @@ class CageGeometry:
     # The ball the pockets hold: only used to refuse pockets that cannot take it (Dp <= Dw) or
     # are absurdly loose (Dp > 1.1·Dw, the same bound flexbearing.multibody.bearing applies).
     ball_diameter: float = 22e-3
+    # What centres the cage (flexbearing.multibody.guide_land): "outer" its outside cylinder on the
+    # outer ring's land (the paper), "inner" its bore on the inner ring's land, "balls" the balls
+    # through the pockets (no land contact).
+    guidance: str = "outer"
+    # "cylindrical" radial pockets (the paper) or "spherical" ones (a sphere of the pocket diameter
+    # centred on the pitch circle, flexbearing.multibody.pocket).
+    pocket_shape: str = "cylindrical"
+    # Diameter of the circle the spherical pockets' centres lie on: the bearing's pitch circle
+    # (the ball centres; the scene sets it from bearing.pitch_diameter). Unused by cylindrical
+    # pockets, whose radial axes have no centre radius.
+    pocket_centre_diameter: float = 167e-3
 
     @property
     def outer_radius(self) -> float:
@@ -104,16 +121,33 @@ class CageGeometry:
                 # polygon would then cross itself where the relief is wider than the flat bore).
                 require_range("cage.bore_chamfer", self.bore_chamfer, 0.0, wall - self.relief_depth,
                               hi_open=True, unit="m")
+        if self.guidance not in GUIDANCES:
+            raise InputError(f"cage.guidance = {self.guidance!r} is not known; allowed: {list(GUIDANCES)}")
+        if self.pocket_shape not in POCKET_SHAPES:
+            raise InputError(f"cage.pocket_shape = {self.pocket_shape!r} is not known; "
+                             f"allowed: {list(POCKET_SHAPES)}")
+        if self.pocket_shape == "spherical":
+            # the sphere must open through the bore and the outside (a ball goes in; a closed
+            # cavity is not a pocket): |centre radius − each surface| < Dp/2
+            half = 0.5 * self.pocket_diameter
+            require_range("cage.pocket_centre_diameter", self.pocket_centre_diameter,
+                          2.0 * (self.outer_radius - half), 2.0 * (self.inner_radius + half),
+                          lo_open=True, hi_open=True, unit="m")
         self.material.validate("cage.material")
         return self
 
     def to_dict(self) -> dict:
-        """All fields, except optional features added later (bore_chamfer) while they are unset:
+        """All fields, except optional features added later (bore_chamfer, guidance, pocket_shape,
+        pocket_centre_diameter) while they are unset or at the paper's values:
         the dict is hashed into cache keys (meshes, reduced cages), so a geometry that does not
         use a newer field keeps the content hash it had before that field existed."""
         d = asdict(self)
         if d["bore_chamfer"] is None:
             del d["bore_chamfer"]
+        for key, default in (("guidance", "outer"), ("pocket_shape", "cylindrical"),
+                             ("pocket_centre_diameter", 167e-3)):
+            if d[key] == default:
+                del d[key]
         return d
 
     def with_(self, **changes) -> "CageGeometry":

@@ -14,9 +14,13 @@ mid-side nodes sit on the true pocket cylinders, which is what P2 elasticity nee
 
 Physical groups (names and tags are part of the API that fem_cage and coupling rely on):
   volume "cage" = 1; surfaces "pocket_00".."pocket_{Z-1:02d}" = 101 + k; "guide" = 200
-  (outer-ring guided surface: the outside cylinder, or the two lands when relieved);
-  "bore" = 201, "side_left" (x = -w/2) = 202, "side_right" (x = +w/2) = 203,
-  "other" = 204 (relief floor and walls, chamfers), only when present.
+  (the guided surface: for cage.guidance = "outer" the outside cylinder, or the two lands when
+  relieved; for "inner" the bore; none for "balls");
+  "bore" = 201 (when it does not guide), "side_left" (x = -w/2) = 202, "side_right" (x = +w/2) = 203,
+  "other" = 204 (relief floor and walls, chamfers), only when present; "outside" = 205 (the
+  outside cylinder when it does not guide: "inner" and "balls").
+Spherical pockets (cage.pocket_shape): spheres of diameter Dp centred on the pocket-centre
+circle instead of the radial cylinders.
 """
 from __future__ import annotations
 
@@ -61,6 +65,7 @@ TAG_BORE = 201
 TAG_SIDE_LEFT = 202
 TAG_SIDE_RIGHT = 203
 TAG_OTHER = 204
+TAG_OUTSIDE = 205
 
 
 def pocket_tag(k: int) -> int:
@@ -129,10 +134,21 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
         margin = 0.5 * (g.outer_radius - g.inner_radius)
         r0, length = g.inner_radius - margin, (g.outer_radius - g.inner_radius) + 2 * margin
         tools = []
+        rc = 0.5 * g.pocket_centre_diameter
         for th in g.pocket_azimuths():
             cy, cz = math.cos(th), math.sin(th)
-            tools.append((3, occ.addCylinder(0.0, r0 * cy, r0 * cz, 0.0, length * cy, length * cz,
-                                             0.5 * g.pocket_diameter)))
+            if g.pocket_shape == "spherical":
+                # OCC's sphere has its poles on its z axis: turned radial (rotation about x by
+                # theta − pi/2 takes z to (0, cos, sin)), they fall outside the ring and are cut
+                # away; left tangential they sit on the pocket wall, whose periodic patch with
+                # two degenerate edges gmsh 4.8 cannot mesh
+                ball = occ.addSphere(0.0, 0.0, 0.0, 0.5 * g.pocket_diameter)
+                occ.rotate([(3, ball)], 0, 0, 0, 1, 0, 0, th - 0.5 * math.pi)
+                occ.translate([(3, ball)], 0.0, rc * cy, rc * cz)
+                tools.append((3, ball))
+            else:
+                tools.append((3, occ.addCylinder(0.0, r0 * cy, r0 * cz, 0.0, length * cy, length * cz,
+                                                 0.5 * g.pocket_diameter)))
         ring, _ = occ.cut(ring, tools)
     occ.synchronize()
     vols = [t for d, t in ring if d == 3]
@@ -155,7 +171,10 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
             th = float(np.arctan2(P[:, 2].mean(), P[:, 1].mean()) % (2 * math.pi))
             k = min(range(Z), key=lambda j: abs(math.remainder(th - azim[j], 2 * math.pi)))
             axis = np.array([0.0, math.cos(azim[k]), math.sin(azim[k])])
-            d_axis = np.linalg.norm(P - np.outer(P @ axis, axis), axis=1)
+            if g.pocket_shape == "spherical":     # distance to the sphere's centre
+                d_axis = np.linalg.norm(P - 0.5 * g.pocket_centre_diameter * axis, axis=1)
+            else:                                 # distance to the cylinder's axis
+                d_axis = np.linalg.norm(P - np.outer(P @ axis, axis), axis=1)
             if np.all(np.abs(d_axis - 0.5 * g.pocket_diameter) < tol):
                 name = pocket_name(k)
         if name == "other":
@@ -164,18 +183,29 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
             elif np.all(np.abs(x - w2) < tol):
                 name = "side_right"
             elif np.all(np.abs(rho - ro) < tol):
-                name = "guide"
+                name = "guide" if g.guidance == "outer" else "outside"
             elif np.all(np.abs(rho - ri) < tol):
-                name = "bore"
+                name = "guide" if g.guidance == "inner" else "bore"
         groups.setdefault(name, []).append(s)
     if with_pockets and sum(1 for n in groups if n.startswith("pocket_")) != Z:
         raise RuntimeError("cage_mesh: could not find one wall per pocket")
 
+    return tag_and_mesh(vols, groups, Z, size, order, pocket_size if with_pockets else None,
+                        local if with_pockets else None)
+
+
+def tag_and_mesh(vols, groups: dict, Z: int, size: float, order: int, pocket_size: float | None,
+                 local=None) -> dict:
+    """Physical groups of the classified boundary faces `groups` (name -> surface tags, names
+    of the module docstring) and the cage volume(s), then the mesh: `size` everywhere,
+    `pocket_size` on the pocket walls, a `local` refinement zone, curved order 2. Used by the
+    parametric cage and by the CAD cage (flexbearing.mesh.cad_cage). Returns name -> tag."""
+    import gmsh
     names = {"cage": TAG_CAGE}
     gmsh.model.addPhysicalGroup(3, vols, TAG_CAGE)
     gmsh.model.setPhysicalName(3, TAG_CAGE, "cage")
     fixed = {"guide": TAG_GUIDE, "bore": TAG_BORE, "side_left": TAG_SIDE_LEFT,
-             "side_right": TAG_SIDE_RIGHT, "other": TAG_OTHER}
+             "side_right": TAG_SIDE_RIGHT, "other": TAG_OTHER, "outside": TAG_OUTSIDE}
     for k in range(Z):
         fixed[pocket_name(k)] = pocket_tag(k)
     for name, surfs in sorted(groups.items()):
@@ -206,9 +236,9 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
         f.setNumber(ft, "DistMax", dist_max)
         fields.append(ft)
 
-    if with_pockets and pocket_size is not None and pocket_size < size:
+    if pocket_size is not None and pocket_size < size:
         threshold(pocket_surfs, pocket_size, 0.25 * pocket_size, 0.25 * pocket_size + REFINE_GROWTH * size)
-    if with_pockets and local is not None:
+    if local is not None:
         # a refinement zone around some pockets (stress convergence studies): element size h within
         # LOCAL_ZONE of their walls: the pockets, the bars between them and the rails
         pockets, h = local

@@ -101,6 +101,9 @@ class Bearing:
     # diametral clearance Pd, m (class docstring): the design clearance of the 30° shim, 88.4 um
     radial_clearance: float = CL.design_clearance(_PAPER_FE, _PAPER_DW, _PAPER_SHIM)
     guide_land_diameter: float = 179.2e-3   # assumed: outer-ring land that guides the cage
+    # inner-ring land under the cage bore (cage.guidance = "inner"); None: the cage bore less the
+    # outer land's diametral clearance (guide_land_diameter − cage.outside_diameter)
+    inner_land_diameter: float | None = None
     cage: CageGeometry = field(default=PAPER_CAGE)
     ball_material: Material = field(default=M50)
     ring_material: Material = field(default=M50)
@@ -147,8 +150,25 @@ class Bearing:
 
     @property
     def guide_clearance(self) -> float:
-        """Radial clearance between the cage outside cylinder and the guide land, Cg."""
+        """Radial clearance Cg of the land that guides the cage: the outer ring's land bore less
+        the cage's outside diameter ("outer", and "balls", where no land touches the cage and Cg
+        only scales the recorded eccentricity), or the cage bore less the inner ring's land
+        diameter ("inner")."""
+        if self.cage.guidance == "inner":
+            return 0.5 * (self.cage.bore_diameter - self.inner_land_diameter_or_default)
         return 0.5 * (self.guide_land_diameter - self.cage.outside_diameter)
+
+    @property
+    def inner_land_diameter_or_default(self) -> float:
+        """inner_land_diameter, or the cage bore less the outer land's diametral clearance."""
+        if self.cage.pocket_shape == "spherical":
+            # the dynamics put each pocket's centre at the ball centres' radius (the pitch circle)
+            tol = 1e-6 * self.pitch_diameter
+            require_range("cage.pocket_centre_diameter", self.cage.pocket_centre_diameter,
+                          self.pitch_diameter - tol, self.pitch_diameter + tol, unit="m")
+        if self.inner_land_diameter is not None:
+            return self.inner_land_diameter
+        return self.cage.bore_diameter - (self.guide_land_diameter - self.cage.outside_diameter)
 
     @property
     def ball_mass(self) -> float:
@@ -191,6 +211,15 @@ class Bearing:
                       1.1 * self.ball_diameter, lo_open=True, unit="m")
         require_range("bearing.guide_land_diameter", self.guide_land_diameter, self.cage.outside_diameter,
                       self.cage.outside_diameter + 0.02 * self.cage.outside_diameter, lo_open=True, unit="m")
+        if self.cage.pocket_shape == "spherical":
+            # the dynamics put each pocket's centre at the ball centres' radius (the pitch circle)
+            tol = 1e-6 * self.pitch_diameter
+            require_range("cage.pocket_centre_diameter", self.cage.pocket_centre_diameter,
+                          self.pitch_diameter - tol, self.pitch_diameter + tol, unit="m")
+        if self.inner_land_diameter is not None:
+            # the same band as the outer land's: a clearance of up to 1 % of the diameter
+            require_range("bearing.inner_land_diameter", self.inner_land_diameter,
+                          0.98 * self.cage.bore_diameter, self.cage.bore_diameter, hi_open=True, unit="m")
         self.ball_material.validate("bearing.ball_material")
         self.ring_material.validate("bearing.ring_material")
         return self

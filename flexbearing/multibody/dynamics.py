@@ -140,7 +140,7 @@ from flexbearing.multibody.model import (
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_UREG, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
-    F_TRACTION_LAW,
+    F_TRACTION_LAW, F_GUIDANCE, F_POCKET_SHAPE,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
     WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING, W_P_POCKET,
     W_P_CHURNING, WR_P_LAND, WR_P_STRUCTURAL, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
@@ -150,7 +150,8 @@ from flexbearing.multibody.model import (
 from flexbearing.multibody.geometry import cross, race_contact, ring_point_in_plane, ring_velocity_at, ring_velocity_in_plane
 from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.guide_land import guide_land_force
-from flexbearing.multibody.pocket import pocket_curvature_radii, pocket_resistance_coefficients
+from flexbearing.multibody.pocket import (pocket_curvature_radii, pocket_resistance_coefficients,
+                                          spherical_pocket_curvature_radii)
 from flexbearing.multibody.oil_supply import cavity_oil_fraction
 from flexbearing.multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
 from flexbearing.multibody.traction import TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
@@ -400,12 +401,16 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
 
 
 @njit(cache=True)
-def pocket_film_coefficients(p):
+def pocket_film_coefficients(p, flags):
     """(c_R, c_S, r) of the lubricated pocket's rolling and sliding resistances
     (flexbearing.multibody.pocket.pocket_resistance_coefficients) for the model's ball, pocket and oil:
-    entrainment radius Rb, transverse radius R_xi (pocket.pocket_curvature_radii). Constant for a
-    model; `rhs` evaluates them once per call and hands them to `_pocket_force`."""
-    rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
+    entrainment radius Rb, transverse radius R_xi (pocket.pocket_curvature_radii) in a cylindrical
+    pocket; both radii conforming in a spherical one (pocket.spherical_pocket_curvature_radii).
+    Constant for a model; `rhs` evaluates them once per call and hands them to `_pocket_force`."""
+    if flags[F_POCKET_SHAPE] == 0:
+        rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
+    else:
+        rxi, reta = spherical_pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
     return pocket_resistance_coefficients(reta, rxi, p[P_ETA0])
 
 
@@ -414,7 +419,7 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
                       px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags):
     """`_pocket_force` with the film coefficients of `pocket_film_coefficients` (one pocket on its
     own, as the tests and benchmarks call it)."""
-    c_roll, c_slide, c_root = pocket_film_coefficients(p)
+    c_roll, c_slide, c_root = pocket_film_coefficients(p, flags)
     return _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz, px, py, pz, ax, ay, az, vpx, vpy, vpz,
                          wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide, c_root)
 
@@ -442,7 +447,8 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     dx = bx - px
     dy = by - py
     dz = bz - pz
-    da = dx * ax + dy * ay + dz * az
+    # cylindrical pocket: the offset from its axis; spherical: from its centre (da = 0)
+    da = dx * ax + dy * ay + dz * az if flags[F_POCKET_SHAPE] == 0 else 0.0
     ux = dx - da * ax
     uy = dy - da * ay
     uz = dz - da * az
@@ -556,6 +562,42 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
 
 
 @njit(cache=True)
+def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flags):
+    """Force (y, z) and torque about X on the cage from what guides it (flags[F_GUIDANCE]), plus
+    eps and the rim force: (fy, fz, mx, eps, frim).
+
+    "outer" (0): `_guide_land`, the outer ring's land, fixed. "inner" (1): the same short-bearing
+    film and rim between the cage bore and the inner ring's land, with the cage offset and
+    velocity taken relative to the ring's centre, e = (yc − yi, zc − zi), and the land turning
+    with the ring, omega_land = omega_i (guide_land_force: U = R1·(omega_c + omega_i) in the
+    Couette term, Petroff torque ∝ omega_i − omega_c). The short-bearing gap between a bush of
+    centre c and a journal of centre j is h = Cg − (j − c)·n = Cg + e·n, the rotation by pi of the
+    outer land's h = Cg − e·n: the pressure field turns with it, so the force on the cage (the
+    bush now) is again −W_r·e_hat + W_t·(x_hat × e_hat), the form guide_land_force writes
+    (tests/test_guidance.py integrates the short-bearing pressure of the bush for it). The inner
+    ring takes the opposite force and torque (`rhs`). "balls" (2): no land, the pockets centre
+    the cage; zero force, eps = 0.
+    """
+    g = flags[F_GUIDANCE]
+    if g == 0:
+        return _guide_land(yc, zc, vyc, vzc, omega_c, p, flags)
+    if g == 2:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    ey = yc - yi
+    ez = zc - zi
+    e = math.sqrt(ey * ey + ez * ez)
+    cg = p[P_CG]
+    eta = p[P_ETA0] if flags[F_LAND] else 0.0
+    mu = p[P_MURIM] if flags[F_DRAG] else 0.0
+    n_lands = int(round(math.sqrt(p[P_LAND_L] ** 3 / p[P_L3])))
+    fy, fz, mx = guide_land_force(ey, ez, vyc - vyi, vzc - vzi, omega_c, omega_i, p[P_R1],
+                                  p[P_LAND_L] / n_lands, cg, eta, p[P_EPSMAX], True, p[P_KRIM], mu,
+                                  n_lands)
+    frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
+    return fy, fz, mx, e / cg, frim
+
+
+@njit(cache=True)
 def _flag(work, zb, status, ball, contact, value):
     if work[zb, WR_STATUS] == 0.0:
         work[zb, WR_STATUS] = status
@@ -621,7 +663,8 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     fi = p[P_FI]
     rho_mix, eta_mix = oil_air_mixture(cavity_oil_fraction(p[P_OILFRAC], p[P_OIL_WREF], omega_i),
                                        p[P_RHO_OIL], p[P_ETA0])
-    c_roll, c_slide, c_root = pocket_film_coefficients(p)
+    c_roll, c_slide, c_root = pocket_film_coefficients(p, flags)
+    cyl_pockets = flags[F_POCKET_SHAPE] == 0
     # the scratch rows, the modal coordinates and the node loads, taken once: every array view
     # costs an atomic reference-count increment and decrement (made per ball they were ~20 % of
     # a rigid cage's rhs)
@@ -828,7 +871,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         # the interface node: node force −F_b, node moment (w − p)×(−F_b) − M_b − (b − w)×F_b.
         # This is the virtual work of the pocket force for the node's motion, so the normal
         # force stays the exact gradient of its potential (conservative runs conserve energy).
-        da_ = (bx - ppx) * ax + (byy - ppy) * ay + (bzz - ppz) * az
+        da_ = (bx - ppx) * ax + (byy - ppy) * ay + (bzz - ppz) * az if cyl_pockets else 0.0
         wpx = ppx + da_ * ax
         wpy = ppy + da_ * ay
         wpz = ppz + da_ * az
@@ -923,6 +966,16 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
                 rmx -= m_n * cnx
                 rmy -= m_n * cnr * cs
                 rmz -= m_n * cnr * sn
+    # ---- cage guidance (`_cage_guidance`): an inner-ring land puts the opposite force and torque
+    # on the ring, its force applied at the cage centre (so the pair conserves angular momentum)
+    lfy, lfz, lmx, eps, frim = _cage_guidance(yc, zc, vyc, vzc, wcx, yi, zi, vyi, vzi, omega_i, p, flags)
+    if flags[F_GUIDANCE] == 1:
+        rfy -= lfy
+        rfz -= lfz
+        m1, m2, m3 = cross(xc - xi, yc - yi, zc - zi, 0.0, -lfy, -lfz)
+        rmx += m1 - lmx
+        rmy += m2
+        rmz += m3
     # ---- inner ring
     mi = p[P_MI]
     idr = p[P_IID]
@@ -937,7 +990,6 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     dydt[r0 + 10] = omega_i
     work[zb, WR_RING_TORQUE] = rmx
     # ---- cage: guide land + pockets
-    lfy, lfz, lmx, eps, frim = _guide_land(yc, zc, vyc, vzc, wcx, p, flags)
     work[zb, WR_LAND_FY] = lfy
     work[zb, WR_LAND_FZ] = lfz
     work[zb, WR_LAND_M] = lmx
@@ -951,10 +1003,18 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     # less the rim's normal force, which is conservative (potential k_rim·(e − Cg)²/2)
     w_b = scr[1]
     wx_inertial = A[0, 0] * w_b[0] + A[0, 1] * w_b[1] + A[0, 2] * w_b[2]
-    p_land = lfy * vyc + lfz * vzc + lmx * wx_inertial
-    if frim > 0.0:
-        e_c = math.sqrt(yc * yc + zc * zc)
-        p_land += frim * (yc * vyc + zc * vzc) / e_c
+    if flags[F_GUIDANCE] == 1:
+        # inner land: the film and rim work on the cage's motion relative to the ring
+        ey_ = yc - yi
+        ez_ = zc - zi
+        p_land = lfy * (vyc - vyi) + lfz * (vzc - vzi) + lmx * (wx_inertial - omega_i)
+        if frim > 0.0:
+            p_land += frim * (ey_ * (vyc - vyi) + ez_ * (vzc - vzi)) / math.sqrt(ey_ * ey_ + ez_ * ez_)
+    else:
+        p_land = lfy * vyc + lfz * vzc + lmx * wx_inertial
+        if frim > 0.0:
+            e_c = math.sqrt(yc * yc + zc * zc)
+            p_land += frim * (yc * vyc + zc * vzc) / e_c
     land_modes = cage.land_modes
     damp = cage.damping
     n_m = damp.shape[0]

@@ -16,7 +16,7 @@ from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rot
 from flexbearing.multibody.dynamics import _hertz_lookup
 from flexbearing.multibody.floating_frame import deformed_moments, mass_matrix
 from flexbearing.multibody.geometry import race_contact, ring_point_in_plane
-from flexbearing.multibody.model import (F_HERTZ_FIXED, F_INNER_HALVES, P_ALPHA0, P_CG, P_CP, P_DW, P_FE, P_FI, P_GRAV, P_IB, P_IID,
+from flexbearing.multibody.model import (F_GUIDANCE, F_HERTZ_FIXED, F_INNER_HALVES, F_POCKET_SHAPE, P_ALPHA0, P_CG, P_CP, P_DW, P_FE, P_FI, P_GRAV, P_IB, P_IID,
                              P_KC, P_KN, P_KRIM, P_MB, P_MI, P_RIL, P_RIR, P_RO, P_XIL, P_XIR, P_XO, P_Z)
 from flexbearing.multibody.profiles import load_at
 
@@ -87,7 +87,8 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
         dx = xb - scr[3, 0]
         dy = rb * math.cos(psi) - scr[3, 1]
         dz = rb * math.sin(psi) - scr[3, 2]
-        da = dx * ax + dy * ay + dz * az
+        # cylindrical pocket: offset from its axis; spherical: from its centre (as rhs)
+        da = dx * ax + dy * ay + dz * az if flags[F_POCKET_SHAPE] == 0 else 0.0
         ux = dx - da * ax
         uy = dy - da * ay
         uz = dz - da * az
@@ -121,8 +122,14 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     for i in range(6 + n):
         for k in range(6 + n):
             ek += 0.5 * v[i] * Mmat[i, k] * v[k]
-    e = math.sqrt(y[c0 + 1] ** 2 + y[c0 + 2] ** 2)
-    if e > p[P_CG]:
+    # the rim's potential: offset from the outer land's centre (the origin) or the inner ring's;
+    # a ball-riding cage has no rim (dynamics._cage_guidance)
+    guidance = flags[F_GUIDANCE]
+    if guidance == 1:
+        e = math.sqrt((y[c0 + 1] - yi) ** 2 + (y[c0 + 2] - zi) ** 2)
+    else:
+        e = math.sqrt(y[c0 + 1] ** 2 + y[c0 + 2] ** 2)
+    if guidance != 2 and e > p[P_CG]:
         ev += 0.5 * p[P_KRIM] * (e - p[P_CG]) ** 2
     f3 = np.empty(3)
     load_at(t, load_table, impacts, f3)

@@ -46,6 +46,11 @@ Coulomb friction mu_rim·F_rim on the rim (torque −mu_rim·F_rim·R1·sign(ome
 smoothed by tanh over 1 rad/s). k_rim is a penalty stiffness, not a Hertz law; `rim_stiffness`
 gives the default (pi/4)·E'·L, the order of the Hertz line-contact stiffness of two steel
 cylinders of width L. All forces and the torque act on the cage; the ring gets the opposite.
+
+The same forms hold for a cage guided by the inner ring's land (the cage's bore is then the bush
+around a turning journal): with e the cage centre's offset from the ring's, its velocity relative
+to the ring's and omega_land = omega_i (flexbearing.multibody.dynamics._cage_guidance gives the
+reason; tests/test_guidance.py integrates the bush's short-bearing pressure for it).
 """
 from __future__ import annotations
 

@@ -83,6 +83,7 @@ from typing import NamedTuple
 import numpy as np
 
 from flexbearing.common.validation import InputError, require_range
+from flexbearing.mesh.cage_geometry import GUIDANCES, POCKET_SHAPES
 from flexbearing.multibody.bearing import Bearing, Oil
 from flexbearing.multibody.floating_frame import CageArrays, new_workspace, rigid_body
 from flexbearing.multibody.hertz import effective_modulus, ellipticity, hertz_stiffness, race_curvature_radii
@@ -122,7 +123,9 @@ F_ATTITUDE = 8                         # ball attitude: 0 free, 1 outer-race con
 F_ATT_RING = 9                         # race control / no pivoting: gyroscopic friction reaction on the inner ring
 F_TRACTION_LAW = 10                    # the traction law of traction_table: index in TRACTION_LAWS
 F_INNER_HALVES = 11                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
-N_FLAGS = 12
+F_GUIDANCE = 12                        # what guides the cage: index in GUIDANCES (outer / inner land, balls)
+F_POCKET_SHAPE = 13                    # index in POCKET_SHAPES (cylindrical, spherical)
+N_FLAGS = 14
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
@@ -258,8 +261,9 @@ def cage_mass_properties(cage, n_r: int = 24, n_phi: int = 240, n_x: int = 80) -
     """Mass (kg), polar and diametral moments of inertia (kg·m²) of the cage ring with its pockets.
 
     Midpoint quadrature over the annulus R_i <= r <= R_o, |x| <= w/2, one pocket pitch in phi,
-    excluding the points inside the radial cylindrical pocket (distance to the pocket axis < Dp/2),
-    times Z. Polar I = ∫ rho·r² dV, diametral I = ∫ rho·(x² + r²/2) dV (axisymmetric average).
+    excluding the points inside the radial cylindrical pocket (distance to the pocket axis < Dp/2)
+    or the spherical one (distance to its centre on the pocket-centre radius < Dp/2), times Z.
+    Polar I = ∫ rho·r² dV, diametral I = ∫ rho·(x² + r²/2) dV (axisymmetric average).
     """
     ri, ro, w, z = cage.inner_radius, cage.outer_radius, cage.width, cage.n_pockets
     rp = 0.5 * cage.pocket_diameter
@@ -271,7 +275,11 @@ def cage_mass_properties(cage, n_r: int = 24, n_phi: int = 240, n_x: int = 80) -
     R, PHI, X = np.meshgrid(r, phi, x, indexing="ij")
     # distance from the pocket axis (the radial line at phi = 0 in the mid-plane)
     yy = R * np.sin(PHI)
-    solid = (yy ** 2 + X ** 2) >= rp ** 2
+    if cage.pocket_shape == "spherical":
+        rc = 0.5 * cage.pocket_centre_diameter
+        solid = ((R * np.cos(PHI) - rc) ** 2 + yy ** 2 + X ** 2) >= rp ** 2
+    else:
+        solid = (yy ** 2 + X ** 2) >= rp ** 2
     dv = R * dr * dphi * dx * solid
     m = rho * z * dv.sum()
     ip = rho * z * (dv * R ** 2).sum()
@@ -353,18 +361,29 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
                              cage.material.poisson_ratio)
     p[P_EBR] = e_br
     # ball–pocket (paper §2.3.1): linear Kc = 11/Cp up to Cp, Hertz beyond (ball in a cylinder:
-    # across the pocket 1/R = 1/Rb − 1/Rp (conforming), along the pocket axis R = Rb)
+    # across the pocket 1/R = 1/Rb − 1/Rp (conforming), along the pocket axis R = Rb; ball in a
+    # sphere: conforming both ways, flexbearing.multibody.pocket.pocket_curvature_radii)
     cp = bearing.pocket_clearance
     rb, rp = 0.5 * dw, 0.5 * cage.pocket_diameter
     p[P_CP], p[P_KC] = cp, 11.0 / cp
-    r_across = 1.0 / (1.0 / rb - 1.0 / rp)
-    p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
+    if cage.pocket_shape == "spherical":
+        r_conf = 1.0 / (1.0 / rb - 1.0 / rp)
+        p[P_KN] = hertz_stiffness(r_conf, r_conf, e_bc)
+    else:
+        r_across = 1.0 / (1.0 / rb - 1.0 / rp)
+        p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
     p[P_RPOCKET] = rp
     p[P_RCAGE_POCKET] = 0.5 * dm
-    # guide land (short journal bearing, Ocvirk; flexbearing.multibody.guide_land): R1 cage outer radius, Cg radial clearance
-    p[P_R1] = cage.outer_radius
+    # guide land (short journal bearing, Ocvirk; flexbearing.multibody.guide_land): R1 the cage's
+    # guiding radius (its outside on the outer ring's land, its bore on the inner ring's), Cg radial
+    # clearance (Bearing.guide_clearance). The inner land runs under the whole bore (the relief and
+    # the two lands are on the outside).
+    p[P_R1] = cage.inner_radius if cage.guidance == "inner" else cage.outer_radius
     p[P_CG] = bearing.guide_clearance
-    if cage.relief_depth > 0.0:
+    if cage.guidance == "inner":
+        p[P_L3] = cage.width ** 3
+        p[P_LAND_L] = cage.width
+    elif cage.relief_depth > 0.0:
         p[P_L3] = 2.0 * cage.land_width ** 3
         p[P_LAND_L] = 2.0 * cage.land_width
     else:
@@ -422,6 +441,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
                                  f"(this model has {law!r})")
         ttab = np.array(TRACTION_FIT_4106, dtype=np.float64)
     flags[F_TRACTION_LAW] = TRACTION_LAWS.index(law)
+    flags[F_GUIDANCE] = GUIDANCES.index(cage.guidance)
+    flags[F_POCKET_SHAPE] = POCKET_SHAPES.index(cage.pocket_shape)
     htab = _hertz_tables(bearing, e_br)
     n_state = 9 * z + 11 + 12 + 2 * n_modes
     scale, relmask = _error_scales(z, n_modes, dw)

@@ -6,6 +6,15 @@ pocket is straight:
 
     1/R_xi = 1/Rb − 1/Rp,   R_eta = Rb.
 
+A spherical pocket (a sphere of radius Rp centred on the pitch circle) is conforming both ways,
+
+    1/R_xi = 1/R_eta = 1/Rb − 1/Rp                (sphere in a spherical cup: Johnson, Contact
+                                                    Mechanics, 1985, §4.2, concave radius < 0),
+
+a circular Hertz contact (k = 1). Its approach Z is measured from the pocket's centre (the whole
+offset d = b − p of the ball centre), a cylindrical pocket's from its axis (d less its axial
+part): in both the gap closes at Z = Cp = Rp − Rb and the laws below apply unchanged.
+
 Normal force (seed paper §2.3.1 eq. for Q_cj, its ref. 26): with Z the ball–pocket approach
 (signed: Z > 0 the pocket pushes the ball, Z < 0 the ball pushes the cage) and Cp = (Dp − Dw)/2,
 
@@ -60,6 +69,13 @@ MARTIN_PRESSURE_CENTRE = 1.3293048414702417   # −x_p/sqrt(2Rh0)
 def pocket_curvature_radii(ball_radius, pocket_radius):
     """(R_xi, R_eta): 1/R_xi = 1/Rb − 1/Rp (conforming, across the pocket), R_eta = Rb, m."""
     return 1.0 / (1.0 / ball_radius - 1.0 / pocket_radius), ball_radius
+
+
+@njit(cache=True)
+def spherical_pocket_curvature_radii(ball_radius, pocket_radius):
+    """(R_xi, R_eta) of a ball in a spherical pocket: both 1/(1/Rb − 1/Rp), m (module docstring)."""
+    r = 1.0 / (1.0 / ball_radius - 1.0 / pocket_radius)
+    return r, r
 
 
 @njit(cache=True)

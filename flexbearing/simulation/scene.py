@@ -29,6 +29,12 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     [cage]
     model = "rigid"           # "rigid" | "flexible"
     pocket_diameter = 22.5e-3 # any scalar field of flexbearing.mesh.cage_geometry.CageGeometry
+    guidance = "outer"        # "outer" | "inner" (ring lands: bearing.guide_land_diameter,
+                              #   bearing.inner_land_diameter) | "balls" (no land contact)
+    pocket_shape = "cylindrical"  # "cylindrical" | "spherical" (centred on the pitch circle)
+    cad = "my_cage.step"      # a CAD cage (STEP/BREP, relative to this file) instead of the
+    cad_unit = "mm"           #   parametric one: pockets and land found in it and matched to the
+                              #   bearing (flexbearing.mesh.cad_cage); a BREP file needs cad_unit
     n_modes = 26              # flexible only: modes kept (6 rigid + 20 elastic, as the paper),
     mesh_size = 5e-3          #   FE mesh size [m] (default flexbearing.mesh.cage_mesh.DEFAULT_MESH_SIZE),
     element_order = 3         #   FE degree on the curved mesh (default P3),
@@ -96,7 +102,7 @@ import numpy as np
 from flexbearing.common.materials import YIELD_STRENGTH_40CrNiMoA, Material, ball_material_named
 from flexbearing.multibody.clearance import INNER_RINGS, resolve_inner_ring
 from flexbearing.multibody.oil_supply import SUPPLIES
-from flexbearing.mesh.cage_geometry import CageGeometry
+from flexbearing.mesh.cage_geometry import GUIDANCES, POCKET_SHAPES, CageGeometry
 from flexbearing.common.cache import content_hash
 from flexbearing.common.validation import InputError, require_range, require_table
 from flexbearing.multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
@@ -160,6 +166,7 @@ class Scene:
     text: str = ""                    # the TOML text as loaded (stored in the results file)
     data: dict = field(default_factory=dict, repr=False)   # the parsed TOML
     path: str = ""
+    cad: dict = field(default_factory=dict)   # cage.cad: {"file", "unit", "key"} (flexbearing.mesh.cad_cage)
 
     @property
     def n_samples(self) -> int:
@@ -243,13 +250,17 @@ def _material(base: Material, d, where: str) -> Material:
     return dataclasses.replace(base, **{k: _number(f"{where}.{k}", v) for k, v in d.items()})
 
 
-def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
+def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, str, dict, dict]:
     b = require_table("bearing", b, _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring",
                                                          "free_contact_angle"))
     if isinstance(c, dict) and "ball_diameter" in c:
         raise InputError("cage.ball_diameter: give the ball diameter once, as bearing.ball_diameter "
                          "(the cage's pockets take it from the bearing)")
-    c = require_table("cage", c, ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",))
+    c = require_table("cage", c, ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",) + _CAD_KEYS)
+    c, cad = dict(c), {}
+    for k in _CAD_KEYS:
+        if k in c:
+            cad[k] = c.pop(k)
     changes = {}
     inner = {}
     for k, v in b.items():
@@ -289,13 +300,24 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
             cage_changes[k] = _material(PAPER_BEARING.cage.material, v, "cage.material")
         elif k == "n_pockets":
             cage_changes[k] = _integer("cage.n_pockets", v, 3, 200)
+        elif k == "guidance":
+            cage_changes[k] = _string("cage.guidance", v, GUIDANCES)
+        elif k == "pocket_shape":
+            cage_changes[k] = _string("cage.pocket_shape", v, POCKET_SHAPES)
         else:
             cage_changes[k] = _number(f"cage.{k}", v)
     # the cage has one pocket per ball unless the scene says otherwise
     if "n_balls" in changes and "n_pockets" not in cage_changes:
         cage_changes["n_pockets"] = changes["n_balls"]
     cage_changes["ball_diameter"] = changes.get("ball_diameter", PAPER_BEARING.ball_diameter)
+    # and its spherical pockets are centred on the bearing's pitch circle unless it says otherwise
+    if "pitch_diameter" in changes and "pocket_centre_diameter" not in cage_changes:
+        cage_changes["pocket_centre_diameter"] = changes["pitch_diameter"]
     changes["cage"] = dataclasses.replace(PAPER_BEARING.cage, **cage_changes)
+    cad_info = {}
+    if cad:
+        changes["cage"], cad_info = _cad_cage(cad, changes, {k: c[k] for k in c if k in cage_changes},
+                                              scene_path)
     bearing = dataclasses.replace(PAPER_BEARING, **changes).validate()
 
     flexible = {}
@@ -326,7 +348,37 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         flexible.setdefault("n_modes", DEFAULT_N_KEEP)
         if "material" not in c:              # the paper's 40CrNiMoA; another material names its own
             flexible.setdefault("yield_strength", YIELD_STRENGTH_40CrNiMoA)
-    return bearing, cage_model, flexible
+    return bearing, cage_model, flexible, cad_info
+
+
+_CAD_KEYS = ("cad", "cad_unit")
+# what a CAD cage's file decides; the scene gives only what the file cannot say
+_CAD_OWN = tuple(k for k in _CAGE_SCALARS if k not in ("guidance", "material"))
+
+
+def _cad_cage(cad: dict, changes: dict, given_cage: dict, scene_path: str):
+    """The equivalent geometry of cage.cad (flexbearing.mesh.cad_cage, cached by the file's
+    content): the file is found relative to the scene; its pockets and land are matched to the
+    scene's bearing; the cage's geometry keys are the file's, so the scene may not give them."""
+    from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry
+    given = sorted(k for k in given_cage if k in _CAD_OWN)
+    if given:
+        raise InputError(f"cage.{given[0]} = {given_cage[given[0]]!r}: the geometry of this cage is read "
+                         f"from cage.cad = {cad.get('cad')!r}; give only guidance and material beside it")
+    f = cad.get("cad")
+    if not isinstance(f, str) or not f:
+        raise InputError(f"cage.cad = {f!r} must be the file name of a STEP or BREP cage")
+    unit = cad.get("cad_unit")
+    if unit is not None:
+        _string("cage.cad_unit", unit, tuple(UNITS))
+    path = Path(f)
+    if not path.is_absolute() and scene_path:
+        path = Path(scene_path).resolve().parent / path
+    base = dataclasses.replace(PAPER_BEARING, **{k: v for k, v in changes.items() if k != "cage"})
+    cage = changes["cage"]
+    geometry, report, key = cad_cage_geometry(path, base.n_balls, base.pitch_diameter, base.ball_diameter,
+                                              cage.guidance, unit, cage.material)
+    return geometry, {"file": str(path), "unit": unit, "key": key, "report": report}
 
 
 def _oil(d: dict) -> Oil:
@@ -541,7 +593,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     description = d.get("description", "")
     if not isinstance(description, str):
         raise InputError(f"description = {description!r} must be a string")
-    bearing, cage_model, flexible = _bearing_and_cage(d.get("bearing", {}), d.get("cage", {}))
+    bearing, cage_model, flexible, cad = _bearing_and_cage(d.get("bearing", {}), d.get("cage", {}), path)
     oil = _oil(d.get("oil", {}))
     model_options = _model_options(d.get("model", {}))
 
@@ -593,7 +645,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                  speed_table=speed_table, load_table=load_table, impacts=impacts,
                  tolerance=tolerance, initial_step=initial_step, max_step=max_step,
                  sample_interval=dt, outputs=tuple(record), checkpoint_every=checkpoint_every,
-                 method=method, text=text, data=data, path=str(path))
+                 method=method, text=text, data=data, path=str(path), cad=cad)
 
 
 def load_scene(path) -> Scene:

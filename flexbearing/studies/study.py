@@ -218,9 +218,32 @@ def _run_one(scene, path: str, quiet: bool, reduced_cage: str | None = None) -> 
     return run_scene(scene, path, resume=True, quiet=quiet, backend=backend)
 
 
+def _import_gmsh_off_the_main_thread() -> None:
+    """Import gmsh on a Dask worker's task thread. gmsh 4.8 sets SIGINT with signal.signal when it
+    is imported and puts the old handler back in finalize(), and Python allows signal.signal in
+    the main thread only ("signal only works in main thread"): so it is imported here with
+    signal.signal a no-op, and with no handler to restore; the worker's own SIGINT stays as it is.
+    Later `import gmsh` statements find the module imported."""
+    import signal
+    import sys
+    if "gmsh" in sys.modules:
+        sys.modules["gmsh"].oldsig = None
+        return
+    real = signal.signal
+    signal.signal = lambda *args: None
+    try:
+        import gmsh
+    finally:
+        signal.signal = real
+    gmsh.oldsig = None
+
+
 def _build_reduced_cage(scene, quiet: bool) -> str:
     """The reduced cage of the scene: from the cache or built (a job: on a worker, which imports the
     FE stack; the file lock of the cache makes a second builder wait). Returns its path."""
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        _import_gmsh_off_the_main_thread()
     return str(Path(reduced_cage_path(scene, quiet=quiet)).resolve())
 
 

@@ -1,0 +1,474 @@
+"""A cage from CAD (STEP or BREP, gmsh's OpenCASCADE kernel): its pockets and guide land found
+from the geometry, matched to the bearing, meshed and tagged as the parametric cage.
+
+What is found (every boundary face is sampled, `_sample_face`, with its normals):
+
+* ring cylinders: faces whose normals all meet the bearing axis x at right angles (axis x,
+  through the origin) at one radius r: the outside (largest r), the bore (smallest r), lands
+  and relief floors in between;
+* side faces: planes normal to x at the cage's two axial ends;
+* pocket walls: a sphere (every normal passes through one point: its centre, by least squares)
+  centred near the pitch circle, or a cylinder whose axis is radial (every normal meets one
+  line through the origin normal to x: the axis is the direction orthogonal to all normals);
+  faces of one pocket share its azimuth;
+* the guide surface: for guidance "outer" the ring cylinder(s) at the largest radius, for
+  "inner" at the smallest; "balls" needs none.
+
+The bearing decides what matches: one pocket per ball, equally spaced (the model turns the CAD
+so pocket 0 sits at +y), each centred on the pitch circle in the mid-plane within a tenth of the
+pocket clearance, all of one diameter larger than the ball. Anything else is refused with the one
+line of `InputError` that names what is missing. Units: a STEP file carries its own (OCC reads
+it into millimetres, scaled to metres here; `step_length_unit` reports it); a BREP file has none
+and needs `unit`.
+
+The result, `CadCage`, holds the equivalent parametric geometry (diameters, width, pocket count,
+diameter, shape and centre circle, guidance, land width), which the dynamics and the reduction
+read, and what was found, which the command line prints.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from flexbearing.common.validation import InputError
+from .cage_geometry import GUIDANCES, CageGeometry, PAPER_CAGE
+from . import cage_mesh as CM
+
+CAD_SUFFIXES = {".step": "step", ".stp": "step", ".brep": "brep", ".brp": "brep"}
+UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 25.4e-3}
+# Geometric tolerance of the face fits, relative to the cage's outside radius: CAD kernels model
+# to ~1e-7 of a part's size; 1e-5 leaves room for STEP's text round-off.
+FIT_TOL = 1e-5
+
+
+@dataclass(frozen=True)
+class FoundPocket:
+    """One pocket as found in the CAD: azimuth (rad, from +y towards +z, after the turn that puts
+    pocket 0 at +y), centre (m; a cylinder's is its axis at the pitch radius), shape, diameter (m)."""
+    azimuth: float
+    centre: tuple
+    shape: str
+    diameter: float
+    faces: tuple
+
+
+@dataclass(frozen=True)
+class CadCage:
+    """What the CAD cage is (module docstring)."""
+    geometry: CageGeometry            # the equivalent parametric cage the dynamics reads
+    pockets: tuple                    # FoundPocket, in azimuth order
+    ring_cylinders: tuple             # (radius m, x_min m, x_max m of the sampled points, n faces), by radius
+    guide_faces: tuple                # surface tags of the guide surface
+    turned_by: float                  # rad about +x applied to put pocket 0 at +y
+    unit: str
+    source: str
+    scale: float                      # metres per unit of the gmsh model's numbers
+    groups: dict = field(default_factory=dict)   # name -> surface tags
+
+    def report_lines(self, pitch_diameter: float, ball_diameter: float) -> list[str]:
+        g = self.geometry
+        cp = 0.5 * (g.pocket_diameter - ball_diameter)
+        lines = [f"{self.source}: unit {self.unit}; outside {g.outside_diameter * 1e3:.3f} mm, bore "
+                 f"{g.bore_diameter * 1e3:.3f} mm, width {g.width * 1e3:.3f} mm; turned "
+                 f"{math.degrees(self.turned_by):.3f}° about x so pocket 0 is at +y",
+                 f"{len(self.pockets)} {g.pocket_shape} pockets of {g.pocket_diameter * 1e3:.3f} mm "
+                 f"(clearance {cp * 1e6:.1f} µm on a {ball_diameter * 1e3:.3f} mm ball)"]
+        for k, p in enumerate(self.pockets):
+            c = np.array(p.centre)
+            lines.append(f"  pocket {k:2d}: azimuth {math.degrees(p.azimuth):8.3f}°, centre radius "
+                         f"{np.hypot(c[1], c[2]) * 1e3:.4f} mm (pitch {0.5 * pitch_diameter * 1e3:.4f}), "
+                         f"x {c[0] * 1e3:+.4f} mm, {len(p.faces)} face(s)")
+        for r, x0, x1, n in self.ring_cylinders:
+            lines.append(f"  ring cylinder r = {r * 1e3:.3f} mm, x {x0 * 1e3:+.3f} .. {x1 * 1e3:+.3f} mm, {n} face(s)")
+        if g.guidance == "balls":
+            lines.append("guidance balls: no land")
+        else:
+            where = "outside" if g.guidance == "outer" else "bore"
+            lines.append(f"guidance {g.guidance}: {len(self.guide_faces)} land face(s) on the {where}, "
+                         f"land width {g.land_width * 1e3:.3f} mm"
+                         + (f" x 2 (relief {g.relief_depth * 1e3:.3f} mm deep)" if g.relief_depth > 0 else ""))
+        return lines
+
+
+def cad_kind(path) -> str:
+    kind = CAD_SUFFIXES.get(Path(path).suffix.lower())
+    if kind is None:
+        raise InputError(f"cage.cad = {str(path)!r}: not a CAD file; allowed: STEP (.step, .stp) or "
+                         f"BREP (.brep, .brp)")
+    return kind
+
+
+def _import(path: Path, unit: str | None) -> tuple[list, str, float]:
+    """Import into the current gmsh model; return the volumes, the unit used and the factor
+    from the model's numbers to metres."""
+    import gmsh
+    kind = cad_kind(path)
+    if not path.is_file():
+        raise InputError(f"cage.cad = {str(path)!r}: no such file")
+    if unit is not None and unit not in UNITS:
+        raise InputError(f"cad unit = {unit!r} is not known; allowed: {list(UNITS)}")
+    if kind == "brep" and unit is None:
+        raise InputError(f"cage.cad = {str(path)!r}: a BREP file carries no unit; give it "
+                         f"(--cad-unit / cage.cad_unit, one of {list(UNITS)})")
+    if kind == "step":
+        declared = step_length_unit(path)
+        if unit is not None and declared is not None and unit != declared:
+            raise InputError(f"cad unit = {unit!r} disagrees with the STEP file's own length unit "
+                             f"{declared!r}; give none for a STEP file (its unit is read from it)")
+        used = f"{declared or 'unknown'} (from the file)"
+    else:
+        used = unit
+    # STEP: OCC converts the file's declared unit to its working unit, millimetres. gmsh's
+    # Geometry.OCCTargetUnit would change that working unit for the rest of the process (STEP
+    # written later included, even after gmsh.finalize()), so it is left alone and the model
+    # scaled from mm here.
+    # scale, not dilated: OCC's dilation turns every face into a B-spline (10x slower to sample
+    # and mesh); the faces are measured times `scale` and the mesh written scaled
+    gmsh.model.occ.importShapes(str(path))
+    gmsh.model.occ.synchronize()
+    scale = 1e-3 if kind == "step" else UNITS[unit]
+    vols = [t for d, t in gmsh.model.getEntities(3)]
+    if len(vols) != 1:
+        raise InputError(f"cage.cad = {str(path)!r}: {len(vols)} solids in the file; a cage is one solid")
+    return vols, used, scale
+
+
+_STEP_PREFIX = {"$": "m", ".MILLI.": "mm", ".CENTI.": "cm"}
+
+
+def step_length_unit(path) -> str | None:
+    """The length unit a STEP file declares (ISO 10303-41 SI_UNIT or the inch's
+    CONVERSION_BASED_UNIT), as a key of UNITS; None when it declares none we know."""
+    import re
+    text = Path(path).read_text(errors="replace")
+    m = re.search(r"LENGTH_UNIT\(\)\s*NAMED_UNIT\(\*\)\s*SI_UNIT\((\$|\.\w+\.)\s*,\s*\.METRE\.\)", text)
+    if m:
+        return _STEP_PREFIX.get(m.group(1))
+    if re.search(r"CONVERSION_BASED_UNIT\s*\(\s*'INCH'", text, re.I):
+        return "in"
+    return None
+
+
+def _face_samples(tag: int, m: int = 5):
+    """Points and unit normals of a face at m x m parametric points (projected onto the face)."""
+    import gmsh
+    lo, hi = gmsh.model.getParametrizationBounds(2, tag)
+    u = np.linspace(lo[0], hi[0], m + 2)[1:-1]
+    v = np.linspace(lo[1], hi[1], m + 2)[1:-1]
+    uv = np.array([(a, b) for a in u for b in v]).ravel()
+    P = np.asarray(gmsh.model.getValue(2, tag, uv)).reshape(-1, 3)
+    N = np.asarray(gmsh.model.getNormal(tag, uv)).reshape(-1, 3)
+    N /= np.linalg.norm(N, axis=1)[:, None]
+    return P, N
+
+
+def fit_face(P: np.ndarray, N: np.ndarray, tol: float) -> dict:
+    """What analytic surface the samples lie on: {"kind": "plane_x" | "cylinder" | "sphere" |
+    "other", ...}. Sphere: all normal lines through one point c (least squares of
+    sum |(I − n nᵀ)(c − p)|²), |p − c| constant. Cylinder: the axis a is the direction orthogonal
+    to every normal (smallest eigenvector of sum n nᵀ), its point the same least squares
+    (minimum-norm), |p − axis| constant."""
+    if np.all(np.abs(np.abs(N[:, 0]) - 1.0) < 1e-6) and np.ptp(P[:, 0]) < tol:
+        return {"kind": "plane_x", "x": float(P[:, 0].mean())}
+    A = np.zeros((3, 3))
+    b = np.zeros(3)
+    for p, n in zip(P, N):
+        Q = np.eye(3) - np.outer(n, n)
+        A += Q
+        b += Q @ p
+    w, vecs = np.linalg.eigh(sum(np.outer(n, n) for n in N))
+    c, *_ = np.linalg.lstsq(A, b, rcond=1e-10)
+    r = np.linalg.norm(P - c, axis=1)
+    if np.ptp(r) < tol and w[0] > 1e-3:                 # no direction orthogonal to all normals
+        return {"kind": "sphere", "centre": c, "radius": float(r.mean())}
+    a = vecs[:, 0]
+    if w[0] < 1e-9:
+        d = P - c
+        dist = np.linalg.norm(d - np.outer(d @ a, a), axis=1)
+        if np.ptp(dist) < tol:
+            return {"kind": "cylinder", "axis": a, "point": c, "radius": float(dist.mean())}
+    return {"kind": "other"}
+
+
+def _classify(vol: int, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
+              source: str, scale: float):
+    import gmsh
+    # the bounding box only sizes the fit tolerance: OCC's boxes of transformed (B-spline) faces
+    # are loose; positions come from the fitted faces
+    xmin, ymin, zmin, xmax, ymax, zmax = (scale * v for v in gmsh.model.getBoundingBox(3, vol))
+    tol = FIT_TOL * max(abs(ymin), abs(ymax), abs(zmin), abs(zmax))
+    faces = [s for _, s in gmsh.model.getBoundary([(3, vol)], oriented=False)]
+    fits = []
+    for s in faces:
+        P, N = _face_samples(s)
+        P = P * scale
+        fits.append((s, P, fit_face(P, N, tol)))
+    xs_side = [f["x"] for _, _, f in fits if f["kind"] == "plane_x"]
+    x_mid = 0.5 * (min(xs_side) + max(xs_side)) if len(xs_side) >= 2 else 0.5 * (xmin + xmax)
+    shift = np.array([x_mid, 0.0, 0.0])
+    ring, sides, pockets, other = [], [], [], []
+    for s, P, f in fits:
+        P = P - shift
+        if f["kind"] == "plane_x":
+            sides.append((s, f["x"] - x_mid))
+        elif f["kind"] == "cylinder" and abs(abs(f["axis"][0]) - 1.0) < 1e-6 \
+                and np.hypot(f["point"][1], f["point"][2]) < tol:
+            ring.append((s, f["radius"], float(P[:, 0].min()), float(P[:, 0].max())))
+        elif f["kind"] == "cylinder" and abs(f["axis"][0]) < 1e-6:
+            a = f["axis"]
+            # radial: the axis line passes through the bearing axis
+            c = f["point"] - shift
+            off = c - (c @ a) * a
+            if np.linalg.norm(off[1:]) < tol:
+                side = math.copysign(1.0, P.mean(axis=0) @ a)
+                az = math.atan2(side * a[2], side * a[1])
+                centre = np.array([off[0], 0.5 * pitch_diameter * math.cos(az), 0.5 * pitch_diameter * math.sin(az)])
+                pockets.append((s, az, centre, "cylindrical", 2.0 * f["radius"]))
+            else:
+                other.append(s)
+        elif f["kind"] == "sphere":
+            c = f["centre"] - shift
+            pockets.append((s, math.atan2(c[2], c[1]), c, "spherical", 2.0 * f["radius"]))
+        else:
+            other.append(s)
+    r_out = max((r for _, r, _, _ in ring), default=max(abs(ymin), abs(ymax), abs(zmin), abs(zmax)))
+    if not 0.5 * pitch_diameter < r_out < 2.0 * pitch_diameter:
+        raise InputError(f"cage.cad = {source!r}: the cage is {2 * r_out:.6g} m across, the bearing's "
+                         f"pitch diameter {pitch_diameter:g} m; is the unit right (--cad-unit)?")
+    xmin, xmax = (min(xs_side) - x_mid, max(xs_side) - x_mid) if len(xs_side) >= 2 else (xmin - x_mid, xmax - x_mid)
+    return x_mid, (xmin, xmax), r_out, ring, sides, pockets, other
+
+
+def _group_pockets(pockets, n_balls: int, source: str):
+    """Faces of one pocket share its azimuth (within 1e-6 rad): one entry per pocket."""
+    out = []
+    for s, az, c, shape, dia in sorted(pockets, key=lambda t: t[1]):
+        for p in out:
+            if abs(math.remainder(az - p["az"], 2 * math.pi)) < 1e-6:
+                p["faces"].append(s)
+                p["centres"].append(c)
+                p["shapes"].add(shape)
+                p["diameters"].append(dia)
+                break
+        else:
+            out.append({"az": az, "faces": [s], "centres": [c], "shapes": {shape}, "diameters": [dia]})
+    if not out:
+        raise InputError(f"cage.cad = {source!r}: no pocket found (no spherical face centred near the "
+                         f"pitch circle, no cylindrical face with a radial axis)")
+    if len(out) != n_balls:
+        raise InputError(f"cage.cad = {source!r}: {len(out)} pockets found, the bearing has "
+                         f"bearing.n_balls = {n_balls}; a cage needs one pocket per ball")
+    return out
+
+
+def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: float,
+                  guidance: str = "outer", unit: str | None = None, material=None) -> CadCage:
+    """Import, find and match the CAD cage in the current gmsh model (module docstring); the model
+    is left turned so pocket 0 is at +y and centred on x = 0, with the faces classified."""
+    import gmsh
+    if guidance not in GUIDANCES:
+        raise InputError(f"cage.guidance = {guidance!r} is not known; allowed: {list(GUIDANCES)}")
+    path = Path(path)
+    source = str(path)
+    vols, used, scale = _import(path, unit)
+    x_mid, (xmin, xmax), r_out, ring, sides, pockets, other = _classify(
+        vols[0], n_balls, pitch_diameter, ball_diameter, guidance, source, scale)
+    found = _group_pockets(pockets, n_balls, source)
+    # turn (and centre) the solid so pocket 0 is at +y and the mid-plane at x = 0
+    turn = -min(found, key=lambda p: abs(p["az"]))["az"]
+    occ = gmsh.model.occ
+    occ.translate([(3, vols[0])], -x_mid / scale, 0.0, 0.0)     # positions above are already centred
+    occ.rotate([(3, vols[0])], 0, 0, 0, 1, 0, 0, turn)
+    occ.synchronize()
+    z = n_balls
+    found.sort(key=lambda p: (p["az"] + turn) % (2 * math.pi))
+    diam = np.array([d for p in found for d in p["diameters"]])
+    shapes = set().union(*(p["shapes"] for p in found))
+    if len(shapes) != 1:
+        raise InputError(f"cage.cad = {source!r}: pockets of mixed shapes {sorted(shapes)}; one shape per cage")
+    shape = shapes.pop()
+    dp = float(diam.mean())
+    if np.ptp(diam) > 1e-3 * dp:
+        raise InputError(f"cage.cad = {source!r}: pocket diameters differ ({diam.min() * 1e3:.4f} to "
+                         f"{diam.max() * 1e3:.4f} mm); the model takes one pocket diameter")
+    if dp <= ball_diameter:
+        raise InputError(f"cage.cad = {source!r}: pocket diameter {dp * 1e3:.4f} mm is not larger than "
+                         f"the ball, bearing.ball_diameter = {ball_diameter * 1e3:.4f} mm")
+    cp = 0.5 * (dp - ball_diameter)
+    pockets_out = []
+    c_turn = (math.cos(turn), math.sin(turn))
+    for k, p in enumerate(found):
+        az = (p["az"] + turn) % (2 * math.pi)
+        if abs(math.remainder(az - 2 * math.pi * k / z, 2 * math.pi)) * 0.5 * pitch_diameter > 0.1 * cp:
+            raise InputError(f"cage.cad = {source!r}: pocket {k} at {math.degrees(az):.4f}°, not at "
+                             f"{360.0 * k / z:.4f}° (equal spacing of {z} pockets within 0.1·Cp of arc)")
+        c = np.mean(p["centres"], axis=0)
+        c = np.array([c[0], c[1] * c_turn[0] - c[2] * c_turn[1], c[1] * c_turn[1] + c[2] * c_turn[0]])
+        rc = math.hypot(c[1], c[2])
+        if abs(rc - 0.5 * pitch_diameter) > 0.1 * cp or abs(c[0]) > 0.1 * cp:
+            raise InputError(f"cage.cad = {source!r}: pocket {k} is centred at radius {rc * 1e3:.4f} mm, "
+                             f"x {c[0] * 1e3:+.4f} mm: off the pitch circle (radius "
+                             f"{0.5 * pitch_diameter * 1e3:.4f} mm, x 0) by more than 0.1·Cp = "
+                             f"{0.1 * cp * 1e6:.1f} µm")
+        pockets_out.append(FoundPocket(az, tuple(c), shape, float(np.mean(p["diameters"])), tuple(p["faces"])))
+    if not ring:
+        raise InputError(f"cage.cad = {source!r}: no cylindrical face about the bearing axis: not a ring cage")
+    # ring cylinders: the face radii clustered within 2·FIT_TOL, each cluster's mean
+    clusters: list[list] = []
+    for t in sorted(ring, key=lambda t: t[1]):
+        if clusters and t[1] - clusters[-1][-1][1] < 2 * FIT_TOL * r_out:
+            clusters[-1].append(t)
+        else:
+            clusters.append([t])
+    radii = [float(np.mean([t[1] for t in c])) for c in clusters]
+    cyl = tuple((r, min(t[2] for t in c), max(t[3] for t in c), len(c)) for r, c in zip(radii, clusters))
+    r_o, r_i = radii[-1], radii[0]
+    width = xmax - xmin                 # between the side planes (the box only without them)
+    groups: dict[str, list[int]] = {}
+    for k, p in enumerate(pockets_out):
+        groups[CM.pocket_name(k)] = list(p.faces)
+    for s, x in sides:
+        groups.setdefault("side_left" if x < 0 else "side_right", []).append(s)
+    guide_r = None if guidance == "balls" else (r_o if guidance == "outer" else r_i)
+    guide = []
+    for s, r, x0, x1 in ring:
+        if guide_r is not None and abs(r - guide_r) < 2 * FIT_TOL * r_out:
+            guide.append(s)
+            groups.setdefault("guide", []).append(s)
+        elif abs(r - r_o) < 2 * FIT_TOL * r_out:
+            groups.setdefault("outside", []).append(s)
+        elif abs(r - r_i) < 2 * FIT_TOL * r_out:
+            groups.setdefault("bore", []).append(s)
+        else:
+            groups.setdefault("other", []).append(s)
+    groups.setdefault("other", []).extend(other)
+    if not groups["other"]:
+        del groups["other"]
+    if guidance != "balls" and not guide:
+        raise InputError(f"cage.cad = {source!r}: no land for cage.guidance = {guidance!r}")
+    # the land(s): axial extent of the guide faces; two separate bands = two lands with a relief
+    land_width, relief = 0.5 * width, 0.0
+    if guidance == "outer":
+        fs = [t for t in ring if t[0] in guide]
+        xs = sorted((t[2], t[3]) for t in fs)
+        covered = [xs[0]]
+        for a, b in xs[1:]:
+            if a <= covered[-1][1] + FIT_TOL * r_out:
+                covered[-1] = (covered[-1][0], max(covered[-1][1], b))
+            else:
+                covered.append((a, b))
+        if len(covered) == 2 and len(radii) > 2:
+            land_width = 0.5 * sum(b - a for a, b in covered)
+            relief = r_o - max(r for r in radii[:-1] if r > 0.5 * pitch_diameter) \
+                if any(r > 0.5 * pitch_diameter for r in radii[:-1]) else 0.0
+    geometry = PAPER_CAGE.with_(
+        outside_diameter=2 * r_o, bore_diameter=2 * r_i, width=width, n_pockets=z, pocket_diameter=dp,
+        land_width=land_width, relief_depth=relief, chamfer=0.0, bore_chamfer=None,
+        ball_diameter=ball_diameter, guidance=guidance, pocket_shape=shape,
+        pocket_centre_diameter=pitch_diameter if shape == "spherical" else PAPER_CAGE.pocket_centre_diameter,
+        **({"material": material} if material is not None else {}))
+    return CadCage(geometry=geometry, pockets=tuple(pockets_out), ring_cylinders=tuple(cyl),
+                   guide_faces=tuple(guide), turned_by=turn, unit=used, source=source, scale=scale,
+                   groups={k: list(v) for k, v in groups.items()})
+
+
+def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_diameter: float,
+                        guidance: str = "outer", unit: str | None = None,
+                        size: float = CM.DEFAULT_MESH_SIZE, pocket_size: float | None = CM.DEFAULT_POCKET_SIZE,
+                        order: int = CM.DEFAULT_ORDER, material=None) -> CadCage:
+    """Read the CAD cage (`read_cad_cage`), mesh it with the parametric cage's groups and sizes
+    (flexbearing.mesh.cage_mesh.tag_and_mesh), check and repair its elements, write `out` (.msh)
+    and its quality sidecar; return what was found."""
+    import gmsh
+    out = Path(out)
+    if out.resolve() == Path(path).resolve():
+        raise InputError(f"mesh output {str(out)!r} is the CAD input")
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("cad_cage")
+        cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+        vols = [t for _, t in gmsh.model.getEntities(3)]
+        k = cad.scale
+        CM.tag_and_mesh(vols, cad.groups, n_balls, size / k, order, None if pocket_size is None else pocket_size / k)
+        report = CM._validate_and_repair()
+        report["repair"]["max_node_shift_m"] *= k              # measured in the model's unit
+        previous = gmsh.option.getNumber("Mesh.ScalingFactor")
+        gmsh.option.setNumber("Mesh.ScalingFactor", k)         # the file in metres
+        try:
+            CM._write(out)
+        finally:
+            gmsh.option.setNumber("Mesh.ScalingFactor", previous)
+    finally:
+        gmsh.finalize()
+    CM.quality_path(out).write_text(json.dumps(report, indent=1))
+    return cad
+
+
+
+# ---------------------------------------------------------------- cached: what a scene's cage.cad needs
+def _cad_key(path, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
+             unit: str | None, material) -> dict:
+    """Every input of `read_cad_cage`: the file by its content (sha256), not its name."""
+    from dataclasses import asdict
+    from flexbearing.common.cache import file_sha256
+    return {"kind": "cad_cage", "cad_sha256": file_sha256(path), "n_balls": int(n_balls),
+            "pitch_diameter": float(pitch_diameter), "ball_diameter": float(ball_diameter),
+            "guidance": guidance, "unit": unit, "material": asdict(material), "fit_tol": FIT_TOL}
+
+
+def _geometry_from_dict(d: dict) -> CageGeometry:
+    from flexbearing.common.materials import Material
+    d = dict(d)
+    d["material"] = Material(**d["material"])
+    return CageGeometry(**d)
+
+
+def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: float,
+                      guidance: str = "outer", unit: str | None = None, material=None):
+    """(equivalent CageGeometry, report lines, key) of a CAD cage, cached by the file's content
+    and the bearing (`_cad_key`): a scene reads it without gmsh once it has been found."""
+    from flexbearing.common.cache import cache_dir, content_hash, write_text_atomic
+    import gmsh
+    material = material or PAPER_CAGE.material
+    cad_kind(path)
+    if not Path(path).is_file():
+        raise InputError(f"cage.cad = {str(path)!r}: no such file")
+    key = _cad_key(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+    store = cache_dir() / "meshes" / f"{content_hash(key)}.cad.json"
+    if store.exists():
+        rec = json.loads(store.read_text())
+        if rec.get("key") == key:                   # checked against its contents, not its name
+            return _geometry_from_dict(rec["geometry"]), rec["report"], key
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+    finally:
+        gmsh.finalize()
+    from dataclasses import asdict
+    rec = {"key": key, "geometry": asdict(cad.geometry), "report": cad.report_lines(pitch_diameter, ball_diameter)}
+    write_text_atomic(store, json.dumps(rec, indent=1))
+    return cad.geometry, rec["report"], key
+
+
+def cached_cad_cage_mesh(path, n_balls: int, pitch_diameter: float, ball_diameter: float,
+                         guidance: str = "outer", unit: str | None = None, material=None,
+                         size: float = CM.DEFAULT_MESH_SIZE, pocket_size: float | None = CM.DEFAULT_POCKET_SIZE,
+                         order: int = CM.DEFAULT_ORDER) -> tuple[Path, dict]:
+    """The CAD cage's mesh from the cache (keyed by the file's content, the bearing and the mesh
+    sizes), built once (`build_cad_cage_mesh`); returns (path, key)."""
+    from flexbearing.common.cache import cache_dir, content_hash
+    material = material or PAPER_CAGE.material
+    key = {**_cad_key(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material),
+           "size": float(size), "pocket_size": None if pocket_size is None else float(pocket_size),
+           "order": int(order), "mesh_version": CM.MESH_VERSION}
+    out = cache_dir() / "meshes" / f"{content_hash(key)}.msh"
+    if not out.exists():
+        build_cad_cage_mesh(path, out, n_balls, pitch_diameter, ball_diameter, guidance, unit, size,
+                            pocket_size, order, material)
+    return out, key
