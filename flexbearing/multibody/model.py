@@ -74,6 +74,16 @@ Assumed inputs (not in the paper; options keys, SI):
   simulated second to ~4e5 (benchmarks/results/speed.md). The "ehl" law is not affected.
 * ``eps_film_max`` (0.95): the short-bearing land forces are evaluated at min(eps, eps_max);
   beyond the clearance the rim contact takes over.
+* ``ball_drag_moment`` (False): the viscous moment of the oil–air mixture (at rest) on each
+  spinning ball, M = −pi·eta_mix·Dw³·w (Stokes–Lamb, flexbearing.multibody.drag.ball_drag_moment_coefficient),
+  with the drag switch on. Off by default: at every Table 5 case and the paper's scenes it is 4–6
+  orders of magnitude below the contact moments and moves no slip (docs/race_control.md), and
+  off keeps the reference runs bit-identical.
+* ``spin_moment_scale_inner`` (1.0; 0.1–1000): a diagnostic, not physics: multiplies the spin
+  moment (about the contact normal) of the traction at both inner half-grooves, and with it that
+  contact's spin power. Used only by the race-control screening (benchmarks/race_control_screening.py)
+  to ask how much stronger the inner contact's spin resistance would have to be to control the
+  ball; 1.0 is the traction law itself (bit-identical).
 """
 from __future__ import annotations
 
@@ -113,7 +123,8 @@ P_LAND_L = 45                          # effective land width used for the Petro
 P_ETA_TRACTION = 46                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
 P_ATT_RATE = 47                        # relaxation rate of the race-control ball attitude constraint, 1/s
 P_UREG = 48                            # regularisation speed of the fit's slide-to-roll ratio, m/s
-N_PARAMS = 49
+P_SPIN_SCALE_INNER = 49                # diagnostic factor on the inner contacts' spin moment (1 = the law)
+N_PARAMS = 50
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 1, 2, 3, 4, 5, 6
@@ -121,7 +132,8 @@ F_HERTZ_FIXED, F_ROLLRES, F_LAND = 7, 8, 9
 F_ATTITUDE = 10                        # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
 F_ATT_RING = 11                        # race control / no pivoting: gyroscopic friction reaction on the inner ring
 F_TRACTION_LAW = 12                    # the traction law of traction_table: index in TRACTION_LAWS
-N_FLAGS = 13
+F_BALL_DRAG_MOMENT = 13                # viscous drag moment of the mixture on the spinning balls
+N_FLAGS = 14
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
@@ -208,6 +220,8 @@ DEFAULT_OPTIONS = {
                                       # (gyroscopic pivoting held, the paper's hypothesis; dynamics docstring)
     "attitude_rate": 2e4,             # 1/s, relaxation rate of the race-control constraints
     "attitude_ring_reaction": True,   # race control / no_pivot: gyroscopic friction reaction on the inner ring
+    "ball_drag_moment": False,        # viscous moment of the oil–air mixture on the spinning ball (with drag on)
+    "spin_moment_scale_inner": 1.0,   # diagnostic (race-control screening): factor on the inner spin moment
 }
 
 
@@ -407,6 +421,9 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
         raise InputError(f"model.ball_attitude = {attitude!r} is not known; allowed: {list(BALL_ATTITUDES)}")
     flags[F_ATTITUDE] = BALL_ATTITUDES.index(attitude)
     flags[F_ATT_RING] = bool(_option(options, "attitude_ring_reaction"))
+    flags[F_BALL_DRAG_MOMENT] = bool(_option(options, "ball_drag_moment"))
+    p[P_SPIN_SCALE_INNER] = require_range("model.spin_moment_scale_inner", _option(options, "spin_moment_scale_inner"),
+                                          0.1, 1000.0)
     p[P_ATT_RATE] = require_range("model.attitude_rate", _option(options, "attitude_rate"), 1e2, 1e6, unit="1/s")
 
     law = _option(options, "traction_law")
