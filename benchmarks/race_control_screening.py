@@ -50,7 +50,12 @@ VARIANTS = {
     "inner_spin_x10": ({"spin_moment_scale_inner": 10.0}, None, "inner spin moment x10 (diagnostic)"),
     "inner_spin_x30": ({"spin_moment_scale_inner": 30.0}, None, "inner spin moment x30 (diagnostic)"),
     "inner_spin_x100": ({"spin_moment_scale_inner": 100.0}, None, "inner spin moment x100 (diagnostic)"),
+    # the third contact: more clearance unloads the second inner half (Pd = design + 60 um, the
+    # uncertainty study's upper end), less loads it (Pd = design − 40 um)
+    "clearance_plus_60um": ({}, None, "diametral clearance design + 60 um (third contact unloaded)"),
+    "clearance_minus_40um": ({}, None, "diametral clearance design − 40 um (third contact loaded)"),
 }
+CLEARANCE_CHANGE = {"clearance_plus_60um": 60e-6, "clearance_minus_40um": -40e-6}
 
 
 def pitch_angles(out: dict) -> np.ndarray:
@@ -75,8 +80,11 @@ def contact_spins(out: dict) -> tuple[np.ndarray, np.ndarray]:
     return s_o, s_i
 
 
-def case_row(case: dict, options: dict, oil_fraction_ref, state: str) -> dict:
+def case_row(case: dict, options: dict, oil_fraction_ref, state: str, clearance_change: float = 0.0) -> dict:
+    from dataclasses import replace
     bearing = V.validation_bearing()
+    if clearance_change:
+        bearing = replace(bearing, radial_clearance=bearing.radial_clearance + clearance_change).validate()
     x_ref = V.VALIDATION_OIL_AIR_FRACTION if oil_fraction_ref is None else oil_fraction_ref
     oil = V.validation_oil(None, V.case_oil_air_fraction(x_ref, case["speed_rpm"], "inverse_speed"))
     opts = {**V.validation_model_options(), **options}
@@ -157,7 +165,7 @@ def main(argv=None) -> None:
         rows = []
         for c in cases:
             try:
-                rows.append(case_row(c, options, x_ref, a.state))
+                rows.append(case_row(c, options, x_ref, a.state, CLEARANCE_CHANGE.get(name, 0.0)))
             except Exception as exc:       # a failed solve is a row, not the end of the screening
                 rows.append(dict(case=c["case"], converged=False, error=str(exc), test_slip_pct=c["test_slip_pct"]))
             r = rows[-1]
@@ -180,5 +188,136 @@ def main(argv=None) -> None:
             tmp.replace(a.out)
 
 
-if __name__ == "__main__":
+if __name__ == "__main__" and "--markdown" not in sys.argv:
     main()
+
+
+# ------------------------------------------------------------------ what the test's slips ask of the balls
+def contact_capacity(model, oil, out, ball: int = 0) -> dict:
+    """EHL-law numbers of the outer and the more loaded inner contact of one ball at a steady state:
+    load, semi-axes, peak pressure, rolling speed, the traction curve's maximum mu_max (uniform
+    slip, flexbearing.multibody.traction.ehl_traction_curve), the spin moment at the operating spin
+    (sliced_traction_ehl with du = spin·y) and the limiting-shear spin moment (3/8)·mu_max·Q·a·E(k)
+    of Jones's Coulomb contact (E(k) the complete elliptic integral of the second kind, k² = 1 − b²/a²),
+    which the slices carry without the E(k) factor (they take the spin's sliding along the rolling
+    direction only)."""
+    from scipy.special import ellipe
+    from flexbearing.multibody import traction as TR
+    from flexbearing.multibody.film import film_thickness
+    from flexbearing.multibody.hertz import hertz_point_contact, race_curvature_radii
+    p = model.p
+    Q = out["contact_load"][ball]
+    ang = np.abs(out["contact_angle"][ball])
+    ur_all = np.abs(out["entrainment_speed"][ball])
+    s_o, s_i = contact_spins(out)
+    k_in = 1 if Q[1] >= Q[2] else 2
+    res = {}
+    for name, c, inner, f, spin in (("outer", 0, False, p[M.P_FE], s_o[ball]), ("inner", k_in, True, p[M.P_FI], s_i[ball])):
+        rx, ry = race_curvature_radii(p[M.P_DW], p[M.P_DM], f, ang[c], inner)
+        a, b, p0, _ = hertz_point_contact(rx, ry, p[M.P_EBR], Q[c])
+        ur = max(ur_all[c], p[M.P_UMIN])
+        slips = np.geomspace(1e-4, 0.5, 200)
+        mu = TR.ehl_traction_curve(slips, Q[c], rx, ry, p[M.P_EBR], ur, oil, model.traction_table)
+        h = film_thickness(rx, ry, p[M.P_EBR], Q[c], ur, oil.viscosity(), oil.pressure_viscosity_coeff)[1]
+        _, _, m_spin = TR.sliced_traction_ehl(Q[c], a, b, p0, h, ur, 0.0, abs(spin), 0.0, 0.0, int(model.flags[M.F_NSLICES]),
+                                              False, p[M.P_SLIN], oil.viscosity(), oil.pressure_viscosity_coeff,
+                                              oil.thermal_conductivity, model.traction_table)
+        ek = float(ellipe(1.0 - (b / a) ** 2))
+        res[name] = dict(Q=float(Q[c]), a=a, b=b, p0=p0, UR=ur, h=h, spin=float(spin), spin_roll=abs(spin) * a / ur,
+                         mu_max=float(mu.max()), spin_moment=abs(m_spin),
+                         spin_moment_limit=3.0 / 8.0 * float(mu.max()) * Q[c] * a * ek, ellipe=ek)
+    return res
+
+
+def demand_rows(held: dict) -> list[dict]:
+    """Per case, from the held-state baseline rows: the pitch pure rolling needs for the test's slip
+    at the model's contact angles, its gyroscopic couple and the friction coefficient that carries it
+    (flexbearing.studies.gyroscopic_demand), beside the pitch, couple and friction of the model's
+    own state and the EHL law's traction maximum at the two contacts."""
+    from flexbearing.studies.gyroscopic_demand import gyroscopic_demand
+    bearing = V.validation_bearing()
+    rows = []
+    for r, c in zip(held["rows"], V.slip_rate_cases()):
+        if not r.get("converged"):
+            continue
+        args = (c["speed_rpm"], bearing.ball_diameter, bearing.pitch_diameter, bearing.ball_mass,
+                math.radians(r["alpha_i_deg"]), math.radians(r["alpha_o_deg"]), r["q_outer"], r["q_inner"])
+        test = gyroscopic_demand(c["test_slip_pct"], *args)
+        inner = gyroscopic_demand(r["inner_control_pct"], *args)
+        rows.append(dict(case=c["case"], test_pitch_deg=test.pitch_deg, test_couple=test.gyroscopic_couple,
+                         test_mu=test.friction_needed, inner_pitch_deg=inner.pitch_deg,
+                         inner_couple=inner.gyroscopic_couple, inner_mu=inner.friction_needed,
+                         model_pitch_deg=r["beta_deg"]))
+    return rows
+
+
+def capacity_rows(cases=(1, 6, 12)) -> list[dict]:
+    """`contact_capacity` of ball 0 (the most loaded azimuth is not needed: the numbers are for
+    orders of magnitude) at the held-state baseline of `cases`, with the ball's drag moment
+    (Stokes–Lamb, flexbearing.multibody.drag) and its rotational Reynolds number beside them."""
+    from flexbearing.multibody.drag import ball_drag_moment_coefficient, oil_air_mixture
+    bearing = V.validation_bearing()
+    rows = []
+    for c in V.slip_rate_cases():
+        if c["case"] not in cases:
+            continue
+        oil = V.validation_oil(None, V.case_oil_air_fraction(V.VALIDATION_OIL_AIR_FRACTION, c["speed_rpm"], "inverse_speed"))
+        model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", 1.0)
+        omega = c["speed_rpm"] * 2.0 * math.pi / 60.0
+        _, info = steady_held_cage_state(model, omega, (c["axial_load"], 0.0, -c["radial_load"]))
+        out = info["outputs"]
+        cap = contact_capacity(model, oil, out)
+        rho_mix, eta_mix = oil_air_mixture(oil.oil_air_fraction, oil.density, oil.viscosity())
+        w = float(np.linalg.norm(out["ball_angular_velocity"][0]))
+        m_drag = ball_drag_moment_coefficient(bearing.ball_diameter, eta_mix) * w
+        m_drag_oil = ball_drag_moment_coefficient(bearing.ball_diameter, oil.viscosity()) * w
+        rows.append(dict(case=c["case"], outer=cap["outer"], inner=cap["inner"], ball_spin=w, drag_moment=m_drag,
+                         drag_moment_pure_oil=m_drag_oil,
+                         reynolds_spin=rho_mix * w * (0.5 * bearing.ball_diameter) ** 2 / eta_mix,
+                         pocket_force=float(out["pocket_force"][0])))
+    return rows
+
+
+def markdown(held_paths: list[str]) -> str:
+    """The tables of docs/race_control.md from the held-state screening files."""
+    variants = {}
+    for path in held_paths:
+        variants.update(json.loads(Path(path).read_text())["variants"])
+    lines = ["| variant | converged | slip range, % | right sign | mean error, % | max error, % |", "|---|---:|---:|---:|---:|---:|"]
+    for name, v in variants.items():
+        s = v["summary"]
+        lo, hi = s["slip_range_pct"]
+        lines.append(f"| {name}: {v['description']} | {s['converged']}/{s['n']} | {lo:+.2f} … {hi:+.2f} | "
+                     f"{s['right_sign']} | {s['mean_error_pct']:.1f} | {s['max_error_pct']:.1f} |")
+    lines += ["", "| case | test % | inner control % | outer control % | steady % | alpha_o / alpha_i, deg | "
+              "pitch beta model / outer ctl / inner ctl, deg | Jones ratio | third contact max, N |",
+              "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in variants["baseline"]["rows"]:
+        lines.append(f"| {r['case']} | {r['test_slip_pct']:+.2f} | {r['inner_control_pct']:+.2f} | {r['outer_control_pct']:+.2f} | "
+                     f"{r['slip_pct']:+.2f} | {r['alpha_o_deg']:.1f} / {r['alpha_i_deg']:.1f} | "
+                     f"{r['beta_deg']:.1f} / {r['beta_outer_control_deg']:.1f} / {r['beta_inner_control_deg']:.1f} | "
+                     f"{r['jones_ratio']:.2f} | {r['q_third_contact_max']:.0f} |")
+    lines += ["", "| case | pitch for the test slip, deg | its gyroscopic couple, N·m | friction needed | "
+              "inner control: pitch, couple, friction |", "|---:|---:|---:|---:|---:|"]
+    for d in demand_rows(variants["baseline"]):
+        lines.append(f"| {d['case']} | {d['test_pitch_deg']:.1f} | {d['test_couple']:.3f} | {d['test_mu']:.3f} | "
+                     f"{d['inner_pitch_deg']:.1f}°, {d['inner_couple']:.3f}, {d['inner_mu']:.3f} |")
+    lines += ["", "| case | contact | Q, N | a, mm | p0, GPa | UR, m/s | spin, rad/s | spin·a/UR | mu_max (EHL law) | "
+              "spin moment at the operating spin, N·m | (3/8)·mu_max·Q·a·E(k), N·m | h_c, um |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    caps = capacity_rows()
+    for r in caps:
+        for name in ("outer", "inner"):
+            c = r[name]
+            lines.append(f"| {r['case']} | {name} | {c['Q']:.0f} | {1e3 * c['a']:.2f} | {1e-9 * c['p0']:.2f} | {c['UR']:.1f} | "
+                         f"{c['spin']:+.0f} | {c['spin_roll']:.3f} | {c['mu_max']:.3f} | {c['spin_moment']:.2e} | "
+                         f"{c['spin_moment_limit']:.2e} | {1e6 * c['h']:.3f} |")
+    lines += ["", "| case | ball spin, rad/s | Re_w | drag moment in the mixture, N·m | in pure oil, N·m | pocket force (ball 0), N |",
+              "|---:|---:|---:|---:|---:|---:|"]
+    for r in caps:
+        lines.append(f"| {r['case']} | {r['ball_spin']:.0f} | {r['reynolds_spin']:.0f} | {r['drag_moment']:.1e} | "
+                     f"{r['drag_moment_pure_oil']:.1e} | {r['pocket_force']:.2f} |")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__" and "--markdown" in sys.argv:
+    print(markdown([a for a in sys.argv[1:] if a != "--markdown"]))
