@@ -7,6 +7,8 @@ model's own contact angles (flexbearing.studies.race_control.brackets) and the m
 
     python benchmarks/race_control_screening.py [--state held|thrust] [--variants a,b] [--cases 1,6]
         [--out benchmarks/results/race_control_screening.json]
+    python benchmarks/race_control_screening.py --markdown HELD.json [HELD2.json]   (the tables of docs/race_control.md)
+    python benchmarks/race_control_screening.py --tnd7870                          (TN D-7870's 6 % as inner control)
 
 --state held (default): `steady_held_cage_state` with weight and the radial load (the uncertainty
 study's fast path, 2–60 s a case); thrust: `steady_thrust_state` under the axial load alone, no
@@ -188,7 +190,7 @@ def main(argv=None) -> None:
             tmp.replace(a.out)
 
 
-if __name__ == "__main__" and "--markdown" not in sys.argv:
+if __name__ == "__main__" and not {"--markdown", "--tnd7870"} & set(sys.argv):
     main()
 
 
@@ -321,3 +323,35 @@ def markdown(held_paths: list[str]) -> str:
 
 if __name__ == "__main__" and "--markdown" in sys.argv:
     print(markdown([a for a in sys.argv[1:] if a != "--markdown"]))
+
+
+def tnd7870_demand() -> list[tuple]:
+    """NASA TN D-7870's 6 % skid at 25,000 rpm read as inner-race control (docs/race_control.md):
+    over the corners of the declared geometry unknowns (scenes/validation/nasa_tnd7870.toml: pitch
+    diameter 140–170 mm, ball 15–27 mm, free angle 16–24°, 15–30 balls; corners whose balls do not
+    fit, Z·Dw > 0.9·pi·dm, left out), the symmetric split that inner control needs for 6 %
+    (race_control.split_for_slip), the pitch, the gyroscopic couple and the friction needed with
+    steel balls at the series' largest thrust, 22,240 N: Q_i = F_a/(Z·sin a_i) and Q_o = Q_i plus the
+    ball's centrifugal force at the epicyclic cage speed (a lower bound of the loads' sum, hence of
+    the friction needed at that thrust: more at lighter thrust). Rows (dm, Dw, a0 deg, Z, split deg,
+    pitch deg, couple N·m, friction, centrifugal N)."""
+    import itertools
+    from flexbearing.studies.gyroscopic_demand import gyroscopic_demand
+    rows = []
+    for dm, d, a0, z in itertools.product((0.140, 0.170), (0.015, 0.027), (16.0, 24.0), (15, 30)):
+        if z * d > 0.9 * math.pi * dm:
+            continue
+        delta = RC.split_for_slip(25000.0, d, dm, a0, 6.0, "inner")
+        ai, ao = a0 + delta, a0 - delta
+        mb = 7800.0 * math.pi / 6.0 * d ** 3
+        omega_c = 0.5 * 25000.0 * math.pi / 30.0 * (1.0 - d / dm * math.cos(math.radians(a0)))
+        fc = mb * omega_c ** 2 * dm / 2.0
+        qi = 22240.0 / (z * math.sin(math.radians(ai)))
+        g = gyroscopic_demand(6.0, 25000.0, d, dm, mb, math.radians(ai), math.radians(ao), qi + fc, qi, math.radians(a0))
+        rows.append((dm, d, a0, z, delta, g.pitch_deg, g.gyroscopic_couple, g.friction_needed, fc))
+    return rows
+
+
+if __name__ == "__main__" and "--tnd7870" in sys.argv:
+    for row in tnd7870_demand():
+        print(" ".join(f"{x:.4g}" for x in row))
