@@ -9,6 +9,7 @@ model's own contact angles (flexbearing.studies.race_control.brackets) and the m
         [--out benchmarks/results/race_control_screening.json]
     python benchmarks/race_control_screening.py --markdown HELD.json [HELD2.json]   (the tables of docs/race_control.md)
     python benchmarks/race_control_screening.py --tnd7870                          (TN D-7870's 6 % as inner control)
+    python benchmarks/race_control_screening.py --dynamics VARIANT 1,6,12 [OUT.json] (the dynamic validation with it)
 
 --state held (default): `steady_held_cage_state` with weight and the radial load (the uncertainty
 study's fast path, 2–60 s a case); thrust: `steady_thrust_state` under the axial load alone, no
@@ -190,7 +191,7 @@ def main(argv=None) -> None:
             tmp.replace(a.out)
 
 
-if __name__ == "__main__" and not {"--markdown", "--tnd7870"} & set(sys.argv):
+if __name__ == "__main__" and not {"--markdown", "--tnd7870", "--dynamics"} & set(sys.argv):
     main()
 
 
@@ -355,3 +356,26 @@ def tnd7870_demand() -> list[tuple]:
 if __name__ == "__main__" and "--tnd7870" in sys.argv:
     for row in tnd7870_demand():
         print(" ".join(f"{x:.4g}" for x in row))
+
+
+def dynamics(variant: str, cases: list[int], out: str | None) -> list[dict]:
+    """The dynamic slip-rate validation (flexbearing.studies.validate.run_slip_rate_validation, as
+    `flexbearing validate slip-rate --cases ...`) with a screening variant's model options."""
+    options, x_ref, _ = VARIANTS[variant]
+    if x_ref is not None or variant in CLEARANCE_CHANGE:
+        raise SystemExit(f"variant {variant}: only model-option variants run here")
+    rows = V.run_slip_rate_validation(cases, options={**V.validation_model_options(), **options}, workers=1, quiet=True)
+    for r in rows:
+        print(f"{variant} case {r['case']:2d} slip {r['slip_pct']:+.2f} % (test {r['test_slip_pct']:+.2f}) "
+              f"settled {r['settled']} t {r['t_end']:.2f} s", flush=True)
+    if out:
+        Path(out).write_text(json.dumps({"variant": variant, "options": options, "summary": V.summarise(rows),
+                                         "rows": [{k: v for k, v in r.items() if k != "window_means"} for r in rows]},
+                                        indent=1, default=float) + "\n")
+    return rows
+
+
+if __name__ == "__main__" and "--dynamics" in sys.argv:
+    # python benchmarks/race_control_screening.py --dynamics VARIANT CASES [OUT.json]
+    i = sys.argv.index("--dynamics")
+    dynamics(sys.argv[i + 1], [int(c) for c in sys.argv[i + 2].split(",")], sys.argv[i + 3] if len(sys.argv) > i + 3 else None)
