@@ -33,8 +33,8 @@ over the undeformed gap dh/dx = x/Rx gives |F_R| = W·|x_p|/(2·Rx), hence F_H =
 approximation for the EHL contact (tests/test_drag.py: Martin's rigid-cylinder solution, signs
 included). The seed paper's ball equations (§2.5.1) carry F_R and F_H of one contact with
 opposite signs, as here. Together they dissipate: in pure rolling on the fixed outer race the
-pair's power is F_H·v_centre < 0 (flexbearing.multibody.power_loss); with F_H along F_R (this module before
-session 8) it was a power source of the order of the traction losses.
+pair's power is F_H·v_centre < 0 (flexbearing.multibody.power_loss); with F_H along F_R (an earlier
+version of this module) it was a power source of the order of the traction losses.
 
 Drag moment on a spinning ball (model option ball_drag_moment, off by default): the couple of a
 viscous fluid at rest on a sphere of radius R turning at w (Stokes 1851; H. Lamb, Hydrodynamics,
@@ -43,10 +43,10 @@ viscous fluid at rest on a sphere of radius R turning at w (Stokes 1851; H. Lamb
     M = −8·pi·eta·R³·w = −pi·eta_mix·Dw³·w,
 
 exact for the rotational Reynolds number Re_w = rho·|w|·R²/eta << 1 (creeping flow; the
-mixture's eta_mix and rho_mix as the churning drag). At the balls' spin Re_w is 10–100 at the
-Table 5 cases (docs/race_control.md), where the boundary layer on the sphere makes the moment
-grow faster than linearly with w: there the Stokes couple is a lower bound, and the race-control
-screening bounds the effect with a flooded cavity instead.
+mixture's eta_mix and rho_mix as the churning drag). At the balls' spin Re_w is 3–5e4 at the
+Table 5 cases (docs/race_control.md), where a boundary layer on the sphere makes the moment grow
+faster than linearly with w: there the Stokes couple is a lower bound; docs/race_control.md bounds
+the real one by magnitude (and by direction: along −w, no moment about the ball's e_t axis).
 """
 from __future__ import annotations
 
