@@ -35,6 +35,18 @@ included). The seed paper's ball equations (§2.5.1) carry F_R and F_H of one co
 opposite signs, as here. Together they dissipate: in pure rolling on the fixed outer race the
 pair's power is F_H·v_centre < 0 (flexbearing.multibody.power_loss); with F_H along F_R (an earlier
 version of this module) it was a power source of the order of the traction losses.
+
+Drag moment on a spinning ball (model option ball_drag_moment, off by default): the couple of a
+viscous fluid at rest on a sphere of radius R turning at w (Stokes 1851; H. Lamb, Hydrodynamics,
+6th ed., Cambridge 1932, §334, "rotating sphere"),
+
+    M = −8·pi·eta·R³·w = −pi·eta_mix·Dw³·w,
+
+exact for the rotational Reynolds number Re_w = rho·|w|·R²/eta << 1 (creeping flow; the
+mixture's eta_mix and rho_mix as the churning drag). At the balls' spin Re_w is 3–5e4 at the
+Table 5 cases (docs/race_control.md), where a boundary layer on the sphere makes the moment grow
+faster than linearly with w: there the Stokes couple is a lower bound; docs/race_control.md bounds
+the real one by magnitude (and by direction: along −w, no moment about the ball's e_t axis).
 """
 from __future__ import annotations
 
@@ -93,3 +105,10 @@ def ehl_pressure_rolling_force(F_R, Rx, ball_radius):
     """F_H = −2·(Rx/r_bx)·F_R, the pressure rolling force on the ball through its centre, N
     (opposite to F_R, i.e. along the entrainment velocity; rigid-gap identity, module docstring)."""
     return -2.0 * Rx / ball_radius * F_R
+
+
+@njit(cache=True)
+def ball_drag_moment_coefficient(ball_diameter, eta_mix):
+    """c of the viscous drag moment M = −c·w on a ball spinning at w in the mixture at rest,
+    c = 8·pi·eta·R³ = pi·eta·Dw³, N·m·s (Stokes–Lamb couple, module docstring)."""
+    return math.pi * eta_mix * ball_diameter ** 3

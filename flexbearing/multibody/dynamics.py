@@ -27,7 +27,9 @@ viscosity; transverse traction on by default, see below), the EHL rolling resist
 the ball centre (flexbearing.multibody.drag), the ball–pocket force (paper §2.3.1: linear Kc·Z up to the
 pocket clearance, Hertz beyond) with the lubricated pocket's Poiseuille rolling and Couette
 sliding resistances (flexbearing.multibody.pocket), the churning drag in the oil–air mixture
-(flexbearing.multibody.drag: F_d = ½·rho_mix·C_d(Re)·(pi·Dw²/4)·v², mixture at rest) and gravity (off).
+(flexbearing.multibody.drag: F_d = ½·rho_mix·C_d(Re)·(pi·Dw²/4)·v², mixture at rest), with the option
+ball_drag_moment the mixture's viscous moment on the spinning ball (M = −pi·eta_mix·Dw³·w, drag.py),
+and gravity (off).
 
 Transverse traction (model option, default ON, unlike the paper's T_eta = 0): with traction only
 along the rolling direction nothing restrains the ball's rotation about e_t, the gyroscopic
@@ -140,7 +142,7 @@ from flexbearing.multibody.model import (
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_UREG, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
-    F_TRACTION_LAW, F_GUIDANCE, F_POCKET_SHAPE,
+    F_TRACTION_LAW, F_GUIDANCE, F_POCKET_SHAPE, F_BALL_DRAG_MOMENT, P_SPIN_SCALE_INNER,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
     WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING, W_P_POCKET,
     W_P_CHURNING, WR_P_LAND, WR_P_STRUCTURAL, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
@@ -153,7 +155,8 @@ from flexbearing.multibody.guide_land import guide_land_force
 from flexbearing.multibody.pocket import (pocket_curvature_radii, pocket_resistance_coefficients,
                                           spherical_pocket_curvature_radii)
 from flexbearing.multibody.oil_supply import cavity_oil_fraction
-from flexbearing.multibody.drag import churning_drag, ehl_rolling_resistance, ehl_pressure_rolling_force, oil_air_mixture
+from flexbearing.multibody.drag import (ball_drag_moment_coefficient, churning_drag, ehl_rolling_resistance,
+                                       ehl_pressure_rolling_force, oil_air_mixture)
 from flexbearing.multibody.traction import TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table
 from flexbearing.multibody.film import film_thickness as hamrock_dowson_film
 from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose_arrays
@@ -369,6 +372,9 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
             A, B, C, D = traction_coefficients_table(Q, u_s, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
             Tt, Ttau, Mn = sliced_traction(Q, a_ax, u_s, du0, du1, 0.0, dv, A, B, C, D,
                                            flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
+        if kind == 1:
+            # diagnostic of the race-control screening (model option spin_moment_scale_inner, 1 = the law)
+            Mn *= p[P_SPIN_SCALE_INNER]
         # force on the ball at p: Tt·e_t + Ttau·tau
         Fx += Ttau * tx_
         Fr += Ttau * tr_
@@ -898,6 +904,14 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
             ft += fd
             work[j, W_DRAG] = -fd
             work[j, W_P_CHURNING] = -fd * vbt
+            if flags[F_BALL_DRAG_MOMENT]:
+                # viscous moment of the mixture at rest on the spinning ball, −c·w (drag.py), and
+                # the power it dissipates, c·|w|²
+                c_spin = ball_drag_moment_coefficient(dw, eta_mix)
+                mx -= c_spin * w_x
+                mr -= c_spin * w_r
+                mt -= c_spin * w_t
+                work[j, W_P_CHURNING] += c_spin * (w_x * w_x + w_r * w_r + w_t * w_t)
         else:
             work[j, W_DRAG] = 0.0
             work[j, W_P_CHURNING] = 0.0

@@ -73,6 +73,16 @@ Assumed inputs (not in the paper; options keys, SI):
   simulated second to ~4e5 (benchmarks/results/speed.md). The "ehl" law is not affected.
 * ``eps_film_max`` (0.95): the short-bearing land forces are evaluated at min(eps, eps_max);
   beyond the clearance the rim contact takes over.
+* ``ball_drag_moment`` (False): the viscous moment of the oil–air mixture (at rest) on each
+  spinning ball, M = −pi·eta_mix·Dw³·w (Stokes–Lamb, flexbearing.multibody.drag.ball_drag_moment_coefficient),
+  with the drag switch on. Off by default: at every Table 5 case and the paper's scenes it is 4–6
+  orders of magnitude below the contact moments and moves no slip (docs/race_control.md), and
+  off keeps the reference runs bit-identical.
+* ``spin_moment_scale_inner`` (1.0; 0.1–1000): a diagnostic, not physics: multiplies the spin
+  moment (about the contact normal) of the traction at both inner half-grooves, and with it that
+  contact's spin power. Used only by the race-control screening (benchmarks/race_control_screening.py)
+  to ask how much stronger the inner contact's spin resistance would have to be to control the
+  ball; 1.0 is the traction law itself (bit-identical).
 """
 from __future__ import annotations
 
@@ -114,7 +124,8 @@ P_ETA_TRACTION = 44                    # eta0 of the traction fit: viscosity at 
 P_ATT_RATE = 45                        # relaxation rate of the race-control ball attitude constraint, 1/s
 P_UREG = 46                            # regularisation speed of the fit's slide-to-roll ratio, m/s
 P_OIL_WREF = 47                        # reference speed of the cavity oil fraction (rad/s; 0: fixed), oil_supply
-N_PARAMS = 48
+P_SPIN_SCALE_INNER = 48                # diagnostic factor on the inner contacts' spin moment (1 = the law)
+N_PARAMS = 49
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES = 0, 1, 2, 3, 4
@@ -125,7 +136,8 @@ F_TRACTION_LAW = 10                    # the traction law of traction_table: ind
 F_INNER_HALVES = 11                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
 F_GUIDANCE = 12                        # what guides the cage: index in GUIDANCES (outer / inner land, balls)
 F_POCKET_SHAPE = 13                    # index in POCKET_SHAPES (cylindrical, spherical)
-N_FLAGS = 14
+F_BALL_DRAG_MOMENT = 14                # viscous drag moment of the mixture on the spinning balls
+N_FLAGS = 15
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
@@ -211,6 +223,8 @@ DEFAULT_OPTIONS = {
                                       # (gyroscopic pivoting held, the paper's hypothesis; dynamics docstring)
     "attitude_rate": 2e4,             # 1/s, relaxation rate of the race-control constraints
     "attitude_ring_reaction": True,   # race control / no_pivot: gyroscopic friction reaction on the inner ring
+    "ball_drag_moment": False,        # viscous moment of the oil–air mixture on the spinning ball (with drag on)
+    "spin_moment_scale_inner": 1.0,   # diagnostic (race-control screening): factor on the inner spin moment
 }
 
 
@@ -425,6 +439,9 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
         raise InputError(f"model.ball_attitude = {attitude!r} is not known; allowed: {list(BALL_ATTITUDES)}")
     flags[F_ATTITUDE] = BALL_ATTITUDES.index(attitude)
     flags[F_ATT_RING] = bool(_option(options, "attitude_ring_reaction"))
+    flags[F_BALL_DRAG_MOMENT] = bool(_option(options, "ball_drag_moment"))
+    p[P_SPIN_SCALE_INNER] = require_range("model.spin_moment_scale_inner", _option(options, "spin_moment_scale_inner"),
+                                          0.1, 1000.0)
     p[P_ATT_RATE] = require_range("model.attitude_rate", _option(options, "attitude_rate"), 1e2, 1e6, unit="1/s")
 
     law = _option(options, "traction_law")

@@ -16,7 +16,8 @@ WR_P_*). The sources:
     damping       viscous damping of the race contacts, (Q − Q_el)·d(delta)/dt
     pocket        lubricated pocket (Poiseuille rolling, Couette sliding, Coulomb friction) and its
                   damping, on the ball and the cage pocket
-    churning      drag of the oil–air mixture on the orbiting balls, −F_d·v
+    churning      drag of the oil–air mixture on the orbiting balls, −F_d·v, and with the option
+                  ball_drag_moment its moment on the spinning balls, c·|w|²
     guide_land    short-bearing film force and Petroff torque of the guide lands, rim friction
     cage_damping  modal damping of a flexible cage, Σ d_k·q_k'²
 
