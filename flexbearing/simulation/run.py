@@ -40,7 +40,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from flexbearing.simulation.progress import RunProgress
-from flexbearing.simulation.results import ResultsWriter, write_summary
+from flexbearing.simulation.results import DiskFull, ResultsWriter, write_summary
 from flexbearing.simulation.wall_budget import WallBudget
 from flexbearing.common.file_lock import exclusive_file
 from flexbearing.common.validation import InputError
@@ -383,6 +383,11 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
         settle()
     except BaseException as exc:
         progress.close()
+        if isinstance(exc, DiskFull):
+            # nothing more is written (it would not fit): the file holds its last checkpoint
+            writer.close()
+            raise RunInterrupted(f"run stopped at t = {written[1]:.6g} s: {out_path}: {exc.strerror}",
+                                 written[1], str(out_path), exc) from exc
         status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
         try:
             # keep what was integrated: the interval in the writer thread, then the rest, evaluated

@@ -1,0 +1,135 @@
+"""Files written so that a crash, a full disk or a planted symlink cannot damage anything.
+
+Every file flexbearing writes whole (a cache entry, a summary, an export, a report) goes through
+`atomic_output(target)`: the content is written to a temporary of a unique, unpredictable name in
+the target's own folder, created exclusively (`tempfile.mkstemp`: O_CREAT | O_EXCL, so a symlink
+or a file planted at that name is never opened, let alone followed), flushed to the disk (fsync),
+then renamed over the target (`os.replace`, atomic on one file system; a symlink at the target's
+name is replaced itself, its target is never written) and the folder fsynced, so that after a
+SIGKILL or a power loss the target is either the old file or the whole new one. On every exit
+path that does not reach the rename (an exception, ENOSPC, Ctrl-C) the temporary is removed.
+
+Permissions: mkstemp creates 0600; a finished file gets 0666 minus the process's umask instead,
+as an ordinary `open()` would (a shared cache needs files its group can read: run with umask 002
+or 022 and a group-owned, setgid cache folder; see README "Studies and validations on a Dask
+cluster").
+
+`refuse_overwriting_inputs(output, inputs)` refuses an output that is one of the command's inputs
+(the same path, or the same file under another name: st_dev and st_ino) or a symlink.
+"""
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+import stat
+import tempfile
+from pathlib import Path
+
+from flexbearing.common.validation import InputError
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def fsync_folder(folder) -> None:
+    """fsync a folder so that a rename in it survives a power loss (no-op where unsupported)."""
+    try:
+        fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def atomic_output(target, suffix: str = ".tmp"):
+    """Yield the path of a new, empty temporary file beside `target` (unique name, created
+    exclusively); when the body returns, fsync it, give it the umask's permissions and rename it
+    over `target`. On any exception (ENOSPC, Ctrl-C, ...) the temporary is removed and the
+    exception goes on; `target` is then untouched."""
+    target = Path(target)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        fd = os.open(tmp, os.O_RDONLY | os.O_NOFOLLOW)
+        try:
+            os.fsync(fd)
+            os.fchmod(fd, 0o666 & ~_umask())
+        finally:
+            os.close(fd)
+        os.replace(tmp, target)
+        fsync_folder(target.parent)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+
+
+def write_text_atomic(target, text: str) -> Path:
+    """`target` holding `text` (UTF-8), written by atomic_output."""
+    with atomic_output(target) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return Path(target)
+
+
+def write_bytes_atomic(target, data: bytes) -> Path:
+    with atomic_output(target) as tmp:
+        tmp.write_bytes(data)
+    return Path(target)
+
+
+def same_file(a, b) -> bool:
+    """True if a and b are the same file: the same path once resolved, or the same inode on the
+    same device (a hard link)."""
+    try:
+        sa, sb = os.stat(a), os.stat(b)
+    except OSError:
+        return Path(a).resolve() == Path(b).resolve()
+    return (sa.st_dev, sa.st_ino) == (sb.st_dev, sb.st_ino)
+
+
+def refuse_overwriting_inputs(output, inputs, option: str = "-o") -> None:
+    """InputError if `output` is a symlink or is (the same file as) one of `inputs`; nothing is
+    written or changed. The names are the user's, so that the message says which."""
+    output = Path(output)
+    if output.is_symlink():
+        raise InputError(f"{option} {output} is a symbolic link (to {os.readlink(output)}): flexbearing "
+                         f"does not write through links in its output folders; give the real path or "
+                         f"remove the link")
+    if not output.exists():
+        return
+    for inp in inputs:
+        if inp is not None and Path(inp).exists() and same_file(output, inp):
+            raise InputError(f"{option} {output} is the input file {inp}: writing there would replace "
+                             f"the input; choose another output name")
+
+
+def refuse_link_folder(folder, option: str = "-o") -> None:
+    """InputError if `folder` (an output folder) is itself a symbolic link or not a folder."""
+    folder = Path(folder)
+    if folder.is_symlink():
+        raise InputError(f"{option} {folder} is a symbolic link (to {os.readlink(folder)}): give the "
+                         f"real folder")
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{option} {folder} is a file, not a folder: give a folder name")
+
+
+def open_new_exclusive(path, mode: int = 0o666) -> int:
+    """An fd of `path` opened for writing without following a symlink at that name
+    (O_NOFOLLOW); an existing regular file is truncated, anything else refused (OSError ELOOP
+    for a link)."""
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC, mode)
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise OSError(errno.EINVAL, "not a regular file", str(path))
+    os.ftruncate(fd, 0)
+    return fd
