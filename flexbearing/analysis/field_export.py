@@ -103,7 +103,7 @@ def nodal_field(rc, q_full) -> tuple[np.ndarray, np.ndarray]:
 def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
     """(ReducedCage, note on its content hash) of the run's reduced cage file; InputError if it is
     missing or its basis size differs from the recorded modal coordinates'."""
-    from flexbearing.fem_cage.reduced_cage import file_sha256, read
+    from flexbearing.fem_cage.reduced_cage import file_sha256, read, verify
     if rc_path is None or not Path(str(rc_path)).is_file():
         raise InputError(f"reduced cage file {rc_path!r} of {run_path} not found (pass its path: "
                          f"flexbearing report ... --reduced-cage FILE)")
@@ -113,6 +113,14 @@ def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
         known = {str(rc.attrs.get("content_hash", "")), file_sha256(rc_path)}
         hash_note = "matches" if any(h and (h == rc_hash or h.startswith(rc_hash) or rc_hash.startswith(h))
                                      for h in known) else f"MISMATCH (run: {rc_hash})"
+    # the key alone says which cage the file claims to be; its content is checked against the
+    # digest stored in it (a flipped bit, or another cage's arrays under this key)
+    if "data_sha256" in rc.attrs:
+        verify(rc_path)
+        if hash_note == "matches":
+            hash_note = "matches (content verified against its digest)"
+    elif hash_note == "matches":
+        hash_note = "key matches; content not verifiable (file without a digest, written before issue 36)"
     if n_modes != rc.stress_modes.shape[2]:
         raise InputError(f"{run_path}: cage_modal_coordinates_full has {n_modes} modes, the reduced "
                          f"cage file {rc_path} has {rc.stress_modes.shape[2]} (allowed: equal); wrong "
