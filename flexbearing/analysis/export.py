@@ -84,11 +84,14 @@ def _dataset_from_dims(out):
 
 def write_netcdf(path, target) -> Path:
     """The run as one netCDF-4 file (deflate level 1 + shuffle per variable, as the results file)."""
-    ds = results_dataset(path)
+    from flexbearing.common.safe_files import atomic_output, refuse_overwriting_inputs
     target = Path(target)
+    refuse_overwriting_inputs(target, [path], "--netcdf")
+    ds = results_dataset(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     encoding = {k: {"zlib": True, "complevel": 1, "shuffle": True} for k in ds.data_vars}
-    ds.to_netcdf(target, format="NETCDF4", encoding=encoding)
+    with atomic_output(target, suffix=".nc") as tmp:       # never through a link, never half a file
+        ds.to_netcdf(tmp, format="NETCDF4", encoding=encoding)
     return target
 
 
@@ -103,10 +106,12 @@ def _column_names(name: str, da) -> list[str]:
 
 def write_csv(path, folder) -> list[Path]:
     """One CSV per output in `folder` (module docstring: the layout). Returns the files."""
-    ds = results_dataset(path)
+    from flexbearing.common.safe_files import atomic_output, check_output_folder
     folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
+    if folder.exists() and not folder.is_dir() and not folder.is_symlink():
         raise InputError(f"--csv {folder} is a file: give a folder for the CSV files")
+    check_output_folder(folder, (), [path], "--csv", patterns=("*.csv",))
+    ds = results_dataset(path)
     folder.mkdir(parents=True, exist_ok=True)
     t = ds["time"].values
     written = []
@@ -117,7 +122,7 @@ def write_csv(path, folder) -> list[Path]:
         values = np.asarray(da.values, dtype=np.float64).reshape(len(t), -1)
         unit = str(da.attrs.get("unit", da.attrs.get("units", "")))
         p = folder / f"{name}.csv"
-        with p.open("w", newline="") as fh:
+        with atomic_output(p) as tmp, tmp.open("w", newline="") as fh:
             w = csv.writer(fh)
             cols = _column_names(name, da)
             w.writerow(["time"] + cols)

@@ -74,6 +74,9 @@ SERIES_CAGE = "series_cage.xdmf"
 SERIES_POINTS = "series_points.xdmf"
 SERIES_H5 = "series.h5"
 SERIES_JSON = "series.json"
+PEAKS_XDMF = "von_mises.xdmf"
+# every file this module writes into an output folder (checked before: flexbearing.common.safe_files)
+FIELD_FILES = (SERIES_CAGE, SERIES_POINTS, SERIES_H5, SERIES_JSON, PEAKS_XDMF, "von_mises.h5", "von_mises.json")
 # A series beyond this size is refused with the every-N-th hint: a whole demo run at every sample
 # (6,000 frames of the 10,727-node cage) would be ~5 GB, more than ParaView plays comfortably.
 SERIES_MAX_BYTES = 2e9
@@ -236,9 +239,11 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
         M = out["cage_modal_coordinates_full"].shape[1]
         q_full = out["cage_modal_coordinates_full"][idx, :] if idx else np.zeros((0, M))
     rc, hash_note = open_reduced_cage(path, rc_path, rc_hash, M)
+    from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
+    check_output_folder(out_dir, FIELD_FILES, [run_h5, reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
-    xdmf = out_dir / "von_mises.xdmf"
+    xdmf = out_dir / PEAKS_XDMF
     h5 = xdmf.with_suffix(".h5")
     topo_type, cells = cage_cells(rc)
     meta = {"run": str(path), "reduced_cage_file": str(rc_path), "reduced_cage_hash": hash_note,
@@ -427,7 +432,9 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
         meta["cage_spin_angle_rad"] = [float(p) for p in phi]
     else:           # the body frame: no rigid motion
         d["centre"] = np.zeros_like(d["centre"])
+    from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
+    check_output_folder(out_dir, FIELD_FILES, [run_h5, reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
     for stale in (SERIES_CAGE, SERIES_POINTS):     # of an earlier series in the same folder
         (out_dir / stale).unlink(missing_ok=True)

@@ -133,6 +133,10 @@ def _check_frames(path, frames) -> None:
                          f"coordinates); --frames selects von Mises frames of a flexible-cage run")
 
 
+# the files a report writes by these names (plots: *.png; the field export's: field_export.FIELD_FILES)
+REPORT_FILES = ("report.md", "report.html", "report.json")
+
+
 def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None,
                  quiet: bool = True, settle: float = 0.0, series: str | None = None,
                  displacement_scale: float | None = None) -> dict:
@@ -145,10 +149,14 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     import h5py
 
     from flexbearing.analysis import field_export
+    from flexbearing.common.safe_files import check_output_folder
     path = check_run(run_h5)
     cmp_path = check_run(compare) if compare is not None else None
     _check_frames(path, frames)                  # a bad --frames stops the report before any file
     out_dir = Path(out_dir)
+    # nothing the report writes may replace an input or go through a link planted in its folder
+    check_output_folder(out_dir, REPORT_FILES + field_export.FIELD_FILES, [path, cmp_path, reduced_cage],
+                        patterns=("*.png",))
     out_dir.mkdir(parents=True, exist_ok=True)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     series_out = None

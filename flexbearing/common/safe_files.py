@@ -133,3 +133,27 @@ def open_new_exclusive(path, mode: int = 0o666) -> int:
         raise OSError(errno.EINVAL, "not a regular file", str(path))
     os.ftruncate(fd, 0)
     return fd
+
+
+def check_output_folder(folder, names, inputs, option: str = "-o", patterns=()) -> None:
+    """Before a command writes the files `names` (and names matching the glob `patterns`) into
+    `folder`: InputError if the folder is a link or a file, if one of those names there is a
+    symbolic link (planted: writing would follow it), or is one of the command's `inputs` (the
+    same file: writing would replace the input). Nothing is written or changed."""
+    from fnmatch import fnmatch
+    folder = Path(folder)
+    refuse_link_folder(folder, option)
+    if not folder.is_dir():
+        return
+    names = set(names)
+    for entry in folder.iterdir():
+        if entry.name not in names and not any(fnmatch(entry.name, p) for p in patterns):
+            continue
+        if entry.is_symlink():
+            raise InputError(f"{option} {folder}: {entry.name} there is a symbolic link (to "
+                             f"{os.readlink(entry)}), which flexbearing would write through: remove "
+                             f"it or choose another folder")
+        for inp in inputs:
+            if inp is not None and Path(inp).exists() and same_file(entry, inp):
+                raise InputError(f"{option} {folder}: {entry} is the input {inp}, and the output "
+                                 f"{entry.name} would replace it: choose another folder")

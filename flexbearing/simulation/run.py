@@ -138,7 +138,9 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     (RunInterrupted, resumable). The file is claimed (flexbearing.common.file_lock) before it
     is touched: a file another process is writing is refused (InputError) and left as it is.
     """
+    from flexbearing.common.safe_files import refuse_overwriting_inputs
     out_path = Path(out_path)
+    refuse_overwriting_inputs(out_path, [scene.path or None])      # a link, or the scene itself
     mode = _prepare_output(out_path, resume, force)
     with exclusive_file(out_path):
         try:
