@@ -372,10 +372,12 @@ class ResultsWriter:
                 self._pool.shutdown(wait=True)
                 self._pool = None
             if self.f.id.valid:
+                path = self.f.filename
                 self.f.close()
+                _release(path)
 
 
-RESERVE_MARGIN = 1 << 20      # bytes reserved beyond a block's chunks: HDF5 metadata, the checkpoint
+RESERVE_MARGIN = 256 << 10    # bytes reserved beyond a block's chunks: HDF5 metadata, the checkpoint
 
 
 class DiskFull(OSError):
@@ -389,6 +391,7 @@ def _sync(f) -> None:
 
 
 _FALLOC_FL_KEEP_SIZE = 1
+_FALLOC_FL_PUNCH_HOLE = 2
 _libc = None
 
 
@@ -411,7 +414,22 @@ def _reserve(f, nbytes: int) -> None:
         raise _disk_full(path, nbytes)
 
 
+def _release(path) -> None:
+    """Give back the space `_reserve` allocated past the file's end (a hole punched there)."""
+    if _libc is None:
+        return
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_NOFOLLOW)
+    except OSError:
+        return
+    try:
+        _libc.fallocate(fd, _FALLOC_FL_PUNCH_HOLE | _FALLOC_FL_KEEP_SIZE, os.fstat(fd).st_size, 1 << 40)
+    finally:
+        os.close(fd)
+
+
 def _disk_full(path, nbytes) -> DiskFull:
+    _release(path)                 # what this run reserved is not counted as taken
     free = shutil.disk_usage(Path(path).parent).free
     return DiskFull(errno.ENOSPC, f"disk full: the next block of results needs {nbytes / 1e6:.1f} MB, "
                     f"{free / 1e6:.1f} MB are free; nothing of it was written and the file holds its "
