@@ -37,11 +37,17 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
     import gmsh
     from dolfinx.io import gmshio
 
+    from flexbearing.common.validation import InputError
+
     path = Path(path)
     names = None
     if comm.rank == 0:
         if not path.exists():
             raise FileNotFoundError(path)
+        if path.suffix != ".msh":
+            raise InputError(f"mesh file {path}: flexbearing reads gmsh .msh files (the FE model needs "
+                             f"gmsh's physical groups); got {path.suffix or 'no suffix'}: convert it to "
+                             f".msh or let `flexbearing mesh` make the mesh")
         # every mesh, built here or given by the user (--mesh), is checked before any FE work:
         # inverted or badly curved elements give wrong stresses (flexbearing.mesh.quality)
         from flexbearing.mesh.quality import check_mesh_file, MIN_JACOBIAN_RATIO
@@ -52,6 +58,11 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
         gmsh.model.add("cage")
         gmsh.merge(str(path))
         names = {gmsh.model.getPhysicalName(d, t): t for d, t in gmsh.model.getPhysicalGroups()}
+        if not any(d == 3 for d, _ in gmsh.model.getPhysicalGroups()):
+            gmsh.finalize()
+            raise InputError(f"mesh file {path} has no physical volume group (an untagged mesh): the "
+                             f"FE model needs the tagged volume, pockets and guide surface that "
+                             f"`flexbearing mesh` writes")
     names = comm.bcast(names, root=0)
     try:
         domain, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)

@@ -110,13 +110,22 @@ def cage_modes(mesh_path, material, degree: int = 2, n_modes: int = 27, comm=Non
     return freqs, vecs, V, domain, names, info
 
 
+# modes a free-free analysis computes at most: Table 8 needs 27, the reduced cage's basis 160; the
+# shift-invert Lanczos time grows with the count, and SLEPc's solve does not answer Ctrl-C until it
+# returns (100,000 modes took minutes before it could be stopped)
+MAX_N_MODES = 300
+
+
 def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True):
     """The free-free modal analysis of cage geometry `g` on a mesh file: assemble, solve, classify
     the mode families (flexbearing.fem_cage.classify). Returns a result dict (frequencies_hz, ndofs, mass_kg,
     timing_s, eigensolver, and with classify "modes": family, n, label of each) and the solution
     objects (V, vecs) for writing."""
     from mpi4py import MPI
+
+    from flexbearing.common.validation import require_range
     from .elasticity import load_cage_mesh, assemble_stiffness_mass, global_ndofs, total_mass
+    require_range("modes.n_modes", n_modes, 7, MAX_N_MODES)       # 6 rigid + at least one elastic
     comm = MPI.COMM_WORLD
     t0 = time.perf_counter()
     domain, _, _, names = load_cage_mesh(mesh_path, comm)

@@ -67,6 +67,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbearing.common.validation import InputError
 from flexbearing.multibody import output_registry as R
 
 FORMAT = "flexbearing-results"
@@ -171,6 +172,8 @@ class ResultsWriter:
         self.previous_status = ""
         self.rows_per_chunk = int(rows_per_chunk)
         self._pool = None          # the writer thread of checkpoint_in_background (created on first use)
+        self.n_samples_expected = int(self.f.attrs.get("n_samples_expected", 0))
+        self.max_output_bytes = DEFAULT_MAX_OUTPUT_BYTES
         self._pending = None       # its block being written (a Future)
 
     # ---- opening
@@ -327,8 +330,24 @@ class ResultsWriter:
             return
         chunks = -(-nb // self.rows_per_chunk) + 1
         row_bytes = sum(np.asarray(rows[0]).size * 8 for rows in block.values())
+        if self.n_written == 0:
+            self._check_output_size(row_bytes)
         need = chunks * self.rows_per_chunk * row_bytes + RESERVE_MARGIN
         _reserve(self.f, need)
+
+    def _check_output_size(self, row_bytes: int) -> None:
+        """OutputTooLarge if the whole run (n_samples_expected rows of row_bytes, uncompressed as it
+        is while running) would not fit in the free space or exceeds max_output_bytes."""
+        estimate = self.n_samples_expected * row_bytes
+        path = Path(self.f.filename)
+        free = shutil.disk_usage(path.parent).free
+        if estimate > self.max_output_bytes or estimate > free:
+            why = (f"more than the limit of {self.max_output_bytes / 1e9:.3g} GB (--max-output-size BYTES "
+                   f"raises it)" if estimate > self.max_output_bytes else
+                   f"more than the {free / 1e9:.3g} GB free in {path.parent}")
+            raise OutputTooLarge(f"{path}: this run would write about {estimate / 1e9:.3g} GB "
+                                 f"({self.n_samples_expected} samples x {row_bytes} bytes), {why}: record "
+                                 f"fewer outputs, a longer output.sample_interval or a shorter duration")
 
     def _write_checkpoint(self, block: dict, y, t, h, n_steps, n_rejected, wall_time, dydt) -> None:
         self.reserve(block)
@@ -378,6 +397,13 @@ class ResultsWriter:
 
 
 RESERVE_MARGIN = 256 << 10    # bytes reserved beyond a block's chunks: HDF5 metadata, the checkpoint
+
+
+DEFAULT_MAX_OUTPUT_BYTES = 50e9    # the largest results file a run writes unless told otherwise
+
+
+class OutputTooLarge(InputError):
+    """The run's estimated results file exceeds the free space or the size limit (nothing written)."""
 
 
 class DiskFull(OSError):

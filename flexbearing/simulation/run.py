@@ -40,7 +40,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from flexbearing.simulation.progress import RunProgress
-from flexbearing.simulation.results import DiskFull, ResultsWriter, write_summary
+from flexbearing.simulation.results import DiskFull, OutputTooLarge, ResultsWriter, write_summary
 from flexbearing.simulation.wall_budget import WallBudget
 from flexbearing.common.file_lock import exclusive_file
 from flexbearing.common.validation import InputError
@@ -128,7 +128,7 @@ def _prepare_output(out_path: Path, resume: bool, force: bool) -> str:
 
 
 def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet: bool = False,
-              backend=None, max_wall_time: float | None = None) -> dict:
+              backend=None, max_wall_time: float | None = None, max_output_bytes: float | None = None) -> dict:
     """Run `scene` (a validated flexbearing.simulation.scene.Scene), stream results to `out_path`, return the summary.
 
     resume: continue the run in `out_path` from its last checkpoint (start afresh if the file does
@@ -137,14 +137,20 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     (flexbearing.simulation.wall_budget.SlowRunWarning); with `max_wall_time` [s] one predicted to need more stops
     (RunInterrupted, resumable). The file is claimed (flexbearing.common.file_lock) before it
     is touched: a file another process is writing is refused (InputError) and left as it is.
+    Before the first block is written, the file's size is estimated from it (n_samples × its
+    bytes per sample) and checked against the free space and `max_output_bytes`
+    (flexbearing.simulation.results.DEFAULT_MAX_OUTPUT_BYTES when None): OutputTooLarge.
     """
+    from flexbearing.common.validation import require_range
+    if max_output_bytes is not None:
+        require_range("--max-output-size", max_output_bytes, 1.0, 1e15, unit="bytes")
     from flexbearing.common.safe_files import refuse_overwriting_inputs
     out_path = Path(out_path)
     refuse_overwriting_inputs(out_path, [scene.path or None])      # a link, or the scene itself
     mode = _prepare_output(out_path, resume, force)
     with exclusive_file(out_path):
         try:
-            return _run_claimed(scene, out_path, mode, quiet, backend, max_wall_time)
+            return _run_claimed(scene, out_path, mode, quiet, backend, max_wall_time, max_output_bytes)
         except KeyboardInterrupt as exc:       # Ctrl-C during the setup, before the first step
             raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed, "
                                  "nothing to resume (run it again)", 0.0, str(out_path), exc,
@@ -174,7 +180,8 @@ def finished_run(scene, out_path) -> dict | None:
         return None
 
 
-def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:
+def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time,
+                 max_output_bytes=None) -> dict:
     """run_scene once the output file is claimed."""
     wall_start = time.perf_counter()
     if backend is None:
@@ -236,6 +243,9 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
                            time.perf_counter() - wall_start)
     if mode == "new":
         writer = ResultsWriter.create(out_path, scene, units)
+    writer.n_samples_expected = scene.n_samples
+    if max_output_bytes is not None:
+        writer.max_output_bytes = float(max_output_bytes)
     # what the backend wants the file to carry (e.g. the reduced cage file and its hash)
     for key, value in (getattr(backend, "FILE_ATTRS", None) or {}).items():
         writer.f.attrs[key] = value
@@ -385,6 +395,10 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
         settle()
     except BaseException as exc:
         progress.close()
+        if isinstance(exc, OutputTooLarge):
+            writer.close()          # nothing was written: leave no file that needs --force
+            out_path.unlink(missing_ok=True)
+            raise exc
         if isinstance(exc, DiskFull):
             # nothing more is written (it would not fit): the file holds its last checkpoint
             writer.close()
