@@ -95,7 +95,7 @@ def cli(*args) -> list[str]:
 
 
 def popen(cmd, cwd=None):
-    return subprocess.Popen(cmd, env=ENV, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+    return subprocess.Popen([str(c) for c in cmd], env=ENV, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             start_new_session=True)
 
 
@@ -162,6 +162,7 @@ def bench_real_run(rng, work, n):
     scene = work / "fi_rigid.toml"
     scene.write_text(RIGID)
     ref = work / "ref.h5"
+    timed(cli("run", scene, "-o", work / "warm.h5", "--quiet"))     # compiles the kernels once
     duration = timed(cli("run", scene, "-o", ref, "--quiet"))
     kill_run(row, rng, work, n, lambda out: popen(cli("run", scene, "-o", out, "--quiet")),
              lambda out: subprocess.run(cli("run", scene, "-o", out, "--resume", "--quiet"), env=ENV,
@@ -178,6 +179,7 @@ def bench_study(rng, work, n):
     (work / "fi_rigid.toml").write_text(RIGID)
     (work / "fi_study.toml").write_text(STUDY)
     ref_dir = work / "ref"
+    timed(cli("study", work / "fi_study.toml", "-o", work / "warm", "--workers", 2, "--quiet"))
     duration = timed(cli("study", work / "fi_study.toml", "-o", ref_dir, "--workers", 2, "--quiet"))
     refs = sorted((ref_dir / "fi_study").glob("fi_study_*.h5"))
     R = {p.name: read_outputs(p) for p in refs}
@@ -237,7 +239,7 @@ def bench_reduce(rng, work, n):
             if p.name.startswith("."):
                 p.unlink()
         try:
-            subprocess.run([PY, script, target, i], env=ENV, check=True, capture_output=True)
+            subprocess.run([PY, str(script), str(target), str(i)], env=ENV, check=True, capture_output=True)
             rcf.verify(target)
             row["resumes"] += 1
             row["identical"] += 1
@@ -296,7 +298,7 @@ def bench_report_export(rng, work, n_report, n_export):
             if command.startswith("export") and not _check_exports(out, ref_csv, nc_ok):
                 row["outputs_damaged"] += 1
             row["temporaries_left"] += sum(len(FI.leftover_temporaries(d)) for d in [out, *out.iterdir()] if d.is_dir())
-            r = subprocess.run(cli(*argv(out)), env=ENV, capture_output=True, text=True)
+            r = subprocess.run([str(a) for a in cli(*argv(out))], env=ENV, capture_output=True, text=True)
             if r.returncode == 0 and (not command.startswith("export") or _check_exports(out, ref_csv, nc_ok)):
                 row["resumes"] += 1
                 row["identical"] += 1
@@ -352,7 +354,7 @@ def bench_enospc(work):
                                 ("export --csv", "64k", lambda d: cli("export", ref, "--csv", d / "csv"))):
         _mount(disk, size)
         try:
-            r = subprocess.run(argv(disk), env=ENV, capture_output=True, text=True)
+            r = subprocess.run([str(a) for a in argv(disk)], env=ENV, capture_output=True, text=True)
             left = [p.name for p in disk.rglob(".*")]
             err = r.stderr.strip().splitlines()
             rows.append({"command": command, "size": size, "outcome": f"exit {r.returncode}: "
@@ -404,12 +406,13 @@ def main():
     ap.add_argument("--seed", type=int, default=36)
     ap.add_argument("--kills-scale", type=float, default=1.0, help="multiply every command's kill count")
     ap.add_argument("--work", default="/tmp/flexbearing-fault-injection")
+    ap.add_argument("--only", nargs="*", default=None, help="some of: fake real study reduce report enospc")
     a = ap.parse_args()
     rng = random.Random(a.seed)
     work = Path(a.work)
     shutil.rmtree(work, ignore_errors=True)
     n = {k: max(1, round(v * a.kills_scale)) for k, v in
-         {"fake": 40, "real": 25, "study": 15, "reduce": 10, "report": 10, "export": 10}.items()}
+         {"fake": 40, "real": 20, "study": 15, "reduce": 15, "report": 10, "export": 10}.items()}
     t0 = time.perf_counter()
     rows = []
     for name, fn in (("fake", lambda: [bench_fake_run(rng, work / "fake", n["fake"])]),
@@ -417,10 +420,12 @@ def main():
                      ("study", lambda: [bench_study(rng, work / "study", n["study"])]),
                      ("reduce", lambda: [bench_reduce(rng, work / "reduce", n["reduce"])]),
                      ("report", lambda: bench_report_export(rng, work / "report", n["report"], n["export"]))):
+        if a.only is not None and name not in a.only:
+            continue
         print(f"fault injection: {name} ...", flush=True)
         rows += fn()
         print(json.dumps(rows[-1], default=str)[:400], flush=True)
-    enospc = bench_enospc(work / "enospc") if os.geteuid() == 0 else [
+    enospc = [] if a.only is not None and "enospc" not in a.only else bench_enospc(work / "enospc") if os.geteuid() == 0 else [
         {"command": "ENOSPC", "outcome": "skipped (mounting a tmpfs needs root)"}]
     print(write_table(rows, enospc, a.seed, time.perf_counter() - t0))
 

@@ -178,3 +178,22 @@ def test_a_damaged_or_foreign_stress_search_file_is_rebuilt(tmp_path):
     assert rec._read_search(f) is None
     f.write_bytes(b"PK\x03\x04 truncated")
     assert rec._read_search(f) is None
+
+
+def test_a_full_cache_disk_is_one_error_and_leaves_no_temporary(tmp_path):
+    """The reduced cage's size is reserved before HDF5 writes (HDF5 crashed on ENOSPC in the middle
+    of its writes): a tmpfs too small for it (root only) gives ENOSPC naming the cache file."""
+    import subprocess
+    disk = tmp_path / "small"
+    disk.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(disk)],
+                                           capture_output=True).returncode != 0:
+        pytest.skip("mounting a tmpfs needs root")
+    try:
+        target = disk / "cage.h5"
+        with pytest.raises(OSError) as exc:
+            rcf.write(target, _synthetic(m=40, nv=400), {"content_hash": "cage"})
+        assert exc.value.errno == errno.ENOSPC and str(target) == exc.value.filename
+        assert "MB needed" in exc.value.strerror and list(disk.iterdir()) == []
+    finally:
+        subprocess.run(["umount", str(disk)], check=False)

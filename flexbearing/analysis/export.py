@@ -90,7 +90,8 @@ def write_netcdf(path, target) -> Path:
     ds = results_dataset(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     encoding = {k: {"zlib": True, "complevel": 1, "shuffle": True} for k in ds.data_vars}
-    with atomic_output(target, suffix=".nc") as tmp:       # never through a link, never half a file
+    size = int(ds.nbytes) + (1 << 20)              # uncompressed: an upper bound, reserved first
+    with atomic_output(target, suffix=".nc", reserve=size) as tmp:   # never through a link, never half a file
         ds.to_netcdf(tmp, format="NETCDF4", encoding=encoding)
     return target
 
@@ -122,7 +123,8 @@ def write_csv(path, folder) -> list[Path]:
         values = np.asarray(da.values, dtype=np.float64).reshape(len(t), -1)
         unit = str(da.attrs.get("unit", da.attrs.get("units", "")))
         p = folder / f"{name}.csv"
-        with atomic_output(p) as tmp, tmp.open("w", newline="") as fh:
+        # ~26 characters a value written with repr: reserved first, ENOSPC is then one line
+        with atomic_output(p, reserve=26 * (values.size + len(t)) + 4096) as tmp, tmp.open("w", newline="") as fh:
             w = csv.writer(fh)
             cols = _column_names(name, da)
             w.writerow(["time"] + cols)

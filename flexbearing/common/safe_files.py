@@ -20,8 +20,10 @@ cluster").
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import errno
 import os
+import shutil
 import stat
 import tempfile
 from pathlib import Path
@@ -49,17 +51,73 @@ def fsync_folder(folder) -> None:
         os.close(fd)
 
 
+_FALLOC_FL_KEEP_SIZE = 1
+_FALLOC_FL_PUNCH_HOLE = 2
+_libc = None
+
+
+def _fallocate(fd: int, mode: int, offset: int, length: int) -> int:
+    """Linux fallocate(2); 0 or the errno."""
+    global _libc
+    if _libc is None:
+        _libc = ctypes.CDLL(None, use_errno=True)
+        _libc.fallocate.argtypes = (ctypes.c_int, ctypes.c_int, ctypes.c_longlong, ctypes.c_longlong)
+    return 0 if _libc.fallocate(fd, mode, offset, length) == 0 else ctypes.get_errno()
+
+
+def no_space(path, nbytes: int) -> OSError:
+    """The one-line ENOSPC error for `path`, with what is needed and what is free."""
+    free = shutil.disk_usage(Path(path).parent).free
+    return OSError(errno.ENOSPC, f"no space left: {nbytes / 1e6:.1f} MB needed, {free / 1e6:.1f} MB free; "
+                   f"nothing was written: free space and run again", str(path))
+
+
+def reserve_space(fd: int, nbytes: int, path) -> None:
+    """Allocate nbytes past the end of the open file fd without changing its size (fallocate
+    KEEP_SIZE), so that writes into that range cannot fail for lack of space (a library such as
+    HDF5 does not survive ENOSPC in the middle of its metadata writes: the issue's segmentation
+    fault). Where the file system cannot, the free space is checked instead. OSError ENOSPC
+    (no_space) if there is not enough."""
+    size = os.fstat(fd).st_size
+    err = _fallocate(fd, _FALLOC_FL_KEEP_SIZE, size, int(nbytes))
+    if err in (errno.ENOSPC, errno.EDQUOT) or (err and shutil.disk_usage(Path(path).parent).free < nbytes):
+        _fallocate(fd, _FALLOC_FL_PUNCH_HOLE | _FALLOC_FL_KEEP_SIZE, size, 1 << 40)
+        raise no_space(path, nbytes)
+
+
+def release_space(path) -> None:
+    """Give back what reserve_space allocated past the end of `path` (a hole punched there)."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_NOFOLLOW)
+    except OSError:
+        return
+    try:
+        _fallocate(fd, _FALLOC_FL_PUNCH_HOLE | _FALLOC_FL_KEEP_SIZE, os.fstat(fd).st_size, 1 << 40)
+    finally:
+        os.close(fd)
+
+
 @contextlib.contextmanager
-def atomic_output(target, suffix: str = ".tmp"):
+def atomic_output(target, suffix: str = ".tmp", reserve: int = 0):
     """Yield the path of a new, empty temporary file beside `target` (unique name, created
     exclusively); when the body returns, fsync it, give it the umask's permissions and rename it
     over `target`. On any exception (ENOSPC, Ctrl-C, ...) the temporary is removed and the
-    exception goes on; `target` is then untouched."""
+    exception goes on; `target` is then untouched. reserve: bytes to reserve for the temporary
+    before the body writes it (reserve_space: ENOSPC then, before anything is written)."""
     target = Path(target)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
+    try:
+        if reserve:
+            reserve_space(fd, reserve, target)     # the message names the file the user asked for
+    except BaseException:
+        os.close(fd)
+        os.unlink(tmp)
+        raise
     os.close(fd)
     try:
         yield Path(tmp)
+        if reserve:
+            release_space(tmp)
         fd = os.open(tmp, os.O_RDONLY | os.O_NOFOLLOW)
         try:
             os.fsync(fd)

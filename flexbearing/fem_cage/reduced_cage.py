@@ -285,7 +285,9 @@ def write(path, data: dict, attrs: dict, checks: dict | None = None,
     from flexbearing.common.safe_files import atomic_output
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_output(path, suffix=".h5") as tmp:
+    # its whole size reserved first: a full cache disk is one line before HDF5 writes anything
+    size = sum(np.asarray(a).nbytes for a in data.values()) + (1 << 20)
+    with atomic_output(path, suffix=".h5", reserve=size) as tmp:
         with h5py.File(tmp, "w") as f:
             f.attrs["schema"] = SCHEMA
             f.attrs["schema_version"] = SCHEMA_VERSION

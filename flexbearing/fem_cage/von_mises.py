@@ -767,7 +767,8 @@ class TrackingMaxVonMises:
         search: the arrays include the search's scratch and references. `source`: what it was
         built from (the reduced cage's digest), checked by `load`."""
         from flexbearing.common.safe_files import atomic_output
-        with atomic_output(path, suffix=".npz") as tmp:
+        size = sum(a.nbytes for a in self.arrays) + self.node_ids.nbytes + (1 << 16)
+        with atomic_output(path, suffix=".npz", reserve=size) as tmp:
             with open(tmp, "wb") as fh:
                 np.savez(fh, *self.arrays, node_ids=self.node_ids, source=np.array(str(source)),
                          meta=np.array([self.FILE_VERSION, self.n_tracked, self.n_coordinates,

@@ -57,7 +57,6 @@ uninterrupted run's bit for bit (tests/test_resume.py).
 """
 from __future__ import annotations
 
-import ctypes
 import errno
 import json
 import math
@@ -416,42 +415,21 @@ def _sync(f) -> None:
     os.fsync(f.id.get_vfd_handle())
 
 
-_FALLOC_FL_KEEP_SIZE = 1
-_FALLOC_FL_PUNCH_HOLE = 2
-_libc = None
-
-
 def _reserve(f, nbytes: int) -> None:
-    """Allocate nbytes past the end of the open file `f` without changing its size (Linux
-    fallocate); where the file system cannot, check the free space instead. DiskFull if short."""
-    global _libc
-    fd = f.id.get_vfd_handle()
-    path = f.filename
-    size = os.fstat(fd).st_size
-    if _libc is None:
-        _libc = ctypes.CDLL(None, use_errno=True)
-        _libc.fallocate.argtypes = (ctypes.c_int, ctypes.c_int, ctypes.c_longlong, ctypes.c_longlong)
-    if _libc.fallocate(fd, _FALLOC_FL_KEEP_SIZE, size, int(nbytes)) == 0:
-        return
-    err = ctypes.get_errno()
-    if err in (errno.ENOSPC, errno.EDQUOT):
-        raise _disk_full(path, nbytes)
-    if shutil.disk_usage(Path(path).parent).free < nbytes:      # fallocate unsupported here
-        raise _disk_full(path, nbytes)
+    """Reserve nbytes past the end of the open results file `f` (flexbearing.common.safe_files.
+    reserve_space); DiskFull if the disk has not got them."""
+    from flexbearing.common.safe_files import reserve_space
+    try:
+        reserve_space(f.id.get_vfd_handle(), nbytes, f.filename)
+    except OSError as exc:
+        if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+            raise
+        raise _disk_full(f.filename, nbytes) from None
 
 
 def _release(path) -> None:
-    """Give back the space `_reserve` allocated past the file's end (a hole punched there)."""
-    if _libc is None:
-        return
-    try:
-        fd = os.open(path, os.O_WRONLY | os.O_NOFOLLOW)
-    except OSError:
-        return
-    try:
-        _libc.fallocate(fd, _FALLOC_FL_PUNCH_HOLE | _FALLOC_FL_KEEP_SIZE, os.fstat(fd).st_size, 1 << 40)
-    finally:
-        os.close(fd)
+    from flexbearing.common.safe_files import release_space
+    release_space(path)
 
 
 def _disk_full(path, nbytes) -> DiskFull:
@@ -582,11 +560,8 @@ def finish(path, summary_text: str) -> None:
 
     from flexbearing.common.safe_files import atomic_output
     path = Path(path)
-    if shutil.disk_usage(path.parent).free < path.stat().st_size + RESERVE_MARGIN:
-        _summary_in_place(path, summary_text)
-        return
     try:
-        with atomic_output(path, suffix=".finishing.h5") as tmp:
+        with atomic_output(path, suffix=".finishing.h5", reserve=path.stat().st_size + RESERVE_MARGIN) as tmp:
             with h5py.File(path, "r") as src, h5py.File(tmp, "w") as dst:
                 for k, v in src.attrs.items():
                     dst.attrs[k] = v
