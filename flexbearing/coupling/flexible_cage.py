@@ -197,7 +197,7 @@ class StressRecovery:
         self.n_elastic = self.n_keep - N_RIGID
         # the reduced cage's content digest (flexbearing.fem_cage.reduced_cage.data_digest): a search
         # file built from another file's content is not read
-        self.source = str(rc.attrs.get("data_sha256", ""))
+        self.source = str(getattr(rc, "attrs", {}).get("data_sha256", ""))
         self.search = self._read_search(cache)
         if self.search is None:
             self.search = self._build_search()

@@ -231,6 +231,10 @@ def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wal
         return values
 
     cp = None
+    if mode == "resume" and out_path.stat().st_size == 0:
+        # an empty file under our claim: a run killed (SIGKILL, power loss) after claiming the file
+        # and before HDF5 wrote its first byte; nothing was computed, so it starts over
+        mode = "new"
     if mode == "resume":
         writer, cp = ResultsWriter.open_for_resume(out_path, scene, units)
         if cp is None:               # killed before its first checkpoint: start over in a new file
