@@ -130,6 +130,8 @@ def kill_run(row, rng, work: Path, n: int, start, resume, reference: Path, durat
         c = FI.check_file(out, R)
         row["checkpointed"] += max(c.n_checkpoint, 0)
         row["lost"] += max(c.lost, 0) + (1 if c.n_checkpoint < 0 else 0)
+        if c.lost or c.n_checkpoint < 0:
+            row["failures"].append(f"kill {i}: {c} ({out.stat().st_size} bytes)")
         row["temporaries_left"] += len(FI.leftover_temporaries(work))
         try:
             resume(out)
@@ -139,7 +141,9 @@ def kill_run(row, rng, work: Path, n: int, start, resume, reference: Path, durat
             if not same:
                 row["failures"].append(f"kill {i}: resume differs ({c})")
         except Exception as exc:                      # noqa: BLE001 - the table reports it
-            row["failures"].append(f"kill {i}: resume failed: {str(exc)[:200]} ({c})")
+            why = getattr(exc, "stderr", None)
+            why = why.decode()[-300:] if isinstance(why, bytes) else str(exc)[:300]
+            row["failures"].append(f"kill {i}: resume failed: {why} ({c})")
         for p in work.glob(f"k{i}*"):
             p.unlink()
 
@@ -193,6 +197,8 @@ def bench_study(rng, work, n):
             c = FI.check_file(p, R[p.name])
             row["checkpointed"] += max(c.n_checkpoint, 0)
             row["lost"] += max(c.lost, 0) + (1 if c.n_checkpoint < 0 else 0)
+            if c.lost or c.n_checkpoint < 0:
+                row["failures"].append(f"kill {i}: {p.name}: {c} ({p.stat().st_size} bytes)")
         if (out / "fi_study").exists():
             row["temporaries_left"] += len(FI.leftover_temporaries(out / "fi_study"))
         r = subprocess.run(cli("study", work / "fi_study.toml", "-o", out, "--workers", 2, "--quiet"), env=ENV,
