@@ -132,10 +132,13 @@ def kill_run(row, rng, work: Path, n: int, start, resume, reference: Path, durat
         row["lost"] += max(c.lost, 0) + (1 if c.n_checkpoint < 0 else 0)
         if c.lost or c.n_checkpoint < 0:
             row["failures"].append(f"kill {i}: {c} ({out.stat().st_size} bytes)")
-        row["temporaries_left"] += len(FI.leftover_temporaries(work))
+        left = [n for n in FI.leftover_temporaries(work) if n.startswith(f".k{i}.")]
+        row["temporaries_left"] += len(left)
         try:
             resume(out)
             row["resumes"] += 1
+            row["temporaries_after_rerun"] = row.get("temporaries_after_rerun", 0) + len(
+                [n for n in FI.leftover_temporaries(work) if n.startswith(f".k{i}.")])
             same = FI.same_results(reference, out)
             row["identical"] += same
             if not same:
@@ -144,7 +147,7 @@ def kill_run(row, rng, work: Path, n: int, start, resume, reference: Path, durat
             why = getattr(exc, "stderr", None)
             why = why.decode()[-300:] if isinstance(why, bytes) else str(exc)[:300]
             row["failures"].append(f"kill {i}: resume failed: {why} ({c})")
-        for p in work.glob(f"k{i}*"):
+        for p in [*work.glob(f"k{i}*"), *work.glob(f".k{i}.*")]:
             p.unlink()
 
 
@@ -371,7 +374,7 @@ def bench_enospc(work):
     return rows
 
 
-def write_table(rows, enospc, seed, wall) -> Path:
+def write_table(rows, enospc, seed, wall, out: Path) -> Path:
     lines = ["# Fault injection: SIGKILL at random instants, ENOSPC on small disks (issue 36)", "",
              f"`python benchmarks/fault_injection.py --seed {seed}` ({time.strftime('%Y-%m-%d')}, "
              f"{wall / 60:.1f} min, load {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs). Each kill is a "
@@ -384,12 +387,12 @@ def write_table(rows, enospc, seed, wall) -> Path:
              "dataset bit for bit; reduce: the entry verifies; export: netCDF and CSV equal the "
              "reference). `temporaries`: unique temporaries a SIGKILL left (no process can clean up "
              "after SIGKILL; every other exit path removes them).", "",
-             "| command | kills | landed | checkpointed | lost | resumed | identical | inputs changed | outputs damaged | temporaries left | uninterrupted wall s |",
+             "| command | kills | landed | checkpointed | lost | resumed | identical | inputs changed | outputs damaged | temporaries left (after the rerun) | uninterrupted wall s |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['command']} | {r['kills']} | {r['landed']} | {r['checkpointed']} | {r['lost']} | "
                      f"{r['resumes']} | {r['identical']} | {r['inputs_changed']} | {r['outputs_damaged']} | "
-                     f"{r['temporaries_left']} | {r.get('wall_s', 0):.1f} |")
+                     f"{r['temporaries_left']} ({r.get('temporaries_after_rerun', '-')}) | {r.get('wall_s', 0):.1f} |")
     tot = {k: sum(r[k] for r in rows) for k in ("kills", "landed", "lost", "resumes", "identical")}
     lines += ["", f"Total: {tot['kills']} kills ({tot['landed']} landed while running), {tot['lost']} samples "
               f"lost, {tot['identical']} of {tot['resumes']} reruns identical.", ""]
@@ -401,7 +404,6 @@ def write_table(rows, enospc, seed, wall) -> Path:
     for e in enospc:
         lines.append(f"| {e['command']} | {e.get('size', '')} | {e.get('outcome', '')} | {e.get('checkpoint', '')} | "
                      f"{e.get('lost', '')} | {e.get('temporaries_left', '')} | {e.get('resume_identical', '')} |")
-    out = ROOT / "benchmarks" / "results" / "fault_injection.md"
     out.write_text("\n".join(lines) + "\n")
     (out.with_suffix(".json")).write_text(json.dumps({"rows": rows, "enospc": enospc}, indent=1, default=str))
     return out
@@ -413,6 +415,7 @@ def main():
     ap.add_argument("--kills-scale", type=float, default=1.0, help="multiply every command's kill count")
     ap.add_argument("--work", default="/tmp/flexbearing-fault-injection")
     ap.add_argument("--only", nargs="*", default=None, help="some of: fake real study reduce report enospc")
+    ap.add_argument("--table", default=str(ROOT / "benchmarks" / "results" / "fault_injection.md"))
     a = ap.parse_args()
     rng = random.Random(a.seed)
     work = Path(a.work)
@@ -433,7 +436,7 @@ def main():
         print(json.dumps(rows[-1], default=str)[:400], flush=True)
     enospc = [] if a.only is not None and "enospc" not in a.only else bench_enospc(work / "enospc") if os.geteuid() == 0 else [
         {"command": "ENOSPC", "outcome": "skipped (mounting a tmpfs needs root)"}]
-    print(write_table(rows, enospc, a.seed, time.perf_counter() - t0))
+    print(write_table(rows, enospc, a.seed, time.perf_counter() - t0, Path(a.table)))
 
 
 if __name__ == "__main__":

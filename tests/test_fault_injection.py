@@ -118,3 +118,16 @@ def test_a_run_killed_before_its_first_byte_resumes_from_the_start(tmp_path, ref
     out.write_bytes(b"")
     FI.run(out, resume=True)
     assert FI.same_results(ref, out)
+
+
+def test_a_compressed_copy_left_by_a_kill_is_removed_by_the_next_finish(tmp_path, reference):
+    """A SIGKILL while the complete run's compressed copy is written leaves that temporary beside
+    the run (the uncompressed file stays whole); the next `--resume` finishes the file again and
+    removes it."""
+    ref, _ = reference
+    out = tmp_path / "r.h5"
+    FI.run(out)
+    stale = tmp_path / f".{out.name}.abcd1234.finishing.h5"
+    stale.write_bytes(b"half a compressed copy")
+    FI.run(out, resume=True)
+    assert not stale.exists() and FI.same_results(ref, out)

@@ -560,6 +560,10 @@ def finish(path, summary_text: str) -> None:
 
     from flexbearing.common.safe_files import atomic_output
     path = Path(path)
+    # a compressed copy a SIGKILL interrupted: the caller holds the claim on this file
+    # (flexbearing.common.file_lock), so no other process is finishing it (unlink never follows a link)
+    for stale in path.parent.glob(f".{path.name}.*.finishing.h5"):
+        stale.unlink(missing_ok=True)
     try:
         with atomic_output(path, suffix=".finishing.h5", reserve=path.stat().st_size + RESERVE_MARGIN) as tmp:
             with h5py.File(path, "r") as src, h5py.File(tmp, "w") as dst:
