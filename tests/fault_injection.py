@@ -89,15 +89,50 @@ def start(out, sleep: float = 0.02) -> subprocess.Popen:
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
 
 
+def _session_members(sid: int) -> list[int]:
+    """The processes of session `sid` (a command's Dask workers included, whatever their group)."""
+    pids = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                if os.getsid(int(entry)) == sid:
+                    pids.append(int(entry))
+            except OSError:
+                pass
+    return pids
+
+
 def kill_after(proc: subprocess.Popen, delay: float) -> bool:
-    """SIGKILL the process group after `delay` s; False if it had ended before."""
+    """SIGKILL the process's whole session (its group and any worker processes) after `delay` s,
+    and wait until every one of them is gone (a worker still dying holds its files' HDF5 locks);
+    False if the process had ended before."""
     try:
         proc.wait(timeout=delay)
-        return False
+        landed = False
     except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait()
-        return True
+        landed = True
+    deadline = time.monotonic() + 30.0
+    while True:
+        members = _session_members(proc.pid)
+        for pid in members:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        if proc.poll() is None:
+            proc.wait()
+        if not [p for p in members if os.path.exists(f"/proc/{p}") and _alive(p)] or time.monotonic() > deadline:
+            return landed
+        time.sleep(0.05)
+
+
+def _alive(pid: int) -> bool:
+    """False for a zombie (dead, not yet reaped by its parent) or a vanished process."""
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
 
 
 @dataclass
