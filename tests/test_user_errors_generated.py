@@ -31,7 +31,7 @@ sample_interval = {dt}
 record = ["cage_speed"]
 """
 
-SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+SETTINGS = settings(max_examples=60, deadline=None, database=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 
 def scene(axial="55e3", direction="[0.0, 0.0, -1.0]", dt="1e-4"):
