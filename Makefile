@@ -22,7 +22,7 @@ SUDO  := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy python3-scipy \
     python3-numba python3-h5py python3-matplotlib python3-tqdm python3-dask python3-distributed \
     python3-xarray python3-netcdf4 python3-h5netcdf \
-    python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
+    python3-pytest python3-hypothesis python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
     calculix-ccx
 # Small pure-Python PyPI packages, pinned, installed with --no-deps into the venv.
 PIP_PACKAGES := rainflow==3.2.0

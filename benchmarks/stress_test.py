@@ -144,6 +144,34 @@ def cases() -> list[dict]:
     return c
 
 
+def generated_cases(n: int, seed: int) -> list[dict]:
+    """n scenes drawn at random (issue 36: not only the listed cases), each within the scene's
+    ranges but combining their extremes: speed 0-60,000 rpm (uniform or a step), axial load
+    0-1e7 N, radial load 0-1e5 N along a direction whose components span 1e-300 ... 1e300,
+    impacts of 1 N-500 kN lasting 10 us-1 ms in random directions, tolerances 1e-10 ... 1e-2.
+    Each must finish with bounded results or stop with a diagnostic, like the listed cases."""
+    import numpy as np
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(n):
+        scale = 10.0 ** rng.uniform(-300, 300)
+        direction = [0.0, float(rng.uniform(-1, 1) * scale), float(rng.uniform(-1, 1) * scale)]
+        rpm = float(rng.choice([0.0, 60000.0, rng.uniform(0, 60000)]))
+        speed = ([(0, rpm), (5e-4, rpm), (5e-4 + 10 ** rng.uniform(-5, -3), float(rng.uniform(0, 60000)))]
+                 if rng.random() < 0.3 else None)
+        load = {"axial_load": float(10 ** rng.uniform(0, 7)) if rng.random() < 0.9 else 0.0,
+                "radial_load": float(10 ** rng.uniform(0, 5)), "radial_direction": direction}
+        impacts = [_impact(float(10 ** rng.uniform(0, 5.7)), float(10 ** rng.uniform(-5, -3)),
+                           t0=float(rng.uniform(0, 1e-3)),
+                           direction=[0.0, float(rng.normal()), float(rng.normal())])
+                   for _ in range(int(rng.integers(0, 3)))]
+        name = f"generated_{seed}_{i}"
+        out.append({"name": name, "group": "generated",
+                    "scene": scene_data(name, duration=2e-3, rpm=rpm, speed=speed, load=load, impacts=impacts,
+                                        tol=float(10 ** rng.uniform(-10, -2)))})
+    return out
+
+
 # cases cheap enough for `make test` (< ~5 s each on the 2-core machine, measured by this script)
 CHEAP = ("speed_10000rpm", "speed_60000rpm", "Fa_1e+07N", "Fa_3e+06N", "impact_500kN_0.1ms",
          "radial_clearance_200um", "tol_0.001", "stop_60000_to_0_in_1ms")
@@ -275,10 +303,13 @@ def main(argv=None) -> int:
     ap.add_argument("--only", help="comma-separated case names")
     ap.add_argument("--group", help="only the cases of this group")
     ap.add_argument("--cheap", action="store_true", help="only the cheap cases (those of make test)")
+    ap.add_argument("--generated", type=int, default=0, metavar="N",
+                    help="add N scenes drawn at random (generated_cases; group 'generated')")
+    ap.add_argument("--seed", type=int, default=36, help="seed of the generated scenes")
     ap.add_argument("--out", default=str(ROOT / "benchmarks/results/stress_test"),
                     help="results stem (.md and .json written)")
     args = ap.parse_args(argv)
-    table = cases()
+    table = cases() + generated_cases(args.generated, args.seed)
     if args.only:
         names = set(args.only.split(","))
         table = [c for c in table if c["name"] in names]

@@ -126,7 +126,8 @@ def test_cli_on_cached_file_never_imports_dolfinx(tmp_path):
     env = dict(os.environ, FLEXBEARING_CACHE=str(cache))
     code = ("import sys; from flexbearing.fem_cage import reduced_cage as r; import os; "
             f"r.write(r.cache_path({key!r}), __import__('tests.test_reduced_cage', fromlist=['x'])"
-            "._synthetic(m=30), {'content_hash': 'x'}, {'static': {'max_rel_error_full': 1e-10}}); "
+            f"._synthetic(m=30), {{'content_hash': r.cache_path({key!r}).stem}}, "
+            "{'static': {'max_rel_error_full': 1e-10}}); "
             "from flexbearing.cli.main import main; "
             f"rc = main(['reduce', '--quiet', '--json', {str(tmp_path / 's.json')!r}, '--xdmf', "
             f"{str(tmp_path / 'm.xdmf')!r}]); "

@@ -162,7 +162,7 @@ def test_cage_and_output_consistency():
     refused(BASE.replace('record = ["cage_speed"]', 'record = ["cage_sped"]'),
             "output.record[0] = 'cage_sped'", "'cage_speed'")
     refused(BASE.replace("sample_interval = 1e-3", "sample_interval = 1.0"),
-            "output.sample_interval = 1 s", "(0, 0.1] s")
+            "output.sample_interval = 1 s", "[1e-07, 0.1] s")   # issue 36: bounded below
     refused(BASE.replace("[operation]", "[operatio]"), "unknown key 'operatio'")
 
 

@@ -54,3 +54,31 @@ def test_max_wall_time_stops_at_a_checkpoint_and_resume_finishes(tmp_path, monke
     assert 1 < n_stopped < fake_scene().n_samples
     run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
     assert len(read_outputs(out)["time"]) == fake_scene().n_samples
+
+
+class _Clock:
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        return self.now
+
+
+@pytest.mark.parametrize("done, stops", [(0.87, False), (0.5, True), (0.2, True)])
+def test_max_wall_time_lets_a_run_finish_inside_the_budgets_margin(monkeypatch, done, stops):
+    """A run at a constant rate that used 97 s of a 100 s budget: at 87 % done it needs 14.5 s
+    more (111.5 s in all, the optimistic estimate at a 30 % faster rate 107.2 s, inside the 10 %
+    margin): it goes on (issue 36: it was stopped with 3 s left). At 50 % or 20 % done with the
+    same wall time it would need 194 s or 485 s: it stops. Exact arithmetic of the rule
+    optimistic = W + (1 - RATE_NOISE)·(T_total - W) > max·(1 + BUDGET_MARGIN)."""
+    clock = _Clock()
+    monkeypatch.setattr(WB.time, "perf_counter", clock)
+    b = WB.WallBudget(1.0, max_wall_time=100.0, warn_above=1e9, warn_after=0.0)
+    b.update(0.0, 0)                       # the first sample at wall 0
+    clock.now = 97.0
+    if stops:
+        with pytest.raises(WB.WallTimeExceeded):
+            b.update(done, 1000)
+    else:
+        b.update(done, 1000)
+        assert b.predicted == pytest.approx(97.0 / done, rel=1e-12)

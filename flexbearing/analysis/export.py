@@ -87,14 +87,18 @@ def write_netcdf(path, target, quiet: bool = True) -> Path:
     """The run as one netCDF-4 file (deflate level 1 + shuffle per variable, as the results file);
     quiet=False: a progress bar (read, then write)."""
     from flexbearing.common.progress import Stages
+    from flexbearing.common.safe_files import atomic_output, refuse_overwriting_inputs
+    target = Path(target)
+    refuse_overwriting_inputs(target, [getattr(path, "path", path)], "--netcdf")
     stage = Stages(f"netCDF of {Path(str(getattr(path, 'path', path))).name}", {"read": 1.0, "write": 2.0}, quiet)
     stage("read")
     ds = results_dataset(path)
-    stage("write")
-    target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     encoding = {k: {"zlib": True, "complevel": 1, "shuffle": True} for k in ds.data_vars}
-    ds.to_netcdf(target, format="NETCDF4", encoding=encoding)
+    size = int(ds.nbytes) + (1 << 20)              # uncompressed: an upper bound, reserved first
+    stage("write")
+    with atomic_output(target, suffix=".nc", reserve=size) as tmp:   # never through a link, never half a file
+        ds.to_netcdf(tmp, format="NETCDF4", encoding=encoding)
     stage(None)
     return target
 
@@ -112,10 +116,12 @@ def write_csv(path, folder, quiet: bool = True) -> list[Path]:
     """One CSV per output in `folder` (module docstring: the layout). Returns the files.
     quiet=False: a progress bar over the values written, with the output being written."""
     from tqdm import tqdm
-    ds = results_dataset(path)
+    from flexbearing.common.safe_files import atomic_output, check_output_folder
     folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
+    if folder.exists() and not folder.is_dir() and not folder.is_symlink():
         raise InputError(f"--csv {folder} is a file: give a folder for the CSV files")
+    check_output_folder(folder, (), [getattr(path, "path", path)], "--csv", patterns=("*.csv",))
+    ds = results_dataset(path)
     folder.mkdir(parents=True, exist_ok=True)
     t = ds["time"].values
     written = []
@@ -128,7 +134,8 @@ def write_csv(path, folder, quiet: bool = True) -> list[Path]:
         values = np.asarray(da.values, dtype=np.float64).reshape(len(t), -1)
         unit = str(da.attrs.get("unit", da.attrs.get("units", "")))
         p = folder / f"{name}.csv"
-        with p.open("w", newline="") as fh:
+        # ~26 characters a value written with repr: reserved first, ENOSPC is then one line
+        with atomic_output(p, reserve=26 * (values.size + len(t)) + 4096) as tmp, tmp.open("w", newline="") as fh:
             w = csv.writer(fh)
             cols = _column_names(name, da)
             w.writerow(["time"] + cols)

@@ -75,6 +75,9 @@ SERIES_POINTS = "series_points.xdmf"
 SERIES_RINGS = "series_rings.xdmf"
 SERIES_H5 = "series.h5"
 SERIES_JSON = "series.json"
+PEAKS_XDMF = "von_mises.xdmf"
+# every file this module writes into an output folder (checked before: flexbearing.common.safe_files)
+FIELD_FILES = (SERIES_CAGE, SERIES_POINTS, SERIES_H5, SERIES_JSON, PEAKS_XDMF, "von_mises.h5", "von_mises.json")
 # A series beyond this size is refused with the every-N-th hint: a whole demo run at every sample
 # (6,000 frames of the 10,727-node cage) would be ~5 GB, more than ParaView plays comfortably.
 SERIES_MAX_BYTES = 2e9
@@ -104,7 +107,7 @@ def nodal_field(rc, q_full) -> tuple[np.ndarray, np.ndarray]:
 def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
     """(ReducedCage, note on its content hash) of the run's reduced cage file; InputError if it is
     missing or its basis size differs from the recorded modal coordinates'."""
-    from flexbearing.fem_cage.reduced_cage import file_sha256, read
+    from flexbearing.fem_cage.reduced_cage import file_sha256, read, verify
     if rc_path is None or not Path(str(rc_path)).is_file():
         raise InputError(f"reduced cage file {rc_path!r} of {run_path} not found (pass its path: "
                          f"flexbearing report ... --reduced-cage FILE)")
@@ -114,6 +117,14 @@ def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
         known = {str(rc.attrs.get("content_hash", "")), file_sha256(rc_path)}
         hash_note = "matches" if any(h and (h == rc_hash or h.startswith(rc_hash) or rc_hash.startswith(h))
                                      for h in known) else f"MISMATCH (run: {rc_hash})"
+    # the key alone says which cage the file claims to be; its content is checked against the
+    # digest stored in it (a flipped bit, or another cage's arrays under this key)
+    if "data_sha256" in rc.attrs:
+        verify(rc_path)
+        if hash_note == "matches":
+            hash_note = "matches (content verified against its digest)"
+    elif hash_note == "matches":
+        hash_note = "key matches; content not verifiable (file without a digest, written before issue 36)"
     if n_modes != rc.stress_modes.shape[2]:
         raise InputError(f"{run_path}: cage_modal_coordinates_full has {n_modes} modes, the reduced "
                          f"cage file {rc_path} has {rc.stress_modes.shape[2]} (allowed: equal); wrong "
@@ -229,9 +240,11 @@ def write_von_mises_xdmf(run, out_dir, frames="auto", reduced_cage=None) -> Path
         M = out["cage_modal_coordinates_full"].shape[1]
         q_full = out["cage_modal_coordinates_full"][idx, :] if idx else np.zeros((0, M))
     rc, hash_note = open_reduced_cage(path, rc_path, rc_hash, M)
+    from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
+    check_output_folder(out_dir, FIELD_FILES, [run_h5, reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
-    xdmf = out_dir / "von_mises.xdmf"
+    xdmf = out_dir / PEAKS_XDMF
     h5 = xdmf.with_suffix(".h5")
     topo_type, cells = cage_cells(rc)
     meta = {"run": str(path), "reduced_cage_file": str(rc_path), "reduced_cage_hash": hash_note,
@@ -420,7 +433,9 @@ def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scal
         meta["cage_spin_angle_rad"] = [float(p) for p in phi]
     else:           # the body frame: no rigid motion
         d["centre"] = np.zeros_like(d["centre"])
+    from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
+    check_output_folder(out_dir, FIELD_FILES, [run_h5, reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
     for stale in (SERIES_CAGE, SERIES_POINTS, SERIES_RINGS):     # of an earlier series in the same folder
         (out_dir / stale).unlink(missing_ok=True)

@@ -348,6 +348,9 @@ def cage_fatigue_section(r: Report) -> list[str]:
     return r.fatigue_md
 
 
+# the files a report writes by these names (plots: *.png; the field export's: field_export.FIELD_FILES)
+REPORT_FILES = ("report.md", "report.html", "report.json")
+
 # The report, in page order: a section is a function Report -> Markdown lines ([] leaves it out).
 SECTIONS = [title_section, summary_section, notes_section, comparison_section, phases_section,
             strength_section, amplification_section, motion_section, power_section,
@@ -376,6 +379,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     from flexbearing.analysis import field_export
     from flexbearing.analysis.paraview_state import NEEDS, pvpython_command, write_paraview_scene
     from flexbearing.common.progress import Stages
+    from flexbearing.common.safe_files import check_output_folder
     t_start = time.perf_counter()
     if movie and series is None:
         raise InputError("--movie needs --series T0:T1[:N] (the window the movie shows)")
@@ -389,6 +393,9 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         cmp = stack.enter_context(Run(compare)) if compare is not None else None
         _check_frames(run, frames)                  # a bad --frames stops the report before any file
         out_dir = Path(out_dir)
+        # nothing the report writes may replace an input or go through a link planted in its folder
+        check_output_folder(out_dir, REPORT_FILES + field_export.FIELD_FILES,
+                            [run.path, cmp.path if cmp is not None else None, reduced_cage], patterns=("*.png",))
         out_dir.mkdir(parents=True, exist_ok=True)
         say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
         todo = {k: w for k, w in REPORT_STAGES.items()

@@ -117,7 +117,7 @@ def cmd_mesh(args) -> int:
     MPI.COMM_WORLD.barrier()
     x = write_mesh_xdmf(out)
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
-        print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} mm, "
+        print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} m, "
               f"pocket size {args.pocket_size:g} m, order {args.order})")
         rep = mesh_quality_of(out)
         print("quality: " + quality_line(rep["quality"], rep["repair"]))

@@ -32,7 +32,9 @@ def mesh_for(args, g) -> Path:
 
 
 def cmd_modes(args) -> int:
-    from flexbearing.fem_cage.modes import mode_table, run_modes
+    from flexbearing.common.validation import require_range
+    from flexbearing.fem_cage.modes import MAX_N_MODES, mode_table, run_modes
+    require_range("modes.n_modes", args.n_modes, 7, MAX_N_MODES)       # before any mesh or FE work
     comm = _comm()
     t0 = time.perf_counter()
     g = geometry_from_args(args)
@@ -68,7 +70,10 @@ def cmd_modes(args) -> int:
 
 
 def cmd_mesh_study(args) -> int:
+    from flexbearing.common.validation import require_range
     from flexbearing.fem_cage.mesh_study import run_mesh_study, DEFAULT_STUDY
+    from flexbearing.fem_cage.modes import MAX_N_MODES
+    require_range("mesh-study.n_modes", args.n_modes, 7, MAX_N_MODES)
     g = geometry_from_args(args)
     levels = DEFAULT_STUDY if not args.levels else [_level(s) for s in args.levels]
     run_mesh_study(g, levels, Path(args.output), n_modes=args.n_modes, quiet=args.quiet)

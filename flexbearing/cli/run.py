@@ -40,6 +40,9 @@ def register(subparsers) -> None:
                    help="stop (at a checkpoint, resumable) a run whose step rate predicts more than S "
                         "seconds of wall time; without it such a run only warns when it predicts more "
                         "than an hour")
+    p.add_argument("--max-output-size", type=float, default=None, metavar="BYTES",
+                   help="largest results file the run may write, estimated from its first block before "
+                        "anything is written (default 50e9 = 50 GB; the free space is checked as well)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_run)
 
@@ -127,7 +130,7 @@ def cmd_run(args) -> int:
     out = Path(args.output) if args.output else Path("out") / f"{scene.name}.h5"
     try:
         summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet,
-                            max_wall_time=args.max_wall_time)
+                            max_wall_time=args.max_wall_time, max_output_bytes=args.max_output_size)
     except RunInterrupted as exc:
         print(f"flexbearing run: {exc}", file=sys.stderr)
         if exc.resumable:

@@ -8,9 +8,20 @@ from pathlib import Path
 
 
 def cache_dir() -> Path:
-    """$FLEXBEARING_CACHE, else ~/.cache/flexbearing. Created on first use."""
+    """$FLEXBEARING_CACHE, else ~/.cache/flexbearing. Created on first use (mode 0777 minus the
+    umask). A cache shared by a group of users (a cluster's workers) needs a folder its group
+    owns with the setgid bit and a umask of 002 (files rw for the group) or 022 (readable): the
+    cache's files are created with the umask's permissions (flexbearing.common.safe_files)."""
+    from flexbearing.common.validation import InputError
     root = Path(os.environ.get("FLEXBEARING_CACHE", Path.home() / ".cache" / "flexbearing"))
-    root.mkdir(parents=True, exist_ok=True)
+    if root.exists() and not root.is_dir():
+        raise InputError(f"cache folder {root} (FLEXBEARING_CACHE) is a file, not a folder: point "
+                         f"FLEXBEARING_CACHE at a folder, or move the file away")
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cache folder {root} (FLEXBEARING_CACHE) cannot be created ({exc.strerror}): "
+                         f"point FLEXBEARING_CACHE at a writable folder") from None
     return root
 
 

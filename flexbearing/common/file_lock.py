@@ -42,7 +42,7 @@ def exclusive_file(path, what: str = "results file"):
         raise InputError(f"{what} {path} is a directory: give a file name (e.g. {path / 'run.h5'})")
     created = not path.exists()
     try:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o666)   # never through a planted link
     except OSError as exc:
         raise InputError(f"{what} {path} cannot be written: {exc.strerror}; choose a file in a "
                          f"writable folder with -o") from None

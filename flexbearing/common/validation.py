@@ -11,6 +11,9 @@ class InputError(ValueError):
 def require_finite(field: str, value: float) -> float:
     try:
         v = float(value)
+    except OverflowError:          # an integer beyond the float range (TOML integers are unbounded)
+        raise InputError(f"{field} = {str(value)[:12]}... ({len(str(value))} digits) is beyond the range of "
+                         f"a number (|x| < 1.8e308)") from None
     except (TypeError, ValueError):
         raise InputError(f"{field} = {value!r} is not a number") from None
     if not math.isfinite(v):

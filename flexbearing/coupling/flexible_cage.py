@@ -214,13 +214,16 @@ class StressRecovery:
         self.M = rc.n_modes
         self.load_modes = load_point_modes(rc)     # pockets + the guide surface (row Z)
         self.n_elastic = self.n_keep - N_RIGID
+        # the reduced cage's content digest (flexbearing.fem_cage.reduced_cage.data_digest): a search
+        # file built from another file's content is not read
+        self.source = str(getattr(rc, "attrs", {}).get("data_sha256", ""))
         self.search = self._read_search(cache)
         if self.search is None:
             self.search = self._build_search()
             if cache is not None:
                 try:
-                    self.search.save(cache)
-                except OSError:            # a read-only cache folder: build it each run
+                    self.search.save(cache, self.source)
+                except OSError:            # a read-only or full cache folder: build it each run
                     pass
         # made now, before any search: a copy of the search's state taken while the monitor
         # mutates it in the other thread could be torn
@@ -235,9 +238,10 @@ class StressRecovery:
         if cache is None or not Path(cache).is_file():
             return None
         try:
-            search = TrackingMaxVonMises.load(cache)
-        except (OSError, ValueError, KeyError):    # damaged or partial: build it again
-            return None
+            search = TrackingMaxVonMises.load(cache, self.source)
+        except Exception:          # damaged or partial (a bad zip, CRC, truncated array...): rebuilt and
+            return None            # written again by __init__
+
         K = 1 + self.n_elastic + 6 * self.load_modes.shape[0]
         if search is None or search.n_coordinates != K or search.A.shape[0] != self.rc.stress_modes.shape[0]:
             return None
@@ -319,6 +323,8 @@ def backend(scene, reduced_cage=None):
         if not path.is_file():
             raise InputError(f"reduced cage file {path} does not exist here: the cache folder "
                              f"(FLEXBEARING_CACHE) must be one every worker sees, at the same path")
+    if reduced_cage is not None:
+        rcf.verify(path)           # (the cache's own file was verified by find_cached)
     rc = rcf.read(path)
     if reduced_cage is not None and str(rc.attrs.get("content_hash")) != reduced_cage_hash(scene):
         raise InputError(f"reduced cage file {path} (hash {rc.attrs.get('content_hash')}) is not the "

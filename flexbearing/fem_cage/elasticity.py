@@ -37,11 +37,17 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
     import gmsh
     from dolfinx.io import gmshio
 
+    from flexbearing.common.validation import InputError
+
     path = Path(path)
     names = None
     if comm.rank == 0:
         if not path.exists():
             raise FileNotFoundError(path)
+        if path.suffix != ".msh":
+            raise InputError(f"mesh file {path}: flexbearing reads gmsh .msh files (the FE model needs "
+                             f"gmsh's physical groups); got {path.suffix or 'no suffix'}: convert it to "
+                             f".msh or let `flexbearing mesh` make the mesh")
         # every mesh, built here or given by the user (--mesh), is checked before any FE work:
         # inverted or badly curved elements give wrong stresses (flexbearing.mesh.quality)
         from flexbearing.mesh.quality import check_mesh_file, MIN_JACOBIAN_RATIO

@@ -115,6 +115,11 @@ def cage_modes(mesh_path, material, degree: int = 2, n_modes: int = 27, comm=Non
 # estimate (flexbearing.common.progress)
 MODES_STAGES = {"read mesh": 11.0, "K and M": 34.0, "eigensolve (SLEPc)": 95.0, "classify": 3.0}
 
+# modes a free-free analysis computes at most: Table 8 needs 27, the reduced cage's basis 160; the
+# shift-invert Lanczos time grows with the count, and SLEPc's solve does not answer Ctrl-C until it
+# returns (100,000 modes took minutes before it could be stopped)
+MAX_N_MODES = 300
+
 
 def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True, quiet: bool = True):
     """The free-free modal analysis of cage geometry `g` on a mesh file: assemble, solve, classify
@@ -123,7 +128,9 @@ def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True, qu
     objects (V, vecs) for writing. quiet: no progress bar (rank 0 shows it)."""
     from mpi4py import MPI
     from flexbearing.common.progress import Stages
+    from flexbearing.common.validation import require_range
     from .elasticity import load_cage_mesh, assemble_stiffness_mass, global_ndofs, total_mass
+    require_range("modes.n_modes", n_modes, 7, MAX_N_MODES)       # 6 rigid + at least one elastic
     comm = MPI.COMM_WORLD
     stage = Stages("free-free modes", {k: w for k, w in MODES_STAGES.items() if k != "classify" or classify},
                    quiet or comm.rank != 0)

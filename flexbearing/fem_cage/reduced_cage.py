@@ -146,9 +146,26 @@ def cache_path(key: dict) -> Path:
 
 
 def find_cached(key: dict) -> Path | None:
-    """Path of the cached reduced cage for these inputs, or None (never builds anything)."""
+    """Path of the cached reduced cage for these inputs, or None (never builds anything); a file
+    there is verified first (`verify`: InputError naming it and the fix if it is damaged or another
+    cage's). A whole file written before issue 36 (no digest to check) counts as absent: the
+    caller builds it again, over it."""
     p = cache_path(key)
-    return p if p.exists() else None
+    if not p.exists() and not p.is_symlink():
+        return None
+    if _undigested(p):
+        return None
+    verify(p, expect_key=p.stem)
+    return p
+
+
+def _undigested(path) -> bool:
+    import h5py
+    try:
+        with h5py.File(path, "r") as f:
+            return f.attrs.get("schema") == SCHEMA and "data_sha256" not in f.attrs
+    except (OSError, IsADirectoryError):
+        return False
 
 
 def file_sha256(path) -> str:
@@ -256,14 +273,21 @@ def modal_damping(omega: np.ndarray, beta: float) -> np.ndarray:
     return beta * np.asarray(omega) ** 2
 
 
-def write(path, data: dict, attrs: dict, checks: dict | None = None) -> Path:
-    """Write atomically (temporary file + rename): a concurrent reader never sees half a file."""
+def write(path, data: dict, attrs: dict, checks: dict | None = None,
+          group_attrs: dict | None = None) -> Path:
+    """Write atomically (flexbearing.common.safe_files.atomic_output: a unique temporary in the
+    cache folder, created exclusively, fsynced, renamed over the target; removed on every failure,
+    a full disk included): a concurrent reader never sees half a file. The digest of the content
+    (`data_digest`) is stored with it (`data_sha256`) and checked by `read`. group_attrs:
+    {group: {name: value}} attributes of groups of `data` (the mesh's provenance)."""
     import h5py
+
+    from flexbearing.common.safe_files import atomic_output
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".h5", dir=path.parent)
-    os.close(fd)
-    try:
+    # its whole size reserved first: a full cache disk is one line before HDF5 writes anything
+    size = sum(np.asarray(a).nbytes for a in data.values()) + (1 << 20)
+    with atomic_output(path, suffix=".h5", reserve=size) as tmp:
         with h5py.File(tmp, "w") as f:
             f.attrs["schema"] = SCHEMA
             f.attrs["schema_version"] = SCHEMA_VERSION
@@ -275,14 +299,79 @@ def write(path, data: dict, attrs: dict, checks: dict | None = None) -> Path:
                 f.attrs[k] = json.dumps(v) if isinstance(v, (dict, list)) else v
             for name, arr in data.items():
                 f.create_dataset(name, data=np.asarray(arr))
+            for group, values in (group_attrs or {}).items():
+                for k, v in values.items():
+                    f[group].attrs[k] = v
             g = f.require_group("checks")
             g.attrs["summary"] = json.dumps(checks or {}, default=_jsonable)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+            f.attrs["data_sha256"] = data_digest(f)
     return path
+
+
+# the root attributes the digest covers: what the file is (its cache key) and its parameters
+_DIGEST_ATTRS = ("schema_version", "content_hash", "parameters", "n_modes")
+
+
+def data_digest(f) -> str:
+    """SHA-256 of an open reduced cage file's content: every dataset (name, dtype, shape, bytes,
+    in name order) and the root attributes that say what the file is (_DIGEST_ATTRS), so that a
+    flipped bit anywhere in the arrays, or a valid file of another cage copied over the key, does
+    not match the digest stored in it."""
+    import h5py
+    h = hashlib.sha256()
+    names = []
+    f.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset) else None)
+    for name in sorted(names):
+        a = np.ascontiguousarray(f[name][()])
+        h.update(f"{name}|{a.dtype.str}|{a.shape}|".encode())
+        h.update(a.tobytes() if a.dtype != object else repr(a.tolist()).encode())
+    for k in _DIGEST_ATTRS:
+        h.update(f"{k}={f.attrs.get(k)!r};".encode())
+    return h.hexdigest()
+
+
+class DamagedCacheFile(ValueError):
+    """A cache file whose content does not match what it says it is (or cannot be read)."""
+
+
+def _fix(path) -> str:
+    return (f"delete {path} and run again (flexbearing builds it anew; `flexbearing reduce --force` "
+            f"does it now)")
+
+
+def verify(path, expect_key: str | None = None) -> None:
+    """InputError naming `path` and the fix if the file cannot be read, is not a reduced cage, its
+    content does not match its stored digest (data_sha256), or it is not the cage of cache key
+    `expect_key` (its content_hash)."""
+    import h5py
+
+    from flexbearing.common.validation import InputError
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"reduced cage file {path} is a folder, not a file: remove it (the cache "
+                         f"builds the file again)")
+    try:
+        if not h5py.is_hdf5(path):
+            raise InputError(f"reduced cage file {path} is not an HDF5 file "
+                             f"({path.stat().st_size} bytes): {_fix(path)}")
+        with h5py.File(path, "r") as f:
+            stored = f.attrs.get("data_sha256")
+            key = str(f.attrs.get("content_hash", ""))
+            if f.attrs.get("schema") != SCHEMA:
+                raise InputError(f"{path} is not a reduced cage file (schema {f.attrs.get('schema')!r}): "
+                                 f"{_fix(path)}")
+            actual = data_digest(f) if stored is not None else None
+    except OSError as exc:
+        raise InputError(f"reduced cage file {path} is damaged or truncated ({exc}): {_fix(path)}") from None
+    if stored is None:
+        raise InputError(f"reduced cage file {path} carries no content digest (written before "
+                         f"issue 36), so it cannot be checked: {_fix(path)}")
+    if actual != str(stored):
+        raise InputError(f"reduced cage file {path} is damaged: its content does not match the digest "
+                         f"stored in it: {_fix(path)}")
+    if expect_key is not None and key != expect_key:
+        raise InputError(f"reduced cage file {path} holds the cage of key {key}, not {expect_key} "
+                         f"(a file copied over the cache entry): {_fix(path)}")
 
 
 def _jsonable(x):

@@ -365,26 +365,23 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
              "inertia_relief_vectors": bool(inertia_relief)}
     data = file_arrays(red)
     path = rcf.cache_path(key)
-    data_attrs = dict(attrs)
-    rcf.write(path, data, data_attrs, summary)
-    import h5py
-    with h5py.File(path, "a") as f:
-        f["mesh"].attrs["source_msh"] = str(msh)
-        f["mesh"].attrs["msh_sha256"] = rcf.file_sha256(msh)
-        f["mesh"].attrs["n_dofs"] = int(red["n_dofs"])
-        f["mesh"].attrs["element"] = f"P{degree} on order-{order} tetrahedra"
-        from flexbearing.mesh.cage_mesh import mesh_quality_of
-        f["mesh"].attrs["quality"] = json.dumps(mesh_quality_of(msh, degree))
-        f["interface"].attrs["dof_names"] = "ux uy uz rx ry rz"
-        g = f["loads/guide_modal_loads"]
-        g.attrs["columns"] = json.dumps(list(rcf.GUIDE_LOAD_COLUMNS))
-        g.attrs["units"] = ("generalised force (N m per unit q) per unit land force (N) in columns "
-                            "0, 1 and per unit land torque (N m) in column 2")
-        g.attrs["distribution"] = ("f_y, f_z: radial traction c cos(theta) e_r, c sin(theta) e_r; "
-                                   "f_t: uniform shear c_t e_theta; on the guide surface (facet "
-                                   "tag 200), scaled to unit resultant (flexbearing.fem_cage.reduction."
-                                   "guide_load_vectors)")
-        g.attrs["guide_area_m2"] = red["guide_info"]["area_m2"]
+    from flexbearing.mesh.cage_mesh import mesh_quality_of
+    # every attribute goes into the file before it is renamed into the cache (written once, whole)
+    group_attrs = {
+        "mesh": {"source_msh": str(msh), "msh_sha256": rcf.file_sha256(msh), "n_dofs": int(red["n_dofs"]),
+                 "element": f"P{degree} on order-{order} tetrahedra",
+                 "quality": json.dumps(mesh_quality_of(msh, degree))},
+        "interface": {"dof_names": "ux uy uz rx ry rz"},
+        "loads/guide_modal_loads": {
+            "columns": json.dumps(list(rcf.GUIDE_LOAD_COLUMNS)),
+            "units": ("generalised force (N m per unit q) per unit land force (N) in columns "
+                      "0, 1 and per unit land torque (N m) in column 2"),
+            "distribution": ("f_y, f_z: radial traction c cos(theta) e_r, c sin(theta) e_r; "
+                             "f_t: uniform shear c_t e_theta; on the guide surface (facet "
+                             "tag 200), scaled to unit resultant (flexbearing.fem_cage.reduction."
+                             "guide_load_vectors)"),
+            "guide_area_m2": red["guide_info"]["area_m2"]}}
+    rcf.write(path, data, dict(attrs), summary, group_attrs)
     stage(None)
     return path, red, summary
 

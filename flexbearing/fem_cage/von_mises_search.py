@@ -323,23 +323,30 @@ class TrackingMaxVonMises:
     # it costs ~2.8 s on the 4 mm paper cage, reading it back ~0.3 s)
     FILE_VERSION = 1          # bump when the construction above changes what the arrays hold
 
-    def save(self, path) -> None:
+    def save(self, path, source: str = "") -> None:
         """Write the freshly built search (its arrays, node order and sizes) to an .npz file,
-        atomically (a temporary file renamed). Call it before the first search: the arrays
-        include the search's scratch and references."""
-        path = str(path)
-        tmp = f"{path}.{os.getpid()}.tmp.npz"
-        np.savez(tmp, *self.arrays, node_ids=self.node_ids,
-                 meta=np.array([self.FILE_VERSION, self.n_tracked, self.n_coordinates, self.n_leaves,
-                                self.n_groups, len(self.arrays)], dtype=np.int64))
-        os.replace(tmp, path)
+        atomically (flexbearing.common.safe_files.atomic_output: a unique temporary created
+        exclusively beside it, renamed over it; removed on any failure). Call it before the first
+        search: the arrays include the search's scratch and references. `source`: what it was
+        built from (the reduced cage's digest), checked by `load`."""
+        from flexbearing.common.safe_files import atomic_output
+        size = sum(a.nbytes for a in self.arrays) + self.node_ids.nbytes + (1 << 16)
+        with atomic_output(path, suffix=".npz", reserve=size) as tmp:
+            with open(tmp, "wb") as fh:
+                np.savez(fh, *self.arrays, node_ids=self.node_ids, source=np.array(str(source)),
+                         meta=np.array([self.FILE_VERSION, self.n_tracked, self.n_coordinates,
+                                        self.n_leaves, self.n_groups, len(self.arrays)], dtype=np.int64))
 
     @classmethod
-    def load(cls, path) -> "TrackingMaxVonMises | None":
-        """The search `save` wrote, or None if the file is of another FILE_VERSION."""
+    def load(cls, path, source: str | None = None) -> "TrackingMaxVonMises | None":
+        """The search `save` wrote, or None if the file is of another FILE_VERSION or was built
+        from another `source`. A damaged file raises (zip's CRC-32 of every array is checked as
+        it is read)."""
         with np.load(str(path), allow_pickle=False) as f:
             meta = f["meta"]
             if int(meta[0]) != cls.FILE_VERSION:
+                return None
+            if source is not None and ("source" not in f.files or str(f["source"]) != str(source)):
                 return None
             self = cls.__new__(cls)
             self.arrays = tuple(np.ascontiguousarray(f[f"arr_{i}"]) for i in range(int(meta[5])))

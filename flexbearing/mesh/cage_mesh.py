@@ -25,8 +25,6 @@ circle instead of the radial cylinders.
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -313,12 +311,11 @@ def _write(path: Path):
     gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
     gmsh.option.setNumber("Mesh.SaveAll", 0)
     path.parent.mkdir(parents=True, exist_ok=True)
-    # Write atomically: a concurrent reader of the cache never sees half a file.
-    fd, tmp = tempfile.mkstemp(suffix=".msh", dir=path.parent)
-    os.close(fd)
-    gmsh.write(tmp)
-    os.chmod(tmp, 0o644)             # mkstemp makes 0600; a mesh is an ordinary file
-    os.replace(tmp, path)
+    # Written atomically (a unique temporary beside it, renamed; removed on any failure): a
+    # concurrent reader of the cache never sees half a file; permissions those of the umask
+    from flexbearing.common.safe_files import atomic_output
+    with atomic_output(path, suffix=".msh") as tmp:
+        gmsh.write(str(tmp))
 
 
 def build_cage_mesh(geometry: CageGeometry, size: float, order: int, path,

@@ -227,7 +227,25 @@ def mesh_quality(points: np.ndarray, cells: np.ndarray, fe_degree: int = 3) -> M
 def read_tetrahedra(path) -> tuple[np.ndarray, np.ndarray]:
     """(points (N, 3) m, cells (Nc, 4|10) VTK order) of the tetrahedra in a mesh file (meshio)."""
     import meshio
-    m = meshio.read(str(path))
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"mesh file {path} does not exist or is not a file")
+    def unreadable(why: str) -> InputError:
+        return InputError(f"mesh file {path} cannot be read as a mesh ({why}): give a gmsh .msh file, "
+                          f"e.g. one written by `flexbearing mesh`")
+    if path.suffix == ".msh":
+        with open(path, "rb") as fh:
+            if not fh.read(64).lstrip().startswith(b"$MeshFormat"):
+                raise unreadable("it does not start with gmsh's $MeshFormat header")
+    import contextlib
+    import io
+    try:
+        # meshio prints its own error and calls sys.exit on a file none of its readers takes
+        with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
+            m = meshio.read(str(path))
+    except (Exception, SystemExit) as exc:   # ReadError, ParseError, KeyError, ... of its readers
+        text = str(exc).splitlines()[0][:120] if str(exc) else ""
+        raise unreadable(f"{type(exc).__name__}{': ' + text if text else ''}") from None
     blocks = [c.data for c in m.cells if c.type in ("tetra", "tetra10")]
     if not blocks:
         raise InputError(f"mesh file {path}: no tetrahedra (tetra or tetra10 cells) in it")

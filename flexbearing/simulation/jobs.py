@@ -58,12 +58,21 @@ def require_workers(workers) -> int:
 
 
 def require_scheduler(scheduler) -> str | None:
-    """scheduler: None or a Dask scheduler address "tcp://host:port" (also tls://, inproc://)."""
+    """scheduler: None or a Dask scheduler address "tcp://HOST:PORT", checked at once (a wrong one
+    otherwise gives a traceback after the connection timeout). Only tcp:// is accepted: inproc://
+    is a scheduler inside this very process (no cluster to use), tls:// and ws(s):// need security
+    or web-socket settings this command does not take, and http:// is the dashboard's address,
+    not the scheduler's."""
     if scheduler is None:
         return None
-    if not isinstance(scheduler, str) or "://" not in scheduler or not scheduler.split("://", 1)[1]:
-        raise InputError(f"--scheduler = {scheduler!r} is not a scheduler address; allowed: "
-                         f"PROTOCOL://HOST:PORT as printed by `dask scheduler`, e.g. tcp://10.0.0.5:8786")
+    text = scheduler if isinstance(scheduler, str) else repr(scheduler)
+    proto, _, rest = text.partition("://")
+    host, _, port = rest.rpartition(":")
+    if proto != "tcp" or not host or not port.isdigit() or not 1 <= int(port) <= 65535:
+        why = (f"protocol {proto}:// is not supported (only tcp://)" if rest and proto != "tcp"
+               else "it is not an address of the form tcp://HOST:PORT")
+        raise InputError(f"--scheduler = {text!r}: {why}; give the address `dask scheduler` prints, "
+                         f"e.g. tcp://10.0.0.5:8786 (PORT 1-65535)")
     return scheduler
 
 

@@ -13,8 +13,8 @@ Layout (SI units in the `unit` attribute of every dataset):
                            counts), dims (names of the axes, e.g. "time, ball, contact") and, for
                            labelled last axes, columns ("outer, inner_left, inner_right"), from
                            flexbearing.multibody.output_registry; chunks of a checkpoint interval of samples
-                           (chunk_rows), deflate +
-                           shuffle (COMPRESSION)
+                           (chunk_rows), deflate + shuffle (COMPRESSION) once the run is
+                           complete, uncompressed while it runs ("Crash safety")
     /outputs/<dimension>   HDF5 dimension scales (format 2): time is /outputs/time itself; ball,
                            contact, axis, ... (output_registry.DIMENSIONS) hold their labels or
                            indices and are attached to every output's axes, so that
@@ -23,10 +23,24 @@ Layout (SI units in the `unit` attribute of every dataset):
     /checkpoint/slot0, slot1   y (state), dydt (the integrator's FSAL derivative at y, if any), attrs t,
                            h, n_samples, n_steps, n_rejected, wall_time, seq
 
-Crash safety. Samples are buffered in memory and written in blocks: each block is appended to the
-chunked, resizable datasets, then a checkpoint describing the state at the block's last sample is
-written, then the file is flushed. Between blocks the file is not touched, so a kill during the
-integration leaves a consistent file. `checkpoint_in_background` hands the block (and, from
+Crash safety (issue 36). Samples are buffered in memory and written in blocks: each block is
+appended to the chunked, resizable datasets, then a checkpoint describing the state at the block's
+last sample is written. While a run goes, its datasets are stored *uncompressed*: a chunk then has
+a fixed size and place in the file, and rewriting it (a block that ends inside a chunk, continued
+by the next block or by a resume) writes the same bytes for the rows it already held. A compressed
+chunk, rewritten, is a different deflate stream, possibly moved to a new place whose old place is
+freed and reused: a SIGKILL between that rewrite and the next flush left the index on disk
+pointing at the old size and place, and rows *below* the last checkpoint failed with "inflate()
+failed" (3 of 6 killed studies before this change). The compressed form is written once, when the
+run is complete (`finish`): a new file, written beside the run's, fsynced and renamed over it, so
+that the run's file is at every instant either the uncompressed file or the whole compressed one.
+Before each block, the block's space is reserved on the disk (fallocate, `reserve`), so that a
+full disk stops the run before HDF5 writes anything (`DiskFull`, one line; the file holds its last
+checkpoint and resumes) instead of inside HDF5's metadata writes. Each checkpoint is flushed and
+fsynced before and after its sequence number is set, so that a power loss cannot leave a slot
+whose sequence number is on disk and its state is not. Measured: benchmarks/fault_injection.py,
+benchmarks/results/fault_injection.md.
+`checkpoint_in_background` hands the block (and, from
 flexbearing.simulation.run, the evaluation of its samples' outputs) and its checkpoint to one writer thread and
 returns: that work then runs on a second core while the integration goes on (flexbearing.multibody.integrator's
 compiled loop releases the GIL); the next checkpoint, `checkpoint`, `set_status` and `close` wait for
@@ -44,13 +58,17 @@ uninterrupted run's bit for bit (tests/test_resume.py).
 """
 from __future__ import annotations
 
+import errno
 import json
 import math
+import os
+import shutil
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
+from flexbearing.common.validation import InputError
 from flexbearing.multibody import output_registry as R
 
 FORMAT = "flexbearing-results"
@@ -155,6 +173,8 @@ class ResultsWriter:
         self.previous_status = ""
         self.rows_per_chunk = int(rows_per_chunk)
         self._pool = None          # the writer thread of checkpoint_in_background (created on first use)
+        self.n_samples_expected = int(self.f.attrs.get("n_samples_expected", 0))
+        self.max_output_bytes = DEFAULT_MAX_OUTPUT_BYTES
         self._pending = None       # its block being written (a Future)
 
     # ---- opening
@@ -250,8 +270,7 @@ class ResultsWriter:
                 if n0 != 0:
                     raise RuntimeError(f"output {k!r} appeared after {n0} samples")
                 ds = out.create_dataset(k, shape=(0,) + block.shape[1:], maxshape=(None,) + block.shape[1:],
-                                        dtype=np.float64, chunks=(self.rows_per_chunk,) + block.shape[1:],
-                                        **COMPRESSION)
+                                        dtype=np.float64, chunks=(self.rows_per_chunk,) + block.shape[1:])
                 ds.attrs["unit"] = unit = unit_for(k, self.units)
                 ds.attrs["units"] = R.cf_units(unit)           # CF spelling, for xarray/netCDF tools
                 entry = R.OUTPUT.get(k)
@@ -305,13 +324,43 @@ class ResultsWriter:
         if pending is not None:
             pending.result()
 
+    def reserve(self, block: dict) -> None:
+        """Reserve on the disk the space the block and its checkpoint can take (DiskFull if there is
+        none), before HDF5 writes any of it: whole chunks of every output for the block's rows, plus
+        a margin for HDF5's metadata and the checkpoint. Blocks past the file's end are allocated
+        without changing its size (fallocate KEEP_SIZE), so HDF5 then writes into space it has."""
+        nb = len(block.get("time", ()))
+        if nb == 0:
+            return
+        chunks = -(-nb // self.rows_per_chunk) + 1
+        row_bytes = sum(np.asarray(rows[0]).size * 8 for rows in block.values())
+        if self.n_written == 0:
+            self._check_output_size(row_bytes)
+        need = chunks * self.rows_per_chunk * row_bytes + RESERVE_MARGIN
+        _reserve(self.f, need)
+
+    def _check_output_size(self, row_bytes: int) -> None:
+        """OutputTooLarge if the whole run (n_samples_expected rows of row_bytes, uncompressed as it
+        is while running) would not fit in the free space or exceeds max_output_bytes."""
+        estimate = self.n_samples_expected * row_bytes
+        path = Path(self.f.filename)
+        free = shutil.disk_usage(path.parent).free
+        if estimate > self.max_output_bytes or estimate > free:
+            why = (f"more than the limit of {self.max_output_bytes / 1e9:.3g} GB (--max-output-size BYTES "
+                   f"raises it)" if estimate > self.max_output_bytes else
+                   f"more than the {free / 1e9:.3g} GB free in {path.parent}")
+            raise OutputTooLarge(f"{path}: this run would write about {estimate / 1e9:.3g} GB "
+                                 f"({self.n_samples_expected} samples x {row_bytes} bytes), {why}: record "
+                                 f"fewer outputs, a longer output.sample_interval or a shorter duration")
+
     def _write_checkpoint(self, block: dict, y, t, h, n_steps, n_rejected, wall_time, dydt) -> None:
+        self.reserve(block)
         self.write_block(block)
         cp = self.f["checkpoint"]
         seqs = [int(cp[s].attrs["seq"]) for s in ("slot0", "slot1")]
         slot = cp["slot0"] if seqs[0] <= seqs[1] else cp["slot1"]   # overwrite the older slot
         slot.attrs["seq"] = -1
-        self.f.flush()
+        _sync(self.f)
         y = np.asarray(y, dtype=np.float64)
         if "y" in slot and slot["y"].shape == y.shape:
             slot["y"][...] = y
@@ -329,9 +378,9 @@ class ResultsWriter:
         slot.attrs.update({"t": float(t), "h": float(h), "n_samples": int(self.n_written),
                            "n_steps": int(n_steps), "n_rejected": int(n_rejected),
                            "wall_time": float(wall_time)})
-        self.f.flush()
+        _sync(self.f)
         slot.attrs["seq"] = max(seqs) + 1
-        self.f.flush()
+        _sync(self.f)
 
     def set_status(self, status: str) -> None:
         self.wait()
@@ -346,7 +395,54 @@ class ResultsWriter:
                 self._pool.shutdown(wait=True)
                 self._pool = None
             if self.f.id.valid:
+                path = self.f.filename
                 self.f.close()
+                _release(path)
+
+
+RESERVE_MARGIN = 256 << 10    # bytes reserved beyond a block's chunks: HDF5 metadata, the checkpoint
+
+
+DEFAULT_MAX_OUTPUT_BYTES = 50e9    # the largest results file a run writes unless told otherwise
+
+
+class OutputTooLarge(InputError):
+    """The run's estimated results file exceeds the free space or the size limit (nothing written)."""
+
+
+class DiskFull(OSError):
+    """No space for the next block of a results file (raised before any of it is written)."""
+
+
+def _sync(f) -> None:
+    """Flush HDF5's buffers and fsync the file (a power loss keeps what the flush wrote)."""
+    f.flush()
+    os.fsync(f.id.get_vfd_handle())
+
+
+def _reserve(f, nbytes: int) -> None:
+    """Reserve nbytes past the end of the open results file `f` (flexbearing.common.safe_files.
+    reserve_space); DiskFull if the disk has not got them."""
+    from flexbearing.common.safe_files import reserve_space
+    try:
+        reserve_space(f.id.get_vfd_handle(), nbytes, f.filename)
+    except OSError as exc:
+        if exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+            raise
+        raise _disk_full(f.filename, nbytes) from None
+
+
+def _release(path) -> None:
+    from flexbearing.common.safe_files import release_space
+    release_space(path)
+
+
+def _disk_full(path, nbytes) -> DiskFull:
+    _release(path)                 # what this run reserved is not counted as taken
+    free = shutil.disk_usage(Path(path).parent).free
+    return DiskFull(errno.ENOSPC, f"disk full: the next block of results needs {nbytes / 1e6:.1f} MB, "
+                    f"{free / 1e6:.1f} MB are free; nothing of it was written and the file holds its "
+                    f"last checkpoint: free space, then continue with --resume", str(path))
 
 
 def _append(buffer: dict, t: float, values: dict) -> None:
@@ -437,19 +533,92 @@ def output_statistics(f, block_rows: int = 65536) -> dict:
 
 
 def write_summary(results_path, extra: dict) -> dict:
-    """Compute the per-output statistics from the file and write <stem>.summary.json beside it
-    (and the same JSON into the file's `summary` attribute)."""
+    """Compute the per-output statistics from the file, write the run's compressed file with them in
+    its `summary` attribute (`finish`) and <stem>.summary.json beside it (each file replaced whole,
+    atomically)."""
     import h5py
-    with h5py.File(results_path, "r+") as f:
+
+    from flexbearing.common.safe_files import write_text_atomic
+    with h5py.File(results_path, "r") as f:
         summary = dict(extra)
         summary["results_file"] = str(Path(results_path).name)
         summary["status"] = str(f.attrs["status"])
         summary["n_samples"] = int(f["outputs/time"].shape[0]) if "outputs/time" in f else 0
         summary["outputs"] = output_statistics(f) if "outputs/time" in f else {}
         text = json.dumps(summary, indent=2, allow_nan=False, default=float)
-        f.attrs["summary"] = text
-    summary_path(results_path).write_text(text + "\n")
+    finish(results_path, text)
+    write_text_atomic(summary_path(results_path), text + "\n")
     return summary
+
+
+# attributes of the HDF5 dimension-scale API: remade by attach_scale/make_scale, never copied
+_SCALE_ATTRS = ("DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "DIMENSION_LABELS")
+
+
+def finish(path, summary_text: str) -> None:
+    """Replace a complete run's file by its compressed form (COMPRESSION on every output, the same
+    chunks, attributes and dimension scales), with `summary_text` in its `summary` attribute. The
+    new file is written beside it and renamed over it (flexbearing.common.safe_files.atomic_output):
+    a kill at any instant leaves the uncompressed file or the compressed one, each whole. With too
+    little free space for the copy, the uncompressed file is kept (the summary written into it)."""
+    import h5py
+
+    from flexbearing.common.safe_files import atomic_output
+    path = Path(path)
+    # a compressed copy a SIGKILL interrupted: the caller holds the claim on this file
+    # (flexbearing.common.file_lock), so no other process is finishing it (unlink never follows a link)
+    for stale in path.parent.glob(f".{path.name}.*.finishing.h5"):
+        stale.unlink(missing_ok=True)
+    try:
+        with atomic_output(path, suffix=".finishing.h5", reserve=path.stat().st_size + RESERVE_MARGIN) as tmp:
+            with h5py.File(path, "r") as src, h5py.File(tmp, "w") as dst:
+                for k, v in src.attrs.items():
+                    dst.attrs[k] = v
+                dst.attrs["summary"] = summary_text
+                for name in src:
+                    if name != "outputs":
+                        src.copy(src[name], dst, name=name)
+                if "outputs" not in src:
+                    return
+                sout, out = src["outputs"], dst.create_group("outputs")
+                names = [k for k, _ in output_items(sout)]
+                for k, ds in sout.items():          # the dimension scales (labels or indices)
+                    if k not in names:
+                        scale = out.create_dataset(k, data=ds[()], dtype=ds.dtype)
+                        _copy_attrs(ds, scale)
+                        scale.make_scale(k)
+                for k in sorted(names, key=lambda k: k != "time"):
+                    ds = sout[k]
+                    new = out.create_dataset(k, shape=ds.shape, maxshape=ds.maxshape, dtype=ds.dtype,
+                                             chunks=ds.chunks, **COMPRESSION)
+                    rows = max(1, (64 << 20) // max(1, ds.dtype.itemsize * int(np.prod(ds.shape[1:]))))
+                    for i0 in range(0, ds.shape[0], rows):
+                        new[i0:i0 + rows] = ds[i0:i0 + rows]
+                    _copy_attrs(ds, new)
+                    if k == "time":
+                        new.make_scale("time")
+                for k in names:
+                    ds, new = sout[k], out[k]
+                    for axis in range(ds.ndim if k != "time" else 0):
+                        for scale in ds.dims[axis].values():
+                            new.dims[axis].attach_scale(out[scale.name.rsplit("/", 1)[-1]])
+    except OSError as exc:
+        if exc.errno not in (errno.ENOSPC, errno.EDQUOT) and "errno = 28" not in str(exc):
+            raise
+        _summary_in_place(path, summary_text)        # the disk filled while copying
+
+
+def _copy_attrs(src, dst) -> None:
+    for a, v in src.attrs.items():
+        if a not in _SCALE_ATTRS:
+            dst.attrs[a] = v
+
+
+def _summary_in_place(path, summary_text: str) -> None:
+    import h5py
+    with h5py.File(path, "r+") as f:
+        f.attrs["summary"] = summary_text
+        _sync(f)
 
 
 def read_outputs(path) -> dict[str, np.ndarray]:

@@ -36,7 +36,7 @@ from flexbearing.multibody import output_registry as R
 from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.run_backend import OutputRequest, RunBackend, rigid_backend
 from flexbearing.simulation.progress import RunProgress
-from flexbearing.simulation.results import FORMAT, ResultsWriter, different_scene, write_summary
+from flexbearing.simulation.results import FORMAT, DiskFull, OutputTooLarge, ResultsWriter, different_scene, write_summary
 from flexbearing.simulation.stopped import RunInterrupted
 from flexbearing.simulation.wall_budget import WallBudget
 
@@ -84,7 +84,7 @@ def _prepare_output(out_path: Path, resume: bool, force: bool) -> str:
 
 
 def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet: bool = False,
-              backend=None, max_wall_time: float | None = None) -> dict:
+              backend=None, max_wall_time: float | None = None, max_output_bytes: float | None = None) -> dict:
     """Run `scene` (a validated flexbearing.simulation.scene.Scene), stream results to `out_path`, return the summary.
 
     resume: continue the run in `out_path` from its last checkpoint (start afresh if the file does
@@ -93,12 +93,20 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     (flexbearing.simulation.wall_budget.SlowRunWarning); with `max_wall_time` [s] one predicted to need more stops
     (RunInterrupted, resumable). The file is claimed (flexbearing.common.file_lock) before it
     is touched: a file another process is writing is refused (InputError) and left as it is.
+    Before the first block is written, the file's size is estimated from it (n_samples × its
+    bytes per sample) and checked against the free space and `max_output_bytes`
+    (flexbearing.simulation.results.DEFAULT_MAX_OUTPUT_BYTES when None): OutputTooLarge.
     """
+    from flexbearing.common.safe_files import refuse_overwriting_inputs
+    from flexbearing.common.validation import require_range
+    if max_output_bytes is not None:
+        require_range("--max-output-size", max_output_bytes, 1.0, 1e15, unit="bytes")
     out_path = Path(out_path)
+    refuse_overwriting_inputs(out_path, [scene.path or None])      # a link, or the scene itself
     mode = _prepare_output(out_path, resume, force)
     with exclusive_file(out_path):
         try:
-            return _run_claimed(scene, out_path, mode, quiet, backend, max_wall_time)
+            return _run_claimed(scene, out_path, mode, quiet, backend, max_wall_time, max_output_bytes)
         except KeyboardInterrupt as exc:       # Ctrl-C during the setup, before the first step
             raise RunInterrupted("run interrupted during setup, before t = 0: nothing was computed, "
                                  "nothing to resume (run it again)", 0.0, str(out_path), exc,
@@ -145,11 +153,13 @@ def _passed(t, y, snapshot) -> Sample:
     return Sample(t, y, None, None, None, None, snapshot)
 
 
-def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:
+def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time,
+                 max_output_bytes=None) -> dict:
     """run_scene once the output file is claimed."""
     wall_start = time.perf_counter()
     loop = RunLoop(scene, out_path, backend if backend is not None else default_backend(scene),
                    quiet, max_wall_time, wall_start)
+    loop.max_output_bytes = max_output_bytes
     return loop.run(mode)
 
 
@@ -169,6 +179,8 @@ class RunLoop:
     checkpoint stores it beside the state, so that a resumed run's first step uses the same
     derivative as the uninterrupted run's (bit-identical files).
     """
+
+    max_output_bytes = None          # the file-size limit run_scene was given (None: the default)
 
     def __init__(self, scene, out_path: Path, backend: RunBackend, quiet: bool, max_wall_time,
                  wall_start: float):
@@ -243,6 +255,10 @@ class RunLoop:
     def run(self, mode: str) -> dict:
         scene, backend = self.scene, self.backend
         cp = None
+        if mode == "resume" and self.out_path.stat().st_size == 0:
+            # an empty file under our claim: a run killed (SIGKILL, power loss) after claiming the
+            # file and before HDF5 wrote its first byte; nothing was computed, so it starts over
+            mode = "new"
         if mode == "resume":
             writer, cp = ResultsWriter.open_for_resume(self.out_path, scene, self.units)
             if cp is None:               # killed before its first checkpoint: start over in a new file
@@ -255,6 +271,9 @@ class RunLoop:
                                time.perf_counter() - self.wall_start)
         if mode == "new":
             writer = ResultsWriter.create(self.out_path, scene, self.units)
+        writer.n_samples_expected = scene.n_samples
+        if self.max_output_bytes is not None:
+            writer.max_output_bytes = float(self.max_output_bytes)
         self.writer = writer
         for key, value in backend.file_attrs.items():   # e.g. the reduced cage file and its hash
             writer.f.attrs[key] = value
@@ -329,6 +348,15 @@ class RunLoop:
             self._settle()
         except BaseException as exc:
             progress.close()
+            if isinstance(exc, OutputTooLarge):
+                self.writer.close()      # nothing was written: leave no file that needs --force
+                self.out_path.unlink(missing_ok=True)
+                raise exc
+            if isinstance(exc, DiskFull):
+                # nothing more is written (it would not fit): the file holds its last checkpoint
+                self.writer.close()
+                raise RunInterrupted(f"run stopped at t = {self.written.t:.6g} s: {self.out_path}: {exc.strerror}",
+                                     self.written.t, str(self.out_path), exc) from exc
             self._stop(exc, loop_start)
         finally:
             sys.setswitchinterval(switch_interval)

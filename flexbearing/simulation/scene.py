@@ -121,6 +121,9 @@ DEFAULT_RADIAL_DIRECTION = (0.0, 0.0, -1.0)   # radial load on the inner ring: v
 MAX_SPEED_RPM = 60000.0      # above any aero-engine main-shaft bearing (DN ~ 3.6e6 for this one)
 MAX_LOAD = 1e7               # N
 MAX_DURATION = 1000.0        # s of simulated time
+MIN_SAMPLE_INTERVAL = 1e-7   # s: 10 MHz, far above the fastest dynamics the model resolves (the
+                             # balls' ~22 kHz contact modes); a smaller interval only multiplies the file
+MAX_SAMPLES = 10**9          # samples a run may record (the output-size check bounds the bytes)
 # the integrator's methods (flexbearing.multibody.integrator.METHODS; tests/test_scene.py checks they agree)
 INTEGRATOR_METHODS = ("dopri5", "bs32")
 # Below this the integrator's error estimate is at the rounding level of the state: at 1e-13 and
@@ -216,10 +219,13 @@ def _vector3(field_: str, value) -> np.ndarray:
     if not isinstance(value, list) or len(value) != 3:
         raise InputError(f"{field_} = {value!r} must be a list of 3 numbers [x, y, z]")
     v = np.array([_number(f"{field_}[{i}]", c) for i, c in enumerate(value)])
-    n = float(np.linalg.norm(v))
-    if n == 0.0:
+    # scaled by its largest component first: the norm of [0, 1e200, 1e200] overflows to inf (and
+    # v / inf = 0 dropped the load), that of [0, 1e-200, 0] underflows to 0
+    big = float(np.max(np.abs(v)))
+    if big == 0.0:
         raise InputError(f"{field_} = {value!r} must not be the zero vector")
-    return v / n
+    v = v / big
+    return v / float(np.linalg.norm(v))
 
 
 def _file_name(field_: str, value) -> str:
@@ -626,7 +632,8 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     out = require_table("output", d.get("output", {}), ("sample_interval", "record", "checkpoint_every"))
     if "sample_interval" not in out:
         raise InputError("output.sample_interval is missing (s, in (0, operation.duration])")
-    dt = _number("output.sample_interval", out["sample_interval"], 0.0, duration, lo_open=True, unit="s")
+    dt = _number("output.sample_interval", out["sample_interval"],
+                 max(MIN_SAMPLE_INTERVAL, duration / MAX_SAMPLES), duration, unit="s")
     record = out.get("record", [])
     if not isinstance(record, list) or not record:
         raise InputError(f"output.record = {record!r} must be a non-empty list of outputs from: "
