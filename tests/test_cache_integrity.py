@@ -159,7 +159,7 @@ def test_cache_files_get_the_umasks_permissions(tmp_path, umask, mode):
 
 def test_a_damaged_or_foreign_stress_search_file_is_rebuilt(tmp_path):
     from flexbearing.coupling.flexible_cage import StressRecovery
-    from flexbearing.fem_cage.von_mises import TrackingMaxVonMises
+    from flexbearing.fem_cage.von_mises_search import TrackingMaxVonMises
     from test_von_mises import _cage_like, _search
     S, omega, phi_b, q_cf, coords = _cage_like()
     _, built = _search(S, omega, phi_b, q_cf, coords)
