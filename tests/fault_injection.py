@@ -73,7 +73,7 @@ def backend(sleep: float = 0.0):
         return fake_advance(*a, **k)
 
     b = fake_backend(advance=advance, evaluate_outputs=outputs)
-    b.OUTPUT_UNITS = {**b.OUTPUT_UNITS, "kinematics_field": "m"}
+    b.output_units = {**b.output_units, "kinematics_field": "m"}
     return b
 
 

@@ -242,7 +242,7 @@ def write_von_mises_xdmf(run, out_dir, frames="auto", reduced_cage=None) -> Path
     rc, hash_note = open_reduced_cage(path, rc_path, rc_hash, M)
     from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
-    check_output_folder(out_dir, FIELD_FILES, [run_h5, reduced_cage])
+    check_output_folder(out_dir, FIELD_FILES, [getattr(run, "path", run), reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
     xdmf = out_dir / PEAKS_XDMF
     h5 = xdmf.with_suffix(".h5")
@@ -435,7 +435,7 @@ def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scal
         d["centre"] = np.zeros_like(d["centre"])
     from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
-    check_output_folder(out_dir, FIELD_FILES, [run_h5, reduced_cage])
+    check_output_folder(out_dir, FIELD_FILES, [getattr(run, "path", run), reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
     for stale in (SERIES_CAGE, SERIES_POINTS, SERIES_RINGS):     # of an earlier series in the same folder
         (out_dir / stale).unlink(missing_ok=True)
