@@ -1,7 +1,8 @@
 # flexbearing — every target sets itself up on a fresh Debian 12 machine (root, or sudo).
 #   make demo      the paper's case end to end (results in out/demo/)
 #   make test      the fast test suite
-#   make test-all  every test, the slow verification included
+#   make test-all  every test, the slow verification included (installs ParaView, xvfb, Chromium)
+#   make viewers   ParaView, xvfb and Chromium: the report's .pvsm, --movie and --pdf
 #   make bench     the benchmarks in benchmarks/ (work–precision, wall times)
 #   make bench-work-precision   work–precision of whole runs of the four paper scenes (~40-60 min,
 #                  resumable; QUICK=1: a 5 ms smoke run) -> benchmarks/results/work_precision.*
@@ -23,8 +24,15 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy p
     python3-xarray python3-netcdf4 python3-h5netcdf \
     python3-pytest python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
     calculix-ccx
+# Small pure-Python PyPI packages, pinned, installed with --no-deps into the venv.
+PIP_PACKAGES := rainflow==3.2.0
 
-.PHONY: setup demo test test-all bench bench-work-precision cost-model stress clean
+# Viewers of the report and the ParaView scene, for the slow tests that open them
+# (tests/test_viewers.py) and for `flexbearing report --pdf / --series` (bearing.pvsm, --movie).
+# Not needed to run or report: without them the .pvsm, the movie and the PDF are left out.
+VIEWER_PACKAGES := paraview xvfb chromium
+
+.PHONY: setup viewers demo test test-all bench bench-work-precision cost-model stress clean
 
 $(VENV)/.apt-stamp: Makefile
 	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
@@ -37,10 +45,23 @@ $(VENV)/.apt-stamp: Makefile
 $(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
 	@[ -x $(PY) ] || $(SYSPY) -m venv --system-site-packages $(VENV)
 	@$(PY) -m pip install -q --no-build-isolation --no-deps -e .
-	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py, distributed, xarray; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
+	@# rainflow (ASTM E1049-85 5.4.4 rainflow counting, pure Python, no dependencies) for the cage's
+	@# fatigue (flexbearing.analysis.fatigue); --no-deps so pip never touches the Debian numpy
+	@$(PY) -m pip install -q --no-deps $(PIP_PACKAGES)
+	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py, distributed, xarray, rainflow; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
 	@touch $@
 
 setup: $(VENV)/.install-stamp
+
+$(VENV)/.viewers-stamp: Makefile
+	@missing=$$(for p in $(VIEWER_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages: $$missing"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+	@mkdir -p $(VENV) && touch $@
+
+viewers: $(VENV)/.viewers-stamp
 
 demo: setup
 	$(VENV)/bin/flexbearing demo -o out/demo
@@ -52,7 +73,7 @@ test: setup
 	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
 	.ci/on-other-isa $(PY) -m pytest -q -m "not slow" -p no:cacheprovider
 
-test-all: setup
+test-all: setup viewers
 	$(PY) -m pytest -q -p no:cacheprovider
 
 bench: setup

@@ -35,19 +35,21 @@ def main():
     from flexbearing.coupling.flexible_cage import backend as flexible_backend
     from flexbearing.simulation.scene import load_scene
     from flexbearing.multibody import integrator
+    from flexbearing.multibody.run_backend import OutputRequest
     root = Path(__file__).resolve().parents[1]
     scene = load_scene(str(root / "scenes" / "paper_unsteady.toml"))
     be = flexible_backend(scene)
     model = be.build_model(scene.bearing, scene.oil, dict(scene.model_options))
     Fa, Fr = scene.initial_loads()
     y0 = np.array(be.initial_state(model, 10000 * np.pi / 30, Fa, Fr), dtype=float)
-    kw = dict(speed_table=scene.speed_table, load_table=scene.load_table, impacts=scene.impacts)
+    request = OutputRequest(tuple(scene.outputs), scene.speed_table, scene.load_table, scene.impacts,
+                            film=False, energy=False)
     tabs = (scene.speed_table, scene.load_table, scene.impacts)
     n = int(round(T_END / DT))
 
     def integrate(with_monitor: bool):
         y, t, h = y0.copy(), 0.0, scene.initial_step
-        be.evaluate_outputs(model, 0.0, y, **kw)             # resets the monitor
+        be.evaluate_outputs(model, 0.0, y, request)             # resets the monitor
         peaks, inst, times, steps = [], [], [], 0
         wall = 0.0
         for k in range(1, n + 1):
@@ -61,8 +63,8 @@ def main():
             wall += time.perf_counter() - w0
             steps += ns
             if with_monitor:
-                p = be.evaluate_outputs(model, t1, y, **kw)
-                d = be.evaluate_outputs(model, t1, y, **kw)   # monitor reset: the instant itself
+                p = be.evaluate_outputs(model, t1, y, request)
+                d = be.evaluate_outputs(model, t1, y, request)   # monitor reset: the instant itself
                 peaks.append(p["von_mises_max"])
                 inst.append(d["von_mises_max"])
                 times.append(p["von_mises_max_time"])

@@ -131,7 +131,7 @@ def _brute_all(A, Y):
 
 def bench_mesh(mesh_size: float, tmp: Path, quiet: bool) -> dict:
     from flexbearing.coupling.flexible_cage import StressRecovery
-    from flexbearing.fem_cage.von_mises import MaxVonMises
+    from flexbearing.fem_cage.von_mises_search import MaxVonMises
     rec, t, Y, dt = traced_run(mesh_size, tmp)
     rc = rec.rc
     t0 = time.perf_counter()

@@ -534,7 +534,8 @@ def mesh_growth(scene, be, model, y, t, fractions=(1, 2, 4, 8), span=2e-3) -> di
     (monitor trace) replayed through the tracking search built on every k-th node of the 4 mm
     cage's load-space stress, the peak reset every 0.1 ms sample as in a run."""
     from flexbearing.coupling.flexible_cage import StressRecovery
-    from flexbearing.fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress, tracking_max_sq
+    from flexbearing.fem_cage.von_mises import tracking_max_sq
+    from flexbearing.fem_cage.von_mises_search import TrackingMaxVonMises, load_space_blocks, load_space_stress
     from flexbearing.multibody import stress_peak as SP
     rc = be.reduced_cage
     n_keep = int(scene.flexible.get("n_modes", 26))

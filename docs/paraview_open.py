@@ -7,7 +7,7 @@ REPORT_DIR is the folder `flexbearing report RUN.h5 --series T0:T1[:N]` wrote: s
 in m), series_points.xdmf (the balls and the cage centre) and series.json. Without a series the
 peaks file von_mises.xdmf (+ von_mises.json) is opened instead.
 
-What it does, as the GUI steps of the README do: open the files with ParaView's XDMF 3 reader,
+What it does, as the GUI steps of docs/paraview.md do: open the files with ParaView's XDMF 3 reader,
 Warp By Vector on displacement_scaled (the displacement times series.json's displacement_scale,
 so Scale Factor 1), colour by von_mises, spheres of the balls' diameter on the points; then
   - prints the data range of von_mises that ParaView reads at every time step, against the

@@ -108,7 +108,7 @@ def test_cache_key_depends_on_every_input():
 
 def test_reading_does_not_import_dolfinx(tmp_path):
     p = rcf.write(tmp_path / "c.h5", _synthetic(), {})
-    code = ("import sys; from flexbearing.fem_cage import reduced_cage as r; from flexbearing.fem_cage.von_mises import "
+    code = ("import sys; from flexbearing.fem_cage import reduced_cage as r; from flexbearing.fem_cage.von_mises_search import "
             f"MaxVonMises; rc = r.read({str(p)!r}).truncate(8); ev = MaxVonMises(rc.stress_modes);"
             "ev(rc.omega * 0 + 1.0); "
             "assert 'dolfinx' not in sys.modules and 'ufl' not in sys.modules, 'FE stack imported'")

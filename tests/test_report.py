@@ -477,8 +477,8 @@ def test_html_page_holds_the_markdown_tables_and_the_plots(tmp_path):
 
     out = report.write_report(write_orbit_run(tmp_path / "orbit.h5"), tmp_path / "rep")
     md = out["report"].read_text()
-    md_rows = [[c.strip() for c in line.strip().strip("|").split("|")] for line in md.splitlines()
-               if line.startswith("|") and not set(line) <= set("|-: ")]
+    md_rows = [[c.strip().replace("**", "").replace("`", "") for c in line.strip().strip("|").split("|")]
+               for line in md.splitlines() if line.startswith("|") and not set(line) <= set("|-: ")]
 
     class Page(HTMLParser):
         def __init__(self):
@@ -510,7 +510,7 @@ def test_html_page_holds_the_markdown_tables_and_the_plots(tmp_path):
     assert page.stack == []
     assert page.rows == md_rows and len(md_rows) > 5
     assert "e/Cg" in out["html"].read_text()
-    plots = [line[line.index("(") + 1:-1] for line in md.splitlines() if line.startswith("![")]
+    plots = [line[line.rindex("](") + 2:-1] for line in md.splitlines() if line.startswith("![")]
     assert len(page.images) == len(plots) > 0
     for img, name in zip(page.images, plots):
         head, data = img["src"].split(",", 1)

@@ -12,12 +12,12 @@ import json
 import math
 import sys
 from pathlib import Path
-from types import SimpleNamespace
 
 import h5py
 import numpy as np
 import pytest
 
+from flexbearing.multibody.run_backend import RunBackend
 from flexbearing.simulation.results import output_items, read_outputs, summary_path
 from flexbearing.simulation.run import RunInterrupted, run_scene
 from flexbearing.simulation.scene import RPM, loads_scene
@@ -51,7 +51,7 @@ def _doubled_step(t, y, step, args, tol):
     return y2 + (y2 - y1) / 15.0, float(np.max(np.abs(y2 - y1) / (_SCALE + np.abs(y2)))) / 15.0 / tol
 
 
-def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h):
+def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws=None):
     args = (speed_table, load_table, impacts, np.zeros(3))
     y = np.array(y, dtype=np.float64)
     n = nr = 0
@@ -71,7 +71,7 @@ def fake_advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h):
     return y, t, h, n, nr
 
 
-def fake_advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts, tol, h):
+def fake_advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts, tol, h, ws=None):
     """fake_advance that does not stop at sample_times (flexbearing.simulation.run's `advance_sampled`): the
     state at a sample inside a step is the cubic Hermite interpolant of the step's ends and
     derivatives (as flexbearing.multibody.integrator does for BS32)."""
@@ -116,15 +116,19 @@ def fake_outputs(model, t, y, outputs=(), speed_table=None):
 
 
 def fake_backend(**overrides):
-    ns = SimpleNamespace(
+    """The fake physics as a RunBackend (flexbearing.multibody.run_backend); `evaluate_outputs` may be
+    given in fake_outputs' form (model, t, y, outputs, speed_table)."""
+    parts = dict(
         build_model=lambda bearing, oil, options: {"n_balls": bearing.n_balls},
-        initial_state=lambda model, speed, Fa, Fr: np.array([0.0, 0.0, Fa / (MASS * W0 * W0), 0.0]),
+        initial_state=lambda model, speed, Fa, Fr, load: np.array([0.0, 0.0, Fa / (MASS * W0 * W0), 0.0]),
         advance=fake_advance, evaluate_outputs=fake_outputs,
-        OUTPUT_UNITS={"ring_angle": "rad", "impulse_z": "N·s", "oscillator_displacement": "m",
+        output_units={"ring_angle": "rad", "impulse_z": "N·s", "oscillator_displacement": "m",
                       "cage_speed": "rad/s"})
-    for k, v in overrides.items():
-        setattr(ns, k, v)
-    return ns
+    parts.update(overrides)
+    evaluate = parts["evaluate_outputs"]
+    parts["evaluate_outputs"] = lambda model, t, y, request, snapshot: evaluate(
+        model, t, y, request.outputs, request.speed_table)
+    return RunBackend(**parts)
 
 
 SCENE = """
@@ -232,7 +236,7 @@ def test_only_requested_outputs_are_evaluated(tmp_path):
 
 
 def test_recorded_keys_follow_the_scene_outputs():
-    from flexbearing.simulation.run import recorded_keys
+    from flexbearing.multibody.output_registry import recorded_keys
     returned = ["contact_load", "contact_angle", "contact_stress", "approach", "pocket_force",
                 "cage_land_force_magnitude", "cage_speed", "nominal_cage_speed", "slip_rate",
                 "cage_centre", "inner_ring_speed", "external_load", "von_mises_max",
@@ -250,7 +254,7 @@ def test_recorded_keys_follow_the_scene_outputs():
 def test_case_set_and_slip_rate_validation(tmp_path, capsys):
     from pathlib import Path
 
-    from flexbearing.simulation.run import run_case_set_slip_rate
+    from flexbearing.studies.case_sets import run_case_set_slip_rate
     from flexbearing.cli.run import parse_cases, print_slip_rate_table
     from flexbearing.simulation.scene import load_case_set
     path = Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_table4.toml"
@@ -360,7 +364,7 @@ def test_case_set_on_two_workers_equals_serial_and_resume_reads_back(tmp_path):
     """The real rigid dynamics, 4 ms of cases 2 and 13: on a Dask LocalCluster of two workers the
     rows equal the serial ones bit for bit; with --resume the finished cases are read back, their
     files untouched."""
-    from flexbearing.simulation.run import run_case_set_slip_rate
+    from flexbearing.studies.case_sets import run_case_set_slip_rate
     cs = _short_case_set(tmp_path)
     serial = run_case_set_slip_rate(cs, [2, 13], tmp_path / "a", quiet=True)
     parallel = run_case_set_slip_rate(cs, [2, 13], tmp_path / "b", quiet=True, workers=2)
@@ -376,7 +380,8 @@ def test_case_set_on_two_workers_equals_serial_and_resume_reads_back(tmp_path):
 def test_a_failed_case_does_not_stop_the_others(tmp_path):
     """Case 2 (5,000 rpm) fails in its physics; case 1 (4,000 rpm) still runs, and CasesIncomplete
     carries its row and names case 2."""
-    from flexbearing.simulation.run import CasesIncomplete, run_case_set_slip_rate
+    from flexbearing.simulation.stopped import CasesIncomplete
+    from flexbearing.studies.case_sets import run_case_set_slip_rate
     cs = _short_case_set(tmp_path)
 
     def advance(model, y, t, t_next, speed_table, *a, **k):
@@ -402,3 +407,18 @@ if __name__ == "__main__":      # used by tests/test_resume.py to run a fake sce
     results.ResultsWriter._write_checkpoint = announcing
     slow = fake_backend(advance=lambda *a, **k: (__import__("time").sleep(0.01), fake_advance(*a, **k))[1])
     run_scene(fake_scene(), out, quiet=True, backend=slow)
+
+
+def test_the_job_loops_stop_with_one_exception_family():
+    """A run, a case set, a study and the validation end early with members of one family
+    (flexbearing.simulation.stopped), so a caller catches WorkStopped once; Interrupted carries
+    whether resuming helps, Incomplete the failed jobs beside the finished rows."""
+    from flexbearing.simulation import stopped as S
+    from flexbearing.simulation.jobs import JobFailure
+    run = S.RunInterrupted("run interrupted", 0.01, "r.h5", KeyboardInterrupt(), resumable=False)
+    assert isinstance(run, S.Interrupted) and isinstance(run, S.WorkStopped)
+    assert (run.t, run.path, run.resumable, run.rows) == (0.01, "r.h5", False, [])
+    cases = S.CasesIncomplete("1 of 2 cases failed", [{"case": 1}], [JobFailure(1, "case 2", "boom")])
+    assert isinstance(cases, S.Incomplete) and isinstance(cases, S.WorkStopped)
+    assert cases.rows == [{"case": 1}] and [f.name for f in cases.failures] == ["case 2"]
+    assert issubclass(S.StudyIncomplete, S.Incomplete) and issubclass(S.ValidationInterrupted, S.Interrupted)

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from flexbearing.fem_cage.reduced_cage import static_correction
-from flexbearing.fem_cage.von_mises import (L_VM, TrackingMaxVonMises, brute_force_max_sq, load_space_blocks,
-                                load_space_stress)
+from flexbearing.fem_cage.von_mises import L_VM, brute_force_max_sq
+from flexbearing.fem_cage.von_mises_search import TrackingMaxVonMises, load_space_blocks, load_space_stress
 from flexbearing.multibody import stress_peak as sp
 
 P, NV, M, N_KEEP = 6, 400, 24, 12          # P load points: 5 pockets + the land row

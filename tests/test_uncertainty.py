@@ -12,6 +12,7 @@ import pytest
 
 from flexbearing.common.validation import InputError
 from flexbearing.studies import uncertainty as U
+from flexbearing.studies import sensitivity as SA, uncertainty_report as UR
 
 ROOT = Path(__file__).resolve().parents[1]
 UNKNOWNS = ROOT / "scenes" / "slip_rate_unknowns.toml"
@@ -47,7 +48,7 @@ def test_sobol_estimators_on_ishigami(seed):
     actual errors measured over 3 seeds were <= 0.0021. The exact values must also lie inside the
     reported intervals."""
     s_ex, st_ex = _ishigami_exact()
-    r = U.sobol_indices(_ishigami, 3, n=4096, seed=seed, n_boot=100)
+    r = SA.sobol_indices(_ishigami, 3, n=4096, seed=seed, n_boot=100)
     assert np.max(np.abs(r["S"] - s_ex)) < 0.02
     assert np.max(np.abs(r["ST"] - st_ex)) < 0.02
     assert np.all(r["S_ci"][0] <= s_ex) and np.all(s_ex <= r["S_ci"][1])
@@ -57,7 +58,7 @@ def test_sobol_estimators_on_ishigami(seed):
 def test_sobol_of_additive_linear_function():
     """f = u0 + 2·u1 (u uniform): V_i = c_i²/12, so S = ST = (0.2, 0.8, 0); exact for the
     estimators' means, checked at 1e-2 (n = 2048)."""
-    r = U.sobol_indices(lambda u: u[:, 0] + 2.0 * u[:, 1], 3, n=2048, n_boot=10)
+    r = SA.sobol_indices(lambda u: u[:, 0] + 2.0 * u[:, 1], 3, n=2048, n_boot=10)
     assert np.allclose(r["S"], [0.2, 0.8, 0.0], atol=1e-2)
     assert np.allclose(r["ST"], [0.2, 0.8, 0.0], atol=1e-2)
 
@@ -81,7 +82,7 @@ def test_sample_is_space_filling_and_reproducible():
     [k/64, (k+1)/64) (a (t, m, s)-net's one-dimensional projections stay stratified under Owen
     scrambling); the same seed gives the same points."""
     study = U.load_unknowns(UNKNOWNS)
-    u = U.unit_sample(64, 6, study.seed)
+    u = SA.unit_sample(64, 6, study.seed)
     for j in range(6):
         assert sorted(np.floor(u[:, j] * 64).astype(int)) == list(range(64))
     p1, p2 = U.sample_points(study), U.sample_points(study)
@@ -134,7 +135,7 @@ def _edit(tmp_path, old, new):
     ("nominal = 150.0", "nominal = 200.0", "unknowns.oil_temperature.nominal = 200"),
     ('unit = "°C"', 'unit = "K"', "unknowns.oil_temperature.unit = 'K'"),
     ("seed = 20261126", "seed = -1", "study.seed = -1"),
-    ("[unknowns.shim_angle]\n", "[unknowns.shim_angle]\ncolour = 1\n", "unknown key(s) colour"),
+    ("[unknowns.shim_angle]\n", "[unknowns.shim_angle]\ncolour = 1\n", "unknowns.shim_angle: unknown key 'colour'"),
 ])
 def test_unknowns_file_errors_name_field_and_range(tmp_path, old, new, message):
     with pytest.raises(InputError) as e:
@@ -159,13 +160,13 @@ def test_missing_reason_and_missing_unknown(tmp_path):
 # ------------------------------------------------------------------ surrogate and analysis
 def test_quadratic_surrogate_recovers_a_quadratic_exactly():
     study = U.load_unknowns(UNKNOWNS)
-    u = U.unit_sample(64, 6, 3)
+    u = SA.unit_sample(64, 6, 3)
     mat = (u[:, 5] >= 0.5).astype(float)
     y = 1.0 + 2.0 * u[:, 0] + 3.0 * u[:, 1] ** 2 - u[:, 0] * u[:, 2] + 4.0 * mat + 0.5 * mat * u[:, 3]
-    sur = U.QuadraticSurrogate(study.unknowns).fit(u, y)
+    sur = SA.QuadraticSurrogate(study.unknowns).fit(u, y)
     assert sur.features(u).shape[1] == 27          # 1 + 6 + 15 cross + 5 squares (not the indicator's)
     assert np.max(np.abs(sur.loo_residuals(u, y))) < 1e-9
-    v = U.unit_sample(128, 6, 4)
+    v = SA.unit_sample(128, 6, 4)
     mv = (v[:, 5] >= 0.5).astype(float)
     assert np.allclose(sur(v), 1.0 + 2.0 * v[:, 0] + 3.0 * v[:, 1] ** 2 - v[:, 0] * v[:, 2] + 4.0 * mv
                        + 0.5 * mv * v[:, 3])
@@ -195,7 +196,7 @@ def test_analyse_on_a_known_response(tmp_path):
     assert all(v["ST"] < 0.05 for n, v in me.items() if n != "traction_scale")
     nearest = min(points, key=lambda p: abs(p["traction_scale"] - 1.25))
     assert a["best_sample_point"]["point"] == nearest["point"]
-    paths = U.write_report(a, tmp_path, command="flexbearing uncertainty")
+    paths = UR.write_report(a, tmp_path, command="flexbearing uncertainty")
     assert all(p.exists() for p in paths)
     back = json.loads(paths[1].read_text())
     assert back["test_inside"] == 15
@@ -244,7 +245,8 @@ def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys
     # nothing recomputed; the surrogate's best point per ball material re-run with the model (2 rows)
     assert len(rows) == 67
     assert sorted(r["point"].split("_", 1)[1].rsplit("_", 1)[0] for r in rows[65:]) == ["silicon_nitride", "steel"]
-    assert all(r["converged"] and abs(r["slip_pct"]) < 20 for r in rows[65:])
+    assert all(r["converged"] and abs(r["slip_pct"]) < 20 for r in rows[65:]), [
+        {k: r.get(k) for k in ("point", "converged", "slip_pct", "residual", "reason")} for r in rows[65:]]
     # --report-only: the same analysis from the rows, no runs
     (tmp_path / "rep" / "slip_rate_uncertainty.md").unlink()
     assert main(["uncertainty", str(UNKNOWNS), "-o", str(tmp_path / "out"), "--cases", "12", "--report-only",
@@ -260,3 +262,21 @@ def test_cli_bad_input_exit_2(tmp_path, capsys):
     assert main(["uncertainty", str(p), "-o", str(tmp_path)]) == 2
     assert "study.points = 8" in capsys.readouterr().err
     assert main(["uncertainty", str(UNKNOWNS), "-o", str(tmp_path), "--cases", "x"]) == 2
+
+
+def test_a_ctrl_c_of_the_study_is_one_of_the_job_loops_stops(tmp_path, monkeypatch):
+    """A Ctrl-C while the jobs run comes back as UncertaintyInterrupted, of the one family every job
+    loop stops with (flexbearing.simulation.stopped), naming the rows file that keeps the finished
+    jobs; nothing is lost (the rows are appended as they finish)."""
+    from flexbearing.simulation.stopped import Interrupted, UncertaintyInterrupted, WorkStopped
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(U, "run_jobs", interrupted)
+    study = U.load_unknowns(UNKNOWNS)
+    with pytest.raises(UncertaintyInterrupted) as info:
+        U.run_study(study, tmp_path, cases=[1], workers=1, progress=False)
+    assert isinstance(info.value, Interrupted) and isinstance(info.value, WorkStopped)
+    assert isinstance(info.value.cause, KeyboardInterrupt)
+    assert info.value.rows_file == str(tmp_path / study.name / "rows.jsonl")
+    assert "run the same command again" in str(info.value)

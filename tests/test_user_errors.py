@@ -280,16 +280,13 @@ def test_report_frames_that_are_not_times(tmp_path, capsys):
 # ---------------------------------------------------------------- README and --help
 
 def _readme_commands() -> dict[str, set[str]]:
-    """{command: options} from the first cell of each row of README's "## Commands" table: every
-    `flexbearing <command> ...` in backticks there, the options being the -x / --xyz words."""
-    text = (ROOT / "README.md").read_text()
-    table = text.split("## Commands", 1)[1].split("\n\n", 1)[0]
+    """{command: options} from the usage lines of the command reference, docs/commands.md (moved
+    there from README's "## Commands" table): every `flexbearing <command> ...` line of its plain
+    code blocks, the options being the -x / --xyz words."""
+    text = (ROOT / "docs" / "commands.md").read_text()
     found: dict[str, set[str]] = {}
-    for row in table.splitlines():
-        if not row.startswith("| `flexbearing"):
-            continue
-        first_cell = re.split(r"(?<!\\)\|", row)[1]
-        for usage in re.findall(r"`(flexbearing [^`]+)`", first_cell):
+    for block in re.findall(r"^```\n(.*?)^```", text, re.S | re.M):
+        for usage in block.splitlines():
             words = usage.split()
             cmd = " ".join(words[1:3]) if words[1] == "validate" else words[1]
             found.setdefault(cmd, set()).update(re.findall(r"(?<![\w-])(--?[a-z][a-z0-9-]*)", usage))

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from flexbearing.fem_cage.stress_modes import von_mises
-from flexbearing.fem_cage.von_mises import MaxVonMises, MaxVonMisesSorted, L_VM
+from flexbearing.fem_cage.von_mises import L_VM
+from flexbearing.fem_cage.von_mises_search import MaxVonMises, MaxVonMisesSorted
 
 
 def _modes(n=3000, m=20, seed=0):
@@ -65,8 +66,9 @@ def test_bad_shape():
 
 # ------------------------------------------------------------------ the run's tracking search
 from flexbearing.fem_cage.reduced_cage import static_correction                     # noqa: E402
-from flexbearing.fem_cage.von_mises import (TrackingMaxVonMises, brute_force_max_sq,  # noqa: E402
-                                load_space_blocks, load_space_stress)
+from flexbearing.fem_cage.von_mises import brute_force_max_sq  # noqa: E402
+from flexbearing.fem_cage.von_mises_search import (TrackingMaxVonMises, load_space_blocks,  # noqa: E402
+                                                   load_space_stress)
 
 N_KEEP, P = 12, 5
 

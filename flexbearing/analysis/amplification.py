@@ -24,6 +24,10 @@ import math
 
 import numpy as np
 
+from flexbearing.analysis.windows import envelope, impact_windows
+from flexbearing.multibody.model import build_model, P_MI
+from flexbearing.simulation.quasi_static_scene import scene_instant, solve_scene
+
 
 def half_sine_daf(duration_over_period: float) -> float:
     """Shock spectrum of an undamped oscillator (natural period T_n, at rest) under a half-sine force
@@ -109,9 +113,6 @@ def impact_amplification(scene, t: np.ndarray, arrays: dict, control: str = "jon
     impact and the run's end: a short pulse's largest response comes after it, in free vibration);
     and for each recorded contact stress the run's peak over that window (worst ball) and its ratio
     to the quasi-static value (module docstring)."""
-    from flexbearing.analysis.windows import envelope, impact_windows
-    from flexbearing.simulation.quasi_static_scene import scene_instant, solve_scene
-    from flexbearing.multibody.model import P_MI, build_model
 
     ring_mass = float(build_model(scene.bearing, scene.oil, scene.model_options).p[P_MI])
     impacts = impact_windows(scene)

@@ -28,19 +28,20 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.common.validation import InputError
-from flexbearing.simulation.results import check_run, output_items
+from flexbearing.simulation.results import opened, output_items
 from flexbearing.multibody import output_registry as R
 
 RUN_ATTRS = ("scene_name", "scene_hash", "scene_path", "cage_model", "status", "duration",
              "sample_interval", "n_samples_expected", "format_version")
 
 
-def results_dataset(path):
-    """The run's /outputs as an xarray.Dataset (loaded into memory), with the run's attributes."""
-    import h5py
+def results_dataset(run):
+    """The run's /outputs as an xarray.Dataset (loaded into memory), with the run's attributes
+    (run: an open flexbearing.simulation.results.Run or a path). xarray reads format 2 through
+    its own netCDF-4 reader."""
     import xarray as xr
-    path = check_run(path)
-    with h5py.File(path, "r") as f:
+    with opened(run) as r:
+        path, f = r.path, r.file
         version = int(f.attrs.get("format_version", 1))
         attrs = {k: _plain(f.attrs[k]) for k in RUN_ATTRS if k in f.attrs}
         if "scene" in f:
@@ -82,13 +83,19 @@ def _dataset_from_dims(out):
     return xr.Dataset(variables, coords=coords)
 
 
-def write_netcdf(path, target) -> Path:
-    """The run as one netCDF-4 file (deflate level 1 + shuffle per variable, as the results file)."""
+def write_netcdf(path, target, quiet: bool = True) -> Path:
+    """The run as one netCDF-4 file (deflate level 1 + shuffle per variable, as the results file);
+    quiet=False: a progress bar (read, then write)."""
+    from flexbearing.common.progress import Stages
+    stage = Stages(f"netCDF of {Path(str(getattr(path, 'path', path))).name}", {"read": 1.0, "write": 2.0}, quiet)
+    stage("read")
     ds = results_dataset(path)
+    stage("write")
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     encoding = {k: {"zlib": True, "complevel": 1, "shuffle": True} for k in ds.data_vars}
     ds.to_netcdf(target, format="NETCDF4", encoding=encoding)
+    stage(None)
     return target
 
 
@@ -101,8 +108,10 @@ def _column_names(name: str, da) -> list[str]:
             for combo in itertools.product(*labels)]
 
 
-def write_csv(path, folder) -> list[Path]:
-    """One CSV per output in `folder` (module docstring: the layout). Returns the files."""
+def write_csv(path, folder, quiet: bool = True) -> list[Path]:
+    """One CSV per output in `folder` (module docstring: the layout). Returns the files.
+    quiet=False: a progress bar over the values written, with the output being written."""
+    from tqdm import tqdm
     ds = results_dataset(path)
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
@@ -110,10 +119,12 @@ def write_csv(path, folder) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     t = ds["time"].values
     written = []
-    for name in sorted(ds.data_vars):
+    names = [n for n in sorted(ds.data_vars) if ds[n].dims[:1] == ("time",)]
+    bar = tqdm(total=sum(ds[n].size for n in names), desc="CSV", unit=" values", unit_scale=True,
+               disable=quiet, mininterval=0.5, dynamic_ncols=True)
+    for name in names:
         da = ds[name]
-        if da.dims[:1] != ("time",):
-            continue
+        bar.set_description_str(f"CSV {name}")
         values = np.asarray(da.values, dtype=np.float64).reshape(len(t), -1)
         unit = str(da.attrs.get("unit", da.attrs.get("units", "")))
         p = folder / f"{name}.csv"
@@ -125,5 +136,7 @@ def write_csv(path, folder) -> list[Path]:
             for i in range(len(t)):
                 w.writerow([repr(float(t[i]))] + [repr(float(x)) for x in values[i]])
         written.append(p)
+        bar.update(da.size)
+    bar.close()
     return written
 

@@ -72,6 +72,7 @@ from flexbearing.common.validation import InputError
 
 SERIES_CAGE = "series_cage.xdmf"
 SERIES_POINTS = "series_points.xdmf"
+SERIES_RINGS = "series_rings.xdmf"
 SERIES_H5 = "series.h5"
 SERIES_JSON = "series.json"
 # A series beyond this size is refused with the every-N-th hint: a whole demo run at every sample
@@ -186,7 +187,7 @@ def parse_frames(frames, t: np.ndarray, dt: float):
     return sorted(set(out))
 
 
-def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> Path:
+def write_von_mises_xdmf(run, out_dir, frames="auto", reduced_cage=None) -> Path:
     """ParaView frames of the cage's von Mises field: <out_dir>/von_mises.xdmf (+ .h5, + .json).
 
     The mesh's 10-node tetrahedra (cage_cells) in the cage's body frame, at rest; point data
@@ -197,24 +198,24 @@ def write_von_mises_xdmf(run_h5, out_dir, frames="auto", reduced_cage=None) -> P
     "t1,t2,..." or a list of times in s (nearest samples).
     reduced_cage: path of the reduced cage file (default: the run's attribute reduced_cage_file).
     The JSON sidecar lists each frame's time, reason, the recorded max von Mises and the field's
-    maximum over the nodes (equal: the run searches the same nodes)."""
+    maximum over the nodes (equal: the run searches the same nodes). run: an open
+    flexbearing.simulation.results.Run or a path."""
     import h5py
 
-    from flexbearing.simulation.results import check_run, sample_interval, scene_of_run
+    from flexbearing.simulation.results import opened
     from flexbearing.analysis.windows import impact_windows, speed_phases
-    path = check_run(run_h5)
-    with h5py.File(path, "r") as f:
+    with opened(run) as r:
+        path, f = r.path, r.file
         _require_modal_coordinates(path, f)
-        out = f["outputs"]
-        t = out["time"][...]
+        out = r.outputs
+        t = r.t
         vm_rec = out["von_mises_max"][...] if "von_mises_max" in out else None
         vtx_rec = out["von_mises_max_vertex"][...] if "von_mises_max_vertex" in out else None
         # the step of the sample interval where the maximum occurred (runs since the per-step
         # monitor): its modal coordinates are what cage_modal_coordinates_full holds
         t_peak = out["von_mises_max_time"][...] if "von_mises_max_time" in out else None
         rc_path, rc_hash = _run_cage_file(f, reduced_cage)
-        scene = scene_of_run(f)
-        dt = sample_interval(f, t)
+        scene, dt = r.scene, r.dt
         idx = parse_frames(frames, t, dt)
         reasons = {}
         if idx is None:
@@ -263,8 +264,8 @@ def series_markdown(result: dict | None, spec: str | None) -> str:
     """The report's paragraph on the time series (write_series' result, or None: not asked for)."""
     if result is None:
         return ("Time series over a window: not asked for (`flexbearing report RUN.h5 --series T0:T1[:N]` "
-                "writes the deformed cage coloured by von Mises and the balls; README: ParaView).")
-    files = [f"`{Path(result[k]).name}`" for k in ("cage", "points") if result[k]]
+                "writes the deformed cage coloured by von Mises, the balls and the rings; docs/paraview.md).")
+    files = [f"`{Path(result[k]).name}`" for k in ("cage", "points", "rings") if result.get(k)]
     meta = json.loads(Path(result["json"]).read_text())
     text = (f"Time series {spec}: {' and '.join(files)} (+ `{SERIES_H5}`, facts in `{SERIES_JSON}`), "
             f"{result['n_frames']} frames, {meta['frame']}")
@@ -379,18 +380,18 @@ def nice_scale(target: float) -> float:
     return 10.0 ** e
 
 
-def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_scale=None) -> dict:
+def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scale=None) -> dict:
     """The time series of `--series T0:T1[:N]` (module doc): <out_dir>/series_cage.xdmf (the
     cage, placed and deformed, coloured by von Mises), series_points.xdmf (the balls and the cage
     centre), their heavy data series.h5 and series.json (frame, placement, scale, per-frame
     recorded and written maxima, and what the run did not record). Either part is left out, with
     the reason in "notes", when the run lacks what it needs; InputError when both are.
     displacement_scale: s of "displacement_scaled" (None: auto, module doc).
-    Returns {"cage", "points", "json", "notes", "n_frames"} (paths None when not written)."""
+    Returns {"cage", "points", "rings", "json", "notes", "n_frames"} (paths None when not written)."""
     import h5py
     if displacement_scale is not None and not (displacement_scale > 0 and math.isfinite(displacement_scale)):
         raise InputError(f"--displacement-scale = {displacement_scale!r} must be a finite number > 0")
-    d = _read_series(run_h5, series, reduced_cage)
+    d = _read_series(run, series, reduced_cage)
     n = len(d["idx"])
     rc = d["rc"]
     size = n * (0 if rc is None else len(rc.vertices)) * 8 * 10     # 10 float64 per node and frame
@@ -421,31 +422,31 @@ def write_series(run_h5, out_dir, series: str, reduced_cage=None, displacement_s
         d["centre"] = np.zeros_like(d["centre"])
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    for stale in (SERIES_CAGE, SERIES_POINTS):     # of an earlier series in the same folder
+    for stale in (SERIES_CAGE, SERIES_POINTS, SERIES_RINGS):     # of an earlier series in the same folder
         (out_dir / stale).unlink(missing_ok=True)
-    paths = {"cage": None, "points": None, "json": out_dir / SERIES_JSON, "notes": d["notes"], "n_frames": n}
+    paths = {"cage": None, "points": None, "rings": None, "json": out_dir / SERIES_JSON, "notes": d["notes"],
+             "n_frames": n}
     with h5py.File(out_dir / SERIES_H5, "w") as g:
         if rc is not None:
             paths["cage"] = _write_series_cage(g, out_dir, d, rot, displacement_scale, meta)
         if inertial:
             paths["points"] = _write_series_points(g, out_dir, d, meta)
+        if d["bearing"] is not None:
+            paths["rings"] = _write_series_rings(g, out_dir, d, meta, inertial)
     paths["json"].write_text(json.dumps(meta, indent=1) + "\n")
     return paths
 
 
-def _read_series(run_h5, series: str, reduced_cage) -> dict:
-    """What the series needs from the run, with a note for each part it did not record."""
-    import h5py
-
-    from flexbearing.simulation.results import check_run, sample_interval, scene_of_run
-    path = check_run(run_h5)
+def _read_series(run, series: str, reduced_cage) -> dict:
+    """What the series needs from the run (an open Run or a path), with a note for each part it
+    did not record."""
+    from flexbearing.simulation.results import opened
     notes = []
-    with h5py.File(path, "r") as f:
-        out = f["outputs"]
-        t = out["time"][...]
-        idx = parse_series(series, t, sample_interval(f, t))
+    with opened(run) as r:
+        path, f, out, t = r.path, r.file, r.outputs, r.t
+        idx = parse_series(series, t, r.dt)
         d = {"path": path, "idx": idx, "t": t[idx], "notes": notes, "rc": None, "balls": None,
-             "bearing": getattr(scene_of_run(f), "bearing", None)}
+             "bearing": getattr(r.scene, "bearing", None)}
         if "cage_modal_coordinates_full" in out:
             d["q_full"] = out["cage_modal_coordinates_full"][idx, :]
             d["vm_rec"] = out["von_mises_max"][idx] if "von_mises_max" in out else None
@@ -463,6 +464,8 @@ def _read_series(run_h5, series: str, reduced_cage) -> dict:
             notes.append("the balls are not written and the cage stays in its body frame: the run did not "
                          "record \"kinematics\" (ball positions; the cage's spin angle is estimated from "
                          "them); add it to [output] record of the scene")
+        if "inner_ring_position" in out and "inner_ring_tilt" in out:
+            d["ring_position"], d["ring_tilt"] = out["inner_ring_position"][idx], out["inner_ring_tilt"][idx]
         if "cage_centre" in out and "cage_tilt" in out:
             d["centre"], d["tilt"], d["orbit"] = out["cage_centre"][idx], out["cage_tilt"][idx], True
         else:
@@ -561,3 +564,33 @@ def _write_series_points(g, out_dir: Path, d: dict, meta) -> Path:
                       {"frame": meta["frame"], "units": "SI (m)", "run": meta["run"],
                        "points": f"balls 1..{Z} (ball = number, diameter = D_w), then the cage centre "
                                  f"(ball = 0, diameter = 0)"})
+
+
+def _write_series_rings(g, out_dir: Path, d: dict, meta, inertial: bool) -> Path:
+    """The rings of write_series (flexbearing.analysis.rings): the outer ring fixed, the inner
+    ring at its recorded position and tilt (at rest when the run did not record "kinematics"), one
+    quadrilateral surface with point data "ring" (1 outer, 2 inner), series_rings.xdmf."""
+    from flexbearing.analysis import rings
+    b = d["bearing"]
+    outer = rings.revolve(rings.outer_ring_profile(b))
+    inner = rings.revolve(rings.inner_ring_profile(b))
+    n_out = len(outer.points)
+    quads = np.r_[outer.quads, inner.quads + n_out]
+    _dataset(g, "rings/topology", quads, "1")
+    _dataset(g, "rings/ring", np.r_[np.full(n_out, 1), np.full(len(inner.points), 2)].astype(np.int64), "1")
+    moved = inertial and "ring_position" in d
+    grids = []
+    for i in range(len(d["t"])):
+        if moved or i == 0:
+            Ac = rings.inner_ring_placement(d["ring_position"][i], d["ring_tilt"][i]) if moved else np.c_[np.eye(3), np.zeros(3)]
+            _dataset(g, f"rings/geometry/{i}", np.r_[outer.points, inner.points @ Ac[:, :3].T + Ac[:, 3]], "m")
+        grids.append({"time": float(d["t"][i]), "geometry": f"/rings/geometry/{i if moved else 0}",
+                      "attributes": [("ring", "Scalar", "/rings/ring", "1", "Int")]})
+    meta["rings"] = {"file": SERIES_RINGS, "outer": "fixed (the bearing frame)",
+                     "inner": "at its recorded position and tilt (inner_ring_position, inner_ring_tilt)" if moved
+                     else "at rest: the run did not record \"kinematics\" (inner_ring_position)",
+                     "profile": "flexbearing.analysis.rings (grooves drawn, clearance and chamfers not)"}
+    return write_xdmf(out_dir / SERIES_RINGS, SERIES_H5, "rings", "Quadrilateral", "/rings/topology", quads.shape,
+                      n_out + len(inner.points), grids,
+                      {"frame": "bearing frame (x the bearing axis), outer ring fixed", "units": "SI (m)",
+                       "run": meta["run"], "ring": "1 = outer ring, 2 = inner ring"})

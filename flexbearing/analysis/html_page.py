@@ -18,7 +18,10 @@ Only the Markdown the reports write is understood (not general Markdown):
 
 Text is HTML-escaped before the inline markup is applied, so a label such as "e/Cg < 1" or
 "Fa & Fr" survives. An image whose file is missing is kept as its alt text with a note, not an
-error: the report's tables are what matters and they never depend on a plot.
+error: the report's tables are what matters and they never depend on a plot. The alt text is the
+figure's caption. The print style (@media print) lays the page out on A4, keeps headings with
+what follows and never splits a figure or a table row across pages (flexbearing.analysis.pdf
+prints it through headless Chromium).
 """
 from __future__ import annotations
 
@@ -42,6 +45,17 @@ tr:nth-child(even) td { background: #fafafa; }
 code { background: #f2f2f2; padding: 0 0.2em; }
 figure { margin: 1em 0; } figure img { max-width: 100%; }
 figcaption { font-size: 0.85em; color: #555; }
+@page { size: A4; margin: 14mm 12mm; }
+@media print {
+  body { max-width: none; margin: 0; padding: 0; font-size: 9pt; }
+  table { font-size: 7.5pt; }
+  thead { display: table-header-group; }
+  h1, h2, h3 { break-after: avoid; }
+  tr, figure, img { break-inside: avoid; }
+  figure img { max-height: 125mm; width: auto; }
+  tr:nth-child(even) td { background: none; }
+  th { background: #eee; -webkit-print-color-adjust: exact; print-color-adjust: exact; }
+}
 """
 
 

@@ -10,26 +10,47 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbearing.simulation.results import check_run, scene_of_run
+from flexbearing.simulation.results import Run, opened
 from flexbearing.analysis.windows import (QUANTITIES, QUANTITY, RPM_PER_RAD_S, envelope, impact_windows, quantity_arrays,
                               read_motion, report_windows, speed_phases, window_title)
 
 
-def _run_data(path):
-    import h5py
-    with h5py.File(path, "r") as f:
-        t = f["outputs/time"][...]
-        arrays = quantity_arrays(f["outputs"])
-        speed = {k: f["outputs"][k][...] for k in ("inner_ring_speed", "cage_speed", "nominal_cage_speed")
-                 if k in f["outputs"]}
-        scene = scene_of_run(f)
-        name = str(f.attrs.get("scene_name", Path(path).stem))
-        status = str(f.attrs.get("status", ""))
-        cage = str(f.attrs.get("cage_model", ""))
+def _run_data(run: Run) -> dict:
+    speed = {k: run.outputs[k][...] for k in ("inner_ring_speed", "cage_speed", "nominal_cage_speed")
+             if k in run}
+    scene = run.scene
     phases = speed_phases(scene) if scene is not None else []
     impacts = impact_windows(scene) if scene is not None else []
-    return {"t": t, "arrays": arrays, "speed": speed, "phases": phases, "impacts": impacts,
-            "name": name, "status": status, "cage_model": cage, "path": Path(path)}
+    return {"t": run.t, "arrays": quantity_arrays(run.outputs), "speed": speed, "phases": phases,
+            "impacts": impacts, "name": run.name, "status": run.status, "cage_model": run.cage_model,
+            "path": run.path}
+
+
+PHASE_MARKS = ("phases of the speed profile shaded and labelled with their speeds; impacts marked "
+               "at their load peaks (red dashed, I1, I2, ...)")
+
+
+def caption(png: Path) -> str:
+    """What a figure of `write_plots` / `write_orbit_plot` draws, by its file name (the report's
+    figure captions)."""
+    key = Path(png).stem
+    if key == "speed":
+        return ("Speeds against time, rpm: the inner ring (prescribed profile), the cage and the cage's "
+                f"no-slip (epicyclic) speed n_m; {PHASE_MARKS}.")
+    if key == "overview":
+        return f"Overview: the speeds and every reported quantity against time, one panel each; {PHASE_MARKS}."
+    if key == "cage_orbit":
+        return ("Cage-centre orbit in the guide clearance, one panel per phase of the speed profile: the "
+                "centre's offset from the guide-land centre over the radial guide clearance Cg (the dashed "
+                "circle is the guide rim, e = Cg), samples inside impact windows in red; below, the "
+                "eccentricity ratio e/Cg against time.")
+    if key in QUANTITY:
+        qd = QUANTITY[key]
+        which = ("the worst ball at each sample (blue: "
+                 + ("the smallest over the balls" if qd.extreme == "min" else "the largest over the balls")
+                 + ") and ball 1 (orange)") if qd.per_ball else "one value per sample"
+        return f"{qd.label} against time, {qd.display_unit}: {which}; {PHASE_MARKS}."
+    return key
 
 
 def plot_style():
@@ -112,12 +133,16 @@ def _plot_speed(ax, data, compare, small=False):
     ax.set_ylim(lo, hi + 0.22 * (hi - lo))
 
 
-def write_plots(run_h5, out_dir, compare=None) -> list[Path]:
+def write_plots(run: Run | str, out_dir, compare: Run | str | None = None) -> list[Path]:
     """One PNG per recorded quantity (time history, phases shaded and labelled, impacts marked;
-    the `compare` run overlaid in grey), speed.png, and overview.png with all of them."""
-    path = check_run(run_h5)
-    data = _run_data(path)
-    cmp_data = _run_data(check_run(compare)) if compare is not None else None
+    the `compare` run overlaid in grey), speed.png, and overview.png with all of them (`caption`
+    says what each draws). run, compare: open Runs or paths."""
+    with opened(run) as r:
+        data = _run_data(r)
+    cmp_data = None
+    if compare is not None:
+        with opened(compare) as c:
+            cmp_data = _run_data(c)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     plt = plot_style()
@@ -179,13 +204,12 @@ def write_plots(run_h5, out_dir, compare=None) -> list[Path]:
     return written
 
 
-def write_orbit_plot(run_h5, out_dir, settle: float = 0.0) -> Path | None:
+def write_orbit_plot(run: Run | str, out_dir, settle: float = 0.0) -> Path | None:
     """cage_orbit.png: the cage centre in units of the guide clearance (the rim is the unit circle),
     one panel per phase of the speed profile, samples inside impact windows in red; below, the
     eccentricity ratio against time. None when the run did not record the cage orbit."""
     from flexbearing.analysis.cage_motion import normalised_orbit
-    path = check_run(run_h5)
-    motion, scene, dt = read_motion(path)
+    motion, scene, dt = read_motion(run)
     if motion is None or motion["t"].size == 0:
         return None
     t = motion["t"]

@@ -100,20 +100,19 @@ def _panel(ax, u_corners, v_corners, tri, values, norm, cmap):
     return ax.tripcolor(t, z, shading="gouraud", norm=norm, cmap=cmap, rasterized=True)
 
 
-def peak_sample(run_h5, settle: float = 0.0):
+def peak_sample(run, settle: float = 0.0):
     """(sample index, t of the peak step, recorded max, recorded node or None, q_full, reduced
-    cage path, recorded hash) of the run's largest von_mises_max at t >= settle."""
-    import h5py
-
+    cage path, recorded hash) of the run's largest von_mises_max at t >= settle (run: an open
+    flexbearing.simulation.results.Run or a path)."""
     from flexbearing.analysis.field_export import _require_modal_coordinates
-    from flexbearing.simulation.results import check_run
-    path = check_run(run_h5)
-    with h5py.File(path, "r") as f:
+    from flexbearing.simulation.results import opened
+    with opened(run) as r:
+        path, f = r.path, r.file
         _require_modal_coordinates(path, f)
-        out = f["outputs"]
+        out = r.outputs
         if "von_mises_max" not in out:
             raise InputError(f"{path}: no /outputs/von_mises_max (scene output \"von_mises\")")
-        t = out["time"][...]
+        t = r.t
         vm = np.where(t >= settle - 1e-12, out["von_mises_max"][...], np.nan)
         if not np.isfinite(vm).any():
             raise InputError(f"{path}: no finite von_mises_max at t >= {settle:g} s")
@@ -154,16 +153,16 @@ def cage_skin(rc) -> dict:
             "pocket": j, "pocket_azimuth": pa}
 
 
-def write_stress_picture(run_h5, out_dir, reduced_cage=None, settle: float = 0.0,
+def write_stress_picture(run, out_dir, reduced_cage=None, settle: float = 0.0,
                          yield_strength: float | None = None) -> tuple[Path, dict]:
     """<out_dir>/von_mises_peak.png (module doc) and its facts (von_mises_peak.json): {"time",
     "sample", "von_mises_max", "recorded_von_mises_max", "node", "recorded_node", "position" (m,
     body frame), "azimuth_deg", "radius", "surface", "hottest_pocket"}. yield_strength (Pa):
-    marked on the colour bar when the field reaches it."""
+    marked on the colour bar when the field reaches it. run: an open Run or a path."""
     from flexbearing.analysis.field_export import nodal_field, open_reduced_cage
     from flexbearing.analysis.plots import plot_style
-    k, tk, vm_rec, node_rec, q, rc_path, rc_hash = peak_sample(run_h5, settle)
-    rc, _ = open_reduced_cage(run_h5, reduced_cage or rc_path, rc_hash, len(q))
+    k, tk, vm_rec, node_rec, q, rc_path, rc_hash = peak_sample(run, settle)
+    rc, _ = open_reduced_cage(getattr(run, "path", run), reduced_cage or rc_path, rc_hash, len(q))
     vm, _ = nodal_field(rc, q)
     X = np.asarray(rc.vertices, dtype=np.float64)
     skin = cage_skin(rc)

@@ -72,7 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from flexbearing.common.validation import InputError
-from flexbearing.simulation.results import check_run, sample_interval, scene_of_run
+from flexbearing.simulation.results import Run, opened
 from flexbearing.multibody.output_registry import OUTPUT
 
 
@@ -276,22 +276,13 @@ def phase_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> li
     doc for the definitions).
     settle [s]: samples with t < settle (the start-up transient from the quasi-static initial
     state) are left out of every window."""
-    return phase_rows(*read_run(check_run(run_h5)), include_impacts, settle)
+    return phase_rows(*read_run(run_h5), include_impacts, settle)
 
 
-def timebase(f):
-    """(sample times, scene or None, sample interval) of an open run file."""
-    t = f["outputs/time"][...]
-    return t, scene_of_run(f), sample_interval(f, t)
-
-
-def read_run(path):
-    """(t, quantity arrays, scene or None, sample interval) of a checked run file, read once."""
-    import h5py
-    with h5py.File(path, "r") as f:
-        t, scene, dt = timebase(f)
-        arrays = quantity_arrays(f["outputs"])
-    return t, arrays, scene, dt
+def read_run(run: Run | str):
+    """(t, quantity arrays, scene or None, sample interval) of a run (an open Run or a path)."""
+    with opened(run) as r:
+        return r.t, quantity_arrays(r.outputs), r.scene, r.dt
 
 
 def report_windows(t, scene, dt, include_impacts: bool = True, settle: float = 0.0) -> list[tuple[dict, np.ndarray]]:
@@ -329,14 +320,12 @@ def phase_rows(t, arrays, scene, dt, include_impacts: bool, settle: float) -> li
             for head, mask in report_windows(t, scene, dt, include_impacts, settle)]
 
 
-def read_motion(path):
-    """(cage-motion arrays of flexbearing.analysis.cage_motion.motion_arrays or None, scene or None, sample interval)."""
-    import h5py
+def read_motion(run: Run | str):
+    """(cage-motion arrays of flexbearing.analysis.cage_motion.motion_arrays or None, scene or None,
+    sample interval) of a run (an open Run or a path)."""
     from flexbearing.analysis.cage_motion import motion_arrays
-    with h5py.File(path, "r") as f:
-        motion = motion_arrays(f["outputs"])
-        _, scene, dt = timebase(f)
-    return motion, scene, dt
+    with opened(run) as r:
+        return motion_arrays(r.outputs), r.scene, r.dt
 
 
 def cage_motion_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
@@ -344,7 +333,7 @@ def cage_motion_table(run_h5, include_impacts: bool = True, settle: float = 0.0)
     eps_mean, eps_max, rim_fraction, whirl_ratio, whirl_rate_mean [rad/s], centre_speed_mean [m/s],
     velocity_dispersion, held_fraction, cage_revolutions (flexbearing.analysis.cage_motion.window_motion). [] when the run did
     not record the cage orbit (scene output "cage_orbit") and the cage speed."""
-    return cage_motion_rows(*read_motion(check_run(run_h5)), include_impacts, settle)
+    return cage_motion_rows(*read_motion(run_h5), include_impacts, settle)
 
 
 def cage_motion_rows(motion, scene, dt, include_impacts: bool, settle: float) -> list[dict]:
@@ -370,27 +359,25 @@ MOTION_ROWS = (   # (label, key, scale, format) of the cage-motion table
 )
 
 
-def read_power(path):
-    """(t, the recorded power datasets, scene or None, sample interval); data None when the run did
-    not record the scene output "power_loss"."""
-    import h5py
+def read_power(run: Run | str):
+    """(t, the recorded power datasets, scene or None, sample interval) of a run (an open Run or a
+    path); data None when the run did not record the scene output "power_loss"."""
     from flexbearing.multibody.power_loss import RECORDED
     names = list(RECORDED.values()) + ["ring_drive_torque", "inner_ring_speed"]
     optional = ("external_load_power", "mechanical_energy")
-    with h5py.File(path, "r") as f:
-        g = f["outputs"]
-        t, scene, dt = timebase(f)
+    with opened(run) as r:
+        g = r.outputs
         data = None
         if all(n in g for n in names):
             data = {n: g[n][...] for n in names + [n for n in optional if n in g]}
-    return t, data, scene, dt
+        return r.t, data, r.scene, r.dt
 
 
 def power_loss_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
     """Friction torque and power loss by source per report window (whole run, phases, impacts;
     `report_windows`), W and N·m (flexbearing.multibody.power_loss.window_power). [] when the run did not record
     the scene output "power_loss"."""
-    return power_loss_rows(*read_power(check_run(run_h5)), include_impacts, settle)
+    return power_loss_rows(*read_power(run_h5), include_impacts, settle)
 
 
 def power_loss_rows(t, data, scene, dt, include_impacts: bool, settle: float) -> list[dict]:

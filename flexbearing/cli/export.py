@@ -17,6 +17,7 @@ def register(subparsers) -> None:
     p.add_argument("run", help="results file (.h5) written by `flexbearing run`")
     p.add_argument("--netcdf", metavar="FILE", help="write one netCDF-4 file (.nc)")
     p.add_argument("--csv", metavar="DIR", help="write one CSV per output into DIR")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_export)
 
 
@@ -25,8 +26,8 @@ def cmd_export(args) -> int:
     if not args.netcdf and not args.csv:
         raise InputError("give --netcdf FILE and/or --csv DIR (what to write)")
     if args.netcdf:
-        print(f"netCDF: {write_netcdf(args.run, args.netcdf)}")
+        print(f"netCDF: {write_netcdf(args.run, args.netcdf, quiet=args.quiet)}")
     if args.csv:
-        files = write_csv(args.run, args.csv)
+        files = write_csv(args.run, args.csv, quiet=args.quiet)
         print(f"CSV: {len(files)} files in {args.csv}")
     return 0

@@ -41,11 +41,8 @@ COMMAND_MODULES = (
 def version() -> str:
     """The installed package's version (pyproject.toml's [project] version, the one place it is
     written), or "unknown" when flexbearing runs from a source tree that was not installed."""
-    from importlib.metadata import PackageNotFoundError, version as installed
-    try:
-        return installed("flexbearing")
-    except PackageNotFoundError:
-        return "unknown"
+    from flexbearing.common.provenance import program_version
+    return program_version()
 
 
 class _VersionAction(argparse.Action):

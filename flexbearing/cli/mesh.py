@@ -5,6 +5,7 @@ The work: flexbearing.mesh.cage_mesh (gmsh, quality check and repair, flexbearin
 """
 from __future__ import annotations
 
+import argparse
 import time
 from pathlib import Path
 
@@ -17,7 +18,7 @@ def add_geometry_arguments(p):
     """Cage geometry options shared by mesh/modes/mesh-study (lengths in mm on the command line)."""
     g = p.add_argument_group("cage geometry (mm; default: the paper preset)")
     g.add_argument("--preset", choices=tuple(CAGE_PRESETS), default="paper",
-                   help="paper = PAPER_CAGE (multibody's preset), nominal = SPEC §1 defaults, "
+                   help="paper = PAPER_CAGE (multibody's preset), nominal = the assumed defaults, "
                         "calibrated = fitted to Table 8 inside the Table 3 envelope (CALIBRATED_CAGE), "
                         "table8 = 7.0 mm-wall ring that reproduces Table 8, outside the envelope "
                         "(TABLE8_EQUIVALENT_CAGE)")
@@ -49,7 +50,6 @@ MAX_ELEMENT_SIZE = 0.05     # m: coarser than the cage's section; a larger numbe
 
 def element_size(text: str) -> float:
     """argparse type of --size/--pocket-size: an element size in metres, in (0, MAX_ELEMENT_SIZE]."""
-    import argparse
     try:
         v = float(text)
     except ValueError:

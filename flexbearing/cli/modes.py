@@ -37,7 +37,8 @@ def cmd_modes(args) -> int:
     g = geometry_from_args(args)
     path = mesh_for(args, g)
     tm = time.perf_counter() - t0
-    res, V, vecs = run_modes(g, path, args.degree, args.n_modes, classify=not args.no_classify)
+    res, V, vecs = run_modes(g, path, args.degree, args.n_modes, classify=not args.no_classify,
+                             quiet=args.quiet)
     res["timing_s"]["mesh"] = tm
     res["wall_s"] = time.perf_counter() - t0
     res["mesh"] = {"file": str(path), "size_m": args.size, "pocket_size_m": args.pocket_size,

@@ -35,11 +35,12 @@ from __future__ import annotations
 import json
 import math
 import sys
+import time
 from pathlib import Path
 
+import numpy as np
+
 from flexbearing.common.validation import InputError, require_range
-from flexbearing.simulation.quasi_static_scene import (check_modes_instant, scene_modes, solve_scene, steady_scene,
-                                         sweep_scene)
 
 
 def register(subparsers) -> None:
@@ -79,7 +80,6 @@ def _friction_share(text):
 
 def parse_times(text: str, duration: float):
     """The instants of `--times T0:T1:N` (s): N >= 2 points from T0 to T1 within [0, duration]."""
-    import numpy as np
     try:
         t0, t1, n = str(text).split(":")
         t0, t1 = float(t0), float(t1)
@@ -131,7 +131,6 @@ def ball_lines(result) -> list[str]:
 
 
 def _json_ready(value):
-    import numpy as np
     if isinstance(value, dict):
         return {k: _json_ready(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -154,6 +153,9 @@ def write_json(path, data) -> None:
 
 
 def cmd_quasi_static(args) -> int:
+    # the library is imported when the command runs: it loads numba and the compiled dynamics
+    # (~0.6 s), which `flexbearing --help` and every other command would pay at the top
+    from flexbearing.simulation.quasi_static_scene import check_modes_instant, scene_modes, solve_scene
     from flexbearing.simulation.scene import load_scene
 
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
@@ -215,12 +217,12 @@ def modes_lines(modes) -> list[str]:
 
 def _cmd_sweep(scene, args) -> int:
     """--times: one row per instant (`sweep_scene`)."""
-    import time as _time
+    from flexbearing.simulation.quasi_static_scene import sweep_scene
     times = parse_times(args.times, scene.duration)
-    wall = _time.perf_counter()
+    wall = time.perf_counter()
     rows = sweep_scene(scene, times, args.control, _friction_share(args.friction_share), not args.no_gyroscopic,
                        args.stiffness)
-    wall = _time.perf_counter() - wall
+    wall = time.perf_counter() - wall
     print(f"{scene.name}: {len(rows)} instants from {times[0]:g} to {times[-1]:g} s; {args.control} race control; "
           f"{wall:.2f} s")
     print("\n".join(sweep_lines(rows)))
@@ -239,8 +241,7 @@ def _cmd_sweep(scene, args) -> int:
 
 def _cmd_friction(scene, args) -> int:
     """--control friction: print and write the steady running state (module docstring)."""
-    import numpy as np
-
+    from flexbearing.simulation.quasi_static_scene import steady_scene
     y, info, out, inputs = steady_scene(scene, args.time)
     held = inputs["state"] == "held_cage"
     fx, fy, fz = inputs["load"]

@@ -7,6 +7,7 @@ the HDF5 file only.
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -83,7 +84,6 @@ def run(args) -> int:
               f"{', inertia-relief vectors' if inertia_relief else ''}); "
               f"kept {args.n_keep}: elastic {np.round(rc.frequency_hz[6:args.n_keep], 1).tolist()} Hz")
     if args.output:
-        import shutil
         shutil.copyfile(path, args.output)
     if args.json:
         out = summary if summary is not None else dict(rc.checks)

@@ -1,7 +1,7 @@
 """`flexbearing report`: time-history plots, per-phase tables and the cage's von Mises field of a run.
 
     flexbearing report RUN.h5 [--compare OTHER.h5] [-o DIR] [--frames auto|t1,t2,...]
-                              [--series T0:T1[:N]] [--displacement-scale S] [--quiet]
+                              [--series T0:T1[:N]] [--displacement-scale S] [--fatigue ...] [--quiet]
 
 The work: flexbearing.analysis.report (write_report); the statistics are defined in flexbearing.analysis.windows.
 """
@@ -35,7 +35,7 @@ def register(subparsers) -> None:
                                           "files of it (10-node tetrahedra, every node drawn): the peaks "
                                           "(--frames) and a time series with the balls (--series). "
                                           "Headless check and screenshot: xvfb-run -a pvpython "
-                                          "docs/paraview_open.py DIR (README).")
+                                          "docs/paraview_open.py DIR (docs/paraview.md).")
     p.add_argument("run", help="results file of `flexbearing run` (.h5)")
     p.add_argument("--compare", metavar="OTHER.h5", help="overlay and tabulate another run beside it "
                                                          "(e.g. the steady scene)")
@@ -45,8 +45,14 @@ def register(subparsers) -> None:
     p.add_argument("--series", metavar="T0:T1[:N]",
                    help="ParaView time series of the window T0..T1 s at every N-th sample (default every "
                         "one): the cage placed and deformed, coloured by von Mises (series_cage.xdmf), "
-                        "and the balls and the cage centre (series_points.xdmf); needs a flexible-cage "
-                        "run for the cage and the scene output \"kinematics\" for the balls")
+                        "the balls and the cage centre (series_points.xdmf), the rings (series_rings.xdmf) "
+                        "and, with ParaView's pvpython installed, the scene bearing.pvsm (File > Load State); "
+                        "needs a flexible-cage run for the cage and the scene output \"kinematics\" for the "
+                        "balls and the inner ring's position")
+    p.add_argument("--movie", action="store_true",
+                   help="with --series: also a movie of the window, bearing.avi (needs pvpython)")
+    p.add_argument("--pdf", action="store_true",
+                   help="also report.pdf, the page printed by headless Chromium (needs chromium)")
     p.add_argument("--displacement-scale", type=float, metavar="S",
                    help="magnification of the series' displacement_scaled field (Warp By Vector at scale "
                         "1 then draws the cage S times deformed; default: the largest displacement drawn "
@@ -54,8 +60,38 @@ def register(subparsers) -> None:
     p.add_argument("--settle", type=float, default=0.0, metavar="S",
                    help="leave samples before t = S seconds (start-up transient) out of the tables")
     p.add_argument("--reduced-cage", metavar="FILE", help="reduced cage file (default: the one the run names)")
+    p.add_argument("--fatigue", action="store_true",
+                   help="add the cage's fatigue (flexible cage): damage, life and safety factor per node from "
+                        "the run's stress history (rainflow, mean-stress correction, S-N curve, Miner), the "
+                        "worst nodes, a picture of the damage field and fatigue.xdmf for ParaView")
+    p.add_argument("--fatigue-correction", metavar="NAME",
+                   help="mean-stress correction: goodman (default), gerber, swt or none")
+    p.add_argument("--fatigue-material", metavar="NAME", help="S-N curve preset (default 40CrNiMoA)")
+    p.add_argument("--fatigue-blocks-per-hour", type=float, metavar="N",
+                   help="times the run's block is applied per hour (default: the run repeated back to back)")
+    p.add_argument("--fatigue-design-life-h", type=float, metavar="H",
+                   help="design life of the safety factor, hours (default 10000, assumed)")
+    p.add_argument("--fatigue-nodes", default="", metavar="N1,N2,...",
+                   help="extra candidate nodes (rows of the reduced cage's /mesh/vertices)")
     p.add_argument("--quiet", action="store_true", help="print only the written paths, not the table")
     p.set_defaults(func=cmd_report)
+
+
+def _fatigue_settings(args):
+    """FatigueSettings of the --fatigue options (None without --fatigue)."""
+    if not args.fatigue:
+        return None
+    from flexbearing.analysis.cage_fatigue import HOUR, FatigueSettings
+    from flexbearing.common.validation import InputError
+    try:
+        nodes = tuple(int(n) for n in args.fatigue_nodes.split(",") if n.strip())
+    except ValueError:
+        raise InputError(f"--fatigue-nodes = {args.fatigue_nodes!r} must be node numbers separated by commas, "
+                         f"e.g. 13598,12597") from None
+    given = {"material": args.fatigue_material, "correction": args.fatigue_correction,
+             "design_life": None if args.fatigue_design_life_h is None else args.fatigue_design_life_h * HOUR}
+    return FatigueSettings(blocks_per_hour=args.fatigue_blocks_per_hour, nodes=nodes, settle=args.settle,
+                           **{k: v for k, v in given.items() if v is not None}).validate()
 
 
 def cmd_report(args) -> int:
@@ -64,7 +100,8 @@ def cmd_report(args) -> int:
     out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
                        reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle,
-                       series=args.series, displacement_scale=args.displacement_scale)
+                       series=args.series, displacement_scale=args.displacement_scale, movie=args.movie,
+                       pdf=args.pdf, fatigue=_fatigue_settings(args))
     if not args.quiet:
         print_table(json.loads(res["json"].read_text())["phases"])
     print(f"report: {res['report']} (and {res['html'].name}, plots embedded)")
@@ -73,10 +110,20 @@ def cmd_report(args) -> int:
         print(f"stress: {res['stress_picture']}")
     if res["xdmf"]:
         print(f"xdmf:   {res['xdmf']}")
+    if res["fatigue"]:
+        print(f"fatigue: {res['fatigue']['xdmf']} and {res['fatigue']['picture'].name}")
     if res["series"]:
-        for key in ("cage", "points"):
-            if res["series"][key]:
+        for key in ("cage", "points", "rings"):
+            if res["series"].get(key):
                 print(f"series: {res['series'][key]} ({res['series']['n_frames']} frames)")
         for note in res["series"]["notes"]:
             print(f"series: {note}")
+    if res.get("paraview"):
+        for key in ("state", "movie"):
+            if res["paraview"].get(key):
+                print(f"paraview: {res['paraview'][key]}")
+        if res["paraview"].get("note"):
+            print(f"paraview: {res['paraview']['note']}")
+    if res.get("pdf"):
+        print(f"pdf:    {res['pdf']}")
     return 0

@@ -14,6 +14,7 @@ paper's Tables 4/5 (flexbearing.studies.validate) and prints our slip rate besid
 """
 from __future__ import annotations
 
+import io
 import json
 import os
 import sys
@@ -163,7 +164,8 @@ def cmd_validate_slip_rate(args) -> int:
     runs until the cage speed settles, oil temperature VALIDATION_OIL_TEMPERATURE_C). With
     --case-set FILE: every case of FILE is run as a scene through flexbearing.simulation.run (one resumable
     results file per case in --out, fixed duration, slip averaged from average_from)."""
-    from flexbearing.simulation.run import CasesIncomplete, RunInterrupted, run_case_set_slip_rate
+    from flexbearing.simulation.stopped import CasesIncomplete, RunInterrupted
+    from flexbearing.studies.case_sets import run_case_set_slip_rate
     from flexbearing.simulation.scene import load_case_set
 
     if args.case_set is None:
@@ -226,7 +228,6 @@ def _validate_procedure(args) -> int:
 
     def stream(raw):                   # every finished case is on disk at once
         if args.json:
-            import io
             _write_json({**table_of(raw, io.StringIO()), "complete": False}, args.json, quiet=True)
 
     try:

@@ -32,7 +32,8 @@ def register(subparsers) -> None:
 
 def cmd_uncertainty(args) -> int:
     from flexbearing.common.validation import InputError
-    from flexbearing.studies import uncertainty as U
+    from flexbearing.simulation.stopped import UncertaintyInterrupted
+    from flexbearing.studies import uncertainty as U, uncertainty_report as UR
     study = U.load_unknowns(args.unknowns)
     cases = None
     if args.cases:
@@ -50,16 +51,16 @@ def cmd_uncertainty(args) -> int:
         points += [dict(c) for c in U.candidate_points(U.analyse(study, rows, points))
                    if any(r["point"] == c["point"] for r in rows)]
         analysis = U.analyse(study, rows, points)
-        print(U.summary_text(analysis))
+        print(UR.summary_text(analysis))
         if args.report_dir:
-            paths = U.write_report(analysis, args.report_dir, command=_command(args))
+            paths = UR.write_report(analysis, args.report_dir, command=_command(args))
             print("report: " + ", ".join(str(p) for p in paths))
         return 0
     try:
         res = U.run_study(study, out, cases=cases, workers=args.workers, scheduler=args.scheduler,
                           extra_points=[dict(study.nominal(), point="nominal")], progress=not args.quiet)
-    except KeyboardInterrupt:
-        print("flexbearing uncertainty: interrupted; run the same command again to continue", file=sys.stderr)
+    except UncertaintyInterrupted as exc:
+        print(f"flexbearing uncertainty: {exc}", file=sys.stderr)
         return 130
     analysis = U.analyse(study, U.read_rows(res["rows_file"]), res["points"])
     candidates = U.candidate_points(analysis)
@@ -69,9 +70,9 @@ def cmd_uncertainty(args) -> int:
                            progress=not args.quiet)
         res["failures"] += more["failures"]
         analysis = U.analyse(study, U.read_rows(more["rows_file"]), more["points"])
-    print(U.summary_text(analysis))
+    print(UR.summary_text(analysis))
     if args.report_dir:
-        paths = U.write_report(analysis, args.report_dir, command=_command(args))
+        paths = UR.write_report(analysis, args.report_dir, command=_command(args))
         print("report: " + ", ".join(str(p) for p in paths))
     for f in res["failures"]:
         print(f"flexbearing uncertainty: {f.name} failed: {f.message} (run the same command again to retry it)",
@@ -80,7 +81,7 @@ def cmd_uncertainty(args) -> int:
 
 
 def _command(args) -> str:
-    """The command line that reproduces the report (as README documents it)."""
+    """The command line that reproduces the report (as docs/commands.md documents it)."""
     parts = ["flexbearing uncertainty", args.unknowns]
     if args.output != "out/uncertainty":
         parts += ["-o", args.output]

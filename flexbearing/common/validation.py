@@ -36,3 +36,14 @@ def require_range(field: str, value: float, lo: float | None = None, hi: float |
 
 def require_positive(field: str, value: float, unit: str = "") -> float:
     return require_range(field, value, lo=0.0, lo_open=True, unit=unit)
+
+
+def require_table(where: str, value, allowed) -> dict:
+    """The one check of a TOML table (a scene's, a study's, an unknowns file's): `value` must be a
+    table whose keys are all in `allowed`; the first unknown key is named with the allowed ones."""
+    if not isinstance(value, dict):
+        raise InputError(f"{where} = {value!r} must be a table with keys {', '.join(allowed)}")
+    unknown = [k for k in value if k not in allowed]
+    if unknown:
+        raise InputError(f"{where}: unknown key '{unknown[0]}' (allowed: {', '.join(allowed)})")
+    return value

@@ -34,9 +34,18 @@ from typing import NamedTuple
 
 import numpy as np
 
+import flexbearing.mesh.cage_mesh as cm
+from flexbearing.common.cache import content_hash
 from flexbearing.common.validation import InputError, require_range
-from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
+from flexbearing.fem_cage import reduced_cage as rcf
+from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID, static_correction
+from flexbearing.fem_cage.stress_modes import von_mises
+from flexbearing.fem_cage.von_mises_search import TrackingMaxVonMises, load_space_blocks, load_space_stress
+from flexbearing.multibody import initial, integrator, model as mb, outputs, stress_peak
+from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rotation
 from flexbearing.multibody.floating_frame import FlexibleBody
+from flexbearing.multibody.run_backend import RunBackend, select_recorded
+from flexbearing.multibody.stress_peak import new_monitor
 
 
 class CageModalBasis(NamedTuple):
@@ -121,10 +130,13 @@ def flexible_cage_body(rc, n_keep: int = DEFAULT_N_KEEP, beta: float = 0.0,
                           np.ascontiguousarray(rc.vertex_displacement @ T))
 
 
+# stiffness-proportional modal damping D = beta K of a scene that does not set cage.damping_beta, s
+DEFAULT_DAMPING_BETA = 1e-5
+
+
 # --------------------------------------------------------------------------- the run's backend
 def _mesh_inputs(scene) -> tuple[float, float, int]:
     """(element size, pocket element size, FE degree) of the scene's reduced cage mesh."""
-    import flexbearing.mesh.cage_mesh as cm
     size = scene.flexible.get("mesh_size", cm.DEFAULT_MESH_SIZE)
     return size, min(cm.DEFAULT_POCKET_SIZE, size), scene.flexible.get("element_order", cm.DEFAULT_DEGREE)
 
@@ -132,8 +144,6 @@ def _mesh_inputs(scene) -> tuple[float, float, int]:
 def reduced_cage_key(scene) -> dict:
     """Every input that changes the scene's reduced cage (flexbearing.fem_cage.reduced_cage.cache_key); its
     content hash names the cached file (flexbearing.fem_cage.reduced_cage.cache_path)."""
-    from flexbearing.fem_cage import reduced_cage as rcf
-    import flexbearing.mesh.cage_mesh as cm
     size, pocket, degree = _mesh_inputs(scene)
     return rcf.cache_key(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
                          rcf.DEFAULT_N_FIXED, degree, True)
@@ -142,20 +152,17 @@ def reduced_cage_key(scene) -> dict:
 def reduced_cage_hash(scene) -> str:
     """The content hash of the scene's reduced cage (the cached file's stem): two scenes share a
     reduced cage exactly when their hashes are equal."""
-    from flexbearing.common.cache import content_hash
     return content_hash(reduced_cage_key(scene))
 
 
 def reduced_cage_path(scene, quiet: bool = False):
     """The reduced cage file for the scene's cage: from the cache, or built once (imports the FE
     stack only then). Key = every input that changes it (reduced_cage_key)."""
-    from flexbearing.fem_cage import reduced_cage as rcf
-    import flexbearing.mesh.cage_mesh as cm
     size, pocket, degree = _mesh_inputs(scene)
     key = reduced_cage_key(scene)
     path = rcf.find_cached(key)
     if path is None:
-        from flexbearing.fem_cage.reduction import build
+        from flexbearing.fem_cage.reduction import build      # the FE stack: only to build it
         if not quiet:
             print(f"building the reduced cage (mesh {size * 1e3:g} mm, P{degree}, Craig–Bampton; "
                   "a few minutes, once): " + str(rcf.cache_path(key)), flush=True)
@@ -178,8 +185,8 @@ class StressRecovery:
     centrifugal modal load. The stress field is sigma = S·q_full (stress modes of the full basis).
 
     The run evaluates it in load space, sigma_n = W_n·y with y = (Omega_x², q_kept, F_nodes and L)
-    (flexbearing.fem_cage.von_mises.load_space_stress, built here once: ~2 s on the 4 mm paper cage), by the
-    exact tracking search flexbearing.fem_cage.von_mises.TrackingMaxVonMises inside a compiled peak-hold the
+    (flexbearing.fem_cage.von_mises_search.load_space_stress, built here once: ~2 s on the 4 mm paper cage), by the
+    exact tracking search flexbearing.fem_cage.von_mises_search.TrackingMaxVonMises inside a compiled peak-hold the
     integrator runs after every accepted step (`monitor`, flexbearing.multibody.stress_peak). `__call__`
     evaluates a full modal vector directly (numpy, every vertex: the textbook formula, an
     independent path for the first sample of a run and for checks).
@@ -208,13 +215,11 @@ class StressRecovery:
         self._own = self.search.with_own_state()
 
     def _build_search(self):
-        from flexbearing.fem_cage.von_mises import TrackingMaxVonMises, load_space_blocks, load_space_stress
         W = load_space_stress(self.rc.stress_modes, self.omega, self.load_modes, self.q_cf, self.n_keep)
         tracked, loads = load_space_blocks(self.n_elastic, self.load_modes.shape[0])
         return TrackingMaxVonMises(W, 1 + self.n_elastic, tracked, loads, coords=self.rc.vertices)
 
     def _read_search(self, cache):
-        from flexbearing.fem_cage.von_mises import TrackingMaxVonMises
         if cache is None or not Path(cache).is_file():
             return None
         try:
@@ -227,7 +232,6 @@ class StressRecovery:
         return search
 
     def full_coordinates(self, q_kept, node_load, spin) -> np.ndarray:
-        from flexbearing.fem_cage.reduced_cage import static_correction
         q = np.zeros(self.M)
         q[N_RIGID:self.n_keep] = q_kept[: self.n_keep - N_RIGID]
         w2 = self.omega[self.n_keep:] ** 2
@@ -252,7 +256,6 @@ class StressRecovery:
     def __call__(self, q_full) -> tuple[float, int]:
         """(max von Mises Pa, vertex) of the full modal vector q_full: sigma = S·q_full at every
         vertex, von Mises by the textbook formula (numpy)."""
-        from flexbearing.fem_cage.stress_modes import von_mises
         vm = von_mises(np.einsum("nsm,m->ns", self.rc.stress_modes, q_full))
         k = int(np.argmax(vm))
         return float(vm[k]), k
@@ -271,7 +274,6 @@ class StressRecovery:
 
     def monitor(self, cage_offset: int, modes_offset: int, trace: int = 0, interval: int = 1) -> tuple:
         """The compiled peak-hold (flexbearing.multibody.stress_peak), evaluated every `interval`-th accepted step."""
-        from flexbearing.multibody.stress_peak import new_monitor
         return new_monitor(self.search.arrays, self.load_modes.shape[0], cage_offset,
                            modes_offset, self.n_elastic, trace, interval)
 
@@ -280,7 +282,6 @@ def search_cache_path(reduced_cage_file, rc, n_keep: int) -> Path:
     """Where the stress search of a reduced cage and mode count is kept: beside the reduced cage
     file, named by its content hash, the mode count and the search's file version (a changed cage,
     mode count or search code never reads an old file)."""
-    from flexbearing.fem_cage.von_mises import TrackingMaxVonMises
     key = str(rc.attrs.get("content_hash", Path(reduced_cage_file).stem))
     return Path(reduced_cage_file).with_name(
         f"{key}.stress-search.k{int(n_keep)}.v{TrackingMaxVonMises.FILE_VERSION}.npz")
@@ -298,10 +299,6 @@ def backend(scene, reduced_cage=None):
     reduced_cage: the reduced cage file to use (a study's jobs get the path of the file built once
     for them, flexbearing.studies.study); it must be the scene's cage (its content hash is checked). Default:
     from the cache, built if missing (reduced_cage_path)."""
-    from types import SimpleNamespace
-    from flexbearing.fem_cage import reduced_cage as rcf
-    from flexbearing.multibody import initial, integrator, model as mb, outputs
-    from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rotation
 
     if reduced_cage is None:
         path = reduced_cage_path(scene)
@@ -315,7 +312,7 @@ def backend(scene, reduced_cage=None):
         raise InputError(f"reduced cage file {path} (hash {rc.attrs.get('content_hash')}) is not the "
                          f"cage of scene {scene.name} (hash {reduced_cage_hash(scene)})")
     n_keep = int(scene.flexible.get("n_modes", DEFAULT_N_KEEP))
-    beta = float(scene.flexible.get("damping_beta", 1e-5))
+    beta = float(scene.flexible.get("damping_beta", DEFAULT_DAMPING_BETA))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
     stress = (StressRecovery(rc, n_keep, cache=search_cache_path(path, rc, n_keep))
               if "von_mises" in scene.outputs else None)
@@ -365,14 +362,12 @@ def backend(scene, reduced_cage=None):
         stress or when no step was evaluated since."""
         if stress is None:
             return None
-        from flexbearing.multibody import stress_peak
         mon = monitor_of(model)
         pk = stress_peak.peak(mon)
         stress_peak.reset(mon)
         return pk
 
-    def evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=False, energy=False,
-                         snapshot=_NOW):
+    def evaluate_outputs(model, t, y, request, snapshot=_NOW):
         """Outputs at the sample (t, y). With stress recorded, von_mises_max is the largest value
         over every integrator step since the previous sample (the compiled monitor: `snapshot`, the
         peak `sample_snapshot` took at the sample, or taken now), with the vertex, the time it
@@ -380,7 +375,8 @@ def backend(scene, reduced_cage=None):
         first) it is evaluated at (t, y) itself."""
         if snapshot is _NOW:
             snapshot = sample_snapshot(model)
-        out = outputs.evaluate_outputs(model, t, y, speed_table, load_table, impacts, film=film, energy=energy)
+        out = outputs.evaluate_outputs(model, t, y, request.speed_table, request.load_table, request.impacts,
+                                       film=request.film, energy=request.energy)
         lay = mb.state_layout(model)
         q = y[lay["modes"]:lay["modes"] + n]
         out["cage_modal_coordinates"] = q.copy()
@@ -406,11 +402,10 @@ def backend(scene, reduced_cage=None):
             out["von_mises_max_time"] = float(t_peak)
             out["von_mises_steps"] = int(n_eval)
             out["cage_modal_coordinates_full"] = qf
-        return out
+        return select_recorded(out, request)
 
     # the units of these outputs: flexbearing.multibody.output_registry (groups "von_mises", "cage_modes")
-    return SimpleNamespace(build_model=build_model, initial_state=initial_state,
-                           advance=advance, advance_sampled=advance_sampled,
-                           evaluate_outputs=evaluate_outputs, sample_snapshot=sample_snapshot,
-                           new_workspace=integrator.Workspace, FILE_ATTRS=file_attrs, basis=basis,
-                           reduced_cage=rc)
+    return RunBackend(build_model=build_model, initial_state=initial_state,
+                      advance=advance, advance_sampled=advance_sampled,
+                      evaluate_outputs=evaluate_outputs, sample_snapshot=sample_snapshot,
+                      new_workspace=integrator.Workspace, file_attrs=file_attrs, reduced_cage=rc)

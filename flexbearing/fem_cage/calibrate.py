@@ -1,6 +1,6 @@
 """Model updating: fit the cage geometry the paper does not give to its Table 8.
 
-Objective (issue 2): least squares on the relative errors of modes 7–27,
+Objective: least squares on the relative errors of modes 7–27,
     r_i(p) = (f_i(p) - f_i^Table8) / f_i^Table8,  i = 7..27,  min_p sum r_i^2,
 frequencies sorted ascending on both sides (as Table 8 lists them). Solver: scipy
 least_squares (trust-region reflective, box bounds) in normalised coordinates

@@ -112,17 +112,6 @@ def von_mises_expression(u, material):
     return ufl.sqrt(1.5 * ufl.inner(dev, dev))
 
 
-def von_mises_field(u, material, degree: int = 1):
-    """Von Mises stress of displacement function u, interpolated into a scalar P-degree space
-    (nodal values of the pointwise stress; good enough for visualisation, not for peak values)."""
-    from dolfinx import fem
-    Q = fem.FunctionSpace(u.function_space.mesh, ("Lagrange", degree))
-    vm = fem.Function(Q, name="von_mises")
-    expr = fem.Expression(von_mises_expression(u, material), Q.element.interpolation_points())
-    vm.interpolate(expr)
-    return vm
-
-
 def total_mass(domain, material) -> float:
     """∫ rho dx over the mesh (all ranks), kg."""
     import ufl

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 # (size mm, pocket size mm, order, degree): the curved-P3 family (the default) refined, the
-# curved-P2 family (SPEC's choice) for comparison, one linear-tet and one straight-sided-P2 level.
+# curved-P2 family for comparison, one linear-tet and one straight-sided-P2 level.
 DEFAULT_STUDY = [(8, 8, 2, 3), (6, 6, 2, 3), (5, 5, 2, 3), (4, 4, 2, 3),
                  (6, 3, 2, 2), (4, 2, 2, 2), (3, 1.5, 2, 2),
                  (3, 1.5, 1, 1), (4, 2, 1, 2)]

@@ -22,6 +22,13 @@ from flexbearing.mesh.cage_mesh import TAG_GUIDE
 
 # ------------------------------------------------------------------ the reduction
 
+# The parts of `build` with their wall times on the paper cage (s; P3, 4 mm mesh, 160,572 dofs;
+# `flexbearing reduce --force` on 2 cores shared with other jobs, load 6-9, 7 min 9 s in all): the
+# progress bar's estimate (flexbearing.common.progress). "checks" was not measured: a guess.
+REDUCE_STAGES = {"mesh": 3.0, "K and M": 7.0, "interface": 16.0, "Craig-Bampton modes (SLEPc)": 267.0,
+                 "invariants": 46.0, "stress modes": 81.0, "checks": 300.0, "write": 4.0}
+
+
 def centrifugal_load(M, X: np.ndarray) -> np.ndarray:
     """Consistent nodal centrifugal load of the cage spinning about its axis x, per unit Omega^2:
 
@@ -147,7 +154,7 @@ def guide_load_vectors(V, facet_tags, tag: int = TAG_GUIDE, quadrature_degree: i
 
 def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: str = "rbe3",
                  n_fixed: int = 30, quiet: bool = True, centrifugal: bool = True,
-                 guide_loads: bool = True, inertia_relief: bool = True) -> dict:
+                 guide_loads: bool = True, inertia_relief: bool = True, stage=None) -> dict:
     """Run the reduction on an assembled model; return a dict of arrays and operators
     (the in-memory reduced cage plus what the checks need: Kz, C, T, Phi_full, stress op).
 
@@ -182,7 +189,8 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
 
     M = 6Z + n_fixed + (1 if centrifugal) + (3 if guide_loads) + (6 if inertia_relief).
     The result also carries the guide load vectors f_guide (n, 3) and their modal form
-    guide_modal_loads = Phi_full^T f_guide (M, 3), whatever the flags."""
+    guide_modal_loads = Phi_full^T f_guide (M, 3), whatever the flags. stage: called with the name
+    of each part as it starts (flexbearing.common.progress.Stages; REDUCE_STAGES)."""
     from tqdm import tqdm
     from . import interface as itf
     from .craig_bampton import petsc_to_scipy, craig_bampton, orthonormalise
@@ -194,6 +202,8 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
         raise InputError(f"reduce.coupling = {coupling!r} is outside the allowed set {{rbe2, rbe3}}")
     timings = {}
     t_start = time.perf_counter()
+    stage = stage or (lambda name: None)
+    stage("interface")
 
     def log(msg):
         if not quiet:
@@ -237,6 +247,7 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
         + (" + 3 land-load vectors" if guide_loads else "")
         + (" + 6 inertia-relief vectors" if inertia_relief else ""))
     t0 = time.perf_counter()
+    stage("Craig-Bampton modes (SLEPc)")
     cb = craig_bampton(Kz, Mz, C, n_fixed, body_loads=body)
     timings["craig_bampton_s"] = time.perf_counter() - t0
     G = itf.rigid_interface_matrix(xm)
@@ -245,12 +256,14 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
     Phi_full = T @ B if T is not None else B
     phi_b = N[:6 * Z]
     log(f"orthonormalised {N.shape[1]} modes; invariants")
+    stage("invariants")
     t0 = time.perf_counter()
     mom = mass_moments(scalar_mass_matrix(M), X, Phi_full)
     rigid = rigid_properties(mom)
     inv = ffrf_invariants(mom)
     timings["invariants_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
+    stage("stress modes")
     bar = tqdm(total=N.shape[1], desc="stress modes", disable=quiet)
     S, vdisp, op = stress_modes(V, geometry.material, Phi_full, zero_columns=range(6),
                                 progress=bar)
@@ -314,19 +327,26 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
     from . import reduced_cage as rcf
     if MPI.COMM_WORLD.size > 1:
         raise RuntimeError("flexbearing reduce runs in serial")
+    from flexbearing.common.progress import Stages
     key = rcf.cache_key(geometry, size, order, pocket_size, coupling, n_fixed, degree, centrifugal,
                         guide_loads, inertia_relief)
+    stage = Stages("reduce the cage", {k: w for k, w in REDUCE_STAGES.items() if k != "checks" or checks},
+                   quiet)
+    stage("mesh")
     msh = cached_cage_mesh(geometry, size, order, pocket_size)
+    stage("K and M")
     domain, _, facet_tags, _ = load_cage_mesh(msh, MPI.COMM_SELF)
     V, K, M = assemble_stiffness_mass(domain, geometry.material, degree)
     t0 = time.perf_counter()
     red = reduce_model(domain, facet_tags, V, K, M, geometry, coupling, n_fixed, quiet, centrifugal,
-                       guide_loads, inertia_relief)
+                       guide_loads, inertia_relief, stage=stage)
     red["timings"]["reduce_total_s"] = time.perf_counter() - t0
     summary = summarize(red)
     if checks:
+        stage("checks")
         from .reduction_check import run_checks
         summary.update(run_checks(red, domain, geometry, degree, n_keep))
+    stage("write")
     attrs = {"content_hash": rcf.cache_path(key).stem, "parameters": key, "coupling": coupling,
              "n_modes": int(len(red["omega"])), "created_by": "flexbearing reduce",
              "centrifugal_vector": bool(centrifugal), "guide_load_vectors": bool(guide_loads),
@@ -353,6 +373,7 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
                                    "tag 200), scaled to unit resultant (flexbearing.fem_cage.reduction."
                                    "guide_load_vectors)")
         g.attrs["guide_area_m2"] = red["guide_info"]["area_m2"]
+    stage(None)
     return path, red, summary
 
 

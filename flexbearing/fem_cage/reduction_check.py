@@ -47,7 +47,7 @@ def check_stress(red: dict, load_node: int, fixed_node: int = 0, force_n: float 
     vertex from the full FE displacement (same vertex-averaging operator) vs modal recovery."""
     from .craig_bampton import full_static, reduced_static_interface
     from .stress_modes import von_mises
-    from .von_mises import MaxVonMises
+    from .von_mises_search import MaxVonMises
     xm = red["interface_positions"][load_node]
     th = np.arctan2(xm[2], xm[1])
     F = np.zeros(6)
@@ -201,7 +201,7 @@ def check_von_mises(S: np.ndarray, omega: np.ndarray, n_random: int = 1000, seed
     q_k ~ N(0, 1/omega_k^2) (equal modal energy), "unit" N(0, 1) (worst case for the bounds),
     "static" N(0, 1/omega_k^4) (quasi-static response to interface forces, q = Phi^T F/omega^2);
     same maximum value as brute force required; cost per call = best of 5 loops (CPU time)."""
-    from .von_mises import MaxVonMises
+    from .von_mises_search import MaxVonMises
     t0 = time.perf_counter()
     ev = MaxVonMises(S, mode_scale=_mode_scale(omega))
     build_s = time.perf_counter() - t0

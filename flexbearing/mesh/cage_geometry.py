@@ -6,7 +6,7 @@ centred on the mid-plane. All lengths in metres.
 
 Paper values (Yang, Liu, Deng, Lubricants 2025, 13, 249, Tables 1, 3, 7): outside diameter
 178.45 mm, bore 161.15 mm, width 28.3 mm, 20 pockets, 40CrNiMoA (7870 kg/m^3, 209 GPa, 0.295).
-The pocket diameter (22.5 mm) and the guide geometry are not in the paper: assumed (SPEC §1).
+The pocket diameter (22.5 mm) and the guide geometry are not in the paper (Yang, Liu, Deng, Lubricants 2025, 13, 249): assumed.
 """
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ class CageGeometry:
     bore_diameter: float = 161.15e-3
     width: float = 28.3e-3
     n_pockets: int = 20
-    pocket_diameter: float = 22.5e-3       # assumed (SPEC §1)
+    pocket_diameter: float = 22.5e-3       # assumed (not in the paper)
     # Outer-ring guidance: the cage's outside cylinder runs on the outer ring's land.
     # land_width: axial width of each of the two guide lands on the cage's outside surface;
     # relief_depth: radial depth of the central relief between them (0 = plain outside cylinder).
@@ -121,7 +121,7 @@ class CageGeometry:
 
 
 NOMINAL_CAGE = CageGeometry()
-"""SPEC §1 defaults: pocket 22.5 mm, plain outside cylinder as guide (no relief, no chamfer)."""
+"""The assumed defaults (not in the paper): pocket 22.5 mm, plain outside cylinder as guide (no relief, no chamfer)."""
 
 CALIBRATED_CAGE = NOMINAL_CAGE.with_(
     pocket_diameter=22.297e-3,   # fitted: pocket clearance Cp = 0.148 mm

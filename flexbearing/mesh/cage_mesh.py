@@ -10,7 +10,7 @@ Mesh: global element size `size`, refined to `pocket_size` on and near the pocke
 (gmsh Distance + Threshold fields), because the thin side rails and bridges between pockets
 carry the bending of the cage. Order 2 means a *curved* quadratic mesh (gmsh setOrder(2)):
 mid-side nodes sit on the true pocket cylinders, which is what P2 elasticity needs to converge
-(SPEC §5: a straight-sided quadratic mesh facets the pockets and runs 0.1–2 % stiff).
+(a straight-sided quadratic mesh facets the pockets and runs 0.1–2 % stiff).
 
 Physical groups (names and tags are part of the API that fem_cage and coupling rely on):
   volume "cage" = 1; surfaces "pocket_00".."pocket_{Z-1:02d}" = 101 + k; "guide" = 200
@@ -35,7 +35,7 @@ from flexbearing.common.validation import InputError, require_range
 # load case the dynamics apply (spin, a pocket force in each direction, the land force) within
 # 5 % of the extrapolated value at 4 mm, not at 5 mm (pocket radial force -5.1 %, and the 5 mm
 # mesh needed two inverted cells repaired). Frequencies (flexbearing/fem_cage/mesh_study.py,
-# benchmarks/results/modes_mesh_study.*): 5 -> 4 mm moves them <= 0.24 %. P3 rather than SPEC's
+# benchmarks/results/modes_mesh_study.*): 5 -> 4 mm moves them <= 0.24 %. P3 rather than
 # P2: P2 needs 2-3x the dofs for the same frequencies, and no uniform P2 mesh up to 138k dofs
 # brings the stresses within 5 %.
 DEFAULT_MESH_SIZE = 4.0e-3

@@ -1,7 +1,7 @@
 """Bearing, oil and operating parameters: the paper preset and its validation.
 
 Paper: Yang, Liu, Deng, Lubricants 2025, 13, 249, Tables 1, 3, 7. Values the paper leaves out
-are marked "assumed" (SPEC §1). Every quantity is SI: m, kg, s, Pa, rad, K (temperatures in
+are marked "assumed". Every quantity is SI: m, kg, s, Pa, rad, K (temperatures in
 the oil model are in °C where the name says so).
 """
 from __future__ import annotations
@@ -20,7 +20,7 @@ from flexbearing.common.validation import InputError, require_positive, require_
 class Oil:
     """Lubricant: 4106 aviation oil (MIL-L-23699 class), paper Table 7.
 
-    Viscosity–temperature law (SPEC §1): eta(T) = eta_ref * exp(-beta * (T - T_ref)).
+    Viscosity–temperature law (exponential, Reynolds 1886; beta from paper Table 7): eta(T) = eta_ref * exp(-beta * (T - T_ref)).
     """
     density: float = 892.2                        # kg/m^3 at 20 °C
     viscosity_ref: float = 0.055                  # Pa·s at temperature_ref_c
@@ -108,7 +108,7 @@ class Bearing:
     ball_thermal: Thermal = BEARING_STEEL_THERMAL   # where the EHL traction law's flash temperature uses it
     ring_thermal: Thermal = BEARING_STEEL_THERMAL
 
-    # -- derived geometry (SPEC §2) --
+    # -- derived geometry (paper §2.2.1) --
     @property
     def total_curvature(self) -> float:
         """B = fi + fe - 1."""

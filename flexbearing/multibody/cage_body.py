@@ -175,8 +175,9 @@ def pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
     angular velocity wnode, all inertial. The cage rotation must be in cage.A and its
     body-frame angular velocity in w (`cage_body_angular_velocity`).
 
-    The node's kinematics of flexbearing.multibody.floating_frame.node_kinematics (pos = R + A u_p,
-    vel = R' + A (w × u_p + Phi_p q'), rot = Psi_p q, u_p = x_p + Phi_p q) and its angular velocity
+    The interface node's kinematics in the floating frame (pos = R + A u_p,
+    vel = R' + A (w × u_p + Phi_p q'), rot = Psi_p q, u_p = x_p + Phi_p q; Shabana, Dynamics of
+    Multibody Systems, 4th ed. 2013, ch. 5) and its angular velocity
     A (w + Psi_p q'), read from the state vector by index: no array views are made (each view
     costs an atomic reference-count increment and decrement, ~20 % of a rigid cage's rhs when
     this ran once per pocket through slices of y)."""

@@ -33,8 +33,8 @@ over the undeformed gap dh/dx = x/Rx gives |F_R| = W·|x_p|/(2·Rx), hence F_H =
 approximation for the EHL contact (tests/test_drag.py: Martin's rigid-cylinder solution, signs
 included). The seed paper's ball equations (§2.5.1) carry F_R and F_H of one contact with
 opposite signs, as here. Together they dissipate: in pure rolling on the fixed outer race the
-pair's power is F_H·v_centre < 0 (flexbearing.multibody.power_loss); with F_H along F_R (this module before
-session 8) it was a power source of the order of the traction losses.
+pair's power is F_H·v_centre < 0 (flexbearing.multibody.power_loss); with F_H along F_R (an earlier
+version of this module) it was a power source of the order of the traction losses.
 """
 from __future__ import annotations
 

@@ -11,7 +11,8 @@ Dowson, Ball Bearing Lubrication, Wiley 1981, ch. 8):
 
 Isothermal, fully flooded, smooth surfaces; the fit covers k = 1–8 and the hard-EHL range of
 U, G, W of their numerical solutions (quoted fit error ≤ 5 %). eta0 is the viscosity at the inlet
-temperature and atmospheric pressure (the paper preset evaluates it at 20 °C, SPEC §1).
+temperature and atmospheric pressure (the paper preset evaluates it at 20 °C, as the paper's eta0 "at atmospheric pressure and
+ambient temperature", §2.2.2).
 """
 from __future__ import annotations
 

@@ -342,43 +342,6 @@ def add_node_load(A, q, node_position, node_modes, p, F, T, out):
 
 
 @njit(cache=True)
-def node_kinematics(R, A, Rd, w, q, qd, node_position, node_modes, p, pos, vel, rot):
-    """Position, velocity (inertial) and small elastic rotation (body frame) of interface node p.
-
-    pos = R + A u_p; vel = R' + A (w × u_p + Phi_p q'); rot = Psi_p q (the node frame is A·(I + [rot]x)).
-    """
-    n = q.shape[0]
-    u0 = node_position[p, 0]
-    u1 = node_position[p, 1]
-    u2 = node_position[p, 2]
-    d0 = 0.0
-    d1 = 0.0
-    d2 = 0.0
-    r0 = 0.0
-    r1 = 0.0
-    r2 = 0.0
-    for k in range(n):
-        u0 += node_modes[p, 0, k] * q[k]
-        u1 += node_modes[p, 1, k] * q[k]
-        u2 += node_modes[p, 2, k] * q[k]
-        d0 += node_modes[p, 0, k] * qd[k]
-        d1 += node_modes[p, 1, k] * qd[k]
-        d2 += node_modes[p, 2, k] * qd[k]
-        r0 += node_modes[p, 3, k] * q[k]
-        r1 += node_modes[p, 4, k] * q[k]
-        r2 += node_modes[p, 5, k] * q[k]
-    b0 = w[1] * u2 - w[2] * u1 + d0
-    b1 = w[2] * u0 - w[0] * u2 + d1
-    b2 = w[0] * u1 - w[1] * u0 + d2
-    for i in range(3):
-        pos[i] = R[i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
-        vel[i] = Rd[i] + A[i, 0] * b0 + A[i, 1] * b1 + A[i, 2] * b2
-    rot[0] = r0
-    rot[1] = r1
-    rot[2] = r2
-
-
-@njit(cache=True)
 def cholesky_solve(Mmat, b):
     """Solve Mmat x = b in place (x overwrites b; Mmat's lower triangle is overwritten). SPD."""
     d = b.shape[0]

@@ -1,6 +1,6 @@
 """Contact geometry and kinematics of a ball in a three-point-contact bearing (split inner ring).
 
-SPEC §2; Harris & Kotzalas, Rolling Bearing Analysis, 5th ed., Vol. 2, ch. 1–3 (Jones 1960).
+Paper §2.2.1 (split inner ring); Harris & Kotzalas, Rolling Bearing Analysis, 5th ed., Vol. 2, ch. 1–3 (Jones 1960).
 All functions are numba-compiled, scalar in / tuple out and allocation-free, so the dynamics can
 call them inside its hot loop.
 
@@ -13,7 +13,7 @@ Frames and conventions
   (e_x, e_r, e_t) is right-handed; vector components in this module are given in that order
   (x, r, t).
 * Groove curvature centres are points of the ring on a circle about the ring axis; in the ball's
-  plane each is a point (x, r). Nominal positions in the ring frame (SPEC §2):
+  plane each is a point (x, r). Nominal positions in the ring frame (paper §2.2.1):
     outer:       x = 0,                         r = dm/2 − (fe − 0.5)·Dw
     inner-left:  x = +(fi − 0.5)·Dw·sin(alphaD), r = dm/2 + (fi − 0.5)·Dw·cos(alphaD) − Pd/2
     inner-right: x = −(fi − 0.5)·Dw·sin(alphaD), same r,
@@ -76,7 +76,7 @@ def cross(ax, ay, az, bx, by, bz):
 
 @njit(cache=True)
 def outer_groove_centre(pitch_diameter, ball_diameter, fe):
-    """Nominal outer-groove curvature centre (x, r) in a ball's plane, m (SPEC §2).
+    """Nominal outer-groove curvature centre (x, r) in a ball's plane, m.
 
     x = 0, r = dm/2 − (fe − 0.5)·Dw: the race bottom is at dm/2 + Dw/2, the groove radius fe·Dw.
     """
@@ -85,7 +85,7 @@ def outer_groove_centre(pitch_diameter, ball_diameter, fe):
 
 @njit(cache=True)
 def inner_groove_centres(pitch_diameter, ball_diameter, fi, shim_angle, radial_clearance):
-    """Nominal curvature centres of the two inner half-grooves in the ring frame, m (SPEC §2).
+    """Nominal curvature centres of the two inner half-grooves in the ring frame, m.
 
     Returns (x_left, r_left, x_right, r_right):
         x_left = +(fi − 0.5)·Dw·sin(alphaD),  x_right = −(fi − 0.5)·Dw·sin(alphaD),
@@ -277,12 +277,12 @@ def pitch_orbit_speed(inner_speed, outer_speed, ball_diameter, pitch_diameter, c
     """Epicyclic cage (ball orbit) speed for pure rolling with equal contact angles, rad/s.
 
     omega_m = [omega_i·(1 − gamma) + omega_o·(1 + gamma)]/2, gamma = Dw·cos(alpha)/dm
-    (Harris & Kotzalas Vol. 1, ch. 8; SPEC §6 nm = 0.5·ni·(1 − Dw·cos alpha/dm) for a fixed outer ring).
+    (Harris & Kotzalas Vol. 1, ch. 8; with a fixed outer ring nm = 0.5·ni·(1 − Dw·cos alpha/dm), paper §3.2).
     """
     g = ball_diameter * math.cos(contact_angle) / pitch_diameter
     return 0.5 * (inner_speed * (1.0 - g) + outer_speed * (1.0 + g))
 
 
 def nominal_cage_speed(omega_i: float, dw: float, dm: float, alpha: float) -> float:
-    """nm = 0.5·omega_i·(1 − Dw·cos(alpha)/dm), rad/s (paper §3.2; SPEC §6)."""
+    """nm = 0.5·omega_i·(1 − Dw·cos(alpha)/dm), rad/s (paper §3.2)."""
     return 0.5 * omega_i * (1.0 - dw * math.cos(alpha) / dm)

@@ -38,7 +38,7 @@ over either half:
 (tests/test_guide_land.py integrates the short-bearing pressure over the half for both signs of w;
 tests/test_symmetry.py checks the whole model for the mirror that reverses the rotation). sgn(w)
 is smoothed as tanh(w/(1 rad/s)), as the rim friction below, so the force stays continuous where
-the whirl passes half the spin. Before session 10 the squeeze term kept its sign for w < 0.
+the whirl passes half the spin. (The squeeze term must change sign with w: a version that kept it for w < 0 broke the mirror.)
 
 The film terms are evaluated at min(eps, eps_max) (default 0.95) so they stay finite; from
 |e| >= Cg a rim contact takes over: a radial penalty F_rim = k_rim·(|e| − Cg) along −e_hat with

@@ -11,7 +11,7 @@ step that passes them (`_dense_state`: Dormand–Prince's of order 4, Hairer, N�
 Solving ODEs I, §II.6; the cubic Hermite for BS32); the steps are not shortened to land on them.
 Stopping at every sample instead cost the paper's steady scenes ~20 % more steps at tol 1e-4 (a
 shortened step per 0.1 ms sample interval on ~6.6 steps, and a fresh step-size ramp after it;
-issue 21, benchmarks/results/speed.md). With the stress monitor, each sample receives the peak
+benchmarks/results/speed.md). With the stress monitor, each sample receives the peak
 over the steps that ended after the previous sample and up to it.
 
 Method (chosen by measurement, benchmarks/bench_integrator.py, results in

@@ -46,7 +46,6 @@ Assumed inputs (not in the paper; options keys, SI):
   every ball–pocket contact (a fraction of the critical damping of the ball on the contact's
   linearised stiffness; Harris & Kotzalas Vol. 2 §... use ~2–10 %).
 * Churning drag: flexbearing.multibody.drag (sphere C_d(Re), oil–air mixture of Oil.oil_air_fraction).
-  ``drag_coefficient`` is kept for compatibility and unused.
 * ``rim_stiffness`` (N/m, default flexbearing.multibody.guide_land.rim_stiffness: (pi/4)·E'·L) and
   ``rim_friction`` (0.1): the cage–land rim penalty contact beyond the guide clearance.
 * ``pocket_friction`` (0.0): an optional Coulomb friction coefficient at the loaded side of the
@@ -102,28 +101,28 @@ P_XIL, P_RIL, P_XIR, P_RIR = 7, 8, 9, 10  # inner half-groove centres (ring fram
 P_MB, P_IB = 11, 12                    # ball mass, ball moment of inertia
 P_MI, P_IID, P_IIP = 13, 14, 15        # inner ring mass, diametral and polar inertia
 P_MC, P_ICP, P_ICD = 16, 17, 18        # cage mass, polar and diametral inertia
-P_EBR, P_EBC = 19, 20                  # E' ball–race, ball–cage
-P_CP, P_KC, P_KN, P_RPOCKET = 21, 22, 23, 24  # pocket clearance, linear const, Hertz const, pocket radius
-P_RCAGE_POCKET = 25                    # radius of the pocket centres on the cage (= dm/2)
-P_R1, P_CG, P_L3, P_KRIM, P_MURIM = 26, 27, 28, 29, 30  # guide land
-P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_CD, P_ALPHA_P = 31, 32, 33, 34, 35, 36, 37
-P_SLIN, P_UMIN, P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX = 38, 39, 40, 41, 42, 43
-P_ALPHA0 = 44                          # free contact angle (rad)
-P_LAND_L = 45                          # effective land width used for the Petroff torque, m
-P_ETA_TRACTION = 46                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
-P_ATT_RATE = 47                        # relaxation rate of the race-control ball attitude constraint, 1/s
-P_UREG = 48                            # regularisation speed of the fit's slide-to-roll ratio, m/s
-P_OIL_WREF = 49                        # reference speed of the cavity oil fraction (rad/s; 0: fixed), oil_supply
-N_PARAMS = 50
+P_EBR = 19                             # E' ball–race
+P_CP, P_KC, P_KN, P_RPOCKET = 20, 21, 22, 23  # pocket clearance, linear const, Hertz const, pocket radius
+P_RCAGE_POCKET = 24                    # radius of the pocket centres on the cage (= dm/2)
+P_R1, P_CG, P_L3, P_KRIM, P_MURIM = 25, 26, 27, 28, 29  # guide land
+P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_ALPHA_P = 30, 31, 32, 33, 34, 35
+P_SLIN, P_UMIN, P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX = 36, 37, 38, 39, 40, 41
+P_ALPHA0 = 42                          # free contact angle (rad)
+P_LAND_L = 43                          # effective land width used for the Petroff torque, m
+P_ETA_TRACTION = 44                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
+P_ATT_RATE = 45                        # relaxation rate of the race-control ball attitude constraint, 1/s
+P_UREG = 46                            # regularisation speed of the fit's slide-to-roll ratio, m/s
+P_OIL_WREF = 47                        # reference speed of the cavity oil fraction (rad/s; 0: fixed), oil_supply
+N_PARAMS = 48
 
 # ---------------------------------------------------------------- switch indices
-F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_NBALLS, F_NMODES = 0, 1, 2, 3, 4, 5, 6
-F_HERTZ_FIXED, F_ROLLRES, F_LAND = 7, 8, 9
-F_ATTITUDE = 10                        # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
-F_ATT_RING = 11                        # race control / no pivoting: gyroscopic friction reaction on the inner ring
-F_TRACTION_LAW = 12                    # the traction law of traction_table: index in TRACTION_LAWS
-F_INNER_HALVES = 13                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
-N_FLAGS = 14
+F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES = 0, 1, 2, 3, 4
+F_HERTZ_FIXED, F_ROLLRES, F_LAND = 5, 6, 7
+F_ATTITUDE = 8                         # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
+F_ATT_RING = 9                         # race control / no pivoting: gyroscopic friction reaction on the inner ring
+F_TRACTION_LAW = 10                    # the traction law of traction_table: index in TRACTION_LAWS
+F_INNER_HALVES = 11                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
+N_FLAGS = 12
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
 
 # ---------------------------------------------------------------- Hertz table columns
@@ -191,7 +190,6 @@ DEFAULT_OPTIONS = {
     "n_slices": 8,
     "hertz_fixed_angle": False,
     "damping_ratio": 0.05,
-    "drag_coefficient": 0.5,
     "rim_stiffness": None,
     "rim_friction": 0.1,
     "pocket_friction": 0.0,
@@ -353,7 +351,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     e_br = effective_modulus(bm.youngs_modulus, bm.poisson_ratio, rm.youngs_modulus, rm.poisson_ratio)
     e_bc = effective_modulus(bm.youngs_modulus, bm.poisson_ratio, cage.material.youngs_modulus,
                              cage.material.poisson_ratio)
-    p[P_EBR], p[P_EBC] = e_br, e_bc
+    p[P_EBR] = e_br
     # ball–pocket (paper §2.3.1): linear Kc = 11/Cp up to Cp, Hertz beyond (ball in a cylinder:
     # across the pocket 1/R = 1/Rb − 1/Rp (conforming), along the pocket axis R = Rb)
     cp = bearing.pocket_clearance
@@ -363,7 +361,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
     p[P_RPOCKET] = rp
     p[P_RCAGE_POCKET] = 0.5 * dm
-    # guide land (short journal bearing, formulas.md): R1 cage outer radius, Cg radial clearance
+    # guide land (short journal bearing, Ocvirk; flexbearing.multibody.guide_land): R1 cage outer radius, Cg radial clearance
     p[P_R1] = cage.outer_radius
     p[P_CG] = bearing.guide_clearance
     if cage.relief_depth > 0.0:
@@ -385,7 +383,6 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p[P_RHO_OIL] = oil.density
     p[P_OILFRAC] = oil.oil_air_fraction
     p[P_OIL_WREF] = oil.supply_reference_rpm * math.pi / 30.0
-    p[P_CD] = require_range("model.drag_coefficient", _option(options, "drag_coefficient"), 0.0, 5.0)
     p[P_ALPHA_P] = oil.pressure_viscosity_coeff
     p[P_SLIN], p[P_UMIN], p[P_ZETA] = s_lin, u_min, zeta
     p[P_UREG] = u_reg
@@ -402,8 +399,6 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     flags[F_DAMPING] = bool(_option(options, "damping"))
     flags[F_TRANSVERSE] = bool(_option(options, "transverse_traction"))
     flags[F_NSLICES] = n_slices
-    flags[F_NBALLS] = z
-    flags[F_NMODES] = n_modes
     flags[F_INNER_HALVES] = bearing.n_inner_halves
     flags[F_HERTZ_FIXED] = bool(_option(options, "hertz_fixed_angle"))
     attitude = _option(options, "ball_attitude")
@@ -456,7 +451,7 @@ def _error_scales(z: int, n_modes: int, dw: float) -> tuple[np.ndarray, np.ndarr
     cumulative angles (ball azimuth, ring and cage spin angle) against 1e-3 rad with no relative
     part (they grow without bound). Orbital and spin speeds also get the relative tolerance.
 
-    Ball x', r' (issue 21): the balls' fastest motion is their vibration on the Hertz contacts,
+    Ball x', r': the balls' fastest motion is their vibration on the Hertz contacts,
     omega_H = sqrt((k_o + k_i)/m_b) ~ 1.3e5 rad/s at the paper's loads (k = 1.5·Q/delta ~ 2e8 N/m
     per contact; the Jacobian's largest eigenvalues, -1e4 ± 1.3e5j). In that mode a velocity error
     e_v is worth a displacement e_v/omega_H, so against 0.1 m/s the velocities were weighted ~130x

@@ -176,6 +176,15 @@ def evaluated_names(requested) -> set[str]:
     return {OUTPUT[n].source[0] if OUTPUT[n].source else n for n in recorded_by(requested)}
 
 
+def recorded_keys(requested, returned) -> list[str]:
+    """The keys of `returned` (an evaluation's keys) to record for the requested scene outputs: those
+    this table lists under them (and the ALWAYS ones); a key the table does not know (another
+    backend's) is recorded when it starts with a requested output's name."""
+    want = evaluated_names(requested)
+    return [k for k in returned
+            if k in want or (k not in EVALUATED and any(k.startswith(r) for r in requested))]
+
+
 def split_mixed_units(values: dict) -> dict:
     """The evaluation's values with each mixed-unit vector replaced by its SI datasets (`SPLIT`)."""
     out = {}

@@ -1,4 +1,4 @@
-"""The recordable quantities of the bearing at one state: what a run samples (SPEC §6).
+"""The recordable quantities of the bearing at one state: what a run samples.
 
 `evaluate_outputs(model, t, y, ...)` evaluates the right-hand side at (t, y) (flexbearing.multibody.dynamics.rhs
 fills its work array with every contact's load, geometry and dissipated power) and turns the work
@@ -23,7 +23,7 @@ from flexbearing.multibody.power_loss import RECORDED, drive_torque, power_by_so
 
 def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, load_table: np.ndarray,
                      impacts: np.ndarray, film: bool = False, energy: bool = False) -> dict:
-    """Recordable quantities at (t, y), SI (SPEC §6). Per ball arrays have shape (Z,), per contact
+    """Recordable quantities at (t, y), SI. Per ball arrays have shape (Z,), per contact
     (Z, 3) in the order outer, inner-left, inner-right.
 
     Keys: contact_load, contact_angle (signed, rad), contact_stress (p0, Pa), approach, slide_ratio

@@ -2,7 +2,7 @@
 
 Geometry: a ball of radius Rb in a cylindrical pocket of radius Rp > Rb (axis radial). Across the
 pocket (xi, around the cylinder) the contact is conforming, along the pocket axis (eta) the
-pocket is straight (formulas.md):
+pocket is straight:
 
     1/R_xi = 1/Rb − 1/Rp,   R_eta = Rb.
 
@@ -32,13 +32,14 @@ these numbers by quadrature), and W from Brewe–Hamrock–Taylor:
 
 independent of h, the same scaling eta0·u·sqrt(R_xi·R_eta) as the paper's ref. 27 (its C_O). This
 is an assembled model (BHT load + line-contact pressure centre), not a published closed form: the
-paper's P_R coefficient could not be read from the extracted text (formulas.md).
+paper's P_R coefficient could not be read from the extracted text of the paper.
 
 Sliding (Couette) resistance: integrating eta0·du/h over the wetted ellipse out to the gap h_edge,
 
     F_S = 2·pi·eta0·du·sqrt(Rx·Ry)·ln(h_edge/h0),
 
-the scaling eta0·du·sqrt(R_xi·R_eta)·ln(·) of formulas.md (exact for the paraboloidal gap).
+the scaling eta0·du·sqrt(R_xi·R_eta)·ln(·) of Houpert (J. Tribol. 109 (1987) 363) and Gupta
+(Advanced Dynamics of Rolling Elements, 1984) (exact for the paraboloidal gap).
 Forces act on the ball: F_R opposite to the entrainment speed u, F_S along du = u_cage − u_ball.
 """
 from __future__ import annotations

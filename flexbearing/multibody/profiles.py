@@ -3,7 +3,7 @@
 The dynamics right-hand side calls these at every evaluation, so they are numba-compiled,
 allocation-free and branch on plain float arrays (built once by `flexbearing.simulation.scene`).
 
-Speed spectrum (SPEC §6): ``speed_table`` float64 (n, 2) of (t [s], omega [rad/s]), times
+Speed spectrum: ``speed_table`` float64 (n, 2) of (t [s], omega [rad/s]), times
 strictly increasing, piecewise linear between the points and constant outside them:
 
     omega(t) = omega_0                                         t <= t_0
@@ -21,7 +21,7 @@ plus ``impacts`` float64 (m, 6) of (t_start, duration, Fx_amp, Fy_amp, Fz_amp, s
     shape 1 (rectangular):  F(t) = F_amp                       for t0 <= t <  t0 + T
     0 elsewhere; impacts add to the table load (paper §4.2: 50 kN, 0.02 s impacts).
 
-Frame (SPEC §2): x along the shaft axis, y horizontal, z vertical. Forces act on the inner ring.
+Frame: x along the shaft axis, y horizontal, z vertical. Forces act on the inner ring.
 """
 from __future__ import annotations
 
@@ -154,7 +154,3 @@ def breakpoints(speed_table: np.ndarray, load_table: np.ndarray, impacts: np.nda
     if impacts.shape[0]:
         times += [impacts[:, 0], impacts[:, 0] + impacts[:, 1]]
     return np.unique(np.concatenate(times))
-
-
-def empty_impacts() -> np.ndarray:
-    return np.zeros((0, 6), dtype=np.float64)

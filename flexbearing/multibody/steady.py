@@ -249,7 +249,9 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
     MINPACK's hybrid method: far more robust than a Newton on all 6Z + 11), copied to every ball;
     where that fails, the held-cage solve of the thrust alone from the quasi-static balls. Then
     lambda rises to 1, each solve starting from the previous solution; a failed step is halved
-    (down to CONTINUATION_MIN_STEP), a converged one enlarged by 1.5.
+    (down to CONTINUATION_MIN_STEP), a converged one enlarged by 1.5. Where the halving ends
+    (a contact law switching inside the step: the residual jumps there), it jumps over the switch
+    from the last root: to lambda = 1, +0.25, +0.1.
 
     Why: from the quasi-static start the damped Newton of `_held_cage_solve` can end on a
     near-singular stationary point of |F| that is not a root (measured on a slip-rate case: the
@@ -293,6 +295,19 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             continue
         step *= 0.5
         if step < CONTINUATION_MIN_STEP:
+            # a ball entering or leaving the load zone, or the cage reaching its rim, switches a
+            # contact law inside the step: the residual jumps there and no root lies on the switch
+            # itself, but the branch goes on beyond it. Jump over it from the last root.
+            jumped = False
+            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1)}, reverse=True):
+                y_t, info_t = at(far, info["unknowns"])
+                if info_t["converged"]:
+                    lam, y, info, jumped = far, y_t, info_t, True
+                    path.append(lam)
+                    step = CONTINUATION_FIRST_STEP
+                    break
+            if jumped:
+                continue
             y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.3f} "
                                       f"of the radial load and weight (residual {info_t['residual']:.2e} at "
                                       f"{trial:.3f}): the branch turns or ends there (a fold, or a ball leaving the "

@@ -10,7 +10,7 @@ i.e. the integrated elastic modes q_kept (y_modes) plus the quasi-static residua
 the discarded ones, q_k = (Phi_b,k^T F_nodes + Omega_x^2 Q_cf,k)/omega_k^2 (mode acceleration /
 residual flexibility, Craig & Kurdila, "Fundamentals of Structural Dynamics", 2006, §14.3; the
 same coordinates as flexbearing.fem_cage.reduced_cage.static_correction and flexbearing.coupling.flexible_cage.
-StressRecovery), written in load space (flexbearing.fem_cage.von_mises.load_space_stress). F_nodes: the node
+StressRecovery), written in load space (flexbearing.fem_cage.von_mises_search.load_space_stress). F_nodes: the node
 loads the right-hand side wrote into the cage arrays (cage.node_load: the Z pocket nodes and, as load
 point Z, the guide-surface land load) when it evaluated the FSAL stage at exactly this state;
 Omega_x the cage's spin about its own axis (body frame). The maximum von Mises value over every
@@ -28,7 +28,7 @@ step's maximum), so most nodes are dismissed by their bounds.
 
 Monitor tuple (all arrays, allocation-free kernel; `disabled_monitor()` for runs without stress):
 
-    (on (1,) int64, search (flexbearing.fem_cage.von_mises.TrackingMaxVonMises.arrays),
+    (on (1,) int64, search (flexbearing.fem_cage.von_mises_search.TrackingMaxVonMises.arrays),
      idx (6,) int64 = [cage block offset, modes block offset, n integrated elastic modes,
                        n load points P, interval k, accepted steps since the last evaluation],
      y (K,) scratch, K = 1 + n_el + 6 P,
@@ -105,7 +105,7 @@ def stress_peak_step(t, y, cage, mon):
 
 def new_monitor(search_arrays: tuple, n_load_points: int, cage_offset: int, modes_offset: int,
                 n_integrated: int, trace: int = 0, interval: int = 1) -> tuple:
-    """The monitor tuple for the arrays of a flexbearing.fem_cage.von_mises.TrackingMaxVonMises built on the
+    """The monitor tuple for the arrays of a flexbearing.fem_cage.von_mises_search.TrackingMaxVonMises built on the
     load-space stress (Omega^2, n_integrated elastic modes, 6 components of n_load_points load
     points: the pockets, then the guide land); trace: how many steps to record (0 in runs);
     interval: evaluate every interval-th accepted step (1 = every step; module doc)."""

@@ -1,7 +1,8 @@
 """EHL traction between a ball and a race: the 4106-oil traction curve and its slice integration.
 
-Traction curve (Wang, Yang & Wang, Tribology 24(2):156, 2004, the seed paper's ref. 25; signs of
-the exponents reconstructed in reference/formulas.md):
+Traction curve (Wang, Yang & Wang, Tribology 24(2):156, 2004, the seed paper's ref. 25; the
+extracted text lost the signs of the exponents: the signs here are the only ones that keep
+mu(0) = A + D near zero and give realistic curves on the fit's ball-on-disc range):
 
     mu(s) = (A + B·|s|)·exp(−C·|s|) + D,   mu(−s) = −mu(s),   s = du/UR,  UR = (u_ball + u_race)/2,
 
@@ -11,7 +12,8 @@ the exponents reconstructed in reference/formulas.md):
 with Rx the rolling-direction effective radius, T0 the oil temperature (K), K0 the oil thermal
 conductivity and eta0 the viscosity "at atmospheric pressure and ambient temperature" (paper
 §2.2.2). The fit is only meaningful with eta0 at ambient (the 0.055 Pa·s of the paper preset): the
-formulas.md check (A −0.0204, ... at 373 K) uses eta0 = 0.055 Pa·s; with the 100 °C viscosity
+check (inner contact, Q 3 kN, 10,000 rpm, UR 43.1 m/s, 373 K: A −0.0204, B 0.0698, C 6.23,
+D 0.0192) uses eta0 = 0.055 Pa·s; with the 100 °C viscosity
 (4.4 mPa·s) the same fit returns mu ≈ 0.79, which is physically wrong. Near s = 0 the fitted curve
 dips slightly below zero (A + D < 0 for some conditions); those values are clipped to zero.
 
@@ -37,7 +39,7 @@ giving T_y = sum Q_m·mu_m·dv/|dvec| and the T_y part of the moment is zero (sl
 Sign convention: du, dv = race surface velocity minus ball surface velocity at the contact; the
 returned forces act on the ball (positive along +du). The race receives the opposite.
 
-Low rolling speed (model option slip_regularisation_speed = u_reg, default 10 m/s; issue 21). The
+Low rolling speed (model option slip_regularisation_speed = u_reg, default 10 m/s). The
 dynamics evaluate the fit at the effective rolling speed UR_eff = max(|UR|, u_reg):
 
     mu = mu(du/UR_eff; A..D at Ub(UR_eff)),   UR_eff = max(|UR|, u_reg),
@@ -103,7 +105,7 @@ which differs from the fit only where exp(−C·s) matters (the fit's C = 5–7:
 odd in s like the fit. Stored as a 6-row table with no data-range clamp and no cap, flag
 table[5, 1] = 1.
 
-EHL film-shear law (model option traction_law = "ehl"; `sliced_traction_ehl`, issue 25). The fit
+EHL film-shear law (model option traction_law = "ehl"; `sliced_traction_ehl`). The fit
 and its variants above have no creep stiffness at the slip-rate test's light contacts (a dead zone
 up to s = 0.03–0.09); this law computes the traction from the shear of the oil film instead, at
 every load, with the physics of the EHL traction curve (Johnson & Tevaarwerk, Proc. R. Soc. A

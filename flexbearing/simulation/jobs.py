@@ -28,9 +28,12 @@ workers > 1 needs the usual `if __name__ == "__main__":` guard.
 """
 from __future__ import annotations
 
+import logging
 import os
 import uuid
 from dataclasses import dataclass
+
+from tqdm import tqdm
 
 from flexbearing.common.validation import InputError
 
@@ -70,7 +73,6 @@ def _message(exc: BaseException) -> str:
 
 
 def _bar(total: int, description: str, progress: bool):
-    from tqdm import tqdm
     return tqdm(total=total, desc=description, unit="job", disable=not progress, dynamic_ncols=True)
 
 
@@ -131,8 +133,6 @@ def _run_here(func, jobs, on_result, names, description, progress) -> list[JobFa
 def _local_cluster(n_workers: int):
     """A LocalCluster of n worker processes, one thread each, quiet, no dashboard, no memory
     limit (a worker paused or killed for memory would stall or lose a run; the OS decides)."""
-    import logging
-
     import dask
     from distributed import LocalCluster
     with dask.config.set({"distributed.worker.daemon": False}):

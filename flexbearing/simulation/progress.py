@@ -4,6 +4,8 @@ from __future__ import annotations
 import sys
 import time
 
+from tqdm import tqdm
+
 
 class RunProgress:
     """Bar whose total is the scene duration [s of simulated time]; ETA from the simulated-time rate."""
@@ -16,7 +18,6 @@ class RunProgress:
         self.wall0 = time.perf_counter()
         if quiet:
             return
-        from tqdm import tqdm
         self.bar = tqdm(total=duration, initial=t0, desc=desc, unit="s", file=sys.stderr,
                         mininterval=0.5, dynamic_ncols=True,
                         bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4f}/{total:.4f} s "

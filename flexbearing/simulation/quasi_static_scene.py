@@ -22,13 +22,17 @@ import math
 import numpy as np
 
 from flexbearing.common.validation import InputError, require_range
+from flexbearing.multibody import model as M
+from flexbearing.multibody.model import build_model, P_IID, P_IIP, P_MI
+from flexbearing.multibody.profiles import load_at, speed_at
+from flexbearing.multibody.quasi_static import bearing_stiffness, grooves_from_bearing, solve_quasi_static
+from flexbearing.multibody.steady import steady_held_cage_state, steady_thrust_state
+from flexbearing.multibody.vibration import linear_model, lines_at_speed, natural_modes
 
 
 def scene_instant(scene, time: float):
     """(omega rad/s, force (Fx, Fy, Fz) N) of `scene` at `time`: the speed and the load (table
     plus the impacts active then) from the scene's profiles (flexbearing.multibody.profiles)."""
-    from flexbearing.multibody.profiles import load_at, speed_at
-
     require_range("--time", time, 0.0, scene.duration, unit="s")
     force = np.zeros(3)
     load_at(time, scene.load_table, scene.impacts, force)
@@ -40,8 +44,6 @@ def solve_scene(scene, time: float = 0.0, control: str = "outer", friction_share
     """(result, inputs) of flexbearing.multibody.quasi_static for `scene` at `time` (`scene_instant`); `initial`:
     a previous result to start from (when it does not converge, the solve is repeated cold); psi0:
     azimuth of ball 0 (rad, from +Y towards +Z)."""
-    from flexbearing.multibody.quasi_static import grooves_from_bearing, solve_quasi_static
-
     omega, force = scene_instant(scene, time)
     solve = lambda start: solve_quasi_static(grooves_from_bearing(scene.bearing), omega, fx=force[0], fy=force[1],
                                              fz=force[2], control=control, friction_share=friction_share,
@@ -61,8 +63,6 @@ def sweep_scene(scene, times, control: str = "outer", friction_share=None, gyros
     cage_speed, converged, diagnostic, and per contact (outer, inner_left, inner_right) the
     largest ball load, the largest Hertz pressure and the contact angle of the most loaded ball;
     `stiffness` ("updated" | "frozen"): also the 5×5 bearing stiffness (`bearing_stiffness`)."""
-    from flexbearing.multibody.quasi_static import bearing_stiffness, grooves_from_bearing
-
     grooves = grooves_from_bearing(scene.bearing)
     rows, previous = [], None
     for t in times:
@@ -83,9 +83,6 @@ def steady_scene(scene, time: float = 0.0):
     scene's model options): flexbearing.multibody.steady's steady thrust state for a pure axial load without
     gravity, its frozen-azimuth held-cage state otherwise (a radial load or weight: the balls
     differ by azimuth and the cage sits off-centre in its guide film)."""
-    from flexbearing.multibody import model as M
-    from flexbearing.multibody.model import build_model
-    from flexbearing.multibody.steady import steady_held_cage_state, steady_thrust_state
 
     omega, force = scene_instant(scene, time)
     model = build_model(scene.bearing, scene.oil, scene.model_options)
@@ -107,9 +104,6 @@ def scene_modes(scene, result, inputs, n_modes: int) -> dict:
     "frequency" (Hz), "participation" (n, 5: ring x, y, z, theta_y, theta_z)}; at speed under a
     purely axial load {"kind": "orbiting frame", "frequency", "weight", "line"} (fixed-frame lines).
     At speed with a radial load the system is time-periodic: refused (InputError)."""
-    from flexbearing.multibody.model import P_IID, P_IIP, P_MI, build_model
-    from flexbearing.multibody.quasi_static import grooves_from_bearing
-    from flexbearing.multibody.vibration import linear_model, lines_at_speed, natural_modes
 
     check_modes_instant(scene, inputs["time"], n_modes)
     p = build_model(scene.bearing, scene.oil, scene.model_options).p

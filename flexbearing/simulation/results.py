@@ -4,7 +4,8 @@ Layout (SI units in the `unit` attribute of every dataset):
 
     /                      attrs: format, format_version, scene_name, scene_hash, status
                            ("running" | "interrupted" | "failed: ..." | "complete"), duration,
-                           sample_interval, n_samples_expected, cage_model, summary (JSON, at the end)
+                           sample_interval, n_samples_expected, cage_model, program_version and
+                           git_commit (flexbearing.common.provenance), summary (JSON, at the end)
     /scene                 the scene's TOML text, as loaded
     /outputs/time          (n,) s
     /outputs/<name>        (n, ...) one row per sample, e.g. contact_stress (n, Z, 3) Pa; attrs
@@ -45,6 +46,7 @@ from __future__ import annotations
 
 import json
 import math
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -70,7 +72,7 @@ def chunk_rows(checkpoint_every: int) -> int:
 COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 
 # Units, dimension names and column labels of the recorded quantities: flexbearing.multibody.output_registry
-# (a backend's OUTPUT_UNITS dict wins; name fragments are the last resort for names it does not
+# (a backend's output_units dict wins; name fragments are the last resort for names it does not
 # know, ordered: the more specific fragment first).
 _UNIT_RULES = (("ratio", "1"), ("angular_velocity", "rad/s"), ("angle", "rad"), ("tilt", "rad"),
                ("von_mises", "Pa"), ("stress", "Pa"), ("pressure", "Pa"), ("film", "m"),
@@ -171,6 +173,9 @@ class ResultsWriter:
         f.attrs["n_samples_expected"] = scene.n_samples
         f.attrs["status"] = "running"
         f.attrs["n_resumes"] = 0
+        from flexbearing.common.provenance import git_commit, program_version
+        f.attrs["program_version"] = program_version()
+        f.attrs["git_commit"] = git_commit()
         f.create_dataset("scene", data=scene.text or json.dumps(scene.data, default=repr))
         f.create_group("outputs")
         cp = f.create_group("checkpoint")
@@ -456,6 +461,13 @@ def read_outputs(path) -> dict[str, np.ndarray]:
 
 def check_run(path) -> Path:
     """`path` as a Path if it is a flexbearing results file (InputError naming it otherwise)."""
+    path, f = _open_run(path)
+    f.close()
+    return path
+
+
+def _open_run(path):
+    """(Path, the file open for reading) of a flexbearing results file; InputError naming it otherwise."""
     import h5py
     from flexbearing.common.validation import InputError
     path = Path(path)
@@ -463,15 +475,101 @@ def check_run(path) -> Path:
         raise InputError(f"run file {str(path)!r} does not exist (a results file written by "
                          f"`flexbearing run`, .h5)")
     try:
-        with h5py.File(path, "r") as f:
-            fmt = f.attrs.get("format")
-            ok = "outputs/time" in f
+        f = h5py.File(path, "r")
     except OSError as exc:
         raise InputError(f"run file {str(path)!r} is not an HDF5 file ({exc})") from None
-    if fmt != "flexbearing-results" or not ok:
+    fmt = f.attrs.get("format")
+    if fmt != "flexbearing-results" or "outputs/time" not in f:
+        f.close()
         raise InputError(f"{path} is not a flexbearing results file (format attribute {fmt!r}, "
                          f"expected 'flexbearing-results' with /outputs/time)")
-    return path
+    return path, f
+
+
+class Run:
+    """One run's results file, opened once for reading and handed to every reader of it: the
+    report's windows, plots, field export, stress picture, export and the report itself.
+
+        with Run("run.h5") as run:
+            run.t, run.scene, run.dt          # sample times (s), the Scene (or None), sample interval (s)
+            run.outputs["contact_stress"]     # an h5py dataset (SI, its `unit` attribute)
+
+    The file is opened and checked once (as `check_run` checks it); the sample times, the scene and the sample interval
+    are read once, when first asked for. A reader given a path instead of a Run opens its own
+    (`opened`), so each reader still works alone."""
+
+    def __init__(self, path):
+        self.path, self.file = _open_run(path)
+        self._t = self._scene = None
+        self._scene_read = False
+
+    @property
+    def outputs(self):
+        """The /outputs group (h5py)."""
+        return self.file["outputs"]
+
+    @property
+    def attrs(self):
+        return self.file.attrs
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times, s."""
+        if self._t is None:
+            self._t = self.outputs["time"][...]
+        return self._t
+
+    @property
+    def scene(self):
+        """The Scene the run was made from (scene_of_run), or None."""
+        if not self._scene_read:
+            self._scene, self._scene_read = scene_of_run(self.file), True
+        return self._scene
+
+    @property
+    def dt(self) -> float:
+        """The sample interval, s (sample_interval)."""
+        return sample_interval(self.file, self.t)
+
+    @property
+    def name(self) -> str:
+        return str(self.attrs.get("scene_name", self.path.stem))
+
+    @property
+    def status(self) -> str:
+        return str(self.attrs.get("status", ""))
+
+    @property
+    def cage_model(self) -> str:
+        return str(self.attrs.get("cage_model", ""))
+
+    @property
+    def flexible(self) -> bool:
+        """True when the run recorded the flexible cage's modal coordinates (its stress field)."""
+        return "cage_modal_coordinates_full" in self.outputs
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.outputs
+
+    def close(self) -> None:
+        if self.file.id.valid:
+            self.file.close()
+
+    def __enter__(self) -> "Run":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+@contextmanager
+def opened(run):
+    """`run` itself if it is an open Run (left open), else a Run of the path `run`, closed after."""
+    if isinstance(run, Run):
+        yield run
+        return
+    with Run(run) as r:
+        yield r
 
 
 def scene_of_run(f):

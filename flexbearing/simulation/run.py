@@ -7,48 +7,40 @@
     extension gives at t_k inside a step (flexbearing.multibody.integrator, "Samples"); outputs are evaluated
     at t_k only, and only those the scene records.
 
-The physics comes from a *backend*, a namespace with
-    build_model(bearing, oil, options) -> model
-    initial_state(model, speed_rad_s, Fa, Fr) -> y0
-    advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h) -> (y, t, h, n_steps, n_rejected)
-    advance_sampled (optional)(model, y, t, t_next, sample_times, speed_table, load_table, impacts, tol, h)
-              -> (y, t, h, n_steps, n_rejected, states at sample_times, snapshots at them)
-    evaluate_outputs(model, t, y, ...) -> dict[str, array]      (keyword arguments it declares among
-                                         outputs, speed_table, load_table, impacts, film (True when
-                                         film_thickness is recorded), energy (True when power_loss
-                                         is recorded) are passed)
-    OUTPUT_UNITS (optional dict name -> unit; default: flexbearing.multibody.output_registry)
-`default_backend(scene)` assembles it from multibody.{model, initial, integrator, outputs} (rigid
-cage) or from flexbearing.coupling.flexible_cage (flexible cage); tests pass a small fake backend so that
+The physics comes from a backend, a flexbearing.multibody.run_backend.RunBackend (its explicit
+interface: build the model, the initial state, advance, evaluate the outputs, optionally advance
+across samples, take a sample's snapshot, a workspace): `default_backend(scene)` is the rigid cage's
+(flexbearing.multibody.run_backend.rigid_backend) or the flexible cage's
+(flexbearing.coupling.flexible_cage.backend); tests pass a small stand-in physics, so that
 streaming, checkpoints and resume are proven independently of the physics. Nothing here imports
 the FE stack.
 
-What each scene output records: flexbearing.multibody.output_registry (a backend whose evaluate_outputs takes
-`outputs=` selects its keys itself; a key the registry does not know is recorded when it starts
-with a requested output's name). The inner-ring speed and the external load (the spectra at t_k)
-are always recorded. Vectors of mixed units are split into SI datasets (the registry's `source`).
+What each scene output records: flexbearing.multibody.output_registry (the backend selects the
+evaluated keys). The inner-ring speed and the external load (the spectra at t_k) are always
+recorded. Vectors of mixed units are split into SI datasets (the registry's `source`).
 """
 from __future__ import annotations
 
-import inspect
 import json
 import sys
 import time
 from pathlib import Path
-from types import SimpleNamespace
+from typing import NamedTuple
 
+import h5py
 import numpy as np
 
-from flexbearing.simulation.progress import RunProgress
-from flexbearing.simulation.results import ResultsWriter, write_summary
-from flexbearing.simulation.wall_budget import WallBudget
 from flexbearing.common.file_lock import exclusive_file
 from flexbearing.common.validation import InputError
 from flexbearing.multibody import output_registry as R
 from flexbearing.multibody.profiles import load_at, speed_at
+from flexbearing.multibody.run_backend import OutputRequest, RunBackend, rigid_backend
+from flexbearing.simulation.progress import RunProgress
+from flexbearing.simulation.results import FORMAT, ResultsWriter, different_scene, write_summary
+from flexbearing.simulation.stopped import RunInterrupted
+from flexbearing.simulation.wall_budget import WallBudget
 
-
-GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (_run_claimed: why; measured in issue 21)
+GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (RunLoop._integrate says why)
 SAMPLES_PER_CALL = 25          # samples per compiled call at most (progress and Ctrl-C respond
                                # after each; ~0.05 s of wall time on the paper's scenes)
 
@@ -58,49 +50,13 @@ def _next_multiple(k: int, m: int) -> int:
     return (k // m + 1) * m
 
 
-def recorded_keys(requested, returned) -> list[str]:
-    """The keys of `returned` (an evaluation's keys) to record for the requested scene outputs: those
-    flexbearing.multibody.output_registry lists under them (and the ALWAYS ones); a key the registry does not
-    know (another backend's) is recorded when it starts with a requested output's name."""
-    want = R.evaluated_names(requested)
-    return [k for k in returned
-            if k in want or (k not in R.EVALUATED and any(k.startswith(r) for r in requested))]
-
-
-class RunInterrupted(Exception):
-    """The run stopped early (Ctrl-C or an error); the results file holds a checkpoint to resume."""
-
-    def __init__(self, message: str, t: float, path: str, cause: BaseException | None = None,
-                 resumable: bool = True):
-        super().__init__(message)
-        self.t = t
-        self.path = path
-        self.cause = cause
-        self.resumable = resumable          # False: --resume would stop the same way
-
-
-def default_backend(scene) -> SimpleNamespace:
-    """The physics for this scene's cage model (imports only what that model needs: the flexible
-    cage's backend loads the reduced cage file, and builds it with the FE stack only when it is not
-    cached)."""
+def default_backend(scene) -> RunBackend:
+    """The physics for this scene's cage model: the flexible cage's backend loads the reduced cage
+    file (and builds it with the FE stack only when it is not cached)."""
     if scene.cage_model == "flexible":
-        from flexbearing.coupling.flexible_cage import backend
+        from flexbearing.coupling.flexible_cage import backend     # the flexible cage only: its file
         return backend(scene)
-    from flexbearing.multibody import initial, integrator, model, outputs
-    return SimpleNamespace(build_model=model.build_model, initial_state=initial.initial_state,
-                           advance=integrator.advance, advance_sampled=integrator.advance_sampled,
-                           evaluate_outputs=outputs.evaluate_outputs,
-                           new_workspace=integrator.Workspace)
-
-
-def _accepted_kwargs(func, available: dict) -> dict:
-    try:
-        params = inspect.signature(func).parameters
-    except (TypeError, ValueError):
-        return {}
-    if any(p.kind == p.VAR_KEYWORD for p in params.values()):
-        return dict(available)
-    return {k: v for k, v in available.items() if k in params}
+    return rigid_backend()
 
 
 def _prepare_output(out_path: Path, resume: bool, force: bool) -> str:
@@ -154,8 +110,6 @@ def finished_run(scene, out_path) -> dict | None:
     file; None when it holds no finished run (no file, not HDF5, interrupted, being written). A
     file written by a different scene is refused (InputError), as `run_scene(..., resume=True)`
     refuses it. Lets a study or a job list skip its finished runs before sending any job out."""
-    import h5py
-    from flexbearing.simulation.results import FORMAT, different_scene
     out_path = Path(out_path)
     if not out_path.is_file() or not h5py.is_hdf5(out_path):
         return None
@@ -172,280 +126,311 @@ def finished_run(scene, out_path) -> dict | None:
         return None
 
 
+
+
+class Sample(NamedTuple):
+    """A sample as the loop records it while it integrates; its outputs, a function of (t, y) and
+    the snapshot, are evaluated later (RunLoop.outputs_at)."""
+    t: float
+    y: np.ndarray
+    h: float | None            # the step to go on with; None: a sample the integrator passed inside
+    n_steps: int | None        # a step (not a state it can go on from: no checkpoint is written there)
+    n_rejected: int | None
+    dydt: np.ndarray | None    # the integrator's FSAL derivative at (t, y), if it holds one
+    snapshot: object           # what the backend took at the sample (RunBackend.sample_snapshot)
+
+
+def _passed(t, y, snapshot) -> Sample:
+    """A sample the integrator passed inside a step."""
+    return Sample(t, y, None, None, None, None, snapshot)
+
+
 def _run_claimed(scene, out_path: Path, mode: str, quiet: bool, backend, max_wall_time) -> dict:
     """run_scene once the output file is claimed."""
     wall_start = time.perf_counter()
-    if backend is None:
-        backend = default_backend(scene)
-    units = {**R.units(), **(getattr(backend, "OUTPUT_UNITS", {}) or {})}
-    model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
+    loop = RunLoop(scene, out_path, backend if backend is not None else default_backend(scene),
+                   quiet, max_wall_time, wall_start)
+    return loop.run(mode)
 
-    speed_table, load_table, impacts = scene.speed_table, scene.load_table, scene.impacts
-    eval_kwargs = _accepted_kwargs(backend.evaluate_outputs, {
-        "outputs": tuple(scene.outputs), "speed_table": speed_table, "load_table": load_table,
-        "impacts": impacts, "film": "film_thickness" in scene.outputs, "energy": "power_loss" in scene.outputs})
-    selects_itself = "outputs" in eval_kwargs
-    adv_kwargs = _accepted_kwargs(backend.advance, {"max_step": scene.max_step}) if scene.max_step else {}
-    # The integrator's workspace carries its FSAL derivative (f at the end of the last step) from one
-    # sample interval to the next; each checkpoint stores it beside the state, so that a resumed
-    # run's first step uses the same derivative as the uninterrupted run's (bit-identical files).
-    ws = None
-    if getattr(backend, "new_workspace", None) is not None and _accepted_kwargs(backend.advance, {"ws": 0}):
-        # the workspace carries the method's tableau (flexbearing.multibody.integrator.Workspace)
-        ws = backend.new_workspace(model, scene.method)
-        adv_kwargs["ws"] = ws
-    elif scene.method != "dopri5":
-        raise InputError(f"integrator.method = {scene.method!r}: this backend integrates with its own "
-                         f"method only (allowed: 'dopri5')")
-    load3 = np.zeros(3)
-    keys = None
 
-    # What a backend must take at the sample itself, before the integration goes on (the flexible
-    # cage's stress peak-hold since the previous sample); the rest of a sample is a function of
-    # (t, y) and is evaluated later, in batches (below).
-    take_snapshot = getattr(backend, "sample_snapshot", None)
-    if take_snapshot is not None and not _accepted_kwargs(backend.evaluate_outputs, {"snapshot": 0}):
-        take_snapshot = None
+class RunLoop:
+    """One run of a scene into its claimed results file.
 
-    def sample(t, y, snapshot, on_model) -> dict:
-        nonlocal keys
-        kw = {"snapshot": snapshot} if take_snapshot is not None else {}
-        values = dict(backend.evaluate_outputs(on_model, t, y, **eval_kwargs, **kw))
-        if keys is None:
-            keys = list(values) if selects_itself else recorded_keys(scene.outputs, values)
-        values = R.split_mixed_units({k: values[k] for k in keys})
+    The loop integrates with the backend and records each sample raw (`Sample`). The writer thread
+    evaluates a checkpoint interval of them, then writes the block and the checkpoint
+    (flexbearing.simulation.results), while the compiled integration (nogil) goes on. The evaluation
+    uses its own model (its own scratch arrays; the integration's are in use). Evaluating after
+    every interval in the integrating thread made the loop's steps ~30 % dearer (caches) and cost
+    0.5 ms a sample (measured on the paper's scenes, benchmarks/results/speed.md).
+
+    Records move pending (integrated, not handed over) → inflight (in the writer thread, not known
+    written) → written (the last sample in the file: what an interruption's checkpoint records).
+    The integrator's workspace carries its FSAL derivative from one call to the next; each
+    checkpoint stores it beside the state, so that a resumed run's first step uses the same
+    derivative as the uninterrupted run's (bit-identical files).
+    """
+
+    def __init__(self, scene, out_path: Path, backend: RunBackend, quiet: bool, max_wall_time,
+                 wall_start: float):
+        self.scene, self.out_path, self.backend = scene, out_path, backend
+        self.quiet, self.max_wall_time, self.wall_start = quiet, max_wall_time, wall_start
+        self.units = {**R.units(), **backend.output_units}
+        self.model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
+        self.request = OutputRequest(tuple(scene.outputs), scene.speed_table, scene.load_table,
+                                     scene.impacts, "film_thickness" in scene.outputs,
+                                     "power_loss" in scene.outputs)
+        if backend.new_workspace is not None:
+            # the workspace carries the method's tableau (flexbearing.multibody.integrator.Workspace)
+            self.ws = backend.new_workspace(self.model, scene.method)
+        elif scene.method != "dopri5":
+            raise InputError(f"integrator.method = {scene.method!r}: this backend integrates with its own "
+                             f"method only (allowed: 'dopri5')")
+        else:
+            self.ws = None
+        self.breakpoints = scene.breakpoints()   # the kinks and jumps of the spectra
+        self.keys = None                      # the evaluated keys, in the first sample's order
+        self.load3 = np.zeros(3)
+        self.pending: list[Sample] = []
+        self.inflight: list[Sample] = []
+        self.failed_tail: list[Sample] = []   # samples a failed integrator call passed
+
+    # ---------------------------------------------------------------- samples
+    def outputs_at(self, s: Sample) -> dict:
+        """The recorded values of a sample (on the evaluation's own model)."""
+        values = dict(self.backend.evaluate_outputs(self.eval_model, s.t, s.y, self.request, s.snapshot))
+        if self.keys is None:
+            self.keys = list(values)
+        values = R.split_mixed_units({k: values[k] for k in self.keys})
         if "inner_ring_speed" not in values:
-            values["inner_ring_speed"] = speed_at(t, speed_table)
+            values["inner_ring_speed"] = speed_at(s.t, self.scene.speed_table)
         if "external_load" not in values:
-            load_at(t, load_table, impacts, load3)
-            values["external_load"] = load3.copy()
+            load_at(s.t, self.scene.load_table, self.scene.impacts, self.load3)
+            values["external_load"] = self.load3.copy()
         return values
 
-    cp = None
-    if mode == "resume":
-        writer, cp = ResultsWriter.open_for_resume(out_path, scene, units)
-        if cp is None:               # killed before its first checkpoint: start over in a new file
-            writer.close()
-            mode = "new"
-        elif writer.previous_status == "complete" or cp["n_samples"] >= scene.n_samples:
-            writer.set_status("complete")
-            writer.close()
-            return _finish(scene, out_path, cp["n_steps"], cp["n_rejected"], cp["wall_time"],
-                           time.perf_counter() - wall_start)
-    if mode == "new":
-        writer = ResultsWriter.create(out_path, scene, units)
-    # what the backend wants the file to carry (e.g. the reduced cage file and its hash)
-    for key, value in (getattr(backend, "FILE_ATTRS", None) or {}).items():
-        writer.f.attrs[key] = value
+    def _fsal(self, t):
+        """The derivative the integrator continues with at (t, y), if it holds one (a copy)."""
+        return self.ws.K[0].copy() if self.ws is not None and self.ws.fsal_t == t else None
 
-    try:
+    def _stopped_at(self) -> Sample:
+        """The state the integrator stopped at (a state to go on from)."""
+        snap = self.backend.sample_snapshot
+        return Sample(self.t, np.array(self.y, dtype=np.float64), self.h, self.n_steps, self.n_rejected,
+                      self._fsal(self.t), snap(self.model) if snap is not None else None)
+
+    # ---------------------------------------------------------------- the writer thread
+    def _settle(self) -> None:
+        """Wait for the interval in the writer thread: written, or (it failed: re-raised) back in
+        front of `pending`, for the interrupted run to write itself."""
+        try:
+            self.writer.wait()
+        except BaseException:
+            self.pending, self.inflight = self.inflight + self.pending, []
+            raise
+        if self.inflight:
+            self.written = self.inflight[-1]
+        self.inflight = []
+
+    def _hand_over(self, wall_time: float) -> None:
+        self._settle()
+        self.inflight, self.pending = self.pending, []
+        w = self.inflight[-1]
+        self.writer.checkpoint_in_background(
+            w.y, w.t, w.h, w.n_steps, w.n_rejected, wall_time=wall_time, dydt=w.dydt,
+            samples=lambda b=self.inflight: [(r.t, self.outputs_at(r)) for r in b])
+
+    # ---------------------------------------------------------------- the run
+    def run(self, mode: str) -> dict:
+        scene, backend = self.scene, self.backend
+        cp = None
+        if mode == "resume":
+            writer, cp = ResultsWriter.open_for_resume(self.out_path, scene, self.units)
+            if cp is None:               # killed before its first checkpoint: start over in a new file
+                writer.close()
+                mode = "new"
+            elif writer.previous_status == "complete" or cp["n_samples"] >= scene.n_samples:
+                writer.set_status("complete")
+                writer.close()
+                return _finish(scene, self.out_path, cp["n_steps"], cp["n_rejected"], cp["wall_time"],
+                               time.perf_counter() - self.wall_start)
+        if mode == "new":
+            writer = ResultsWriter.create(self.out_path, scene, self.units)
+        self.writer = writer
+        for key, value in backend.file_attrs.items():   # e.g. the reduced cage file and its hash
+            writer.f.attrs[key] = value
+        try:
+            self._start(cp)
+        except BaseException:
+            writer.close()
+            if cp is None:                     # nothing computed yet: leave no file that blocks a rerun
+                self.out_path.unlink(missing_ok=True)
+            raise
+        setup_time = time.perf_counter() - self.wall_start
+        self.eval_model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
+        self.written = Sample(self.t, self.y.copy(), self.h, self.n_steps, self.n_rejected,
+                              self._fsal(self.t) if cp is not None else None, None)
+        wall = self._integrate()
+        writer.set_status("complete")
+        writer.close()
+        return _finish(scene, self.out_path, self.n_steps, self.n_rejected, wall, setup_time)
+
+    def _start(self, cp) -> None:
+        """The state to start from: the backend's initial state, or the checkpoint `cp`."""
+        scene = self.scene
         if cp is None:
             Fa, Fr = scene.initial_loads()
             f0 = np.zeros(3)
-            load_at(0.0, load_table, impacts, f0)      # the full load vector when the backend takes it
-            y = np.array(backend.initial_state(model, speed_at(0.0, speed_table), Fa, Fr,
-                                               **_accepted_kwargs(backend.initial_state, {"load": f0})),
-                         dtype=np.float64)
-            t, h, n_steps, n_rejected, wall_before, k = 0.0, scene.initial_step, 0, 0, 0.0, 0
-        else:
-            y, t, h = cp["y"], cp["t"], cp["h"]
-            if ws is not None and cp.get("dydt") is not None and cp["dydt"].shape == ws.K[0].shape:
-                ws.K[0][:] = cp["dydt"]
-                ws.fsal_t, ws.fsal_y = t, y.copy()
-            n_steps, n_rejected, wall_before, k = cp["n_steps"], cp["n_rejected"], cp["wall_time"], cp["n_samples"]
-    except BaseException:
-        writer.close()
-        if cp is None:                     # nothing computed yet: leave no file that blocks a rerun
-            out_path.unlink(missing_ok=True)
-        raise
-    setup_time = time.perf_counter() - wall_start
+            load_at(0.0, scene.load_table, scene.impacts, f0)      # the full load vector
+            self.y = np.array(self.backend.initial_state(self.model, speed_at(0.0, scene.speed_table),
+                                                         Fa, Fr, f0), dtype=np.float64)
+            self.t, self.h, self.n_steps, self.n_rejected, self.wall_before, self.k = (
+                0.0, scene.initial_step, 0, 0, 0.0, 0)
+            return
+        self.y, self.t, self.h = cp["y"], cp["t"], cp["h"]
+        ws = self.ws
+        if ws is not None and cp.get("dydt") is not None and cp["dydt"].shape == ws.K[0].shape:
+            ws.K[0][:] = cp["dydt"]
+            ws.fsal_t, ws.fsal_y = self.t, self.y.copy()
+        self.n_steps, self.n_rejected = cp["n_steps"], cp["n_rejected"]
+        self.wall_before, self.k = cp["wall_time"], cp["n_samples"]
 
-    bps = scene.breakpoints()
-    n_total = scene.n_samples
-    every = scene.checkpoint_every
-    # A backend with `advance_sampled` integrates a call's samples without stopping at them
-    # (flexbearing.multibody.integrator, "Samples"); one call ends at the next multiple of SAMPLES_PER_CALL or
-    # of the checkpoint interval (fixed sample indices: a resume stops where the uninterrupted run
-    # stopped, so the files agree bit for bit), and at the breakpoints of the spectra.
-    sampled = getattr(backend, "advance_sampled", None)
-    per_call = SAMPLES_PER_CALL if sampled is not None else 1
-    def fsal(t):
-        """The derivative the integrator continues with at (t, y), if it holds one (a copy)."""
-        return ws.K[0].copy() if ws is not None and ws.fsal_t == t else None
-
-    # A sample's outputs are a function of its (t, y) (and of the backend's snapshot taken at the
-    # sample), so the run only records the raw sample while it integrates,
-    #     (t, y, h, n_steps, n_rejected, dydt, snapshot),
-    # and the writer thread evaluates a checkpoint interval of them, then writes the block and the
-    # checkpoint (flexbearing.simulation.results), while the compiled loop (nogil) goes on. The evaluation uses
-    # its own model (its own scratch arrays; the integration's are in use). Evaluating after
-    # every interval in the integrating thread made the loop's steps ~30 % dearer (caches) and
-    # cost 0.5 ms a sample (measured on the paper's scenes, issue 21).
-    # `written`: the last sample in the file, what an interruption's checkpoint records.
-    eval_model = backend.build_model(scene.bearing, scene.oil, dict(scene.model_options))
-    written = (y.copy(), t, h, n_steps, n_rejected, fsal(t) if cp is not None else None)
-    failed_tail: list[tuple] = []  # samples a failed integrator call passed (no state to go on from)
-    pending: list[tuple] = []      # integrated, not handed over
-    inflight: list[tuple] = []     # handed to the writer thread, not known written
-
-    # A record: (t, y, h, n_steps, n_rejected, dydt, snapshot); h is None for a sample the integrator
-    # passed inside a step (not a state it can go on from, so no checkpoint is written there).
-    def stopped_at(t) -> tuple:
-        """The record of the state the integrator stopped at (a state to go on from)."""
-        return (t, np.array(y, dtype=np.float64), h, n_steps, n_rejected, fsal(t),
-                take_snapshot(model) if take_snapshot is not None else None)
-
-    def passed(t, y_s, snapshot) -> tuple:
-        """The record of a sample the integrator passed inside a step."""
-        return (t, y_s, None, None, None, None, snapshot)
-
-    def values_of(r) -> dict:
-        return sample(r[0], r[1], r[6], eval_model)
-
-    def evaluate(batch) -> list[tuple]:
-        return [(r[0], values_of(r)) for r in batch]
-
-    def state_of(r) -> tuple:
-        return (r[1], r[0], r[2], r[3], r[4], r[5])
-
-    def settle() -> None:
-        """Wait for the interval in the writer thread: written, or (it failed: re-raised) back in
-        front of `pending`, for the interrupted run to write itself."""
-        nonlocal written, inflight, pending
+    def _integrate(self) -> float:
+        """The loop from the start state to the end; returns the run's wall time. A call ends at the
+        next multiple of SAMPLES_PER_CALL or of the checkpoint interval (fixed sample indices: a
+        resume stops where the uninterrupted run stopped, so the files agree bit for bit), and at
+        the breakpoints of the spectra."""
+        scene = self.scene
+        n_total, every = scene.n_samples, scene.checkpoint_every
+        per_call = SAMPLES_PER_CALL if self.backend.advance_sampled is not None else 1
+        progress = RunProgress(scene.duration, t0=self.t, quiet=self.quiet, desc=scene.name,
+                               n_steps0=self.n_steps)
+        budget = WallBudget(scene.duration, t0=self.t, n_steps0=self.n_steps, name=scene.name,
+                            max_wall_time=self.max_wall_time)
+        loop_start = time.perf_counter()
+        # The integrating thread takes the GIL back after every compiled call (up to SAMPLES_PER_CALL
+        # samples, ~30 ms; one sample without advance_sampled); with Python's default switch interval it
+        # waits up to 5 ms whenever the writer thread holds it.
+        switch_interval = sys.getswitchinterval()
+        sys.setswitchinterval(GIL_SWITCH_INTERVAL)
         try:
-            writer.wait()
-        except BaseException:
-            pending, inflight = inflight + pending, []
-            raise
-        if inflight:
-            written = state_of(inflight[-1])
-        inflight = []
-
-    def hand_over(wall_time) -> None:
-        nonlocal inflight, pending
-        settle()
-        inflight, pending = pending, []
-        y_s, t_s, h_s, ns_s, nr_s, dydt_s = state_of(inflight[-1])
-        writer.checkpoint_in_background(y_s, t_s, h_s, ns_s, nr_s, wall_time=wall_time, dydt=dydt_s,
-                                        samples=lambda b=inflight: evaluate(b))
-
-    progress = RunProgress(scene.duration, t0=t, quiet=quiet, desc=scene.name, n_steps0=n_steps)
-    budget = WallBudget(scene.duration, t0=t, n_steps0=n_steps, name=scene.name, max_wall_time=max_wall_time)
-    loop_start = time.perf_counter()
-    # The integrating thread takes the GIL back after every compiled call (up to SAMPLES_PER_CALL
-    # samples, ~30 ms; one sample without advance_sampled); with Python's default switch interval it
-    # waits up to 5 ms whenever the writer thread holds it.
-    switch_interval = sys.getswitchinterval()
-    sys.setswitchinterval(GIL_SWITCH_INTERVAL)
-    try:
-        while k < n_total:
-            # the call's last sample: the next multiple of per_call or of every (counted in samples), or the end
-            k_end = min(n_total - 1, _next_multiple(k, per_call) - 1, _next_multiple(k, every) - 1)
-            t_target = scene.sample_time(k_end)
-            if k == 0:                                 # the initial state (t = 0)
-                pending.append(stopped_at(t))
-                k = 1
-            while t < t_target:
-                i = int(np.searchsorted(bps, t, side="right"))
-                t_stop = bps[i] if i < len(bps) and bps[i] < t_target else t_target
-                k_in = k
-                while k_in < k_end and scene.sample_time(k_in) < t_stop:
-                    k_in += 1
-                if sampled is not None:
-                    times = np.array([scene.sample_time(j) for j in range(k, k_in)])
-                    try:
-                        y, _t, h, ns, nr, states, snaps = sampled(model, y, t, t_stop, times, speed_table,
-                                                                   load_table, impacts, scene.tolerance, h,
-                                                                   **adv_kwargs)
-                    except Exception as exc:
-                        # an integration that fails (flexbearing.multibody.integrator.SimulationUnstable) hands over
-                        # the samples it passed before: kept after the checkpoint (below)
-                        part = getattr(exc, "samples", None)
-                        if part is not None:
-                            failed_tail = [passed(*r) for r in zip(*part)]
-                        raise
-                    for j in range(k, k_in):
-                        pending.append(passed(times[j - k], states[j - k].copy(), snaps[j - k]))
-                    k = k_in
-                else:
-                    y, _t, h, ns, nr = backend.advance(model, y, t, t_stop, speed_table, load_table, impacts,
-                                                       scene.tolerance, h, **adv_kwargs)
-                t = t_stop          # the integrator lands on t_next; keep the exact stop time
-                n_steps += int(ns)
-                n_rejected += int(nr)
-                if k < n_total and scene.sample_time(k) == t:   # a sample at a breakpoint, or the call's last
-                    pending.append(stopped_at(t))
-                    k += 1
-            if k % every == 0 or k == n_total:
-                hand_over(wall_before + time.perf_counter() - loop_start)
-            progress.update(t, n_steps)
-            budget.update(t, n_steps)
-        settle()
-    except BaseException as exc:
+            while self.k < n_total:
+                # the call's last sample: the next multiple of per_call or of every (in samples), or the end
+                k_end = min(n_total - 1, _next_multiple(self.k, per_call) - 1, _next_multiple(self.k, every) - 1)
+                t_target = scene.sample_time(k_end)
+                if self.k == 0:                                 # the initial state (t = 0)
+                    self.pending.append(self._stopped_at())
+                    self.k = 1
+                while self.t < t_target:
+                    self._advance(t_target, k_end)
+                if self.k % every == 0 or self.k == n_total:
+                    self._hand_over(self.wall_before + time.perf_counter() - loop_start)
+                progress.update(self.t, self.n_steps)
+                budget.update(self.t, self.n_steps)
+            self._settle()
+        except BaseException as exc:
+            progress.close()
+            self._stop(exc, loop_start)
+        finally:
+            sys.setswitchinterval(switch_interval)
         progress.close()
+        return self.wall_before + time.perf_counter() - loop_start
+
+    def _advance(self, t_target: float, k_end: int) -> None:
+        """One integrator call: to the next breakpoint of the spectra or to t_target, recording the
+        samples it passes (advance_sampled) and the one it stops at."""
+        scene, backend = self.scene, self.backend
+        bps = self.breakpoints
+        i = int(np.searchsorted(bps, self.t, side="right"))
+        t_stop = bps[i] if i < len(bps) and bps[i] < t_target else t_target
+        tables = (scene.speed_table, scene.load_table, scene.impacts)
+        if backend.advance_sampled is not None:
+            k_in = self.k
+            while k_in < k_end and scene.sample_time(k_in) < t_stop:
+                k_in += 1
+            times = np.array([scene.sample_time(j) for j in range(self.k, k_in)])
+            try:
+                y, _t, h, ns, nr, states, snaps = backend.advance_sampled(
+                    self.model, self.y, self.t, t_stop, times, *tables, scene.tolerance, self.h, self.ws)
+            except Exception as exc:
+                # an integration that fails (flexbearing.multibody.integrator.SimulationUnstable) hands
+                # over the samples it passed before: kept after the checkpoint (_stop)
+                part = getattr(exc, "samples", None)
+                if part is not None:
+                    self.failed_tail = [_passed(*r) for r in zip(*part)]
+                raise
+            for j in range(self.k, k_in):
+                self.pending.append(_passed(times[j - self.k], states[j - self.k].copy(), snaps[j - self.k]))
+            self.k = k_in
+        else:
+            y, _t, h, ns, nr = backend.advance(self.model, self.y, self.t, t_stop, *tables,
+                                               scene.tolerance, self.h, self.ws)
+        self.y, self.h = y, h
+        self.t = t_stop          # the integrator lands on t_next; keep the exact stop time
+        self.n_steps += int(ns)
+        self.n_rejected += int(nr)
+        if self.k < scene.n_samples and scene.sample_time(self.k) == self.t:   # at a breakpoint, or the call's last
+            self.pending.append(self._stopped_at())
+            self.k += 1
+
+    def _stop(self, exc: BaseException, loop_start: float) -> None:
+        """Keep what was integrated, then raise RunInterrupted: the interval in the writer thread,
+        then the rest, evaluated here (an evaluation that fails stops it at the sample before), a
+        checkpoint at the last state to go on from, and what a failed call passed after it."""
+        writer = self.writer
         status = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed: {type(exc).__name__}: {exc}"
         try:
-            # keep what was integrated: the interval in the writer thread, then the rest, evaluated
-            # here; an evaluation that fails stops it at the sample before
             try:
-                settle()
+                self._settle()
             except Exception:
                 pass
-            t_last = written[1]
+            t_last = self.written.t
             done = []
-            for r in pending:
+            for r in self.pending:
                 try:
-                    done.append((r, values_of(r)))
+                    done.append((r, self.outputs_at(r)))
                 except Exception:
                     break
             after = []                                 # evaluated, after the last state to go on from
-            while done and done[-1][0][2] is None:     # up to a state the integrator can go on from
+            while done and done[-1][0].h is None:      # up to a state the integrator can go on from
                 after.insert(0, done.pop())
             for r, values in done:
-                writer.add_sample(r[0], values)
+                writer.add_sample(r.t, values)
             if done:
-                written = state_of(done[-1][0])
-                t_last = written[1]
-            y_w, t_w, h_w, ns_w, nr_w, dydt_w = written
-            writer.checkpoint(y_w, t_w, h_w, ns_w, nr_w, wall_time=wall_before + time.perf_counter() - loop_start,
-                              dydt=dydt_w)
+                self.written = done[-1][0]
+                t_last = self.written.t
+            w = self.written
+            writer.checkpoint(w.y, w.t, w.h, w.n_steps, w.n_rejected,
+                              wall_time=self.wall_before + time.perf_counter() - loop_start, dydt=w.dydt)
             # what a failed call integrated up to the failure goes after the checkpoint (a resume
             # truncates it and integrates it again), with every sample since it
-            if failed_tail and len(done) + len(after) == len(pending):
+            if self.failed_tail and len(done) + len(after) == len(self.pending):
                 for r, values in after:
-                    writer.add_sample(r[0], values)
-                    t_last = r[0]
-                for r in failed_tail:
+                    writer.add_sample(r.t, values)
+                    t_last = r.t
+                for r in self.failed_tail:
                     try:
-                        writer.add_sample(r[0], values_of(r))
+                        writer.add_sample(r.t, self.outputs_at(r))
                     except Exception:
                         break
-                    t_last = r[0]
+                    t_last = r.t
                 writer.write_block()
             writer.set_status(status)
         finally:
             writer.close()
         what = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"stopped by {type(exc).__name__}: {exc}"
-        # a failure of the physics (flexbearing.multibody.integrator.SimulationUnstable) comes back from the same
-        # checkpoint the same way: the integrator is deterministic
+        # a failure of the physics (flexbearing.multibody.integrator.SimulationUnstable) comes back
+        # from the same checkpoint the same way: the integrator is deterministic
         resumable = not getattr(exc, "repeats_on_resume", False)
         then = ("continue with --resume" if resumable else
                 "resuming would repeat it from the same state: change the scene and start a new run")
-        at = f"t = {t_last:.6g} s" + (f" (checkpoint at {written[1]:.6g} s)" if t_last != written[1] else "")
-        raise RunInterrupted(f"run {what} at {at}; {out_path} holds {writer.n_written} "
-                             f"samples and a checkpoint ({then})", t_last, str(out_path),
+        at = f"t = {t_last:.6g} s" + (f" (checkpoint at {self.written.t:.6g} s)" if t_last != self.written.t else "")
+        raise RunInterrupted(f"run {what} at {at}; {self.out_path} holds {writer.n_written} "
+                             f"samples and a checkpoint ({then})", t_last, str(self.out_path),
                              exc, resumable) from exc
-    finally:
-        sys.setswitchinterval(switch_interval)
-    progress.close()
-    wall = wall_before + time.perf_counter() - loop_start
-    writer.set_status("complete")
-    writer.close()
-    return _finish(scene, out_path, n_steps, n_rejected, wall, setup_time)
 
 
 def _finish(scene, out_path, n_steps, n_rejected, wall, setup_time) -> dict:
-    import h5py
+    """The run summary (flexbearing.simulation.results.write_summary) of a finished run."""
     with h5py.File(out_path, "r") as f:
         n_resumes = int(f.attrs.get("n_resumes", 0))
     extra = {"scene": scene.name, "scene_file": scene.path, "scene_hash": scene.content_hash(),
@@ -459,112 +444,3 @@ def _finish(scene, out_path, n_steps, n_rejected, wall, setup_time) -> dict:
     return write_summary(out_path, extra)
 
 
-# ---------------------------------------------------------------- case sets (validate slip-rate)
-
-def slip_rate_from_results(path, average_from: float) -> dict:
-    """Cage slip rate of a steady run (paper §3.2): S = (nm − nc)/nm = 1 − <nc>/<nm>, with the cage
-    speed nc and the nominal cage speed nm = 0.5·ni·(1 − Dw·cos(alpha)/dm) averaged over
-    t >= average_from (the test measures a time-averaged cage speed). Falls back to the mean of the
-    recorded slip_rate if the speeds were not recorded.
-
-    Returns {"slip": S, "drift": S(second half of the window) − S(first half)}: a drift that is
-    not small against S means the cage speed had not settled (run longer)."""
-    import h5py
-    with h5py.File(path, "r") as f:
-        out = f["outputs"]
-        t = out["time"][...]
-        win = t >= average_from - 1e-12
-        if not win.any():
-            raise InputError(f"average_from = {average_from:g} s is after the last sample ({t[-1]:g} s)")
-        if "cage_speed" in out and "nominal_cage_speed" in out:
-            nc, nm = out["cage_speed"][...], out["nominal_cage_speed"][...]
-            slip = lambda w: float(1.0 - np.mean(nc[w]) / np.mean(nm[w]))  # noqa: E731
-        elif "slip_rate" in out:
-            sr = out["slip_rate"][...]
-            slip = lambda w: float(np.mean(sr[w]))  # noqa: E731
-        else:
-            raise InputError(f"{path} has neither cage_speed and nominal_cage_speed nor slip_rate: "
-                             f"record 'cage_speed' and 'slip' in the case set's [base.output]")
-        idx = np.flatnonzero(win)
-        half = len(idx) // 2
-        drift = slip(idx[half:]) - slip(idx[:half]) if half > 0 else 0.0
-        return {"slip": slip(win), "drift": drift}
-
-
-def _slip_and_drift(d: dict) -> dict:
-    return {"slip_ours": d["slip"], "slip_drift": d["drift"]}
-
-
-class CasesIncomplete(RuntimeError):
-    """Some cases of a case set failed (flexbearing.simulation.jobs.JobFailure each, in `failures`); `rows` holds
-    the finished ones (case order). Their results files stay: --resume reads them back."""
-
-    def __init__(self, message: str, rows: list[dict], failures: list):
-        super().__init__(message)
-        self.rows, self.failures = rows, failures
-
-
-def _run_case(scene, path: str, resume: bool, quiet: bool, backend=None) -> dict:
-    """One case of a case set (a job of flexbearing.simulation.jobs.run_jobs, on a Dask worker; a tests'
-    stand-in backend only in this process)."""
-    return run_scene(scene, path, resume=resume, force=not resume, quiet=quiet, backend=backend)
-
-
-def run_case_set_slip_rate(case_set, case_ids, out_dir, resume: bool = False, quiet: bool = False,
-                           backend=None, workers: int = 1, scheduler: str | None = None) -> list[dict]:
-    """Run the selected cases of a slip-rate case set (one results file per case in out_dir,
-    caseNN.h5) and return rows: case, group, axial_load, radial_load, speed_rpm, slip_ours,
-    slip_test, slip_paper (slip rates as fractions), slip_drift (see slip_rate_from_results),
-    wall_time_s, n_steps.
-
-    The cases are jobs of flexbearing.simulation.jobs.run_jobs: `workers` at once on a Dask LocalCluster (1: one
-    after the other in this process) or on the cluster at `scheduler`. With resume, a finished
-    case (finished_run) is read back without sending it out. A case that fails does not stop the
-    others: CasesIncomplete then carries the finished rows. `backend` (tests' stand-in physics)
-    runs in this process only, workers = 1."""
-    from flexbearing.simulation.jobs import require_scheduler, require_workers, run_jobs, runs_in_this_process
-    require_workers(workers)
-    require_scheduler(scheduler)
-    if backend is not None and (workers != 1 or scheduler is not None):
-        raise InputError("a backend object runs in this process only: workers = 1 and no scheduler")
-    by_id = {c["id"]: c for c in case_set.cases}
-    unknown = [i for i in case_ids if i not in by_id]
-    if unknown:
-        raise InputError(f"--cases: case {unknown[0]} is not in {case_set.path} "
-                         f"(allowed: {', '.join(str(i) for i in sorted(by_id))})")
-    out_dir = Path(out_dir)
-    summaries, todo = {}, []
-    for cid in case_ids:
-        path = out_dir / f"case{cid:02d}.h5"
-        summary = finished_run(case_set.scenes[cid], path) if resume else None
-        if summary is None:
-            todo.append(cid)
-        else:
-            summaries[cid] = summary
-    here = runs_in_this_process(workers, scheduler, len(todo))
-    if not quiet:
-        for cid in case_ids:
-            c = by_id[cid]
-            done = "finished, read back" if cid in summaries else "to run"
-            print(f"case {cid}: Fa {c['axial_load']:g} N, Fr {c['radial_load']:g} N, "
-                  f"{c['speed_rpm']:g} rpm -> {out_dir / f'case{cid:02d}.h5'} ({done})", flush=True)
-    jobs = [(case_set.scenes[cid], str(out_dir / f"case{cid:02d}.h5"), resume, quiet or not here, backend)
-            for cid in todo]
-    failures = run_jobs(_run_case, jobs, lambda k, summary: summaries.__setitem__(todo[k], summary),
-                        workers=workers, scheduler=scheduler, names=[f"case {cid}" for cid in todo],
-                        description="slip-rate cases", progress=not (quiet or here))
-    rows = []
-    for cid in case_ids:
-        if cid not in summaries:
-            continue
-        c, summary, path = by_id[cid], summaries[cid], out_dir / f"case{cid:02d}.h5"
-        rows.append({"case": cid, "group": c["group"], "axial_load": c["axial_load"],
-                     "radial_load": c["radial_load"], "speed_rpm": c["speed_rpm"],
-                     **_slip_and_drift(slip_rate_from_results(path, case_set.average_from)),
-                     "slip_test": c["test_slip_percent"] / 100.0,
-                     "slip_paper": c["paper_slip_percent"] / 100.0,
-                     "wall_time_s": summary["wall_time_s"], "n_steps": summary["n_steps"]})
-    if failures:
-        raise CasesIncomplete(f"{len(failures)} of {len(case_ids)} cases failed ({'; '.join(map(str, failures))}); "
-                              f"the others are in {out_dir}", rows, failures)
-    return rows

@@ -30,6 +30,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from flexbearing.multibody import model as M
+from flexbearing.multibody.dynamics import DELTA_MAX_FRAC
+from flexbearing.multibody.model import build_model
+from flexbearing.simulation.results import read_outputs
+
 ENERGY_TOLERANCE = 0.05      # module docstring
 RIM_MARGIN = 0.01
 
@@ -61,7 +66,6 @@ def check_energy(out: dict) -> dict | None:
 
 def hertz_approach_bound(model, peak_load: float, max_speed: float) -> float:
     """delta_bound of the module docstring, m."""
-    from flexbearing.multibody import model as M
     kmin = float(model.hertz_table[:2, :, M.H_K].min())
     p = model.p
     fc = p[M.P_MB] * (0.5 * max_speed) ** 2 * 0.5 * p[M.P_DM]
@@ -69,8 +73,6 @@ def hertz_approach_bound(model, peak_load: float, max_speed: float) -> float:
 
 
 def check_approach(out: dict, model, max_speed: float) -> dict | None:
-    from flexbearing.multibody import model as M
-    from flexbearing.multibody.dynamics import DELTA_MAX_FRAC
     if "approach" not in out:
         return None
     deepest = float(np.max(out["approach"]))
@@ -81,7 +83,6 @@ def check_approach(out: dict, model, max_speed: float) -> dict | None:
 
 
 def check_cage_clearance(out: dict, model) -> dict | None:
-    from flexbearing.multibody import model as M
     if "cage_eccentricity_ratio" not in out:
         return None
     e = float(np.max(out["cage_eccentricity_ratio"]))
@@ -93,9 +94,7 @@ def check_cage_clearance(out: dict, model) -> dict | None:
 def check_run(path, scene, model=None) -> dict:
     """{check name: result} for the results file `path` of `scene` (module docstring); `model` the
     run's multibody model (built from the scene's bearing if not given)."""
-    from flexbearing.simulation.results import read_outputs
     if model is None:
-        from flexbearing.multibody.model import build_model
         model = build_model(scene.bearing, scene.oil, dict(scene.model_options))
     out = read_outputs(path)
     max_speed = float(np.max(np.abs(scene.speed_table[:, 1])))

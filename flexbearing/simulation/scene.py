@@ -98,11 +98,11 @@ from flexbearing.multibody.clearance import INNER_RINGS, resolve_inner_ring
 from flexbearing.multibody.oil_supply import SUPPLIES
 from flexbearing.mesh.cage_geometry import CageGeometry
 from flexbearing.common.cache import content_hash
-from flexbearing.common.validation import InputError, require_range
+from flexbearing.common.validation import InputError, require_range, require_table
 from flexbearing.multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, Bearing, Oil
 from flexbearing.multibody.model import DEFAULT_OPTIONS
 from flexbearing.multibody.output_registry import GROUPS
-from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints
+from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints, load_at
 
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
@@ -176,7 +176,6 @@ class Scene:
 
     def initial_loads(self) -> tuple[float, float]:
         """(Fa, Fr) at t = 0 without impacts: Fa = Fx, Fr = |(Fy, Fz)| (for the quasi-static start)."""
-        from flexbearing.multibody.profiles import load_at
         out = np.zeros(3)
         load_at(0.0, self.load_table, self.impacts[:0], out)
         return float(out[0]), float(math.hypot(out[1], out[2]))
@@ -187,16 +186,6 @@ class Scene:
 
 
 # ---------------------------------------------------------------- small strict readers
-
-def _table(d, where: str, allowed) -> dict:
-    if not isinstance(d, dict):
-        raise InputError(f"{where} = {d!r} must be a table with keys {', '.join(allowed)}")
-    unknown = [k for k in d if k not in allowed]
-    if unknown:
-        raise InputError(f"{where}: unknown key '{unknown[0]}'"
-                         f" (allowed: {', '.join(allowed)})")
-    return d
-
 
 def _number(field_: str, value, lo=None, hi=None, lo_open=False, hi_open=False, unit="") -> float:
     if isinstance(value, bool):
@@ -250,17 +239,17 @@ def _one_of(d: dict, where: str, keys) -> str | None:
 # ---------------------------------------------------------------- sections
 
 def _material(base: Material, d, where: str) -> Material:
-    d = _table(d, where, _MATERIAL_KEYS)
+    d = require_table(where, d, _MATERIAL_KEYS)
     return dataclasses.replace(base, **{k: _number(f"{where}.{k}", v) for k, v in d.items()})
 
 
 def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
-    b = _table(b, "bearing", _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring",
+    b = require_table("bearing", b, _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring",
                                                  "free_contact_angle"))
     if isinstance(c, dict) and "ball_diameter" in c:
         raise InputError("cage.ball_diameter: give the ball diameter once, as bearing.ball_diameter "
                          "(the cage's pockets take it from the bearing)")
-    c = _table(c, "cage", ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",))
+    c = require_table("cage", c, ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",))
     changes = {}
     inner = {}
     for k, v in b.items():
@@ -320,7 +309,7 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
         if k == "n_modes":
             flexible[k] = _integer("cage.n_modes", v, 1, 500)
         elif k == "stress_monitor_interval":
-            from flexbearing.multibody.stress_peak import MAX_INTERVAL
+            from flexbearing.multibody.stress_peak import MAX_INTERVAL   # the compiled monitor: flexible only
             flexible[k] = _integer("cage.stress_monitor_interval", v, 1, MAX_INTERVAL)
         elif k == "element_order":
             flexible[k] = _integer("cage.element_order", v, 1, 3)   # FE degree (default P3)
@@ -341,7 +330,7 @@ def _bearing_and_cage(b: dict, c: dict) -> tuple[Bearing, str, dict]:
 
 
 def _oil(d: dict) -> Oil:
-    d = _table(d, "oil", ("preset",) + _OIL_KEYS)
+    d = require_table("oil", d, ("preset",) + _OIL_KEYS)
     preset = _string("oil.preset", d.get("preset", "paper"), tuple(OIL_PRESETS))
     changes = {k: _number(f"oil.{k}", v) for k, v in d.items() if k not in ("preset", "supply")}
     if "supply" in d:
@@ -350,7 +339,7 @@ def _oil(d: dict) -> Oil:
 
 
 def _speed_table(d: dict, duration: float | None) -> tuple[np.ndarray, float]:
-    d = _table(d, "operation.speed", ("phases", "table_rpm"))
+    d = require_table("operation.speed", d, ("phases", "table_rpm"))
     form = _one_of(d, "operation.speed", ("phases", "table_rpm"))
     if form is None:
         raise InputError("operation.speed needs either phases = [...] or table_rpm = [[t, rpm], ...]")
@@ -391,7 +380,7 @@ def _speed_table(d: dict, duration: float | None) -> tuple[np.ndarray, float]:
                        ("ramp", "uniform"))
         keys = (("kind", "t_start", "duration", "start_rpm", "end_rpm") if kind == "ramp"
                 else ("kind", "t_start", "duration", "rpm"))
-        ph = _table(ph, where, keys)
+        ph = require_table(where, ph, keys)
         if "t_start" in ph:
             t0 = _number(f"{where}.t_start", ph["t_start"], 0.0, MAX_DURATION, unit="s")
             if t0 != t:
@@ -444,7 +433,7 @@ def _radial_direction(d: dict, where: str, prefix: str) -> np.ndarray:
 
 
 def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
-    d = _table(d, "operation.load", ("axial_load", "radial_load", "radial_direction", "radial_azimuth",
+    d = require_table("operation.load", d, ("axial_load", "radial_load", "radial_direction", "radial_azimuth",
                                      "points", "table", "impacts"))
     load = lambda f, v: _number(f, v, 0.0, MAX_LOAD, unit="N")  # noqa: E731
     const = [k for k in ("axial_load", "radial_load") if k in d]
@@ -470,7 +459,7 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
         for i, row in enumerate(rows):
             f = f"operation.load.{form}[{i}]"
             if form == "points":
-                row = _table(row, f, ("t", "axial_load", "radial_load"))
+                row = require_table(f, row, ("t", "axial_load", "radial_load"))
                 if "t" not in row:
                     raise InputError(f"{f}.t is missing (s)")
                 t = _number(f"{f}.t", row["t"], 0.0, MAX_DURATION, unit="s")
@@ -494,7 +483,7 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(f"operation.load.impacts = {rows!r} must be a list of tables ([[operation.load.impacts]])")
     for i, imp in enumerate(rows):
         where = f"operation.load.impacts[{i}]"
-        imp = _table(imp, where, ("t_start", "t_center", "duration", "magnitude", "direction",
+        imp = require_table(where, imp, ("t_start", "t_center", "duration", "magnitude", "direction",
                                   "azimuth", "shape"))
         for k in ("duration", "magnitude"):
             if k not in imp:
@@ -523,7 +512,7 @@ def _model_options(d: dict) -> dict:
     """[model] keys are checked against flexbearing.multibody.model.DEFAULT_OPTIONS."""
     if not isinstance(d, dict):
         raise InputError(f"model = {d!r} must be a table")
-    _table(d, "model", tuple(DEFAULT_OPTIONS))
+    require_table("model", d, tuple(DEFAULT_OPTIONS))
     out = {}
     for k, v in d.items():
         if isinstance(v, (bool, str)):
@@ -546,7 +535,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     if isinstance(data, dict) and "study" in data:
         raise InputError(f"{path or 'scene'} is a study ([study] with a base scene and values), not a "
                          f"scene: it is run by `flexbearing study`")
-    d = _table(data, "scene", ("name", "description", "bearing", "oil", "cage", "model", "operation",
+    d = require_table("scene", data, ("name", "description", "bearing", "oil", "cage", "model", "operation",
                                "integrator", "output"))
     name = _file_name("name", d.get("name", Path(path).stem if path else "scene"))
     description = d.get("description", "")
@@ -558,7 +547,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
 
     if "operation" not in d:
         raise InputError("[operation] is missing (duration, [operation.speed], [operation.load])")
-    op = _table(d["operation"], "operation", ("duration", "speed", "load"))
+    op = require_table("operation", d["operation"], ("duration", "speed", "load"))
     duration = None
     if "duration" in op:
         duration = _number("operation.duration", op["duration"], 0.0, MAX_DURATION, lo_open=True, unit="s")
@@ -573,7 +562,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                          "points = [...] or table = [...]")
     load_table, impacts = _load(op["load"], duration)
 
-    integ = _table(d.get("integrator", {}), "integrator", ("tolerance", "method", "initial_step", "max_step"))
+    integ = require_table("integrator", d.get("integrator", {}), ("tolerance", "method", "initial_step", "max_step"))
     tolerance = _number("integrator.tolerance", integ.get("tolerance", 1e-6), MIN_TOLERANCE, 1e-1)
     method = _string("integrator.method", integ.get("method", "dopri5"), INTEGRATOR_METHODS)
     max_step = None
@@ -582,7 +571,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     initial_step = _number("integrator.initial_step", integ.get("initial_step", min(1e-7, max_step or 1e-7)),
                            0.0, max_step or duration, lo_open=True, unit="s")
 
-    out = _table(d.get("output", {}), "output", ("sample_interval", "record", "checkpoint_every"))
+    out = require_table("output", d.get("output", {}), ("sample_interval", "record", "checkpoint_every"))
     if "sample_interval" not in out:
         raise InputError("output.sample_interval is missing (s, in (0, operation.duration])")
     dt = _number("output.sample_interval", out["sample_interval"], 0.0, duration, lo_open=True, unit="s")
@@ -680,12 +669,12 @@ def load_case_set(path) -> CaseSet:
     slip rates). Each case becomes the base scene with a uniform speed and constant loads."""
     path = Path(path)
     data = read_toml(path, "case set")
-    _table(data, "case set", ("case_set", "base", "cases"))
-    head = _table(data.get("case_set", {}), "case_set", ("name", "description", "duration", "average_from"))
+    require_table("case set", data, ("case_set", "base", "cases"))
+    head = require_table("case_set", data.get("case_set", {}), ("name", "description", "duration", "average_from"))
     duration = _number("case_set.duration", head.get("duration"), 0.0, MAX_DURATION, lo_open=True, unit="s")
     average_from = _number("case_set.average_from", head.get("average_from", 0.5 * duration), 0.0, duration,
                            hi_open=True, unit="s")
-    base = _table(data.get("base", {}), "base", ("description", "bearing", "oil", "cage", "model",
+    base = require_table("base", data.get("base", {}), ("description", "bearing", "oil", "cage", "model",
                                                  "integrator", "output"))
     rows = data.get("cases")
     if not isinstance(rows, list) or not rows:
@@ -693,7 +682,7 @@ def load_case_set(path) -> CaseSet:
     cases, scenes = [], {}
     for i, c in enumerate(rows):
         where = f"cases[{i}]"
-        c = _table(c, where, CASE_KEYS)
+        c = require_table(where, c, CASE_KEYS)
         missing = [k for k in CASE_KEYS if k not in c]
         if missing:
             raise InputError(f"{where}: missing {', '.join(missing)}")

@@ -1,7 +1,7 @@
 """The wall-time budget of a run: say early when a run will take hours, and stop it if asked to.
 
 A run's cost is set by its step size, which the physics chooses: at 0–100 rpm the steps fall to
-about 1e-8 s (issue 22: a 5 ms run took 457,000–576,000 steps, 82–123 s), and a long scene at
+about 1e-8 s (measured: a 5 ms run took 457,000–576,000 steps, 82–123 s), and a long scene at
 such speeds would run for hours without a word. The run
 loop calls `WallBudget.update(t, n_steps)` after every sample; from the first sample on (whose
 wall time holds the compilation of the kernels), once `warn_after` seconds of wall time have

@@ -61,7 +61,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from flexbearing.analysis.html_page import write_html
-from flexbearing.common.validation import InputError
+from flexbearing.analysis.windows import (cage_motion_table, impact_windows, MOTION_ROWS, phase_table,
+                                          QUANTITIES, QUANTITY, speed_phases)
+from flexbearing.common.validation import InputError, require_table
+from flexbearing.coupling.flexible_cage import (backend as flexible_backend, reduced_cage_hash,
+                                                reduced_cage_path)
+from flexbearing.simulation.jobs import require_scheduler, require_workers, run_jobs, runs_in_this_process
+from flexbearing.simulation.run import finished_run, run_scene
+from flexbearing.simulation.scene import _number, parse_scene, read_toml
+from flexbearing.simulation.stopped import StudyIncomplete
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
               "display_scale", "settle")
@@ -136,11 +144,10 @@ def set_key(data: dict, parts: list, value, where: str) -> None:
 
 def load_study(path) -> Study:
     """Read and validate a study file and build (and validate) the scene of every run."""
-    from flexbearing.simulation.scene import _number, _table, parse_scene, read_toml
     path = Path(path)
     data = read_toml(path, "study file")
-    _table(data, "study file", ("study",))
-    s = _table(data.get("study", {}), "study", STUDY_KEYS)
+    require_table("study file", data, ("study",))
+    s = require_table("study", data.get("study", {}), STUDY_KEYS)
     for k in ("name", "scene", "keys", "values"):
         if k not in s:
             raise InputError(f"study.{k} is missing")
@@ -205,10 +212,8 @@ def run_path(out_dir, study: Study, i: int) -> Path:
 def _run_one(scene, path: str, quiet: bool, reduced_cage: str | None = None) -> dict:
     """One run of a study (a job of flexbearing.simulation.jobs.run_jobs, on a Dask worker): run or resume it;
     a flexible cage's reduced cage comes from the file built once for the study (by path)."""
-    from flexbearing.simulation.run import run_scene
     backend = None
     if reduced_cage is not None:
-        from flexbearing.coupling.flexible_cage import backend as flexible_backend
         backend = flexible_backend(scene, reduced_cage=reduced_cage)
     return run_scene(scene, path, resume=True, quiet=quiet, backend=backend)
 
@@ -216,25 +221,13 @@ def _run_one(scene, path: str, quiet: bool, reduced_cage: str | None = None) -> 
 def _build_reduced_cage(scene, quiet: bool) -> str:
     """The reduced cage of the scene: from the cache or built (a job: on a worker, which imports the
     FE stack; the file lock of the cache makes a second builder wait). Returns its path."""
-    from flexbearing.coupling.flexible_cage import reduced_cage_path
     return str(Path(reduced_cage_path(scene, quiet=quiet)).resolve())
-
-
-class StudyIncomplete(RuntimeError):
-    """Some runs of the study failed (flexbearing.simulation.jobs.JobFailure each, in `failures`); the others are
-    finished and on disk, and running the study again reuses them."""
-
-    def __init__(self, message: str, failures: list):
-        super().__init__(message)
-        self.failures = failures
 
 
 def _prepare_reduced_cages(study: Study, todo: list[int], quiet: bool, workers, scheduler) -> dict:
     """Each distinct reduced cage of the runs `todo` (by content hash, flexbearing.coupling.flexible_cage.
     reduced_cage_hash) built or found in the cache once, before the runs start (otherwise every
     worker would build the same one). Returns {hash: path}: the runs reach it by path."""
-    from flexbearing.simulation.jobs import run_jobs
-    from flexbearing.coupling.flexible_cage import reduced_cage_hash
     distinct = {}
     for i in todo:
         sc = study.scenes[i]
@@ -250,7 +243,8 @@ def _prepare_reduced_cages(study: Study, todo: list[int], quiet: bool, workers, 
                         scheduler=scheduler, names=[f"reduced cage {h}" for h in hashes],
                         description="reduced cages", progress=False)
     if failures:
-        raise StudyIncomplete("building the reduced cage failed: " + "; ".join(map(str, failures)), failures)
+        raise StudyIncomplete("building the reduced cage failed: " + "; ".join(map(str, failures)),
+                              failures=failures)
     return paths
 
 
@@ -263,9 +257,6 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
     CPU; 1: one after the other in this process) or on the Dask cluster at `scheduler`. A finished
     run (its results file complete, flexbearing.simulation.run.finished_run) is not sent out again. A run that
     fails does not stop the others: StudyIncomplete is raised once they are done."""
-    from flexbearing.coupling.flexible_cage import reduced_cage_hash
-    from flexbearing.simulation.jobs import require_scheduler, require_workers, run_jobs, runs_in_this_process
-    from flexbearing.simulation.run import finished_run
     workers = require_workers((os.cpu_count() or 1) if workers is None else workers)
     require_scheduler(scheduler)
     folder = Path(out_dir) / study.name
@@ -297,16 +288,16 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
         sc = study.scenes[i]
         cage = cages.get(reduced_cage_hash(sc)) if sc.cage_model == "flexible" else None
         # on a cluster each run is quiet (one progress bar per process would garble the terminal);
-        # the bar of run_jobs counts the runs instead
+        # the bar of run_jobs counts the runs instead (in this process it stands above each run's own)
         jobs.append((sc, str(run_path(out_dir, study, i)), quiet or not here, cage))
     failures = run_jobs(_run_one, jobs, lambda k, summary: done(todo[k], summary), workers=workers,
                         scheduler=scheduler, names=[f"run {i} ({sc.name})" for i, sc in
                                                     ((i, study.scenes[i]) for i in todo)],
-                        description=f"study {study.name}", progress=not (quiet or here))
+                        description=f"study {study.name}", progress=not quiet)
     if failures:
         raise StudyIncomplete(f"{len(failures)} of {n} runs failed ({'; '.join(map(str, failures))}); "
                               f"the other runs are finished in {folder}: run the study again to retry "
-                              f"the failed ones", failures)
+                              f"the failed ones", failures=failures)
     result = collect(study, out_dir, summaries)
     result["wall_time_s"] = time.perf_counter() - t0
     (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
@@ -327,7 +318,6 @@ def window_ids(scene) -> dict:
     """Names of a run's report windows that are the same in every run of a study, by position:
     'whole run', 'phase k: <kind>' (k-th phase of the speed profile), 'impact k'; keyed by
     (kind group, t_end), which the settle time does not change (it moves t_start)."""
-    from flexbearing.analysis.windows import impact_windows, speed_phases
     ids = {}
     for k, ph in enumerate(speed_phases(scene), 1):
         ids[("phase", round(ph["t_end"], 12))] = f"phase {k}: {ph['kind']}"
@@ -345,7 +335,6 @@ def window_id(row: dict, ids: dict) -> str:
 
 def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
     """study.json content from the runs' results files (flexbearing.analysis.windows.phase_table each)."""
-    from flexbearing.analysis.windows import MOTION_ROWS, cage_motion_table, phase_table
     runs = []
     for i, (v, x) in enumerate(zip(study.values, study.parameter)):
         path = run_path(out_dir, study, i)
@@ -366,7 +355,6 @@ def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
 
 def _quantity_columns(result: dict) -> list[tuple[str, str]]:
     """(quantity key, statistic suffix) present in every run, in flexbearing.analysis.windows's order."""
-    from flexbearing.analysis.windows import QUANTITIES
     out = []
     for q in QUANTITIES:
         for stat in q.stats:
@@ -402,7 +390,6 @@ def _markdown_rows(study: Study, result: dict, title: str, column: str, cell) ->
 
 
 def study_markdown(study: Study, result: dict) -> str:
-    from flexbearing.analysis.windows import MOTION_ROWS, QUANTITY
     lines = [f"# Study {study.name}", "", study.description, "",
              f"Base scene `{study.scene_path}`; varied: {', '.join(f'`{k}`' for k in study.keys)}; "
              f"statistics after {study.settle:g} s (flexbearing.analysis.windows: peak = worst ball and instant, "
@@ -427,7 +414,6 @@ def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from flexbearing.analysis.windows import QUANTITY
     folder = Path(folder)
     x = [r["parameter"] * study.display_scale for r in result["runs"]]
     paths = []

@@ -6,7 +6,7 @@ slip and the paper's simulated slip, in %). `run_slip_rate_validation(...)` runs
 the test's, the paper's and the relative errors, plus a summary (mean/max error of ours and of
 the paper's simulation against the test).
 
-Slip rate (paper §3.2, SPEC §6): S = (nm − nc)/nm, nm = 0.5·ni·(1 − Dw·cos(alpha)/dm), nc the
+Slip rate (paper §3.2): S = (nm − nc)/nm, nm = 0.5·ni·(1 − Dw·cos(alpha)/dm), nc the
 cage speed (mean over the last averaging window). alpha: the mean of the loaded contact angles
 of the outer race and of the more loaded inner half, averaged over the balls and the window
 (the ball's kinematic mean; the paper does not say which alpha it takes).
@@ -18,7 +18,7 @@ and the remaining change predicted by Aitken's extrapolation, d·q/(1 − q), is
 the reported cage speed is then the extrapolated limit (a correction of at most settle_rel). At
 `t_max` the run stops regardless and `settled` is False in the row.
 
-Bearing clearance (physics, not fitted): the SPEC's default radial clearance Pd = 0 leaves the
+Bearing clearance (physics, not fitted): the paper scenes' radial clearance Pd = 0 ("clearance-free natural state") leaves the
 ball held by all three races (flexbearing.multibody.geometry: the ball clears the unloaded inner half only for
 Pd >= 2·(fe − 0.5)·Dw·(1 − cos alphaD) = 88.4 um). Three-point running forces the ball's spin axis
 to stay parallel to the bearing axis and makes the drag-free cage run FASTER than nm (measured,
@@ -45,22 +45,21 @@ content of the cavity. Both are calibrated together on cases 1–8 only (`calibr
 are the same for every case; cases 9–15 are the check (VALIDATION_*; the calibration grid and the
 result are in benchmarks/results/slip_rate.md). The cavity oil fraction is either constant or
 X_ref·(4000 rpm/n) (`case_oil_air_fraction`: Parker's 1/n at a constant oil supply); X_ref is the
-calibrated number. Traction: the EHL film-shear law of flexbearing.multibody.traction (default since issue
-25; `traction_table_for`), the paper's 4106 fit (--traction-law fit, the calibration's law) or its
-bounded and origin variants. Session 8 corrected the
-sign of the EHL pressure rolling force (flexbearing.multibody.drag; it had pushed the balls forward at the
-outer race) and recalibrated on cases 1–8: 150 °C, X_ref = 0.002 (the grid and the result, mean
-error 135.7 %, 135.9 % after the session-10 guide-land correction, in benchmarks/results/slip_rate.md;
-the diagnosis below predates it and still holds).
-Session 9 ran the paper's own ball hypothesis (model option ball_attitude = "no_pivot": gyroscopic
-pivoting held, the pitch free; with T_eta = 0): right sign at low speed, same strong load
+calibrated number. Traction: the EHL film-shear law of flexbearing.multibody.traction (the default;
+`traction_table_for`), the paper's 4106 fit (--traction-law fit, the calibration's law) or its
+bounded and origin variants. The calibration on cases 1–8 (after the sign of the EHL pressure
+rolling force was corrected, flexbearing.multibody.drag: it had pushed the balls forward at the
+outer race) gives 150 °C, X_ref = 0.002 (mean error 135.9 % with the guide land's squeeze term
+changing sign with the whirl; the grid and the result in benchmarks/results/slip_rate.md; the
+diagnosis below still holds).
+The paper's own ball hypothesis (model option ball_attitude = "no_pivot": gyroscopic pivoting
+held, the pitch free; with T_eta = 0) gives the right sign at low speed, the same strong load
 dependence, mean 137.5 %, max 286.4 %, no better after recalibration on cases 1–8 (slip_rate.md);
 the default stays free balls.
-Session 13: the test's own speed trend (benchmarks/slip_speed_decomposition.py) needs a
-speed-independent 4.3–5.5 % in every load group if its skid grows as the model's (n^2.2–2.6,
-measured with load-independent traction at a 15° shim angle), and drag cannot give that. Only a
-ball attitude near inner-race control can, and it needs the transverse traction named below
-(slip_rate.md, "Session 13").
+The test's own speed trend (benchmarks/slip_speed_decomposition.py) needs a speed-independent
+4.3–5.5 % in every load group if its skid grows as the model's (n^2.2–2.6, measured with
+load-independent traction at a 15° shim angle), and drag cannot give that. Only a ball attitude
+near inner-race control can, and it needs the transverse traction named below (slip_rate.md).
 
 Diagnosis (benchmarks/results/slip_rate.md has the numbers and the commands; benchmarks/bench_slip_rate.py
 prints the budgets). With the paper's 4106 fit the traction curve maxima at the test's contacts are
@@ -83,12 +82,12 @@ contact alone carries 0.24 N·m at mu = 0.1. Any friction with creep stiffness t
 balls towards outer-race control (its spin capacity Q·a is 3.7 times the inner's): beta = 4.7° /
 10.8° at mu = 0.03 / 0.1 for case 1, 1.0–1.4° for case 6 (flexbearing.multibody.steady, the dynamics and an
 independent single-ball model agree, tests/test_attitude_independent.py), slips −8 to −17 %. With
-the EHL film-shear law (issue 25, the default since) Table 5 comes out at −7.8 to −11.7 % in every
-case (benchmarks/results/slip_rate.md, "Session 14"). The test's positive slips would need skid,
+the EHL film-shear law (the default) Table 5 comes out at −7.8 to −11.7 % in every case
+(benchmarks/results/slip_rate.md). The test's positive slips would need skid,
 or a geometry or ball material in which the inner contact's Q·a exceeds the outer's; the kinematic
 estimate "beta = alpha_i" (slip 2.2–12.8 %) used earlier is not Jones's inner-race control, which
 at case 1 has beta = 44.8°, slip +9.0 %, and needs a couple of 0.50 N·m.
-Under the test bearing's unknowns (issue 23, flexbearing.studies.uncertainty; scenes/slip_rate_unknowns.toml):
+Under the test bearing's unknowns (flexbearing.studies.uncertainty; scenes/slip_rate_unknowns.toml):
 over 64 points of shim angle, clearance, oil temperature, traction scale, cavity oil and ball
 material, 1 of 15 test slips lies inside its 5–95 % band and no point comes near the paper's 7 %
 (best 106.8 %); the shim angle carries most of the variance (benchmarks/results/slip_rate_uncertainty.md).
@@ -97,24 +96,28 @@ seconds (cage inertia against a small net torque): values at t_max are not stead
 """
 from __future__ import annotations
 
+import argparse
+import json
 import math
 import os
 import sys
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
-from flexbearing.simulation.jobs import require_workers, run_jobs, runs_in_this_process
+from flexbearing.common.validation import InputError, require_range
+from flexbearing.multibody import integrator as I, outputs as O, traction as TR
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody import clearance as CL
 from flexbearing.multibody.oil_supply import cavity_oil_fraction
-from flexbearing.multibody.model import BALL_ATTITUDES, build_model, with_traction_table, P_GRAV
-from flexbearing.multibody import traction as TR
-from flexbearing.multibody.initial import initial_state
 from flexbearing.multibody.geometry import nominal_cage_speed
-from flexbearing.multibody import outputs as O
-from flexbearing.multibody import integrator as I
+from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.model import BALL_ATTITUDES, build_model, P_GRAV, with_traction_table
+from flexbearing.multibody.steady import steady_thrust_state
+from flexbearing.simulation.jobs import require_workers, run_jobs, runs_in_this_process
+from flexbearing.simulation.stopped import ValidationInterrupted
 
 # (case, group, Fa N, Fr N, speed rpm, test slip %, paper simulated slip %) — paper Tables 4 and 5
 _TABLE5 = [
@@ -146,10 +149,9 @@ def design_clearance(bearing=PAPER_BEARING) -> float:
 
 def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: float | None = None):
     """The validation's bearing with the two unknowns of the test bearing set (module docstring):
-    shim angle alphaD in degrees (default 30°, SPEC) and diametral clearance Pd in m (default: the
+    shim angle alphaD in degrees (default 30°, assumed: not in the paper) and diametral clearance Pd in m (default: the
     design clearance of that shim angle, `design_clearance`). Checked by Bearing.validate, which
     names the field and the allowed range."""
-    from flexbearing.common.validation import require_range
     if shim_angle_deg is not None:
         require_range("shim angle (--shim-angle)", shim_angle_deg, 0.0, 45.0, hi_open=True, unit="°")
     b = PAPER_BEARING if shim_angle_deg is None else replace(PAPER_BEARING, shim_angle=math.radians(shim_angle_deg))
@@ -204,7 +206,6 @@ def race_control_kinematics(alpha_outer: float, alpha_inner: float, race: str, b
     contact line in the cage frame, `pure_rolling_cage_speed_ratio`), this is zero spin relative to
     the race itself, which turns at omega_c (outer) or omega_i − omega_c (inner) about e_x."""
     if race not in ("outer", "inner"):
-        from flexbearing.common.validation import InputError
         raise InputError(f"race = {race!r} is not known; allowed: 'outer', 'inner'")
     rho = 0.5 * ball_diameter
     nox, nor = math.sin(alpha_outer), math.cos(alpha_outer)
@@ -237,7 +238,6 @@ def case_oil_air_fraction(fraction_ref: float, speed_rpm: float, scaling: str = 
         return fraction_ref
     if scaling == "inverse_speed":      # the continuous-supply law, flexbearing.multibody.oil_supply
         return float(cavity_oil_fraction(fraction_ref, OIL_AIR_REFERENCE_RPM, speed_rpm))
-    from flexbearing.common.validation import InputError
     raise InputError(f"oil_air_scaling = {scaling!r} is not known; allowed: 'constant', 'inverse_speed'")
 
 
@@ -272,7 +272,6 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0, oil=
     elif law == "origin":
         tab = np.array(TR.TRACTION_ORIGIN_4106, dtype=np.float64)
     else:
-        from flexbearing.common.validation import InputError
         raise InputError(f"traction law = {law!r} is not known; allowed: 'ehl', 'fit', 'bounded', 'origin'")
     if traction_scale != 1.0:
         tab[[0, 1, 3], 0] *= traction_scale
@@ -313,13 +312,11 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     load and gravity act from t = 0. Where that fixed point does not exist (the traction fit's dead
     zone) the quasi-static start is used; the row's "start" says which one ran."""
     if start not in ("quasi_static", "steady"):
-        from flexbearing.common.validation import InputError
         raise InputError(f"start = {start!r} is not known; allowed: 'quasi_static', 'steady'")
     model = build_validation_model(bearing, oil, options, traction_law, traction_scale)
     omega, y, sp, ld, imp = steady_case_start(model, case)
     started = "quasi_static"
     if start == "steady":
-        from flexbearing.multibody.steady import steady_thrust_state
         p0 = model.p.copy()
         p0[P_GRAV] = 0.0
         y_s, info = steady_thrust_state(model._replace(p=p0), omega, case["axial_load"])
@@ -475,15 +472,6 @@ def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: 
     return in_case_order()
 
 
-class ValidationInterrupted(Exception):
-    """`run_slip_rate_validation` stopped early: `rows` holds the finished cases (case order),
-    `missing` the case numbers that did not finish, `cause` the Ctrl-C or the error."""
-
-    def __init__(self, message: str, rows: list[dict], missing: list[int], cause: BaseException):
-        super().__init__(message)
-        self.rows, self.missing, self.cause = rows, missing, cause
-
-
 def _run_validation_case(c, bearing, oil, options, tol, t_max, oil_air_scaling, kw) -> dict:
     """One case of `run_slip_rate_validation` at its speed's oil fraction (a top-level function so
     that worker processes can run it)."""
@@ -528,8 +516,6 @@ def format_table(rows: list[dict]) -> str:
 
 def write_report(rows: list[dict], directory, stem: str = "slip_rate", note: str = "") -> None:
     """benchmarks/results/<stem>.md (table + summary) and <stem>.json (rows + summary)."""
-    import json
-    from pathlib import Path
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     clean = [{k: v for k, v in r.items() if k != "window_means"} for r in rows]
@@ -557,8 +543,6 @@ def validation_model_options(ball_attitude=None, transverse_traction: str = "on"
 def main(argv=None) -> None:
     """python -m flexbearing.studies.validate [--cases 1,2] [--oil-temperature C] [--oil-air-fraction X]
     [--shim-angle DEG] [--radial-clearance M] [--t-max S] [--json FILE] [--out-dir DIR] [--quiet]"""
-    import argparse
-    import json
     ap = argparse.ArgumentParser(description="steady slip-rate validation (paper Table 5)")
     ap.add_argument("--cases", default=None, help="comma-separated case numbers (default: all 15)")
     ap.add_argument("--oil-temperature", type=float, default=None, help="°C (default: calibrated)")
@@ -628,10 +612,10 @@ def main(argv=None) -> None:
 
 
 # The oil state of the validation (module docstring): calibrated on cases 1–8 only, with gravity on
-# (grids of benchmarks/results/slip_rate.md; session 8, after the pressure rolling force's sign was
-# corrected, on settled runs of up to 15 s): the paper's fit, oil at 150 °C (the upper end of the
+# (grids of benchmarks/results/slip_rate.md; after the pressure rolling force's sign was corrected,
+# on settled runs of up to 15 s): the paper's fit, oil at 150 °C (the upper end of the
 # plausible range; 160 °C ranks better still), cavity oil fraction 0.2 % at 4000 rpm falling as 1/n.
-# Traction (issue 25): the EHL film-shear law of flexbearing.multibody.traction (no dead zone at the test's light
+# Traction: the EHL film-shear law of flexbearing.multibody.traction (no dead zone at the test's light
 # contacts); the oil state above was calibrated with the fit and is kept.
 VALIDATION_OIL_TEMPERATURE_C = 150.0
 VALIDATION_OIL_AIR_FRACTION = 0.002

@@ -422,7 +422,7 @@ def frequency_case(model: ProjectModel, material, n_elastic: int = 20, threads: 
 
 # ------------------------------------------------------------------ the whole check
 
-SPIN_RAD_S = 645.0          # the paper scene's top speed, ~6,160 rpm of the cage (issue 24)
+SPIN_RAD_S = 645.0          # the paper scene's top speed, ~6,160 rpm of the cage
 POCKET_FORCE_N = 1000.0
 DIRECTIONS = ("circumferential", "axial", "radial")
 
