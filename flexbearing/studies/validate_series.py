@@ -104,7 +104,7 @@ def nominal_values(vs: RC.ValidationSeries) -> dict:
 
 def sample_values(vs: RC.ValidationSeries, n: int, seed: int = 35) -> list[dict]:
     """n scrambled Sobol' points of the series' unknowns box (uniform in each range)."""
-    from flexbearing.studies.uncertainty import unit_sample
+    from flexbearing.studies.sensitivity import unit_sample
     if not vs.unknowns or n < 1:
         return []
     u = unit_sample(n, len(vs.unknowns), seed)
