@@ -104,7 +104,7 @@ def nominal_values(vs: RC.ValidationSeries) -> dict:
 
 def sample_values(vs: RC.ValidationSeries, n: int, seed: int = 35) -> list[dict]:
     """n scrambled Sobol' points of the series' unknowns box (uniform in each range)."""
-    from flexbearing.studies.uncertainty import unit_sample
+    from flexbearing.studies.sensitivity import unit_sample
     if not vs.unknowns or n < 1:
         return []
     u = unit_sample(n, len(vs.unknowns), seed)
@@ -470,10 +470,14 @@ def evaluate_checks(vs: RC.ValidationSeries, rows: list[dict], pts: list[dict]) 
                                     for fa, g in sorted(groups.items())))
         elif name == "cage_forces_tens_of_newtons" and nom and nom.get("converged"):
             f_p, f_l = nom["pocket_force_max_N"], nom["cage_land_force_N"]
-            verdict = "pass" if f_p <= 2 * 25.0 and f_l <= 2 * 20.0 else "fail"
+            # the abstract gives maxima over speeds to 12,000 rpm at an unstated load: only the order of
+            # magnitude can be compared, both ways (a factor 10 either side)
+            ok = all(0.1 * m <= f <= 10.0 * m for f, m in ((f_p, 25.0), (f_l, 20.0)))
+            verdict = "pass" if ok else "fail"
             text = (f"nominal max pocket force {f_p:.1f} N (band {_band(e, 'pocket_force_max_N', '{:.1f}')}), "
-                    f"land force {f_l:.1f} N (band {_band(e, 'cage_land_force_N', '{:.1f}')}); measured ≤ 25 N and "
-                    f"≤ 20 N (pass: within a factor 2, the order of magnitude the abstract supports)")
+                    f"land force {f_l:.1f} N (band {_band(e, 'cage_land_force_N', '{:.1f}')}); measured maxima 25 N "
+                    f"and 20 N (pass: both within a factor 10 either way, the order of magnitude; steady states, "
+                    f"not the dynamics' peaks)")
         elif name == "runs_at_2p5_million_DN" and e is not None:
             n_ok = e["n_converged"] + (1 if nom and nom.get("converged") else 0)
             verdict = "pass" if nom and nom.get("converged") else "fail"
