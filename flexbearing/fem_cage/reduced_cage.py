@@ -107,6 +107,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbearing.common.cache import file_sha256   # noqa: F401 (rcf.file_sha256: the mesh file's digest)
 from flexbearing.mesh.cage_mesh import MESH_VERSION
 
 SCHEMA = "flexbearing.reduced_cage"
@@ -168,12 +169,6 @@ def _undigested(path) -> bool:
         return False
 
 
-def file_sha256(path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for chunk in iter(lambda: f.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 @dataclass
