@@ -26,7 +26,11 @@ def assert_sound(row):
         return
     d = row["diagnostic"]
     if row["stage"] == "setup":
-        assert re.search(r"ball \d+'s .* contact .*allowed range \[0, [0-9.e+]+\] N", d), d
+        # a load refused by the contact's range, or a load the bearing has no quasi-static start for
+        # (named with its residual): with the preset's 88.4 um design clearance a 100 N thrust under
+        # a 4 kN radial load has none (the clearance-free preset reached the range check first)
+        assert (re.search(r"ball \d+'s .* contact .*allowed range \[0, [0-9.e+]+\] N", d)
+                or re.search(r"quasi-static initial state did not converge for load \([-0-9., e+]+\) N", d)), d
     elif row["cause"] == "SimulationUnstable":
         assert re.search(r"t = [0-9.e+-]+ s", d) and ("ball" in d or "cage" in d) and "likely cause" in d, d
         assert row.get("nan_in_file", 0) == 0 and not row["resumable"]
