@@ -102,6 +102,23 @@ def test_advance_in_pieces_equals_one_call():
     assert np.sqrt(np.mean(((y - a) / w) ** 2)) < 1e-5
 
 
+def test_max_step_bounds_every_step():
+    """integrator.max_step: no accepted step is longer than h_max, so an interval T takes at least
+    ceil(T / h_max) steps (exact lower bound); the cap binds here (the paper's steady state at a
+    loose tolerance steps longer without it), and h_max = 1e-3 s is the default (H_MAX)."""
+    m, y0, sp, ld = _paper_state()
+    T, h_max = 1e-4, 2e-7
+    n_min = math.ceil(T / h_max - 1e-9)       # 500 (T / h_max is 500.00000000000006 in binary)
+    _, _, h_free, n_free, _ = I.advance(m, y0.copy(), 0.0, T, sp, ld, IMP, 1e-4, 1e-7)
+    _, t, h, n, _ = I.advance(m, y0.copy(), 0.0, T, sp, ld, IMP, 1e-4, 1e-7, max_step=h_max)
+    assert n_free < n_min <= n and t == T and h <= h_max
+    # an initial step above the cap is clipped before the first attempt
+    _, _, _, n_big, _ = I.advance(m, y0.copy(), 0.0, T, sp, ld, IMP, 1e-4, 1e-3, max_step=h_max)
+    assert n_big >= n_min
+    with pytest.raises(ValueError, match="max_step"):
+        I.advance(m, y0.copy(), 0.0, T, sp, ld, IMP, 1e-4, 1e-7, max_step=0.0)
+
+
 def test_unstable_run_names_ball_contact_and_time():
     """An absurd axial load ramp (to 1e9 N in 1 ms) drives the inner contacts beyond 0.01·Dw:
     SimulationUnstable names a ball, an inner-race contact and the time."""

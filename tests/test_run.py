@@ -394,6 +394,27 @@ def test_a_failed_case_does_not_stop_the_others(tmp_path):
     assert [r["case"] for r in exc.value.rows] == [1]
 
 
+def test_the_scenes_max_step_reaches_the_integrator(tmp_path):
+    """[integrator] max_step is handed to every integrator call (keyword max_step), and the fake
+    integrator honouring it takes at least duration / max_step steps; without it the keyword is not
+    passed at all (a backend without it keeps working)."""
+    seen = []
+
+    def advance(*a, max_step=None, **k):
+        seen.append(max_step)
+        if max_step is None:
+            return fake_advance(*a, **k)
+        model, y, t, t_next, sp, ld, imp, tol, h, ws = a
+        return fake_advance(model, y, t, t_next, sp, ld, imp, tol, min(h, max_step), ws)
+
+    scene = fake_scene(SCENE.replace("initial_step = 1e-5", "initial_step = 1e-5\nmax_step = 1e-4"))
+    run_scene(scene, tmp_path / "capped.h5", quiet=True, backend=fake_backend(advance=advance))
+    assert seen and set(seen) == {1e-4}
+    seen.clear()
+    run_scene(fake_scene(), tmp_path / "free.h5", quiet=True, backend=fake_backend(advance=advance))
+    assert seen and set(seen) == {None}
+
+
 if __name__ == "__main__":      # used by tests/test_resume.py to run a fake scene in a subprocess
     out = sys.argv[1]
     from flexbearing.simulation import results

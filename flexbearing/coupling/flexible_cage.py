@@ -361,18 +361,19 @@ def backend(scene, reduced_cage=None):
         return monitors[key][1]
 
     def advance(model, y, t, t_next, speed_table, load_table, impacts, tol=integrator.DEFAULT_TOL,
-                h=1e-6, ws=None, max_steps=10_000_000, method="dopri5"):
+                h=1e-6, ws=None, max_steps=10_000_000, method="dopri5", max_step=integrator.H_MAX):
         mon = monitor_of(model) if stress is not None else None
         return integrator.advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws,
-                                  max_steps, method, monitor=mon)
+                                  max_steps, method, monitor=mon, max_step=max_step)
 
     def advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts,
-                        tol=integrator.DEFAULT_TOL, h=1e-6, ws=None, max_steps=10_000_000, method="dopri5"):
+                        tol=integrator.DEFAULT_TOL, h=1e-6, ws=None, max_steps=10_000_000, method="dopri5",
+                        max_step=integrator.H_MAX):
         """`advance` writing the states at sample_times on the way; each sample's snapshot is the
         monitor's peak since the previous sample (flexbearing.multibody.integrator.advance_sampled)."""
         mon = monitor_of(model) if stress is not None else None
         return integrator.advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts,
-                                          tol, h, ws, max_steps, method, monitor=mon)
+                                          tol, h, ws, max_steps, method, monitor=mon, max_step=max_step)
 
     def sample_snapshot(model):
         """What a sample must take when it is reached (flexbearing.simulation.run evaluates the rest later): the

@@ -103,8 +103,11 @@ class SimulationUnstable(RuntimeError):
 
 @njit(cache=True, nogil=True)
 def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, ld, imp,
-             work, scale, relmask, K, ytmp, ynew, max_steps, cage, mon, ts, Ys, Pk, Ypk, n_out):
+             work, scale, relmask, K, ytmp, ynew, max_steps, cage, mon, ts, Ys, Pk, Ypk, n_out, h_max):
     """Adaptive explicit RK (FSAL tableau A, weights B, error weights E) from t to t_end, in place.
+
+    h_max: the largest step, s (the error controller's new step is clipped to it, as the
+    `hmax` of Hairer & Wanner's DOPRI5; the scene's integrator.max_step, else H_MAX).
 
     K: (n_stages, n) stage derivatives; K[0] must hold f(t, y) on entry (FSAL) and holds f at the
     returned state on exit. mon: the cage stress monitor (flexbearing.multibody.stress_peak), evaluated at
@@ -129,6 +132,8 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
     n_out[0] = 0
     peak = mon[4]
     y_peak = mon[5]
+    if h > h_max:
+        h = h_max
     while t < t_end:
         if n_acc + n_rej >= max_steps:
             return t, h, n_acc, n_rej, 4
@@ -201,8 +206,8 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
             err_old = e1
             if not last:
                 h = h * fac
-            if h > 1e-3:
-                h = 1e-3
+            if h > h_max:
+                h = h_max
         else:
             n_rej += 1
             fac = 0.9 * err ** (-expo)
@@ -295,17 +300,18 @@ class Workspace:
 
 def advance(model, y, t, t_next, speed_table, load_table, impacts, tol: float = DEFAULT_TOL,
             h: float = 1e-6, ws: Workspace | None = None, max_steps: int = 10_000_000,
-            method: str = "dopri5", monitor: tuple | None = None):
+            method: str = "dopri5", monitor: tuple | None = None, max_step: float = H_MAX):
     """Advance the state from t to t_next (module docstring). Returns (y, t, h, n_steps, n_rejected).
 
     `y` is updated in place and returned. Pass the same Workspace between calls of one run to
     reuse the FSAL derivative and the scratch arrays. `monitor`: a cage stress monitor
-    (flexbearing.multibody.stress_peak.new_monitor) evaluated after every accepted step. Raises
+    (flexbearing.multibody.stress_peak.new_monitor) evaluated after every accepted step. `max_step`:
+    the largest step, s (H_MAX unless the scene sets integrator.max_step). Raises
     SimulationUnstable.
     """
     y, t1, h1, n_acc, n_rej, _, _ = advance_sampled(model, y, t, t_next, _NO_SAMPLES, speed_table,
                                                        load_table, impacts, tol, h, ws, max_steps,
-                                                       method, monitor)
+                                                       method, monitor, max_step)
     return y, t1, h1, n_acc, n_rej
 
 
@@ -314,13 +320,16 @@ _NO_SAMPLES = np.zeros(0)
 
 def advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, impacts,
                     tol: float = DEFAULT_TOL, h: float = 1e-6, ws: Workspace | None = None,
-                    max_steps: int = 10_000_000, method: str = "dopri5", monitor: tuple | None = None):
+                    max_steps: int = 10_000_000, method: str = "dopri5", monitor: tuple | None = None,
+                    max_step: float = H_MAX):
     """`advance` from t to t_next, writing the states at `sample_times` on the way (module
     docstring, "Samples"). sample_times: ascending, each in (t, t_next). Returns
     (y, t, h, n_steps, n_rejected, Ys, peaks): Ys (m, n) the states at the m sample times (the
     method's continuous extension inside a step; a view of the workspace's buffer: copy what must
     outlive the next call), peaks the stress monitor's peak over the steps since the previous
     sample for each (flexbearing.multibody.stress_peak.peak_of; None without a monitor or step)."""
+    if not max_step > 0.0:
+        raise ValueError(f"max_step must be > 0 s: {max_step!r}")
     if ws is None:
         ws = Workspace(model, method)
     y = np.ascontiguousarray(y, dtype=np.float64)
@@ -338,7 +347,8 @@ def advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, 
                                           ws.E, ws.order, model.p, model.flags, model.hertz_table,
                                           model.traction_table, speed_table, load_table, impacts,
                                           ws.work, model.scale, model.relmask, ws.K, ws.ytmp, ws.ynew,
-                                          int(max_steps), model.cage, mon, ts, Ys, Pk, Ypk, ws.n_out)
+                                          int(max_steps), model.cage, mon, ts, Ys, Pk, Ypk, ws.n_out,
+                                          float(max_step))
     if code != OK:
         n = int(ws.n_out[0])
         try:

@@ -5,14 +5,15 @@ with the calls the run makes (positional, always all of them):
 
     build_model(bearing, oil, options) -> model
     initial_state(model, speed_rad_s, Fa, Fr, load) -> y0           load: (Fx, Fy, Fz) at t = 0, N
-    advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws)
+    advance(model, y, t, t_next, speed_table, load_table, impacts, tol, h, ws[, max_step=...])
         -> (y, t, h, n_steps, n_rejected)                          integrate from t to t_next
+        max_step (keyword, passed only when the scene sets integrator.max_step): the largest step, s
     evaluate_outputs(model, t, y, request, snapshot) -> {name: value}
         the quantities to record at the sample (t, y) for `request` (an OutputRequest), already
         selected (`select_recorded`); `snapshot` is what sample_snapshot took at the sample (None
         without one)
     advance_sampled (optional)(model, y, t, t_next, sample_times, speed_table, load_table, impacts,
-                               tol, h, ws)
+                               tol, h, ws[, max_step=...])
         -> (y, t, h, n_steps, n_rejected, states at sample_times, snapshots at them)
         integrate across the samples without stopping at them (flexbearing.multibody.integrator, "Samples")
     sample_snapshot (optional)(model) -> snapshot

@@ -200,6 +200,9 @@ class RunLoop:
         else:
             self.ws = None
         self.breakpoints = scene.breakpoints()   # the kinks and jumps of the spectra
+        # integrator.max_step reaches the integrator only when the scene sets it (a backend without
+        # the keyword keeps working on every other scene)
+        self.step_limit = {"max_step": scene.max_step} if scene.max_step else {}
         self.keys = None                      # the evaluated keys, in the first sample's order
         self.load3 = np.zeros(3)
         self.pending: list[Sample] = []
@@ -378,7 +381,8 @@ class RunLoop:
             times = np.array([scene.sample_time(j) for j in range(self.k, k_in)])
             try:
                 y, _t, h, ns, nr, states, snaps = backend.advance_sampled(
-                    self.model, self.y, self.t, t_stop, times, *tables, scene.tolerance, self.h, self.ws)
+                    self.model, self.y, self.t, t_stop, times, *tables, scene.tolerance, self.h, self.ws,
+                    **self.step_limit)
             except Exception as exc:
                 # an integration that fails (flexbearing.multibody.integrator.SimulationUnstable) hands
                 # over the samples it passed before: kept after the checkpoint (_stop)
@@ -391,7 +395,7 @@ class RunLoop:
             self.k = k_in
         else:
             y, _t, h, ns, nr = backend.advance(self.model, self.y, self.t, t_stop, *tables,
-                                               scene.tolerance, self.h, self.ws)
+                                               scene.tolerance, self.h, self.ws, **self.step_limit)
         self.y, self.h = y, h
         self.t = t_stop          # the integrator lands on t_next; keep the exact stop time
         self.n_steps += int(ns)
