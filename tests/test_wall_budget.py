@@ -15,8 +15,23 @@ from flexbearing.simulation.run import RunInterrupted, run_scene
 from test_run import fake_advance, fake_backend, fake_scene
 
 
-def slow_backend(pause=0.004):
-    return fake_backend(advance=lambda *a, **k: (time.sleep(pause), fake_advance(*a, **k))[1])
+class _Clock:
+    """time.perf_counter as the run sees it: advanced only by the fake integrator, so the test's
+    arithmetic does not depend on how loaded the machine is."""
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        return self.now
+
+
+def slow_backend(clock, pause=0.004):
+    """The fake physics costing `pause` seconds of the fake clock per integrator call: the wall time
+    proportional to the integrator calls, as a real run's to its steps."""
+    def advance(*a, **k):
+        clock.now += pause
+        return fake_advance(*a, **k)
+    return fake_backend(advance=advance)
 
 
 def test_prediction_warns_early_and_is_close_to_the_real_total(tmp_path, monkeypatch):
@@ -30,10 +45,11 @@ def test_prediction_warns_early_and_is_close_to_the_real_total(tmp_path, monkeyp
         if self.predicted is not None:
             predictions.append((time.perf_counter() - self.wall0, self.predicted))
     monkeypatch.setattr(WB.WallBudget, "update", spy)
-    t0 = time.perf_counter()
+    clock = _Clock()
+    monkeypatch.setattr(WB.time, "perf_counter", clock)
     with pytest.warns(WB.SlowRunWarning, match=r"needs about .* in all") as rec:
-        run_scene(fake_scene(), tmp_path / "r.h5", quiet=True, backend=slow_backend())
-    total = time.perf_counter() - t0
+        run_scene(fake_scene(), tmp_path / "r.h5", quiet=True, backend=slow_backend(clock))
+    total = clock.now
     assert len(rec) == 1                                  # once, not at every sample
     first_at, first = predictions[0]
     assert first_at < 0.5 * total                         # early: in the first half of the run
@@ -43,25 +59,19 @@ def test_prediction_warns_early_and_is_close_to_the_real_total(tmp_path, monkeyp
 
 def test_max_wall_time_stops_at_a_checkpoint_and_resume_finishes(tmp_path, monkeypatch):
     monkeypatch.setattr(WB, "WARN_AFTER_S", 0.1)
+    clock = _Clock()
+    monkeypatch.setattr(WB.time, "perf_counter", clock)
     out = tmp_path / "r.h5"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", WB.SlowRunWarning)
         with pytest.raises(RunInterrupted) as exc:
-            run_scene(fake_scene(), out, quiet=True, backend=slow_backend(), max_wall_time=0.15)
+            run_scene(fake_scene(), out, quiet=True, backend=slow_backend(clock), max_wall_time=0.15)
     assert isinstance(exc.value.cause, WB.WallTimeExceeded) and exc.value.resumable
     assert "more than the allowed" in str(exc.value) and "continue with --resume" in str(exc.value)
     n_stopped = len(read_outputs(out)["time"])
     assert 1 < n_stopped < fake_scene().n_samples
     run_scene(fake_scene(), out, resume=True, quiet=True, backend=fake_backend())
     assert len(read_outputs(out)["time"]) == fake_scene().n_samples
-
-
-class _Clock:
-    def __init__(self):
-        self.now = 0.0
-
-    def __call__(self):
-        return self.now
 
 
 @pytest.mark.parametrize("done, stops", [(0.87, False), (0.5, True), (0.2, True)])
