@@ -238,6 +238,6 @@ def test_build_writes_guide_loads_with_attrs():
     assert summary["guide"]["displacement_rel_error_full"] <= 1e-6
     rc = rcf.read(path)
     assert rc.guide_modal_loads.shape == (rc.n_modes, 3)
-    assert rc.attrs["schema_version"] == 4 and rc.attrs["guide_load_vectors"]
+    assert rc.attrs["schema_version"] == rcf.SCHEMA_VERSION and rc.attrs["guide_load_vectors"]
     with h5py.File(path) as f:
         assert json.loads(f["loads/guide_modal_loads"].attrs["columns"]) == list(rcf.GUIDE_LOAD_COLUMNS)
