@@ -13,6 +13,21 @@ Writes benchmarks/results/reduce_paper.json (one entry per configuration).
 
     nice .venv/bin/python benchmarks/bench_reduce.py [--coupling rbe3 rbe2] [--n-fixed 30 60]
         [--no-augmentation] [--quiet]
+
+The design loop (issue 32 item 4): a new geometry to a reduced cage, without the verification
+checks — the paper cage at the default mesh, meshed into an empty cache (gmsh is paid) and
+reduced, in a fresh process per repetition: wall time of each phase, CPU time (user + sys),
+peak RSS of the process, the file's size per dataset and the time to read it back.
+--code DIR runs the same in another checkout (e.g. a worktree of the code before), interleaved
+with this one, repetition by repetition (the machine is shared: compare minima). --compare BEFORE
+AFTER checks two reduced cage files of the same cage for equal results: frequencies, and the max
+von Mises of the full basis' static answer to the stress-convergence study's load cases
+(flexbearing.verification.stress_study: spin, a pocket force circumferential / axial / radial on
+pocket 5, a land force) — basis-invariant numbers, so modes that rotate inside a double root
+do not count as a difference. Writes benchmarks/results/reduce_design_loop.json.
+
+    nice .venv/bin/python benchmarks/bench_reduce.py --design-loop [--repeat 3] [--code DIR]
+    .venv/bin/python benchmarks/bench_reduce.py --compare BEFORE.h5 AFTER.h5
 """
 from __future__ import annotations
 
@@ -22,6 +37,100 @@ import time
 from pathlib import Path
 
 RESULTS = Path(__file__).parent / "results" / "reduce_paper.json"
+LOOP_RESULTS = Path(__file__).parent / "results" / "reduce_design_loop.json"
+
+# one repetition of the design loop, run as `python -c` in a fresh process (its own peak RSS and
+# CPU time) with FLEXBEARING_CACHE an empty folder; prints one JSON line
+_LOOP_CHILD = r"""
+import json, os, resource, sys, time
+t0 = time.perf_counter()
+from flexbearing.mesh.cage_geometry import PAPER_CAGE
+import flexbearing.mesh.cage_mesh as cm
+from flexbearing.fem_cage.reduction import build
+from flexbearing.fem_cage import reduced_cage as rcf
+t_import = time.perf_counter() - t0
+t = time.perf_counter()
+cm.cached_cage_mesh(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER, cm.DEFAULT_POCKET_SIZE)
+t_mesh = time.perf_counter() - t
+t = time.perf_counter()
+path, red, summary = build(PAPER_CAGE, cm.DEFAULT_MESH_SIZE, cm.DEFAULT_ORDER,
+                           cm.DEFAULT_POCKET_SIZE, "rbe3", 30, quiet=True, checks=False,
+                           degree=cm.DEFAULT_DEGREE)
+t_build = time.perf_counter() - t
+ru = resource.getrusage(resource.RUSAGE_SELF)
+import h5py
+sizes = {}
+with h5py.File(path) as f:
+    f.visititems(lambda n, o: sizes.__setitem__(n, int(o.id.get_storage_size()))
+                 if isinstance(o, h5py.Dataset) else None)
+t = time.perf_counter()
+rcf.read(path)
+t_read = time.perf_counter() - t
+print(json.dumps({"import_s": t_import, "mesh_s": t_mesh, "build_s": t_build,
+                  "new_geometry_s": t_mesh + t_build, "timings": red["timings"],
+                  "cpu_user_s": ru.ru_utime, "cpu_sys_s": ru.ru_stime,
+                  "peak_rss_MB": ru.ru_maxrss / 1024, "file_MB": os.path.getsize(path) / 1e6,
+                  "dataset_MB": {k: v / 1e6 for k, v in sizes.items()}, "read_s": t_read,
+                  "solver": red["info"], "schema_version": rcf.SCHEMA_VERSION}))
+"""
+
+
+def design_loop_once(code: Path | None) -> dict:
+    """One repetition of the design loop in a fresh process and an empty cache (the module
+    docstring); code: another checkout to run instead of this one."""
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    env = dict(os.environ)
+    with tempfile.TemporaryDirectory(prefix="fb-loop-") as cache:
+        env["FLEXBEARING_CACHE"] = cache
+        if code is not None:
+            env["PYTHONPATH"] = str(code)
+        out = subprocess.run([sys.executable, "-c", _LOOP_CHILD], env=env, check=True,
+                             capture_output=True, text=True, cwd=str(code or Path.cwd()))
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def static_max_von_mises(path) -> dict:
+    """Max nodal von Mises (Pa) of the full basis' quasi-static answer to each load case of the
+    stress-convergence study (flexbearing.verification.stress_study: constants and directions),
+    from the reduced cage file alone: q_k = (Phi_b,k^T F + g_k) / omega_k^2 for every elastic mode
+    (flexbearing.fem_cage.reduced_cage.static_correction), sigma = S q."""
+    import numpy as np
+    from flexbearing.fem_cage import reduced_cage as rcf
+    from flexbearing.fem_cage.stress_modes import von_mises
+    from flexbearing.verification import stress_study as ss
+    rc = rcf.read(path)
+    Z = rc.interface_modes.shape[0]
+    out = {}
+    theta = 2 * np.pi * ss.POCKET / Z
+    cases = {"spin": (None, rcf.centrifugal_modal_load(rc.invariants, ss.SPIN_RAD_S)),
+             "land": (None, rc.guide_modal_loads @ np.array([0.0, ss.LAND_FORCE_N, 0.0]))}
+    for kind in ("circ", "axial", "radial"):
+        F = np.zeros((Z, 6))
+        F[ss.POCKET, :3] = ss.POCKET_FORCE_N * ss.pocket_direction(theta, kind)
+        cases[f"pocket_{kind}"] = (F, None)
+    for name, (F, g) in cases.items():
+        q = np.zeros(rc.n_modes)
+        q[6:] = rcf.static_correction(rc.interface_modes, rc.omega,
+                                      np.zeros((Z, 6)) if F is None else F, 6, g)
+        out[name] = float(von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max())
+    return out
+
+
+def compare_files(before, after) -> dict:
+    """Frequencies and static max von Mises (static_max_von_mises) of two files of the same cage."""
+    import numpy as np
+    from flexbearing.fem_cage import reduced_cage as rcf
+    a, b = rcf.read(before), rcf.read(after)
+    fa, fb = a.frequency_hz[6:], b.frequency_hz[6:]
+    va, vb = static_max_von_mises(before), static_max_von_mises(after)
+    return {"frequency_max_rel_diff": float(np.max(np.abs(fb - fa) / fa)),
+            "frequency_hz_first_elastic": [float(fa[0]), float(fb[0])],
+            "von_mises_Pa": {k: [va[k], vb[k]] for k in va},
+            "von_mises_max_rel_diff": max(abs(vb[k] - va[k]) / va[k] for k in va),
+            "rigid_mass_rel_diff": abs(b.invariants["mass"] - a.invariants["mass"]) / a.invariants["mass"]}
 
 
 def main(argv=None):
@@ -31,7 +140,36 @@ def main(argv=None):
     ap.add_argument("--no-augmentation", dest="augment", action="store_false",
                     help="no land-load and no inertia-relief vectors in the basis")
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--design-loop", action="store_true",
+                    help="time a new geometry to a reduced cage, no checks (module docstring)")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--code", type=Path, default=None,
+                    help="with --design-loop: also time this checkout, interleaved")
+    ap.add_argument("--compare", nargs=2, type=Path, metavar=("BEFORE", "AFTER"))
     args = ap.parse_args(argv)
+    if args.compare or args.design_loop:
+        out = json.loads(LOOP_RESULTS.read_text()) if LOOP_RESULTS.exists() else {}
+        if args.compare:
+            out["compare"] = compare_files(*args.compare)
+            out["compare"]["files"] = [str(p) for p in args.compare]
+            print(json.dumps(out["compare"], indent=1))
+        if args.design_loop:
+            runs = {"this": [], "other": []}
+            for _ in range(args.repeat):
+                for which, code in (("other", args.code), ("this", None)):
+                    if which == "other" and code is None:
+                        continue
+                    r = design_loop_once(code)
+                    runs[which].append(r)
+                    print(which, f"new geometry {r['new_geometry_s']:.1f} s (mesh {r['mesh_s']:.1f}, "
+                          f"reduce {r['timings']['reduce_total_s']:.1f}), cpu "
+                          f"{r['cpu_user_s'] + r['cpu_sys_s']:.1f} s, peak {r['peak_rss_MB']:.0f} MB, "
+                          f"file {r['file_MB']:.1f} MB", flush=True)
+            out["design_loop"] = {"this": runs["this"], "other": runs["other"],
+                                  "other_code": None if args.code is None else str(args.code)}
+        LOOP_RESULTS.parent.mkdir(exist_ok=True)
+        LOOP_RESULTS.write_text(json.dumps(out, indent=1, default=float))
+        return
     from flexbearing.mesh.cage_geometry import PAPER_CAGE
     import flexbearing.mesh.cage_mesh as cm
     from flexbearing.fem_cage.reduction import build

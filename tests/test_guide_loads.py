@@ -224,9 +224,36 @@ def test_file_round_trip(reduced, tmp_path):
     assert np.array_equal(rc.truncate(26).guide_modal_loads, red["guide_modal_loads"][:26])
 
 
+def test_float32_mode_tables_keep_the_static_stress(reduced, tmp_path):
+    """Schema 5 stores the stress and displacement tables in float32. The full basis' quasi-static
+    stress of a pocket force plus a land force, read from the file, differs from the float64 one
+    by no more than the float32 rounding allows: each component of sigma_n = sum_k S_nk q_k moves
+    by at most 2^-24 sum_k |S_nk q_k|, and von Mises (a seminorm, largest gain sqrt(3) on a Voigt
+    vector) moves its maximum by at most sqrt(3) sqrt(6) times that."""
+    from flexbearing.fem_cage.reduction import file_arrays
+    from flexbearing.fem_cage import reduced_cage as rcf
+    from flexbearing.fem_cage.stress_modes import von_mises
+    red = reduced["all"]
+    rc = rcf.read(rcf.write(tmp_path / "c.h5", file_arrays(red), {}))
+    Z = rc.interface_modes.shape[0]
+    F = np.zeros((Z, 6))
+    F[1, :3] = [0.0, 300.0, 800.0]                                  # N on pocket 1
+    q = np.zeros(rc.n_modes)
+    q[6:] = rcf.static_correction(rc.interface_modes, rc.omega, F, 6,
+                                  rc.guide_modal_loads @ np.array([0.0, 500.0, 2.0]))
+    vm64 = von_mises(np.einsum("nsm,m->ns", red["stress"], q)).max()
+    vm32 = von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max()
+    bound = np.sqrt(18.0) * 2.0 ** -24 * np.einsum("nsm,m->ns", np.abs(red["stress"]), np.abs(q)).max()
+    assert abs(vm32 - vm64) <= bound and bound < 1e-5 * vm64
+    u64 = np.einsum("nsm,m->ns", red["vertex_displacement"], q)
+    u32 = np.einsum("nsm,m->ns", rc.vertex_displacement, q)
+    assert np.abs(u32 - u64).max() <= 2.0 ** -24 * np.einsum(
+        "nsm,m->ns", np.abs(red["vertex_displacement"]), np.abs(q)).max()
+
+
 @pytest.mark.slow
 def test_build_writes_guide_loads_with_attrs():
-    """`build` on the small cage (P2, 10 fixed modes) writes a schema-4 file whose guide dataset
+    """`build` on the small cage (P2, 10 fixed modes) writes a schema-5 file whose guide dataset
     carries its column names, and whose /checks hold the land-load exactness (<= 1e-6). ~30 s."""
     import h5py
     import json
@@ -238,6 +265,6 @@ def test_build_writes_guide_loads_with_attrs():
     assert summary["guide"]["displacement_rel_error_full"] <= 1e-6
     rc = rcf.read(path)
     assert rc.guide_modal_loads.shape == (rc.n_modes, 3)
-    assert rc.attrs["schema_version"] == 4 and rc.attrs["guide_load_vectors"]
+    assert rc.attrs["schema_version"] == rcf.SCHEMA_VERSION and rc.attrs["guide_load_vectors"]
     with h5py.File(path) as f:
         assert json.loads(f["loads/guide_modal_loads"].attrs["columns"]) == list(rcf.GUIDE_LOAD_COLUMNS)

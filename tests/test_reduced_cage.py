@@ -38,7 +38,13 @@ def test_round_trip_truncate_elastic(tmp_path):
                   {"static": {"max_rel_error_full": 1e-9}})
     rc = rcf.read(p)
     assert rc.n_modes == 10
-    assert np.array_equal(rc.stress_modes, data["stress/modes"])
+    # the mode-shape tables are stored in float32 (schema 5) and read back as float64: exactly
+    # the float32 rounding of what was written, within 2^-24 relative of it
+    for name, got in (("stress/modes", rc.stress_modes),
+                      ("modes/vertex_displacement", rc.vertex_displacement)):
+        assert got.dtype == np.float64
+        assert np.array_equal(got, data[name].astype(np.float32).astype(np.float64))
+        assert np.all(np.abs(got - data[name]) <= 2.0 ** -24 * np.abs(data[name]))
     assert rc.attrs["parameters"] == {"a": 1}
     assert rc.checks["static"]["max_rel_error_full"] == 1e-9
     t = rc.truncate(8)
@@ -83,6 +89,32 @@ def test_older_schema_versions_read_without_guide_loads(tmp_path):
     assert rcf.read(p).guide_modal_loads is None
 
 
+def test_mode_tables_are_float32_on_disk_and_the_rest_float64(tmp_path):
+    """Schema 5 stores only the two mode-shape tables in float32 (compressed); what the equations
+    of motion use (frequencies, interface modes, invariants) stays float64."""
+    import h5py
+    p = rcf.write(tmp_path / "c.h5", _synthetic(), {})
+    with h5py.File(p) as f:
+        assert f.attrs["schema_version"] == 5
+        for name in rcf.FLOAT32_DATASETS:
+            assert f[name].dtype == np.float32 and f[name].compression == "gzip" and f[name].shuffle
+        for name in ("modes/omega", "modes/interface", "invariants/SS", "loads/guide_modal_loads"):
+            assert f[name].dtype == np.float64
+
+
+def test_an_older_format_cache_entry_is_rebuilt_not_read(tmp_path, monkeypatch):
+    """A version-4 file (float64 tables) sits at the cache path of a version-4 key; the
+    version-5 key of the same cage names another file, so find_cached finds nothing and the
+    caller builds the cage again (never mixes the formats)."""
+    monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path))
+    key5 = rcf.cache_key(PAPER_CAGE, 4e-3, 2, 2e-3, "rbe3", 30)
+    key4 = dict(key5, schema_version=4)
+    old = rcf.cache_path(key4)
+    rcf.write(old, _synthetic(), {"content_hash": old.stem})
+    assert rcf.cache_path(key5) != old
+    assert rcf.find_cached(key5) is None and rcf.find_cached(key4) == old
+
+
 def test_cache_key_depends_on_every_input():
     base = rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30)
     variants = [rcf.cache_key(PAPER_CAGE.with_(width=0.029), 3e-3, 2, 1.5e-3, "rbe3", 30),
@@ -98,7 +130,7 @@ def test_cache_key_depends_on_every_input():
     # augmented version-4 file
     assert rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True) == \
         rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, True, True)
-    assert base["schema_version"] == 4 and base["guide_load_vectors"] and base["inertia_relief_vectors"]
+    assert base["schema_version"] == 5 and base["guide_load_vectors"] and base["inertia_relief_vectors"]
     mat = PAPER_CAGE.material.__class__(7800.0, 209e9, 0.295)
     variants.append(rcf.cache_key(PAPER_CAGE.with_(material=mat), 3e-3, 2, 1.5e-3, "rbe3", 30))
     paths = {rcf.cache_path(k) for k in variants}

@@ -258,8 +258,9 @@ def _fake_flexible_run(tmp_path):
     """A flexible run: modal coordinates q(t) in a tiny reduced cage's full basis (3 modes)."""
     from flexbearing.fem_cage.reduced_cage import write
     rng = np.random.default_rng(7)
-    S = rng.normal(size=(NV, 6, M)) * 1e7                    # Pa per unit q
-    Phi = rng.normal(size=(NV, 3, M)) * 1e-5                 # m per unit q
+    # float32-representable, as the file stores them (reduced_cage schema 5)
+    S = (rng.normal(size=(NV, 6, M)) * 1e7).astype(np.float32).astype(float)     # Pa per unit q
+    Phi = (rng.normal(size=(NV, 3, M)) * 1e-5).astype(np.float32).astype(float)  # m per unit q
     rc = write(tmp_path / "cage.h5", {
         "mesh/vertices": VERTS, "mesh/tets": TETS, "stress/modes": S, "modes/vertex_displacement": Phi,
         "modes/frequency_hz": np.ones(M), "modes/omega": np.ones(M), "modes/modal_stiffness": np.ones(M),

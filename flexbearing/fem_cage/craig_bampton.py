@@ -50,8 +50,11 @@ x, y, z and rotations about the principal axes through it, each mass-normalised;
 modes are the eigenvectors in the M_cb-orthogonal complement, so every elastic mode has zero
 linear and angular momentum about the centre of mass (the linearised mean-axis conditions).
 
-Linear algebra: scipy sparse for assembly-level products; PETSc + MUMPS LU (factorised once,
-many right-hand sides) for the saddle system; SLEPc for the eigenproblem. Serial only.
+Linear algebra: scipy sparse for assembly-level products; PETSc + MUMPS LDL^T (factorised once;
+the constraint modes and the body-load vectors as blocks of right-hand sides in one call each)
+for the saddle system; SLEPc for the eigenproblem (one solve per operator application: a block
+Lanczos variant that batched them needed 2.5x more applications on the paper cage, 432 against
+170, and lost the gain to its dense orthogonalisation; not kept). Serial only.
 """
 from __future__ import annotations
 
@@ -87,33 +90,56 @@ def _lu_solver():
     return "petsc"
 
 
-def lu_ksp(A):
+def lu_ksp(A, symmetric: bool = False):
     """A direct solver for the PETSc matrix A: KSP PREONLY + LU (MUMPS when available, with
     memory relaxation ICNTL(14) = 80: indefinite systems — saddle points, K − w²M near a
-    resonance — need room to pivot). Returns (ksp set up, solver name)."""
+    resonance — need room to pivot). symmetric: A is symmetric (indefinite allowed) and MUMPS is
+    there: its LDL^T factorisation (PCCHOLESKY, MUMPS SYM = 2, 2x2 pivots; Amestoy et al., MUMPS
+    user guide §5.1) instead of LU — half the factor, so factorising and every solve cost less
+    (the paper cage's saddle matrix: 4.1 s and 0.061 s per solve against 6.1 s and 0.098 s;
+    benchmarks/results/reduce_design_loop.md). Returns (ksp set up, solver name)."""
     from petsc4py import PETSc
     ksp = PETSc.KSP().create(PETSc.COMM_SELF)
     ksp.setOperators(A)
     ksp.setType(PETSc.KSP.Type.PREONLY)
     pc = ksp.getPC()
-    pc.setType(PETSc.PC.Type.LU)
     solver = _lu_solver()
+    if symmetric and solver == "mumps":
+        A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        pc.setType(PETSc.PC.Type.CHOLESKY)
+    else:
+        pc.setType(PETSc.PC.Type.LU)
     pc.setFactorSolverType(solver)
     if solver == "mumps":
         pc.setFactorSetUpSolverType()
         pc.getFactorMatrix().setMumpsIcntl(14, 80)
     ksp.setUp()
-    return ksp, solver
+    return ksp, solver + (" LDL^T" if symmetric and solver == "mumps" else "")
+
+
+def saddle_matrix(K: sp.spmatrix, C: sp.spmatrix) -> sp.csr_matrix:
+    """S = [[K, C^T], [C, 0]] (CSR). K's arrays are reused as the first n rows padded to the full
+    width, and the few constraint entries added by one sparse sum: sp.bmat went through COO for
+    K's 19 million entries on the paper cage (1.7-3.4 s, against ~0.3 s)."""
+    K = sp.csr_matrix(K)
+    C = sp.csr_matrix(C)
+    n, nc = K.shape[0], C.shape[0]
+    N = n + nc
+    indptr = np.concatenate([K.indptr, np.full(nc, K.indptr[-1], dtype=K.indptr.dtype)])
+    Kp = sp.csr_matrix((K.data, K.indices, indptr), shape=(N, N))
+    coupling = sp.bmat([[sp.csr_matrix((n, n)), C.T], [C, sp.csr_matrix((nc, nc))]], format="csr")
+    return (Kp + coupling).tocsr()
 
 
 class SaddleSolver:
-    """Factorise S = [[K, C^T], [C, 0]] once (LU, MUMPS when available); solve many RHS."""
+    """Factorise S = [[K, C^T], [C, 0]] once (symmetric indefinite: MUMPS LDL^T when available,
+    else LU; lu_ksp); solve many RHS."""
 
     def __init__(self, K: sp.spmatrix, C: sp.spmatrix):
         self.n, self.nc = K.shape[0], C.shape[0]
-        S = sp.bmat([[K, C.T], [C, None]], format="csr")
+        S = saddle_matrix(K, C)
         self.S = scipy_to_petsc(S)
-        self.ksp, self.solver = lu_ksp(self.S)
+        self.ksp, self.solver = lu_ksp(self.S, symmetric=True)
         self._b, self._x = self.S.createVecRight(), self.S.createVecRight()
 
     def destroy(self):
@@ -122,24 +148,55 @@ class SaddleSolver:
         self.S.destroy()
 
     def solve(self, rhs_u: np.ndarray | None, rhs_c: np.ndarray | None):
-        """Return (u, lambda) for S [u; lambda] = [rhs_u; rhs_c] (vectors or column blocks)."""
+        """Return (u, lambda) for S [u; lambda] = [rhs_u; rhs_c] (vectors or column blocks).
+
+        A block of right-hand sides goes to the factorisation in one call (MatMatSolve on a dense
+        block: MUMPS solves the columns together with level-3 BLAS: 0.037 s per column for 120
+        columns against 0.10 s for one at a time on the paper cage, 160,572 dofs;
+        benchmarks/results/reduce_design_loop.md)."""
         cols = next(r for r in (rhs_u, rhs_c) if r is not None)
         single = np.ndim(cols) == 1
         k = 1 if single else np.shape(cols)[1]
-        U = np.zeros((self.n, k))
-        L = np.zeros((self.nc, k))
-        buf = np.zeros(self.n + self.nc)
-        for j in range(k):
-            buf[:] = 0.0
+        if single:
+            buf = np.zeros(self.n + self.nc)
             if rhs_u is not None:
-                buf[:self.n] = rhs_u if single else rhs_u[:, j]
+                buf[:self.n] = rhs_u
             if rhs_c is not None:
-                buf[self.n:] = rhs_c if single else rhs_c[:, j]
+                buf[self.n:] = rhs_c
             self._b.setArray(buf)
             self.ksp.solve(self._b, self._x)
             x = self._x.getArray(readonly=True)
-            U[:, j], L[:, j] = x[:self.n], x[self.n:]
-        return (U[:, 0], L[:, 0]) if single else (U, L)
+            return x[:self.n].copy(), x[self.n:].copy()
+        X = np.empty((self.n + self.nc, k))
+        for j0 in range(0, k, self.BLOCK):
+            j1 = min(k, j0 + self.BLOCK)
+            X[:, j0:j1] = self._block_solve(None if rhs_u is None else rhs_u[:, j0:j1],
+                                            None if rhs_c is None else rhs_c[:, j0:j1], j1 - j0)
+        return X[:self.n], X[self.n:]
+
+    # columns per MatMatSolve: the dense block (n x BLOCK float64) is 64 MB on the paper cage
+    BLOCK = 50
+
+    def _block_solve(self, rhs_u, rhs_c, k):
+        from petsc4py import PETSc
+        N = self.n + self.nc
+        Bm = PETSc.Mat().createDense([N, k], comm=PETSc.COMM_SELF)
+        Bm.setUp()
+        B = Bm.getDenseArray()                   # PETSc's own column-major storage, zeroed
+        B[:] = 0.0
+        if rhs_u is not None:
+            B[:self.n] = rhs_u
+        if rhs_c is not None:
+            B[self.n:] = rhs_c
+        Xm = PETSc.Mat().createDense([N, k], comm=PETSc.COMM_SELF)
+        Xm.setUp()
+        Bm.assemble()
+        Xm.assemble()
+        self.ksp.getPC().getFactorMatrix().matSolve(Bm, Xm)
+        X = Xm.getDenseArray().copy()
+        Bm.destroy()
+        Xm.destroy()
+        return X
 
 
 # ------------------------------------------------------------------ Craig–Bampton

@@ -61,8 +61,9 @@ def mass_moments(Ms: sp.spmatrix, X: np.ndarray, Phi: np.ndarray | None = None) 
         out["Sx"] = np.array([[X[:, a] @ MP[b] for b in range(3)] for a in range(3)])
         SS = np.empty((3, 3, m, m))
         for a in range(3):
-            for b in range(3):
+            for b in range(a, 3):           # Ms symmetric: SS[b, a] = SS[a, b]^T (6 products, not 9)
                 SS[a, b] = P[a].T @ MP[b]
+                SS[b, a] = SS[a, b].T
         out["SS"] = SS
     return out
 

@@ -2,10 +2,10 @@
 
 numpy + h5py only: a run that finds its reduced cage in the cache never imports dolfinx.
 
-Schema "flexbearing.reduced_cage", version 4 (HDF5; SI units: m, kg, s, Pa, rad)
+Schema "flexbearing.reduced_cage", version 5 (HDF5; SI units: m, kg, s, Pa, rad)
 -------------------------------------------------------------------------------
 Root attributes
-  schema = "flexbearing.reduced_cage", schema_version = 4, content_hash (16 hex: cache key of
+  schema = "flexbearing.reduced_cage", schema_version = 5, content_hash (16 hex: cache key of
   every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
   pocket_size, FE degree, coupling, n_fixed, centrifugal_vector, guide_load_vectors,
   inertia_relief_vectors), coupling ("rbe2" | "rbe3"),
@@ -75,9 +75,22 @@ cage, F_y = 100 N + M_x = 1 N m (`flexbearing reduce --check`, check_guide): ful
 FE 1.8e-11 in displacement, 1.1e-10 in max von Mises; the schema-3 basis 1.7 % and +173 %. The
 26 kept modes alone miss 99.6 % of that max von Mises: the land load is carried by the static
 correction (static_correction with guide_modal_loads), not by the kept modes.
-read() also accepts version-2 and 3 files (same layout without /loads:
+5 = /stress/modes and /modes/vertex_displacement stored as float32, chunked, with the HDF5
+shuffle filter and gzip (level 1); read() returns them as float64 (see "Storage" below); same
+datasets and shapes otherwise. read() also accepts version-2, 3 and 4 files (same layout without /loads:
 ReducedCage.guide_modal_loads is None; centrifugal_vector of a version-2 file reads False;
 guide_load_vectors and inertia_relief_vectors read False).
+
+Storage (version 5). The two mode-shape tables are 98 % of a float64 file (paper cage, 4 mm P3:
+18,247 nodes x 9 x 160 modes, 210 MB of 216 MB). They are stored in float32: a relative rounding
+of 2^-24 = 6e-8 per entry. A stress sigma = S q sums M terms; its float32 error is at most
+6e-8 sum_k |S_nk q_k| <= 6e-8 M max_k |S_nk q_k|, ~1e-5 relative even if the 160 terms cancelled
+down to 1/100 of the largest, against the 5 % the default mesh's max von Mises is held to
+(benchmarks/results/cage_stress_convergence.md) and the 1e-6 of the full basis' static
+exactness checks; measured on the paper cage: benchmarks/results/reduce_design_loop.md. Every
+other dataset (frequencies, interface modes, invariants: what the integrator's equations use)
+stays float64, so a run integrates the same equations; only stress and displacement recovery
+see the rounding. The digest (data_digest) covers the stored float32 bytes.
 
 Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
 constraint modes + n_fixed fixed-interface modes + the centrifugal vector, M-orthonormalised,
@@ -111,8 +124,12 @@ from flexbearing.common.cache import file_sha256   # noqa: F401 (rcf.file_sha256
 from flexbearing.mesh.cage_mesh import MESH_VERSION
 
 SCHEMA = "flexbearing.reduced_cage"
-SCHEMA_VERSION = 4
-READABLE_VERSIONS = (2, 3, 4)        # 2, 3: no /loads; 2: basis without the centrifugal vector
+SCHEMA_VERSION = 5
+READABLE_VERSIONS = (2, 3, 4, 5)     # 2, 3: no /loads; 2: basis without the centrifugal vector
+# the mode-shape tables stored as float32 (schema 5; why: the module docstring, "Storage")
+FLOAT32_DATASETS = ("stress/modes", "modes/vertex_displacement")
+# HDF5 chunks of the float32 tables: whole rows of ~4096 nodes (about 16 MB at 160 modes)
+_CHUNK_NODES = 4096
 GUIDE_LOAD_COLUMNS = ("land force y N", "land force z N", "land torque x N m")
 N_RIGID = 6
 DEFAULT_N_KEEP = 26
@@ -132,7 +149,7 @@ def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str
     centrifugal (basis augmented with the fixed-interface centrifugal response), guide_loads
     (... with the responses to the unit land loads), inertia_relief (... with the responses to
     the rigid-body inertia loads). The schema version is in the key, so a version-3 cache entry
-    is never taken for a version-4 request."""
+    is never taken for a version-4 request (nor a version-4 entry for version 5)."""
     return {"schema_version": SCHEMA_VERSION, "geometry": geometry.to_dict(),
             "mesh_size": float(mesh_size), "order": int(order), "degree": int(degree),
             "pocket_size": None if pocket_size is None else float(pocket_size),
@@ -293,7 +310,13 @@ def write(path, data: dict, attrs: dict, checks: dict | None = None,
             for k, v in attrs.items():
                 f.attrs[k] = json.dumps(v) if isinstance(v, (dict, list)) else v
             for name, arr in data.items():
-                f.create_dataset(name, data=np.asarray(arr))
+                a = np.asarray(arr)
+                if name in FLOAT32_DATASETS:
+                    a = a.astype(np.float32)
+                    f.create_dataset(name, data=a, chunks=(min(len(a), _CHUNK_NODES),) + a.shape[1:],
+                                     shuffle=True, compression="gzip", compression_opts=1)
+                else:
+                    f.create_dataset(name, data=a)
             for group, values in (group_attrs or {}).items():
                 for k, v in values.items():
                     f[group].attrs[k] = v
@@ -401,8 +424,9 @@ def read(path) -> ReducedCage:
             interface_positions=f["interface/positions"][()],
             interface_modes=f["modes/interface"][()],
             modal_stiffness=f["modes/modal_stiffness"][()], invariants=inv,
-            stress_modes=f["stress/modes"][()], vertices=f["mesh/vertices"][()],
-            tets=f["mesh/tets"][()], vertex_displacement=f["modes/vertex_displacement"][()],
+            stress_modes=f["stress/modes"][()].astype(float, copy=False), vertices=f["mesh/vertices"][()],
+            tets=f["mesh/tets"][()],
+            vertex_displacement=f["modes/vertex_displacement"][()].astype(float, copy=False),
             attrs=attrs, checks=checks,
             tets10=f["mesh/tets10"][()] if "tets10" in f["mesh"] else None,
             guide_modal_loads=gml)

@@ -68,6 +68,12 @@ class NodalStress:
         ncell = len(self.cells)
         self.dg_dofs = W.dofmap.list.array.reshape(ncell, k)
         self.count = np.bincount(self.cells.ravel(), minlength=len(self.nodes)).astype(float)
+        # (1) as one sparse matrix, DG dof -> node, 1/|cells(n)| each: one product per mode
+        # (np.add.at, unbuffered, took half the stress-mode time on the paper cage)
+        import scipy.sparse as sp
+        self.average = sp.csr_matrix(
+            (1.0 / self.count[self.cells.ravel()], (self.cells.ravel(), self.dg_dofs.ravel())),
+            shape=(len(self.nodes), len(self.sig.x.array) // 9))
         Vg = fem.VectorFunctionSpace(domain, ("Lagrange", gdeg))
         self.ug = fem.Function(Vg)
         self.ug_dofs = fem.VectorFunctionSpace(domain, ("DG", gdeg)).dofmap.list.array.reshape(ncell, k)
@@ -79,9 +85,7 @@ class NodalStress:
         self.u.x.array[:] = u_array
         self.sig.interpolate(self.expr)
         vals = self.sig.x.array.reshape(-1, 9)[:, VOIGT]              # (n_dg, 6)
-        out = np.zeros((len(self.nodes), 6))
-        np.add.at(out, self.cells.ravel(), vals[self.dg_dofs.ravel()])
-        return out / self.count[:, None]
+        return self.average @ vals
 
     def displacement(self, u_array: np.ndarray) -> np.ndarray:
         """u at the geometry nodes (Nn, 3), by interpolation into the geometry's Lagrange space."""
