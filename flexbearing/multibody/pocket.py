@@ -15,6 +15,25 @@ a circular Hertz contact (k = 1). Its approach Z is measured from the pocket's c
 offset d = b − p of the ball centre), a cylindrical pocket's from its axis (d less its axial
 part): in both the gap closes at Z = Cp = Rp − Rb and the laws below apply unchanged.
 
+A conical pocket (axis radial, half-angle beta, opening outwards for beta > 0) is the cone
+tangent to the sphere of radius Rp about the pocket centre: its radius across the axis at the
+axial coordinate s (along the pocket axis a, from the centre) is Rp/cos(beta) + s·tan(beta), so a
+centred ball has the clearance Cp = Rp − Rb in every direction, as in the other shapes. A ball
+whose centre is offset by (s, rho) (along a, and across it towards the unit e_rho) is at the
+distance Rp − Z from the wall, along the wall's normal n (Euclid: the distance from a point to the
+straight generator in the meridian plane),
+
+    Z = rho·cos(beta) − s·sin(beta),   n = cos(beta)·e_rho − sin(beta)·a,
+
+so the same law below applies to Z. Along the generator the wall is straight (R_eta = Rb, as the
+cylinder's axis direction); across it the cone's normal curvature is cos(beta)/r (Meusnier's
+theorem, r the wall's distance from the axis at the contact: do Carmo, Differential Geometry of
+Curves and Surfaces, 1976, §3-2), a concave radius R_c = r/cos(beta) = Rp − Z + rho/cos(beta):
+Rp for a ball on the normal through the tangent circle, Rp + t·tan(beta) for a ball moved by t
+along a generator. The Hertz constant of the model is the nominal one, R_c = Rp (the same as the
+cylinder's: the cone and the tangent sphere share the contact circle's normal curvature);
+`conical_pocket_curvature_radii` gives R_c at any offset, to bound what that constant leaves out.
+
 Normal force (seed paper §2.3.1 eq. for Q_cj, its ref. 26): with Z the ball–pocket approach
 (signed: Z > 0 the pocket pushes the ball, Z < 0 the ball pushes the cage) and Cp = (Dp − Dw)/2,
 
@@ -76,6 +95,68 @@ def spherical_pocket_curvature_radii(ball_radius, pocket_radius):
     """(R_xi, R_eta) of a ball in a spherical pocket: both 1/(1/Rb − 1/Rp), m (module docstring)."""
     r = 1.0 / (1.0 / ball_radius - 1.0 / pocket_radius)
     return r, r
+
+
+@njit(cache=True)
+def conical_pocket_curvature_radii(ball_radius, pocket_radius, cone_angle, axial_offset, radial_offset):
+    """(R_xi, R_eta) of a ball in a conical pocket, m: across, 1/R_xi = 1/Rb − 1/R_c with
+    R_c = Rp − Z + rho/cos(beta) (Z = rho·cos(beta) − s·sin(beta); s, rho the ball centre's offset
+    along the axis and across it); along the straight generator R_eta = Rb (module docstring)."""
+    cb = math.cos(cone_angle)
+    z = radial_offset * cb - axial_offset * math.sin(cone_angle)
+    rc = pocket_radius - z + radial_offset / cb
+    return 1.0 / (1.0 / ball_radius - 1.0 / rc), ball_radius
+
+
+@njit(cache=True)
+def pocket_contact_offset(dx, dy, dz, ax, ay, az, shape, cone_angle):
+    """Where the ball presses on the pocket wall: (e (3), u (3), Z) for the ball centre's offset
+    d = b − p from the pocket centre, a the pocket axis (unit), shape the index in
+    flexbearing.mesh.cage_geometry.POCKET_SHAPES (0 cylindrical, 1 spherical, 2 conical).
+    Z the approach (the gap is Cp − Z), u = Z·n with n the wall's normal through the ball centre,
+    e = d − u the part of the offset the wall's nearest point p + e + Rp·n follows:
+    cylinder e = (d·a)·a, Z = |d − e|; sphere e = 0, Z = |d|; cone Z = rho·cos(beta) −
+    s·sin(beta) (module docstring; no contact, Z = 0, for a ball on the axis or Z <= 0)."""
+    if shape == 1:
+        return 0.0, 0.0, 0.0, dx, dy, dz, math.sqrt(dx * dx + dy * dy + dz * dz)
+    s = dx * ax + dy * ay + dz * az
+    ex = s * ax
+    ey = s * ay
+    ez = s * az
+    ux = dx - ex
+    uy = dy - ey
+    uz = dz - ez
+    rho = math.sqrt(ux * ux + uy * uy + uz * uz)
+    if shape == 0:
+        return ex, ey, ez, ux, uy, uz, rho
+    if rho < 1e-15:
+        return dx, dy, dz, 0.0, 0.0, 0.0, 0.0
+    cb = math.cos(cone_angle)
+    sb = math.sin(cone_angle)
+    z = rho * cb - s * sb
+    if z <= 0.0:
+        return dx, dy, dz, 0.0, 0.0, 0.0, 0.0
+    nx = cb * ux / rho - sb * ax
+    ny = cb * uy / rho - sb * ay
+    nz = cb * uz / rho - sb * az
+    return dx - z * nx, dy - z * ny, dz - z * nz, z * nx, z * ny, z * nz, z
+
+
+@njit(cache=True)
+def pocket_axis_point(dx, dy, dz, ax, ay, az, shape, cone_angle):
+    """Where the pocket force's line of action (through the ball centre along n,
+    `pocket_contact_offset`) crosses the pocket axis, as its coordinate along a from the pocket
+    centre, m: the cylinder's d·a, the sphere's 0 (its centre), the cone's s + rho·tan(beta)
+    (the meridian plane's normal through the ball meets the axis there)."""
+    if shape == 1:
+        return 0.0
+    s = dx * ax + dy * ay + dz * az
+    if shape == 0:
+        return s
+    ux = dx - s * ax
+    uy = dy - s * ay
+    uz = dz - s * az
+    return s + math.sqrt(ux * ux + uy * uy + uz * uz) * math.tan(cone_angle)
 
 
 @njit(cache=True)
