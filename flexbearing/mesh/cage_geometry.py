@@ -20,7 +20,7 @@ from flexbearing.common.validation import InputError, require_positive, require_
 
 
 GUIDANCES = ("outer", "inner", "balls")
-POCKET_SHAPES = ("cylindrical", "spherical", "conical")
+POCKET_SHAPES = ("cylindrical", "spherical", "conical", "elliptical")
 MAX_CONE_ANGLE = math.radians(30.0)     # rad: steeper walls are no longer a pocket holding a ball
 
 
@@ -61,6 +61,9 @@ class CageGeometry:
     # tangent to the sphere of the pocket diameter about the pocket centre (on the pocket-centre
     # circle), so a centred ball has the clearance (Dp − Dw)/2 all round (flexbearing.multibody.pocket).
     pocket_cone_angle: float = 0.0
+    # An "elliptical" pocket's diameter in the direction of rotation, m (>= pocket_diameter, which
+    # is then the diameter along the bearing axis): a radial cylinder of elliptical section.
+    pocket_circumferential_diameter: float = 0.0
 
     @property
     def outer_radius(self) -> float:
@@ -154,22 +157,33 @@ class CageGeometry:
                 raise InputError(f"cage.pocket_cone_angle = {self.pocket_cone_angle:g} rad: the conical pocket "
                                  f"is {widest * 1e3:.3f} mm across at its wide end, allowed: < "
                                  f"{min(chord, self.width) * 1e3:.3f} mm (neighbouring pockets, the width)")
-        elif self.pocket_cone_angle != 0.0:
+        elif self.pocket_shape == "elliptical":
+            # from the axial diameter (a circle) up to the neighbouring pockets, and the ball must
+            # fit the ellipse's tightest curvature, A²/B at the circumferential vertex (one contact)
+            a = 0.5 * self.pocket_diameter
+            hi = min(chord, 2.0 * a * a / (0.5 * self.ball_diameter))
+            require_range("cage.pocket_circumferential_diameter", self.pocket_circumferential_diameter,
+                          self.pocket_diameter, hi, hi_open=True, unit="m")
+        if self.pocket_shape != "conical" and self.pocket_cone_angle != 0.0:
             raise InputError(f"cage.pocket_cone_angle = {self.pocket_cone_angle:g} rad applies to conical "
                              f"pockets only; cage.pocket_shape = {self.pocket_shape!r}")
+        if self.pocket_shape != "elliptical" and self.pocket_circumferential_diameter != 0.0:
+            raise InputError(f"cage.pocket_circumferential_diameter = {self.pocket_circumferential_diameter:g} m "
+                             f"applies to elliptical pockets only; cage.pocket_shape = {self.pocket_shape!r}")
         self.material.validate("cage.material")
         return self
 
     def to_dict(self) -> dict:
         """All fields, except optional features added later (bore_chamfer, guidance, pocket_shape,
-        pocket_centre_diameter, pocket_cone_angle) while they are unset or at the paper's values:
+        pocket_centre_diameter, pocket_cone_angle, pocket_circumferential_diameter) while they are unset or at the paper's values:
         the dict is hashed into cache keys (meshes, reduced cages), so a geometry that does not
         use a newer field keeps the content hash it had before that field existed."""
         d = asdict(self)
         if d["bore_chamfer"] is None:
             del d["bore_chamfer"]
         for key, default in (("guidance", "outer"), ("pocket_shape", "cylindrical"),
-                             ("pocket_centre_diameter", 167e-3), ("pocket_cone_angle", 0.0)):
+                             ("pocket_centre_diameter", 167e-3), ("pocket_cone_angle", 0.0),
+                             ("pocket_circumferential_diameter", 0.0)):
             if d[key] == default:
                 del d[key]
         return d

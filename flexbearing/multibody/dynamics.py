@@ -142,7 +142,7 @@ from flexbearing.multibody.model import (
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_UREG, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
-    F_TRACTION_LAW, F_GUIDANCE, F_POCKET_SHAPE, F_BALL_DRAG_MOMENT, P_SPIN_SCALE_INNER, P_POCKET_CONE,
+    F_TRACTION_LAW, F_GUIDANCE, F_POCKET_SHAPE, F_BALL_DRAG_MOMENT, P_SPIN_SCALE_INNER, P_POCKET_CONE, P_POCKET_B,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
     WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING, W_P_POCKET,
     W_P_CHURNING, WR_P_LAND, WR_P_STRUCTURAL, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
@@ -414,8 +414,9 @@ def pocket_film_coefficients(p, flags):
     entrainment radius Rb, transverse radius R_xi (pocket.pocket_curvature_radii) in a cylindrical
     pocket; both radii conforming in a spherical one (pocket.spherical_pocket_curvature_radii).
     Constant for a model; `rhs` evaluates them once per call and hands them to `_pocket_force`."""
-    if flags[F_POCKET_SHAPE] != 1:          # cylinder; cone at its nominal contact (pocket docstring)
-        rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
+    if flags[F_POCKET_SHAPE] != 1:          # cylinder; cone, ellipse at their nominal contact (pocket docstring)
+        rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET] if flags[F_POCKET_SHAPE] != 3
+                                           else p[P_RPOCKET] ** 2 / p[P_POCKET_B])
     else:
         rxi, reta = spherical_pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
     return pocket_resistance_coefficients(reta, rxi, p[P_ETA0])
@@ -457,7 +458,7 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     # the approach zz along u: from the cylinder's axis, the sphere's centre, the cone's wall (e: the
     # offset's part the wall's nearest point follows; pocket.pocket_contact_offset)
     ex, ey, ez, ux, uy, uz, zz = pocket_contact_offset(dx, dy, dz, ax, ay, az, flags[F_POCKET_SHAPE],
-                                                       p[P_POCKET_CONE])
+                                                       p[P_POCKET_CONE], p[P_RPOCKET], p[P_POCKET_B])
     if zz < 1e-15:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz, 0.0
     ux /= zz
