@@ -46,6 +46,15 @@ def test_names_win_over_the_geometric_search(tmp_path):
     lines = "\n".join(cad.report_lines(PITCH * 1e-3, 22e-3))
     assert "pockets found by the file's named groups pocket_1 … pocket_14" in lines
     assert "guide found by the file's named group 'guide'" in lines
+    assert "not used" not in lines
+
+
+def test_names_off_the_convention_are_reported(tmp_path):
+    geo = make_named_cad_cage(tmp_path / "named.geo")
+    geo.write_text(geo.read_text() + 'Physical Surface("pocket_3x") = {1};\n')
+    cad = _read(geo)
+    assert "named groups not used (not pocket_<n>, pockets, guide or land): pocket_3x" in \
+        cad.report_lines(PITCH * 1e-3, 22e-3)
 
 
 def test_without_names_the_geometry_says_so(tmp_path):

@@ -89,7 +89,9 @@ class CadCage:
                  f"{math.degrees(self.turned_by):.3f}° about x so pocket 0 is at +y",
                  f"{len(self.pockets)} {g.pocket_shape} pockets of {g.pocket_diameter * 1e3:.3f} mm "
                  f"(clearance {cp * 1e6:.1f} µm on a {ball_diameter * 1e3:.3f} mm ball)"]
-        lines += [f"{what} found by {how}" for what, how in self.found_by.items()]
+        lines += [f"{what} found by {how}" for what, how in self.found_by.items() if what != "unused"]
+        if "unused" in self.found_by:
+            lines.append(f"named groups not used (not pocket_<n>, pockets, guide or land): {self.found_by['unused']}")
         for k, p in enumerate(self.pockets):
             c = np.array(p.centre)
             lines.append(f"  pocket {k:2d}: azimuth {math.degrees(p.azimuth):8.3f}°, centre radius "
@@ -463,6 +465,8 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
         found_by["guide"] = f"the file's named group {named.guide_name!r}"
     else:
         found_by["guide"] = f"geometry (the ring cylinder at the {'largest' if guidance == 'outer' else 'smallest'} radius)"
+    if named.unused:                           # said, so a misspelt name is not silently ignored
+        found_by["unused"] = ", ".join(named.unused)
     guide = []
     for s, r, x0, x1 in ring:
         if (s in named_guide) if named_guide else (guide_r is not None and abs(r - guide_r) < 2 * FIT_TOL * r_out):
