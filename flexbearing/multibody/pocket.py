@@ -49,7 +49,10 @@ law's Cp − Z: Cp = (Dp − Dw)/2 is the smallest clearance, across the short a
 contact is a point contact: straight along the pocket axis (R_eta = Rb), across it the ellipse's
 concave radius of curvature at X, rho = (A²·sin²t + B²·cos²t)^1.5/(A·B) for X = (A cos t, B sin t)
 (B²/A and A²/B at the vertices), 1/R_xi = 1/Rb − 1/rho. The model's Hertz constant is the nominal
-one at the short-axis vertex (rho = B²/A); `elliptical_pocket_curvature_radii` gives it at any X.
+one at the circumferential vertex (rho = A²/B, where the ball's lead or lag presses it);
+`elliptical_pocket_curvature_radii` gives it at any X. The section's axes follow the bearing axis
+x (e1 = x less its part along a), not the cage's own axis: they differ by the cage's tilt
+(~1e-4 rad), which the elliptical pocket's potential therefore ignores.
 
 Normal force (seed paper §2.3.1 eq. for Q_cj, its ref. 26): with Z the ball–pocket approach
 (signed: Z > 0 the pocket pushes the ball, Z < 0 the ball pushes the cage) and Cp = (Dp − Dw)/2,
