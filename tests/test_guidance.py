@@ -219,4 +219,4 @@ def test_scene_cage_guidance_and_pocket_shape():
     with pytest.raises(InputError, match=r"cage.guidance = 'shaft' must be one of 'outer', 'inner', 'balls'"):
         loads_scene(base + '[cage]\nguidance = "shaft"\n')
     with pytest.raises(InputError, match=r"cage.pocket_shape"):
-        loads_scene(base + '[cage]\npocket_shape = "conical"\n')
+        loads_scene(base + '[cage]\npocket_shape = "square"\n')

@@ -112,7 +112,7 @@ def test_spherical_pocket_volume_in_the_mass():
 
 def test_spherical_pocket_refusals():
     with pytest.raises(InputError, match="cage.pocket_shape"):
-        PAPER_CAGE.with_(pocket_shape="conical").validate()
+        PAPER_CAGE.with_(pocket_shape="square").validate()
     # the sphere must open through bore and outside
     with pytest.raises(InputError, match="cage.pocket_centre_diameter"):
         PAPER_CAGE.with_(pocket_shape="spherical", pocket_centre_diameter=150e-3).validate()

@@ -3,8 +3,10 @@
 A cage engineer reads a run's cage motion from the orbit of the cage centre and a few numbers
 per time window (Gupta, Advanced Dynamics of Rolling Elements, 1984; Ghaisas, Wassgren & Sadeghi,
 J. Tribol. 126 (2004) 681–689), computed here from the recorded cage centre
-c(t) = (y, z), its offset from the guide-land (outer-ring) centre in the plane normal to the
-bearing axis x, and the cage speed omega_c(t) about +x:
+c(t) = (y, z), its offset from the guiding ring's centre in the plane normal to the bearing
+axis x (the outer ring's for the outer land, the inner ring's for the inner land, the balls'
+pitch circle's for ball guidance: flexbearing.multibody.cage_offset), and the cage speed
+omega_c(t) about +x:
 
     eccentricity ratio   eps(t) = |c(t)| / Cg          (Cg: radial guide clearance; eps >= 1: on the rim)
 
@@ -144,14 +146,25 @@ def window_motion(t, centre_yz, cage_speed, eccentricity_ratio=None, clearance=N
     return row
 
 
-def motion_arrays(outputs) -> dict | None:
-    """(t, centre_yz, cage_speed, eccentricity_ratio) of a run's /outputs group (or dict), or None
-    when the run did not record the cage orbit (scene output "cage_orbit") and the cage speed."""
+def motion_arrays(outputs, guidance: str = "outer") -> dict | None:
+    """(t, centre_yz, cage_speed, eccentricity_ratio, reference) of a run's /outputs group (or
+    dict), or None when the run did not record the cage orbit (scene output "cage_orbit") and the
+    cage speed. centre_yz is the centre's offset from the guiding ring's centre
+    (flexbearing.multibody.cage_offset: the outer ring's, the inner ring's or the balls' pitch
+    circle's, by the cage's `guidance`), `reference` says which; a run recorded before that offset
+    existed gives its absolute centre, which is the offset for the outer land only."""
+    from flexbearing.multibody.cage_offset import GUIDE_REFERENCE
     need = ("time", "cage_centre", "cage_speed", "cage_eccentricity_ratio")
     if not all(k in outputs for k in need):
         return None
-    centre = np.asarray(outputs["cage_centre"][...], dtype=np.float64)
-    return {"t": np.asarray(outputs["time"][...], dtype=np.float64),
+    if "cage_guide_offset" in outputs:
+        centre = np.asarray(outputs["cage_guide_offset"][...], dtype=np.float64)
+        reference = GUIDE_REFERENCE[guidance]
+    else:
+        centre = np.asarray(outputs["cage_centre"][...], dtype=np.float64)
+        reference = GUIDE_REFERENCE["outer"] + ("" if guidance == "outer" else
+                                                " (a run recorded without the offset from its guide)")
+    return {"t": np.asarray(outputs["time"][...], dtype=np.float64), "reference": reference,
             "centre_yz": centre[:, 1:3] if centre.shape[1] == 3 else centre,
             "cage_speed": np.asarray(outputs["cage_speed"][...], dtype=np.float64).ravel(),
             "eccentricity_ratio": np.asarray(outputs["cage_eccentricity_ratio"][...], dtype=np.float64).ravel()}

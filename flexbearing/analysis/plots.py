@@ -41,7 +41,7 @@ def caption(png: Path) -> str:
         return f"Overview: the speeds and every reported quantity against time, one panel each; {PHASE_MARKS}."
     if key == "cage_orbit":
         return ("Cage-centre orbit in the guide clearance, one panel per phase of the speed profile: the "
-                "centre's offset from the guide-land centre over the radial guide clearance Cg (the dashed "
+                "centre's offset from the guiding ring's centre (named in the report's cage-motion section) over the radial guide clearance Cg (the dashed "
                 "circle is the guide rim, e = Cg), samples inside impact windows in red; below, the "
                 "eccentricity ratio e/Cg against time.")
     if key in QUANTITY:

@@ -265,9 +265,11 @@ def amplification_section(r: Report) -> list[str]:
 def motion_section(r: Report) -> list[str]:
     if not r.motion_rows:
         return []
+    reference = r.motion_rows[0].get("centre_reference") or "the guide-land centre"
     return ["## Cage motion in the guide clearance", "",
             _motion_markdown(r.motion_rows), "",
-            "From the recorded cage centre (its offset from the guide-land centre) and cage speed "
+            f"Cage centre relative to {reference}. "
+            "From the recorded cage centre (its offset from the guiding ring's centre) and cage speed "
             "(flexbearing.analysis.cage_motion): e/Cg the eccentricity ratio (1 = on the guide rim); whirl ratio = the "
             "centre's net whirl angle over the cage's rotation angle in the window (> 0 forward; 1 synchronous "
             "whirl, 0.5 half-frequency whirl on the land film, near 0 a centre held at one azimuth by a "

@@ -325,7 +325,8 @@ def read_motion(run: Run | str):
     sample interval) of a run (an open Run or a path)."""
     from flexbearing.analysis.cage_motion import motion_arrays
     with opened(run) as r:
-        return motion_arrays(r.outputs), r.scene, r.dt
+        guidance = r.scene.bearing.cage.guidance if r.scene is not None else "outer"
+        return motion_arrays(r.outputs, guidance), r.scene, r.dt
 
 
 def cage_motion_table(run_h5, include_impacts: bool = True, settle: float = 0.0) -> list[dict]:
@@ -344,7 +345,8 @@ def cage_motion_rows(motion, scene, dt, include_impacts: bool, settle: float) ->
     rows = []
     for head, mask in report_windows(m["t"], scene, dt, include_impacts, settle):
         rows.append({**head, **window_motion(m["t"][mask], m["centre_yz"][mask], m["cage_speed"][mask],
-                                             eccentricity_ratio=m["eccentricity_ratio"][mask])})
+                                             eccentricity_ratio=m["eccentricity_ratio"][mask]),
+                     "centre_reference": m.get("reference", "")})
     return rows
 
 

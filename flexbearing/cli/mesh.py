@@ -161,9 +161,10 @@ def register(subparsers) -> None:
     p.add_argument("-o", "--output", help="output .msh file (XDMF and FILE.quality.json written beside it)")
     p.add_argument("--check", metavar="FILE", help="only check an existing mesh file: every tetrahedron's "
                    "Jacobian (inverted, badly curved) and shape; exit 1 if flexbearing would refuse it")
-    c = p.add_argument_group("a cage from CAD (STEP/BREP): pockets and land found from the geometry")
-    c.add_argument("--cad", metavar="FILE", help="mesh this STEP (.step/.stp) or BREP (.brep) cage instead "
-                   "of the parametric one")
+    c = p.add_argument_group("a cage from CAD (STEP/BREP): pockets and land found from the geometry, "
+                             "or from the file's named groups (a gmsh .geo naming the faces: docs/cage.md)")
+    c.add_argument("--cad", metavar="FILE", help="mesh this STEP (.step/.stp) or BREP (.brep) cage, or a gmsh "
+                   ".geo that merges one and names its faces, instead of the parametric one")
     c.add_argument("--cad-unit", choices=("m", "mm", "cm", "in"), default=None,
                    help="length unit of the CAD file (default: a STEP file's own; a BREP file needs it)")
     c.add_argument("--guidance", choices=("outer", "inner", "balls"), default="outer",

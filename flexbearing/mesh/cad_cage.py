@@ -14,6 +14,16 @@ What is found (every boundary face is sampled, `_sample_face`, with its normals)
 * the guide surface: for guidance "outer" the ring cylinder(s) at the largest radius, for
   "inner" at the smallest; "balls" needs none.
 
+Named groups win over the search when the file has them (`named_groups`): physical surface groups
+`pocket_1` … `pocket_N` (one per pocket, any numbering; or one group `pockets` holding them all)
+and `guide` (or `land`). gmsh 4.8 keeps no face names in STEP or BREP (neither on reading nor on
+writing), so the names come in a gmsh `.geo` file that merges the STEP or BREP and names its faces
+(`Merge "cage.step"; Physical Surface("pocket_1") = {12};`) or draws the cage itself. Each named
+face must still be what its name says by its geometry (a pocket wall: a sphere or a radial
+cylinder; the land: a cylinder about the bearing axis on the side the guidance needs), or the
+file is refused in one line naming the group; faces the geometry would take for pockets but the
+names do not are left as other faces. `CadCage.found_by` says which way each surface was found.
+
 The bearing decides what matches: one pocket per ball, equally spaced (the model turns the CAD
 so pocket 0 sits at +y), each centred on the pitch circle in the mid-plane within a tenth of the
 pocket clearance, all of one diameter larger than the ball. Anything else is refused with the one
@@ -29,6 +39,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -38,7 +49,7 @@ from flexbearing.common.validation import InputError
 from .cage_geometry import GUIDANCES, CageGeometry, PAPER_CAGE
 from . import cage_mesh as CM
 
-CAD_SUFFIXES = {".step": "step", ".stp": "step", ".brep": "brep", ".brp": "brep"}
+CAD_SUFFIXES = {".step": "step", ".stp": "step", ".brep": "brep", ".brp": "brep", ".geo": "geo"}
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 25.4e-3}
 # Geometric tolerance of the face fits, relative to the cage's outside radius: CAD kernels model
 # to ~1e-7 of a part's size; 1e-5 leaves room for STEP's text round-off.
@@ -68,6 +79,7 @@ class CadCage:
     source: str
     scale: float                      # metres per unit of the gmsh model's numbers
     groups: dict = field(default_factory=dict)   # name -> surface tags
+    found_by: dict = field(default_factory=dict)  # "pockets" / "guide" -> how they were found
 
     def report_lines(self, pitch_diameter: float, ball_diameter: float) -> list[str]:
         g = self.geometry
@@ -77,6 +89,9 @@ class CadCage:
                  f"{math.degrees(self.turned_by):.3f}° about x so pocket 0 is at +y",
                  f"{len(self.pockets)} {g.pocket_shape} pockets of {g.pocket_diameter * 1e3:.3f} mm "
                  f"(clearance {cp * 1e6:.1f} µm on a {ball_diameter * 1e3:.3f} mm ball)"]
+        lines += [f"{what} found by {how}" for what, how in self.found_by.items() if what != "unused"]
+        if "unused" in self.found_by:
+            lines.append(f"named groups not used (not pocket_<n>, pockets, guide or land): {self.found_by['unused']}")
         for k, p in enumerate(self.pockets):
             c = np.array(p.centre)
             lines.append(f"  pocket {k:2d}: azimuth {math.degrees(p.azimuth):8.3f}°, centre radius "
@@ -97,9 +112,26 @@ class CadCage:
 def cad_kind(path) -> str:
     kind = CAD_SUFFIXES.get(Path(path).suffix.lower())
     if kind is None:
-        raise InputError(f"cage.cad = {str(path)!r}: not a CAD file; allowed: STEP (.step, .stp) or "
-                         f"BREP (.brep, .brp)")
+        raise InputError(f"cage.cad = {str(path)!r}: not a CAD file; allowed: STEP (.step, .stp), "
+                         f"BREP (.brep, .brp) or a gmsh .geo naming the faces of one")
     return kind
+
+
+def geo_merged_files(path) -> list[Path]:
+    """The CAD files a gmsh .geo file merges (`Merge "f"` or `ShapeFromFile("f")`), relative to it."""
+    import re
+    text = Path(path).read_text(errors="replace")
+    names = re.findall(r'(?:Merge\s*|ShapeFromFile\s*\(\s*)"([^"]+)"', text)
+    return [Path(path).parent / n for n in names]
+
+
+def _geo_kind(path: Path) -> str:
+    """A .geo file's unit follows what it merges: a STEP's own, else (drawn or a BREP) none."""
+    for f in geo_merged_files(path):
+        if not f.is_file():
+            raise InputError(f"cage.cad = {str(path)!r}: it merges {str(f)!r}, no such file")
+    kinds = {CAD_SUFFIXES.get(f.suffix.lower()) for f in geo_merged_files(path)}
+    return "step" if "step" in kinds else "brep"
 
 
 def _import(path: Path, unit: str | None) -> tuple[list, str, float]:
@@ -109,13 +141,18 @@ def _import(path: Path, unit: str | None) -> tuple[list, str, float]:
     kind = cad_kind(path)
     if not path.is_file():
         raise InputError(f"cage.cad = {str(path)!r}: no such file")
+    geo = kind == "geo"
+    step_file = path
+    if geo:
+        kind = _geo_kind(path)
+        step_file = next((f for f in geo_merged_files(path) if CAD_SUFFIXES.get(f.suffix.lower()) == "step"), None)
     if unit is not None and unit not in UNITS:
         raise InputError(f"cad unit = {unit!r} is not known; allowed: {list(UNITS)}")
     if kind == "brep" and unit is None:
-        raise InputError(f"cage.cad = {str(path)!r}: a BREP file carries no unit; give it "
+        raise InputError(f"cage.cad = {str(path)!r}: a {'.geo' if geo else 'BREP'} file carries no unit; give it "
                          f"(--cad-unit / cage.cad_unit, one of {list(UNITS)})")
     if kind == "step":
-        declared = step_length_unit(path)
+        declared = step_length_unit(step_file)
         if unit is not None and declared is not None and unit != declared:
             raise InputError(f"cad unit = {unit!r} disagrees with the STEP file's own length unit "
                              f"{declared!r}; give none for a STEP file (its unit is read from it)")
@@ -128,7 +165,10 @@ def _import(path: Path, unit: str | None) -> tuple[list, str, float]:
     # scaled from mm here.
     # scale, not dilated: OCC's dilation turns every face into a B-spline (10x slower to sample
     # and mesh); the faces are measured times `scale` and the mesh written scaled
-    gmsh.model.occ.importShapes(str(path))
+    if geo:                 # the .geo says SetFactory("OpenCASCADE") (docs/cage.md)
+        gmsh.merge(str(path))
+    else:
+        gmsh.model.occ.importShapes(str(path))
     gmsh.model.occ.synchronize()
     scale = 1e-3 if kind == "step" else UNITS[unit]
     vols = [t for d, t in gmsh.model.getEntities(3)]
@@ -151,6 +191,73 @@ def step_length_unit(path) -> str | None:
     if re.search(r"CONVERSION_BASED_UNIT\s*\(\s*'INCH'", text, re.I):
         return "in"
     return None
+
+
+_POCKET_NAME = re.compile(r"pockets?(?:[_ ]?(\d+))?$", re.I)
+_GUIDE_NAMES = ("guide", "land")
+
+
+@dataclass(frozen=True)
+class NamedGroups:
+    """The file's own names (module docstring): pocket groups (name, surface tags) in the order
+    of their numbers, or one `pockets` group; the guide's surface tags; the names not used."""
+    pockets: tuple = ()
+    all_pockets: tuple = ()
+    guide: tuple = ()
+    guide_name: str = ""
+    unused: tuple = ()
+
+
+def named_groups() -> NamedGroups:
+    """The physical surface groups of the current gmsh model read by the naming convention:
+    `pocket_<n>` (or `pocket<n>`, `pocket <n>`, case-insensitive), `pockets`, `guide` / `land`."""
+    import gmsh
+    numbered, every, guide, guide_name, unused = [], [], [], "", []
+    for dim, tag in gmsh.model.getPhysicalGroups(2):
+        name = gmsh.model.getPhysicalName(dim, tag).strip()
+        faces = tuple(int(s) for s in gmsh.model.getEntitiesForPhysicalGroup(dim, tag))
+        m = _POCKET_NAME.match(name)
+        if m and m.group(1) is not None:
+            numbered.append((int(m.group(1)), name, faces))
+        elif m:
+            every.extend(faces)
+        elif name.lower() in _GUIDE_NAMES:
+            guide.extend(faces)
+            guide_name = name
+        else:
+            unused.append(name)
+    return NamedGroups(tuple((n, f) for _, n, f in sorted(numbered)), tuple(every), tuple(guide),
+                       guide_name, tuple(unused))
+
+
+def _named_pockets(named: NamedGroups, pockets: list, n_balls: int, source: str):
+    """The pockets as the file names them, each face checked to be a pocket wall by its geometry
+    (`pockets`: (face, azimuth, centre, shape, diameter) of every face the geometry takes for a
+    pocket wall); entries as `_group_pockets`'s, with the group's name."""
+    wall = {s: (s, az, c, shape, dia) for s, az, c, shape, dia in pockets}
+    groups = named.pockets or (("pockets", named.all_pockets),)
+    for name, faces in groups:
+        for s in faces:
+            if s not in wall:
+                raise InputError(f"cage.cad = {source!r}: named group {name!r}: face {s} is not a pocket "
+                                 f"wall by its geometry (no sphere, no cylinder with a radial axis): the "
+                                 f"names disagree with the geometry")
+    if not named.pockets:
+        return _group_pockets([wall[s] for s in named.all_pockets], n_balls, source, "named group 'pockets': ")
+    if len(groups) != n_balls:
+        raise InputError(f"cage.cad = {source!r}: {len(groups)} named pocket groups ({groups[0][0]} … "
+                         f"{groups[-1][0]}), the bearing has bearing.n_balls = {n_balls}; one named "
+                         f"pocket per ball")
+    out = []
+    for name, faces in groups:
+        az = [wall[s][1] for s in faces]
+        if max(abs(math.remainder(a - az[0], 2 * math.pi)) for a in az) > 1e-6:
+            raise InputError(f"cage.cad = {source!r}: named group {name!r} holds faces of pockets at "
+                             f"{sorted(round(math.degrees(a), 3) for a in az)}°: one pocket per group")
+        out.append({"az": az[0], "faces": list(faces), "centres": [wall[s][2] for s in faces],
+                    "shapes": {wall[s][3] for s in faces}, "diameters": [wall[s][4] for s in faces],
+                    "name": name})
+    return out
 
 
 def _face_samples(tag: int, m: int = 5):
@@ -243,7 +350,7 @@ def _classify(vol: int, n_balls: int, pitch_diameter: float, ball_diameter: floa
     return x_mid, (xmin, xmax), r_out, ring, sides, pockets, other
 
 
-def _group_pockets(pockets, n_balls: int, source: str):
+def _group_pockets(pockets, n_balls: int, source: str, named: str = ""):
     """Faces of one pocket share its azimuth (within 1e-6 rad): one entry per pocket."""
     out = []
     for s, az, c, shape, dia in sorted(pockets, key=lambda t: t[1]):
@@ -260,7 +367,7 @@ def _group_pockets(pockets, n_balls: int, source: str):
         raise InputError(f"cage.cad = {source!r}: no pocket found (no spherical face centred near the "
                          f"pitch circle, no cylindrical face with a radial axis)")
     if len(out) != n_balls:
-        raise InputError(f"cage.cad = {source!r}: {len(out)} pockets found, the bearing has "
+        raise InputError(f"cage.cad = {source!r}: {named}{len(out)} pockets found, the bearing has "
                          f"bearing.n_balls = {n_balls}; a cage needs one pocket per ball")
     return out
 
@@ -275,9 +382,25 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
     path = Path(path)
     source = str(path)
     vols, used, scale = _import(path, unit)
+    named = named_groups()
+    # the mesh gets the model's own groups (cage_mesh); gmsh keeps a removed group's name, which
+    # would then be refused to a new group of another tag: both go
+    for dim, tag in gmsh.model.getPhysicalGroups():
+        gmsh.model.removePhysicalName(gmsh.model.getPhysicalName(dim, tag))
+    gmsh.model.removePhysicalGroups()
     x_mid, (xmin, xmax), r_out, ring, sides, pockets, other = _classify(
         vols[0], n_balls, pitch_diameter, ball_diameter, guidance, source, scale)
-    found = _group_pockets(pockets, n_balls, source)
+    found_by = {}
+    if named.pockets or named.all_pockets:
+        found = _named_pockets(named, pockets, n_balls, source)
+        names = [p["name"] for p in found]
+        found_by["pockets"] = (f"the file's named groups {names[0]} … {names[-1]}" if named.pockets
+                               else "the file's named group 'pockets'")
+        taken = {s for p in found for s in p["faces"]}
+        other = other + [s for s, *_ in pockets if s not in taken]
+    else:
+        found = _group_pockets(pockets, n_balls, source)
+        found_by["pockets"] = "geometry (spheres centred near the pitch circle, cylinders with a radial axis)"
     # turn (and centre) the solid so pocket 0 is at +y and the mid-plane at x = 0
     turn = -min(found, key=lambda p: abs(p["az"]))["az"]
     occ = gmsh.model.occ
@@ -304,13 +427,13 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
     for k, p in enumerate(found):
         az = (p["az"] + turn) % (2 * math.pi)
         if abs(math.remainder(az - 2 * math.pi * k / z, 2 * math.pi)) * 0.5 * pitch_diameter > 0.1 * cp:
-            raise InputError(f"cage.cad = {source!r}: pocket {k} at {math.degrees(az):.4f}°, not at "
+            raise InputError(f"cage.cad = {source!r}: pocket {k}{_group_of(p)} at {math.degrees(az):.4f}°, not at "
                              f"{360.0 * k / z:.4f}° (equal spacing of {z} pockets within 0.1·Cp of arc)")
         c = np.mean(p["centres"], axis=0)
         c = np.array([c[0], c[1] * c_turn[0] - c[2] * c_turn[1], c[1] * c_turn[1] + c[2] * c_turn[0]])
         rc = math.hypot(c[1], c[2])
         if abs(rc - 0.5 * pitch_diameter) > 0.1 * cp or abs(c[0]) > 0.1 * cp:
-            raise InputError(f"cage.cad = {source!r}: pocket {k} is centred at radius {rc * 1e3:.4f} mm, "
+            raise InputError(f"cage.cad = {source!r}: pocket {k}{_group_of(p)} is centred at radius {rc * 1e3:.4f} mm, "
                              f"x {c[0] * 1e3:+.4f} mm: off the pitch circle (radius "
                              f"{0.5 * pitch_diameter * 1e3:.4f} mm, x 0) by more than 0.1·Cp = "
                              f"{0.1 * cp * 1e6:.1f} µm")
@@ -334,9 +457,19 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
     for s, x in sides:
         groups.setdefault("side_left" if x < 0 else "side_right", []).append(s)
     guide_r = None if guidance == "balls" else (r_o if guidance == "outer" else r_i)
+    named_guide = _named_guide(named, ring, guidance, pitch_diameter, source)
+    if guidance == "balls":
+        found_by["guide"] = "none needed (guidance balls" + (f"; the file's group {named.guide_name!r} not used)"
+                                                             if named.guide else ")")
+    elif named_guide:
+        found_by["guide"] = f"the file's named group {named.guide_name!r}"
+    else:
+        found_by["guide"] = f"geometry (the ring cylinder at the {'largest' if guidance == 'outer' else 'smallest'} radius)"
+    if named.unused:                           # said, so a misspelt name is not silently ignored
+        found_by["unused"] = ", ".join(named.unused)
     guide = []
     for s, r, x0, x1 in ring:
-        if guide_r is not None and abs(r - guide_r) < 2 * FIT_TOL * r_out:
+        if (s in named_guide) if named_guide else (guide_r is not None and abs(r - guide_r) < 2 * FIT_TOL * r_out):
             guide.append(s)
             groups.setdefault("guide", []).append(s)
         elif abs(r - r_o) < 2 * FIT_TOL * r_out:
@@ -373,7 +506,30 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
         **({"material": material} if material is not None else {}))
     return CadCage(geometry=geometry, pockets=tuple(pockets_out), ring_cylinders=tuple(cyl),
                    guide_faces=tuple(guide), turned_by=turn, unit=used, source=source, scale=scale,
-                   groups={k: list(v) for k, v in groups.items()})
+                   groups={k: list(v) for k, v in groups.items()}, found_by=found_by)
+
+
+def _group_of(pocket: dict) -> str:
+    return f" (named group {pocket['name']!r})" if pocket.get("name") else ""
+
+
+def _named_guide(named: NamedGroups, ring: list, guidance: str, pitch_diameter: float, source: str) -> set:
+    """The guide faces the file names, each checked to be a cylinder about the bearing axis on the
+    side of the pitch circle the guidance needs (outside for "outer", the bore for "inner")."""
+    if not named.guide or guidance == "balls":
+        return set()
+    radius = {s: r for s, r, _, _ in ring}
+    for s in named.guide:
+        if s not in radius:
+            raise InputError(f"cage.cad = {source!r}: named group {named.guide_name!r}: face {s} is not a "
+                             f"cylinder about the bearing axis: the names disagree with the geometry")
+        outside = radius[s] > 0.5 * pitch_diameter
+        if outside != (guidance == "outer"):
+            raise InputError(f"cage.cad = {source!r}: named group {named.guide_name!r}: face {s} at radius "
+                             f"{radius[s] * 1e3:.4f} mm is {'outside' if outside else 'inside'} the pitch "
+                             f"circle; cage.guidance = {guidance!r} needs the "
+                             f"{'outside' if guidance == 'outer' else 'bore'}")
+    return set(named.guide)
 
 
 def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_diameter: float,
@@ -416,7 +572,10 @@ def _cad_key(path, n_balls: int, pitch_diameter: float, ball_diameter: float, gu
     """Every input of `read_cad_cage`: the file by its content (sha256), not its name."""
     from dataclasses import asdict
     from flexbearing.common.cache import file_sha256
+    merged = {str(f.name): file_sha256(f) for f in geo_merged_files(path) if f.is_file()} \
+        if cad_kind(path) == "geo" else {}
     return {"kind": "cad_cage", "cad_sha256": file_sha256(path), "n_balls": int(n_balls),
+            **({"merged_sha256": merged} if merged else {}),
             "pitch_diameter": float(pitch_diameter), "ball_diameter": float(ball_diameter),
             "guidance": guidance, "unit": unit, "material": asdict(material), "fit_tol": FIT_TOL}
 

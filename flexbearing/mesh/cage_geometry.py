@@ -20,7 +20,8 @@ from flexbearing.common.validation import InputError, require_positive, require_
 
 
 GUIDANCES = ("outer", "inner", "balls")
-POCKET_SHAPES = ("cylindrical", "spherical")
+POCKET_SHAPES = ("cylindrical", "spherical", "conical", "elliptical")
+MAX_CONE_ANGLE = math.radians(30.0)     # rad: steeper walls are no longer a pocket holding a ball
 
 
 @dataclass(frozen=True)
@@ -56,6 +57,13 @@ class CageGeometry:
     # (the ball centres; the scene sets it from bearing.pitch_diameter). Unused by cylindrical
     # pockets, whose radial axes have no centre radius.
     pocket_centre_diameter: float = 167e-3
+    # Half-angle of a "conical" pocket, rad (> 0: wider at the outside, < 0: at the bore): the cone
+    # tangent to the sphere of the pocket diameter about the pocket centre (on the pocket-centre
+    # circle), so a centred ball has the clearance (Dp − Dw)/2 all round (flexbearing.multibody.pocket).
+    pocket_cone_angle: float = 0.0
+    # An "elliptical" pocket's diameter in the direction of rotation, m (>= pocket_diameter, which
+    # is then the diameter along the bearing axis): a radial cylinder of elliptical section.
+    pocket_circumferential_diameter: float = 0.0
 
     @property
     def outer_radius(self) -> float:
@@ -68,6 +76,12 @@ class CageGeometry:
     @property
     def mean_radius(self) -> float:
         return 0.25 * (self.outside_diameter + self.bore_diameter)
+
+    def cone_radius(self, s):
+        """A conical pocket's radius across its axis at s (m, along the axis from the pocket centre,
+        + outwards): Dp/(2·cos(beta)) + s·tan(beta)."""
+        b = self.pocket_cone_angle
+        return 0.5 * self.pocket_diameter / math.cos(b) + s * math.tan(b)
 
     def pocket_azimuths(self) -> list[float]:
         return [2.0 * math.pi * k / self.n_pockets for k in range(self.n_pockets)]
@@ -133,19 +147,43 @@ class CageGeometry:
             require_range("cage.pocket_centre_diameter", self.pocket_centre_diameter,
                           2.0 * (self.outer_radius - half), 2.0 * (self.inner_radius + half),
                           lo_open=True, hi_open=True, unit="m")
+        if self.pocket_shape == "conical":
+            require_range("cage.pocket_cone_angle", self.pocket_cone_angle, -MAX_CONE_ANGLE, MAX_CONE_ANGLE,
+                          unit="rad")
+            # the cone's widest section (at the bore or the outside) must leave the ring in one piece
+            rc = 0.5 * self.pocket_centre_diameter
+            widest = 2.0 * max(self.cone_radius(self.outer_radius - rc), self.cone_radius(self.inner_radius - rc))
+            if widest >= min(chord, self.width):
+                raise InputError(f"cage.pocket_cone_angle = {self.pocket_cone_angle:g} rad: the conical pocket "
+                                 f"is {widest * 1e3:.3f} mm across at its wide end, allowed: < "
+                                 f"{min(chord, self.width) * 1e3:.3f} mm (neighbouring pockets, the width)")
+        elif self.pocket_shape == "elliptical":
+            # from the axial diameter (a circle) up to the neighbouring pockets, and the ball must
+            # fit the ellipse's tightest curvature, A²/B at the circumferential vertex (one contact)
+            a = 0.5 * self.pocket_diameter
+            hi = min(chord, 2.0 * a * a / (0.5 * self.ball_diameter))
+            require_range("cage.pocket_circumferential_diameter", self.pocket_circumferential_diameter,
+                          self.pocket_diameter, hi, hi_open=True, unit="m")
+        if self.pocket_shape != "conical" and self.pocket_cone_angle != 0.0:
+            raise InputError(f"cage.pocket_cone_angle = {self.pocket_cone_angle:g} rad applies to conical "
+                             f"pockets only; cage.pocket_shape = {self.pocket_shape!r}")
+        if self.pocket_shape != "elliptical" and self.pocket_circumferential_diameter != 0.0:
+            raise InputError(f"cage.pocket_circumferential_diameter = {self.pocket_circumferential_diameter:g} m "
+                             f"applies to elliptical pockets only; cage.pocket_shape = {self.pocket_shape!r}")
         self.material.validate("cage.material")
         return self
 
     def to_dict(self) -> dict:
         """All fields, except optional features added later (bore_chamfer, guidance, pocket_shape,
-        pocket_centre_diameter) while they are unset or at the paper's values:
+        pocket_centre_diameter, pocket_cone_angle, pocket_circumferential_diameter) while they are unset or at the paper's values:
         the dict is hashed into cache keys (meshes, reduced cages), so a geometry that does not
         use a newer field keeps the content hash it had before that field existed."""
         d = asdict(self)
         if d["bore_chamfer"] is None:
             del d["bore_chamfer"]
         for key, default in (("guidance", "outer"), ("pocket_shape", "cylindrical"),
-                             ("pocket_centre_diameter", 167e-3)):
+                             ("pocket_centre_diameter", 167e-3), ("pocket_cone_angle", 0.0),
+                             ("pocket_circumferential_diameter", 0.0)):
             if d[key] == default:
                 del d[key]
         return d

@@ -20,7 +20,9 @@ Physical groups (names and tags are part of the API that fem_cage and coupling r
   "other" = 204 (relief floor and walls, chamfers), only when present; "outside" = 205 (the
   outside cylinder when it does not guide: "inner" and "balls").
 Spherical pockets (cage.pocket_shape): spheres of diameter Dp centred on the pocket-centre
-circle instead of the radial cylinders.
+circle instead of the radial cylinders; conical pockets: radial cones tangent to that sphere
+(half-angle cage.pocket_cone_angle; CageGeometry.cone_radius); elliptical pockets: radial
+cylinders of elliptical section, Dp along x and cage.pocket_circumferential_diameter around.
 """
 from __future__ import annotations
 
@@ -144,6 +146,17 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
                 occ.rotate([(3, ball)], 0, 0, 0, 1, 0, 0, th - 0.5 * math.pi)
                 occ.translate([(3, ball)], 0.0, rc * cy, rc * cz)
                 tools.append((3, ball))
+            elif g.pocket_shape == "elliptical":  # the section (A along x, B around) swept along the axis
+                # OCC's disk wants its major radius along x: B along x, turned to y, A along x
+                disk = occ.addDisk(0.0, 0.0, 0.0, 0.5 * g.pocket_circumferential_diameter, 0.5 * g.pocket_diameter)
+                occ.rotate([(2, disk)], 0, 0, 0, 0, 0, 1, 0.5 * math.pi)
+                occ.rotate([(2, disk)], 0, 0, 0, 1, 0, 0, th - 0.5 * math.pi)    # normal z -> the axis
+                occ.translate([(2, disk)], 0.0, r0 * cy, r0 * cz)
+                swept = occ.extrude([(2, disk)], 0.0, length * cy, length * cz)
+                tools.extend(dt for dt in swept if dt[0] == 3)
+            elif g.pocket_shape == "conical":     # the cone from r0 to r0 + length along the axis
+                tools.append((3, occ.addCone(0.0, r0 * cy, r0 * cz, 0.0, length * cy, length * cz,
+                                             g.cone_radius(r0 - rc), g.cone_radius(r0 + length - rc))))
             else:
                 tools.append((3, occ.addCylinder(0.0, r0 * cy, r0 * cz, 0.0, length * cy, length * cz,
                                                  0.5 * g.pocket_diameter)))
@@ -169,11 +182,18 @@ def _build_model(g: CageGeometry, size: float, order: int, pocket_size: float | 
             th = float(np.arctan2(P[:, 2].mean(), P[:, 1].mean()) % (2 * math.pi))
             k = min(range(Z), key=lambda j: abs(math.remainder(th - azim[j], 2 * math.pi)))
             axis = np.array([0.0, math.cos(azim[k]), math.sin(azim[k])])
+            wall = 0.5 * g.pocket_diameter
             if g.pocket_shape == "spherical":     # distance to the sphere's centre
                 d_axis = np.linalg.norm(P - 0.5 * g.pocket_centre_diameter * axis, axis=1)
-            else:                                 # distance to the cylinder's axis
+            else:                                 # distance to the cylinder's (cone's) axis
                 d_axis = np.linalg.norm(P - np.outer(P @ axis, axis), axis=1)
-            if np.all(np.abs(d_axis - 0.5 * g.pocket_diameter) < tol):
+                if g.pocket_shape == "conical":
+                    wall = g.cone_radius(P @ axis - 0.5 * g.pocket_centre_diameter)
+                elif g.pocket_shape == "elliptical":  # the ellipse's level (x/A)² + (t/B)² = 1, scaled by A
+                    tang = np.array([0.0, -axis[2], axis[1]])
+                    lev = np.hypot(P[:, 0] / wall, (P @ tang) / (0.5 * g.pocket_circumferential_diameter))
+                    d_axis = wall * lev
+            if np.all(np.abs(d_axis - wall) < tol):
                 name = pocket_name(k)
         if name == "other":
             if np.all(np.abs(x + w2) < tol):

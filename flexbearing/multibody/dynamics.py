@@ -142,7 +142,7 @@ from flexbearing.multibody.model import (
     P_L3, P_KRIM, P_MURIM, P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_SLIN, P_UMIN,
     P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX, P_ALPHA0, P_UREG, P_LAND_L, P_ETA_TRACTION, P_ALPHA_P,
     F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_LAND, F_ROLLRES, F_ATTITUDE, F_ATT_RING, P_ATT_RATE,
-    F_TRACTION_LAW, F_GUIDANCE, F_POCKET_SHAPE, F_BALL_DRAG_MOMENT, P_SPIN_SCALE_INNER,
+    F_TRACTION_LAW, F_GUIDANCE, F_POCKET_SHAPE, F_BALL_DRAG_MOMENT, P_SPIN_SCALE_INNER, P_POCKET_CONE, P_POCKET_B,
     H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX,
     WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING, W_P_POCKET,
     W_P_CHURNING, WR_P_LAND, WR_P_STRUCTURAL, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ,
@@ -153,7 +153,8 @@ from flexbearing.multibody.geometry import cross, race_contact, ring_point_in_pl
 from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.guide_land import guide_land_force
 from flexbearing.multibody.pocket import (pocket_curvature_radii, pocket_resistance_coefficients,
-                                          spherical_pocket_curvature_radii)
+                                          spherical_pocket_curvature_radii, pocket_contact_offset,
+                                          pocket_axis_point)
 from flexbearing.multibody.oil_supply import cavity_oil_fraction
 from flexbearing.multibody.drag import (ball_drag_moment_coefficient, churning_drag, ehl_rolling_resistance,
                                        ehl_pressure_rolling_force, oil_air_mixture)
@@ -413,8 +414,9 @@ def pocket_film_coefficients(p, flags):
     entrainment radius Rb, transverse radius R_xi (pocket.pocket_curvature_radii) in a cylindrical
     pocket; both radii conforming in a spherical one (pocket.spherical_pocket_curvature_radii).
     Constant for a model; `rhs` evaluates them once per call and hands them to `_pocket_force`."""
-    if flags[F_POCKET_SHAPE] == 0:
-        rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
+    if flags[F_POCKET_SHAPE] != 1:          # cylinder; cone, ellipse at their nominal contact (pocket docstring)
+        rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET] if flags[F_POCKET_SHAPE] != 3
+                                           else p[P_RPOCKET] ** 2 / p[P_POCKET_B])
     else:
         rxi, reta = spherical_pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
     return pocket_resistance_coefficients(reta, rxi, p[P_ETA0])
@@ -453,12 +455,10 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     dx = bx - px
     dy = by - py
     dz = bz - pz
-    # cylindrical pocket: the offset from its axis; spherical: from its centre (da = 0)
-    da = dx * ax + dy * ay + dz * az if flags[F_POCKET_SHAPE] == 0 else 0.0
-    ux = dx - da * ax
-    uy = dy - da * ay
-    uz = dz - da * az
-    zz = math.sqrt(ux * ux + uy * uy + uz * uz)
+    # the approach zz along u: from the cylinder's axis, the sphere's centre, the cone's wall (e: the
+    # offset's part the wall's nearest point follows; pocket.pocket_contact_offset)
+    ex, ey, ez, ux, uy, uz, zz = pocket_contact_offset(dx, dy, dz, ax, ay, az, flags[F_POCKET_SHAPE],
+                                                       p[P_POCKET_CONE], p[P_RPOCKET], p[P_POCKET_B])
     if zz < 1e-15:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz, 0.0
     ux /= zz
@@ -489,9 +489,9 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     mz = 0.0
     # contact point on the pocket wall
     rp = p[P_RPOCKET]
-    qx = px + da * ax + rp * ux
-    qy = py + da * ay + rp * uy
-    qz = pz + da * az + rp * uz
+    qx = px + ex + rp * ux
+    qy = py + ey + rp * uy
+    qz = pz + ez + rp * uz
     if flags[F_DRAG]:
         # Lubricated pocket (flexbearing.multibody.pocket; paper §2.3.2): on each side s = ±1 of the ball
         # (points b + s·Rb·u and p + (d·a)a + s·Rp·u) the ball surface slides on the pocket wall at
@@ -507,9 +507,9 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
         cp_gap = p[P_CP]
         for side in (1.0, -1.0):
             sx, sy, sz = cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
-            wx_ = px + da * ax + side * rp * ux
-            wy_ = py + da * ay + side * rp * uy
-            wz_ = pz + da * az + side * rp * uz
+            wx_ = px + ex + side * rp * ux
+            wy_ = py + ey + side * rp * uy
+            wz_ = pz + ez + side * rp * uz
             ox, oy, oz = cross(wcx, wcy, wcz, wx_ - px, wy_ - py, wz_ - pz)
             gx = vbx + sx - (vpx + ox)
             gy = vby + sy - (vpy + oy)
@@ -670,7 +670,6 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     rho_mix, eta_mix = oil_air_mixture(cavity_oil_fraction(p[P_OILFRAC], p[P_OIL_WREF], omega_i),
                                        p[P_RHO_OIL], p[P_ETA0])
     c_roll, c_slide, c_root = pocket_film_coefficients(p, flags)
-    cyl_pockets = flags[F_POCKET_SHAPE] == 0
     # the scratch rows, the modal coordinates and the node loads, taken once: every array view
     # costs an atomic reference-count increment and decrement (made per ball they were ~20 % of
     # a rigid cage's rhs)
@@ -877,7 +876,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         # the interface node: node force −F_b, node moment (w − p)×(−F_b) − M_b − (b − w)×F_b.
         # This is the virtual work of the pocket force for the node's motion, so the normal
         # force stays the exact gradient of its potential (conservative runs conserve energy).
-        da_ = (bx - ppx) * ax + (byy - ppy) * ay + (bzz - ppz) * az if cyl_pockets else 0.0
+        da_ = pocket_axis_point(bx - ppx, byy - ppy, bzz - ppz, ax, ay, az, flags[F_POCKET_SHAPE], p[P_POCKET_CONE])
         wpx = ppx + da_ * ax
         wpy = ppy + da_ * ay
         wpz = ppz + da_ * az

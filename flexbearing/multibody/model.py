@@ -125,7 +125,9 @@ P_ATT_RATE = 45                        # relaxation rate of the race-control bal
 P_UREG = 46                            # regularisation speed of the fit's slide-to-roll ratio, m/s
 P_OIL_WREF = 47                        # reference speed of the cavity oil fraction (rad/s; 0: fixed), oil_supply
 P_SPIN_SCALE_INNER = 48                # diagnostic factor on the inner contacts' spin moment (1 = the law)
-N_PARAMS = 49
+P_POCKET_CONE = 49                     # conical pocket's half-angle, rad (> 0 opens outwards; flexbearing.multibody.pocket)
+P_POCKET_B = 50                        # elliptical pocket's circumferential semi-axis, m (flexbearing.multibody.pocket)
+N_PARAMS = 51
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES = 0, 1, 2, 3, 4
@@ -135,7 +137,7 @@ F_ATT_RING = 9                         # race control / no pivoting: gyroscopic 
 F_TRACTION_LAW = 10                    # the traction law of traction_table: index in TRACTION_LAWS
 F_INNER_HALVES = 11                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
 F_GUIDANCE = 12                        # what guides the cage: index in GUIDANCES (outer / inner land, balls)
-F_POCKET_SHAPE = 13                    # index in POCKET_SHAPES (cylindrical, spherical)
+F_POCKET_SHAPE = 13                    # index in POCKET_SHAPES (cylindrical, spherical, conical, elliptical)
 F_BALL_DRAG_MOMENT = 14                # viscous drag moment of the mixture on the spinning balls
 N_FLAGS = 15
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
@@ -276,7 +278,8 @@ def cage_mass_properties(cage, n_r: int = 24, n_phi: int = 240, n_x: int = 80) -
 
     Midpoint quadrature over the annulus R_i <= r <= R_o, |x| <= w/2, one pocket pitch in phi,
     excluding the points inside the radial cylindrical pocket (distance to the pocket axis < Dp/2)
-    or the spherical one (distance to its centre on the pocket-centre radius < Dp/2), times Z.
+    or the spherical one (distance to its centre on the pocket-centre radius < Dp/2) or the
+    conical one (distance to the axis < CageGeometry.cone_radius), times Z.
     Polar I = ∫ rho·r² dV, diametral I = ∫ rho·(x² + r²/2) dV (axisymmetric average).
     """
     ri, ro, w, z = cage.inner_radius, cage.outer_radius, cage.width, cage.n_pockets
@@ -292,6 +295,11 @@ def cage_mass_properties(cage, n_r: int = 24, n_phi: int = 240, n_x: int = 80) -
     if cage.pocket_shape == "spherical":
         rc = 0.5 * cage.pocket_centre_diameter
         solid = ((R * np.cos(PHI) - rc) ** 2 + yy ** 2 + X ** 2) >= rp ** 2
+    elif cage.pocket_shape == "conical":         # radius Rp/cos(beta) + s·tan(beta) at s from the centre
+        s = R * np.cos(PHI) - 0.5 * cage.pocket_centre_diameter
+        solid = np.sqrt(yy ** 2 + X ** 2) >= cage.cone_radius(s)
+    elif cage.pocket_shape == "elliptical":      # semi-axes Dp/2 along x, Dp_t/2 around
+        solid = (X / rp) ** 2 + (yy / (0.5 * cage.pocket_circumferential_diameter)) ** 2 >= 1.0
     else:
         solid = (yy ** 2 + X ** 2) >= rp ** 2
     dv = R * dr * dphi * dx * solid
@@ -383,10 +391,15 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     if cage.pocket_shape == "spherical":
         r_conf = 1.0 / (1.0 / rb - 1.0 / rp)
         p[P_KN] = hertz_stiffness(r_conf, r_conf, e_bc)
+    elif cage.pocket_shape == "elliptical":   # at the circumferential vertex, radius A²/B (pocket docstring)
+        r_across = 1.0 / (1.0 / rb - 1.0 / (rp * rp / (0.5 * cage.pocket_circumferential_diameter)))
+        p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
     else:
         r_across = 1.0 / (1.0 / rb - 1.0 / rp)
         p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
     p[P_RPOCKET] = rp
+    p[P_POCKET_CONE] = cage.pocket_cone_angle
+    p[P_POCKET_B] = 0.5 * cage.pocket_circumferential_diameter
     p[P_RCAGE_POCKET] = 0.5 * dm
     # guide land (short journal bearing, Ocvirk; flexbearing.multibody.guide_land): R1 the cage's
     # guiding radius (its outside on the outer ring's land, its bore on the inner ring's), Cg radial

@@ -90,6 +90,7 @@ OUTPUTS = (
     _o("cage_centre", "cage_orbit", "m", ("axis",), ("x", "y", "z")),
     _o("cage_tilt", "cage_orbit", "rad", ("tilt",), ("tilt_y", "tilt_z")),
     _o("cage_eccentricity_ratio", "cage_orbit", "1"),
+    _o("cage_guide_offset", "cage_orbit", "m", ("radial_axis",), ("y", "z")),
     # ---- kinematics of the balls and the inner ring
     _o("ball_axial_position", "kinematics", "m", ("ball",), source=("ball_position", 0)),
     _o("ball_radial_position", "kinematics", "m", ("ball",), source=("ball_position", 1)),

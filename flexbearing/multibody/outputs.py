@@ -12,6 +12,7 @@ from numba import njit
 
 from flexbearing.multibody import model as M
 from flexbearing.multibody.dynamics import new_work, rhs
+from flexbearing.multibody.cage_offset import cage_offset_from_guide
 from flexbearing.multibody.energy import mechanical_energy
 from flexbearing.multibody.film import film_thickness as hd
 from flexbearing.multibody.geometry import nominal_cage_speed
@@ -29,7 +30,8 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
     Keys: contact_load, contact_angle (signed, rad), contact_stress (p0, Pa), approach, slide_ratio
     (race − ball rolling slide / entrainment), entrainment_speed, pocket_force, pocket_offset,
     pocket_force_tangential, cage_land_force (y, z), cage_land_force_magnitude, cage_land_torque,
-    cage_rim_force, cage_eccentricity_ratio, cage_speed, cage_centre (x, y, z), inner_ring_speed,
+    cage_rim_force, cage_eccentricity_ratio, cage_speed, cage_centre (x, y, z), cage_guide_offset (y, z:
+    from the guiding ring's centre, flexbearing.multibody.cage_offset), inner_ring_speed,
     inner_ring_displacement (x, y, z, tilt_y, tilt_z), ring_drive_torque, ball_position (x, r, psi),
     ball_velocity, ball_angular_velocity (w_x, w_r, w_t), ball_orbit_speed, external_load,
     nominal_cage_speed, slip_rate, contact_angle_inner_loaded, contact_angle_outer; the power
@@ -72,6 +74,8 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
         "cage_eccentricity_ratio": float(work[z, M.WR_EPS]),
         "cage_speed": float(cage[9]),
         "cage_centre": cage[0:3].copy(),
+        "cage_guide_offset": cage_offset_from_guide(int(model.flags[M.F_GUIDANCE]), cage[1:3], ring[1:3],
+                                                    balls[:, 1], balls[:, 2]),
         "cage_tilt": cage[4:6].copy(),
         "inner_ring_speed": float(work[z, M.WR_OMEGA_I]),
         "inner_ring_displacement": ring[0:5].copy(),

@@ -15,6 +15,45 @@ a circular Hertz contact (k = 1). Its approach Z is measured from the pocket's c
 offset d = b − p of the ball centre), a cylindrical pocket's from its axis (d less its axial
 part): in both the gap closes at Z = Cp = Rp − Rb and the laws below apply unchanged.
 
+A conical pocket (axis radial, half-angle beta, opening outwards for beta > 0) is the cone
+tangent to the sphere of radius Rp about the pocket centre: its radius across the axis at the
+axial coordinate s (along the pocket axis a, from the centre) is Rp/cos(beta) + s·tan(beta), so a
+centred ball has the clearance Cp = Rp − Rb in every direction, as in the other shapes. A ball
+whose centre is offset by (s, rho) (along a, and across it towards the unit e_rho) is at the
+distance Rp − Z from the wall, along the wall's normal n (Euclid: the distance from a point to the
+straight generator in the meridian plane),
+
+    Z = rho·cos(beta) − s·sin(beta),   n = cos(beta)·e_rho − sin(beta)·a,
+
+so the same law below applies to Z. Along the generator the wall is straight (R_eta = Rb, as the
+cylinder's axis direction); across it the cone's normal curvature is cos(beta)/r (Meusnier's
+theorem, r the wall's distance from the axis at the contact: do Carmo, Differential Geometry of
+Curves and Surfaces, 1976, §3-2), a concave radius R_c = r/cos(beta) = Rp − Z + rho/cos(beta):
+Rp for a ball on the normal through the tangent circle, Rp + t·tan(beta) for a ball moved by t
+along a generator. The Hertz constant of the model is the nominal one, R_c = Rp (the same as the
+cylinder's: the cone and the tangent sphere share the contact circle's normal curvature);
+`conical_pocket_curvature_radii` gives R_c at any offset, to bound what that constant leaves out.
+
+An elliptical-bore pocket is a radial cylinder of elliptical section: semi-axis A = Dp/2 along
+the bearing axis (e1: x less its part along the pocket axis) and B = Dp_t/2 >= A across it in the
+direction of rotation (e2 = a × e1; cage.pocket_circumferential_diameter). The ball centre's
+offset across the axis, (u, v) on (e1, e2), has its nearest wall point X on the ellipse, found by
+Eberly's robust method (D. Eberly, "Distance from a point to an ellipse, an ellipsoid, or a
+hyperellipsoid", Geometric Tools, 2011: in the first quadrant, with e0 >= e1 the semi-axes and
+z_i = y_i/e_i, the root s of G(s) = (r0·z0/(s + r0))² + (z1/(s + 1))² − 1, r0 = (e0/e1)², is
+unique in [z1 − 1, sqrt(r0²z0² + z1²) − 1] and G falls there: bisection to round-off, at most
+BISECTION_STEPS halvings; X = (r0·y0/(s + r0), y1/(s + 1))·(e0, e1)/(e0, e1)). Its distance D and
+the outward normal n ∝ (X0/e0², X1/e1²) give the approach Z = Rp − D with Rp = A (the gap is the
+law's Cp − Z: Cp = (Dp − Dw)/2 is the smallest clearance, across the short axis); the linear
+"lubricated gap" branch thus acts on the gap, Kc·(Cp − gap), from zero where the gap is Cp. The
+contact is a point contact: straight along the pocket axis (R_eta = Rb), across it the ellipse's
+concave radius of curvature at X, rho = (A²·sin²t + B²·cos²t)^1.5/(A·B) for X = (A cos t, B sin t)
+(B²/A and A²/B at the vertices), 1/R_xi = 1/Rb − 1/rho. The model's Hertz constant is the nominal
+one at the circumferential vertex (rho = A²/B, where the ball's lead or lag presses it);
+`elliptical_pocket_curvature_radii` gives it at any X. The section's axes follow the bearing axis
+x (e1 = x less its part along a), not the cage's own axis: they differ by the cage's tilt
+(~1e-4 rad), which the elliptical pocket's potential therefore ignores.
+
 Normal force (seed paper §2.3.1 eq. for Q_cj, its ref. 26): with Z the ball–pocket approach
 (signed: Z > 0 the pocket pushes the ball, Z < 0 the ball pushes the cage) and Cp = (Dp − Dw)/2,
 
@@ -76,6 +115,161 @@ def spherical_pocket_curvature_radii(ball_radius, pocket_radius):
     """(R_xi, R_eta) of a ball in a spherical pocket: both 1/(1/Rb − 1/Rp), m (module docstring)."""
     r = 1.0 / (1.0 / ball_radius - 1.0 / pocket_radius)
     return r, r
+
+
+@njit(cache=True)
+def conical_pocket_curvature_radii(ball_radius, pocket_radius, cone_angle, axial_offset, radial_offset):
+    """(R_xi, R_eta) of a ball in a conical pocket, m: across, 1/R_xi = 1/Rb − 1/R_c with
+    R_c = Rp − Z + rho/cos(beta) (Z = rho·cos(beta) − s·sin(beta); s, rho the ball centre's offset
+    along the axis and across it); along the straight generator R_eta = Rb (module docstring)."""
+    cb = math.cos(cone_angle)
+    z = radial_offset * cb - axial_offset * math.sin(cone_angle)
+    rc = pocket_radius - z + radial_offset / cb
+    return 1.0 / (1.0 / ball_radius - 1.0 / rc), ball_radius
+
+
+BISECTION_STEPS = 200      # bound of Eberly's bisection (round-off is reached in ~60 for doubles)
+
+
+@njit(cache=True)
+def ellipse_nearest_point(e0, e1, y0, y1):
+    """(x0, x1, D): the point of the ellipse (x0/e0)² + (x1/e1)² = 1 nearest to (y0, y1) and its
+    distance, e0 >= e1 > 0, y0, y1 >= 0 (first quadrant; module docstring, Eberly 2011)."""
+    if y1 > 0.0:
+        if y0 > 0.0:
+            z0 = y0 / e0
+            z1 = y1 / e1
+            r0 = (e0 / e1) ** 2
+            lo = z1 - 1.0
+            hi = math.sqrt(r0 * r0 * z0 * z0 + z1 * z1) - 1.0
+            s = lo
+            for _ in range(BISECTION_STEPS):
+                s = 0.5 * (lo + hi)
+                if s == lo or s == hi:
+                    break
+                g = (r0 * z0 / (s + r0)) ** 2 + (z1 / (s + 1.0)) ** 2 - 1.0
+                if g > 0.0:
+                    lo = s
+                elif g < 0.0:
+                    hi = s
+                else:
+                    break
+            x0 = r0 * y0 / (s + r0)
+            x1 = y1 / (s + 1.0)
+            return x0, x1, math.sqrt((x0 - y0) ** 2 + (x1 - y1) ** 2)
+        return 0.0, e1, abs(y1 - e1)
+    numer = e0 * y0
+    denom = e0 * e0 - e1 * e1
+    if numer < denom:
+        xd = numer / denom
+        x0 = e0 * xd
+        x1 = e1 * math.sqrt(1.0 - xd * xd)
+        return x0, x1, math.sqrt((x0 - y0) ** 2 + x1 * x1)
+    return e0, 0.0, abs(y0 - e0)
+
+
+@njit(cache=True)
+def ellipse_curvature_radius(a, b, x0, x1):
+    """Radius of curvature of the ellipse (x0/a)² + (x1/b)² = 1 at its point (x0, x1), m:
+    (a²·sin²t + b²·cos²t)^1.5/(a·b) with cos t = x0/a, sin t = x1/b (b²/a at (a, 0), a²/b at (0, b))."""
+    return (a * a * (x1 / b) ** 2 + b * b * (x0 / a) ** 2) ** 1.5 / (a * b)
+
+
+@njit(cache=True)
+def elliptical_pocket_curvature_radii(ball_radius, semi_axial, semi_circumferential, x_axial, x_circumferential):
+    """(R_xi, R_eta) of a ball on the elliptical pocket's wall at the wall point (x_axial,
+    x_circumferential) of its section: 1/R_xi = 1/Rb − 1/rho (rho the ellipse's radius of
+    curvature there), R_eta = Rb along the straight pocket axis (module docstring)."""
+    rho = ellipse_curvature_radius(semi_axial, semi_circumferential, x_axial, x_circumferential)
+    return 1.0 / (1.0 / ball_radius - 1.0 / rho), ball_radius
+
+
+@njit(cache=True)
+def _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential):
+    """`pocket_contact_offset` of the elliptical pocket (module docstring)."""
+    # e1: the bearing axis x less its part along a; e2 = a × e1
+    e1x = 1.0 - ax * ax
+    e1y = -ax * ay
+    e1z = -ax * az
+    n1 = math.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+    e1x /= n1
+    e1y /= n1
+    e1z /= n1
+    e2x = ay * e1z - az * e1y
+    e2y = az * e1x - ax * e1z
+    e2z = ax * e1y - ay * e1x
+    u = dx * e1x + dy * e1y + dz * e1z
+    v = dx * e2x + dy * e2y + dz * e2z
+    # the major axis (circumferential, B >= A) first, as Eberly's method takes it
+    x0, x1, dist = ellipse_nearest_point(semi_circumferential, semi_axial, abs(v), abs(u))
+    z = semi_axial - dist
+    if z <= 0.0:
+        return dx, dy, dz, 0.0, 0.0, 0.0, 0.0
+    nv = math.copysign(x0 / (semi_circumferential * semi_circumferential), v)
+    nu = math.copysign(x1 / (semi_axial * semi_axial), u)
+    nn = math.sqrt(nu * nu + nv * nv)
+    nu /= nn
+    nv /= nn
+    nx = nu * e1x + nv * e2x
+    ny = nu * e1y + nv * e2y
+    nz = nu * e1z + nv * e2z
+    return dx - z * nx, dy - z * ny, dz - z * nz, z * nx, z * ny, z * nz, z
+
+
+@njit(cache=True)
+def pocket_contact_offset(dx, dy, dz, ax, ay, az, shape, cone_angle, semi_axial=0.0, semi_circumferential=0.0):
+    """Where the ball presses on the pocket wall: (e (3), u (3), Z) for the ball centre's offset
+    d = b − p from the pocket centre, a the pocket axis (unit), shape the index in
+    flexbearing.mesh.cage_geometry.POCKET_SHAPES (0 cylindrical, 1 spherical, 2 conical,
+    3 elliptical: semi-axes along the bearing axis and across it, `_elliptical_offset`).
+    Z the approach (the gap is Cp − Z), u = Z·n with n the wall's normal through the ball centre,
+    e = d − u the part of the offset the wall's nearest point p + e + Rp·n follows:
+    cylinder e = (d·a)·a, Z = |d − e|; sphere e = 0, Z = |d|; cone Z = rho·cos(beta) −
+    s·sin(beta) (module docstring; no contact, Z = 0, for a ball on the axis or Z <= 0)."""
+    if shape == 1:
+        return 0.0, 0.0, 0.0, dx, dy, dz, math.sqrt(dx * dx + dy * dy + dz * dz)
+    if shape == 3:
+        return _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential)
+    s = dx * ax + dy * ay + dz * az
+    ex = s * ax
+    ey = s * ay
+    ez = s * az
+    ux = dx - ex
+    uy = dy - ey
+    uz = dz - ez
+    rho = math.sqrt(ux * ux + uy * uy + uz * uz)
+    if shape == 0:
+        return ex, ey, ez, ux, uy, uz, rho
+    if rho < 1e-15:
+        return dx, dy, dz, 0.0, 0.0, 0.0, 0.0
+    cb = math.cos(cone_angle)
+    sb = math.sin(cone_angle)
+    z = rho * cb - s * sb
+    if z <= 0.0:
+        return dx, dy, dz, 0.0, 0.0, 0.0, 0.0
+    nx = cb * ux / rho - sb * ax
+    ny = cb * uy / rho - sb * ay
+    nz = cb * uz / rho - sb * az
+    return dx - z * nx, dy - z * ny, dz - z * nz, z * nx, z * ny, z * nz, z
+
+
+@njit(cache=True)
+def pocket_axis_point(dx, dy, dz, ax, ay, az, shape, cone_angle):
+    """Where the pocket force's line of action (through the ball centre along n,
+    `pocket_contact_offset`) crosses the pocket axis, as its coordinate along a from the pocket
+    centre, m: the cylinder's d·a, the sphere's 0 (its centre), the cone's s + rho·tan(beta)
+    (the meridian plane's normal through the ball meets the axis there). The elliptical pocket's
+    normal misses the axis: d·a, the axis point level with the ball (the node moment −(b − p)×F
+    − M_b the dynamics apply does not depend on the point; only the recorded lever does)."""
+    if shape == 1:
+        return 0.0
+    s = dx * ax + dy * ay + dz * az
+    if shape == 0 or shape == 3:
+        return s
+    ux = dx - s * ax
+    uy = dy - s * ay
+    uz = dz - s * az
+    return s + math.sqrt(ux * ux + uy * uy + uz * uz) * math.tan(cone_angle)
 
 
 @njit(cache=True)

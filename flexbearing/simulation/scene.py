@@ -31,7 +31,10 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     pocket_diameter = 22.5e-3 # any scalar field of flexbearing.mesh.cage_geometry.CageGeometry
     guidance = "outer"        # "outer" | "inner" (ring lands: bearing.guide_land_diameter,
                               #   bearing.inner_land_diameter) | "balls" (no land contact)
-    pocket_shape = "cylindrical"  # "cylindrical" | "spherical" (centred on the pitch circle)
+    pocket_shape = "cylindrical"  # "cylindrical" | "spherical" (centred on the pitch circle) |
+                              #   "conical" (tangent to that sphere; pocket_cone_angle = half-angle,
+                              #   rad, in [-30°, 30°], > 0 wider at the outside) | "elliptical"
+                              #   (pocket_circumferential_diameter: round; pocket_diameter: along x)
     cad = "my_cage.step"      # a CAD cage (STEP/BREP, relative to this file) instead of the
     cad_unit = "mm"           #   parametric one: pockets and land found in it and matched to the
                               #   bearing (flexbearing.mesh.cad_cage); a BREP file needs cad_unit

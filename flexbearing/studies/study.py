@@ -14,7 +14,9 @@ the same thing:
     scene = "paper_unsteady.toml"           # the base scene, relative to this file
     keys = ["operation.load.axial_load"]    # scene keys to set, dotted; [i] indexes a list
     values = [45e3, 50e3, 55e3, 60e3, 65e3] # one run each: a scalar (every key takes it) or a
-                                            #   list with one value per key
+                                            #   list with one value per key; a string for a
+                                            #   string key (cage.cad: a CAD file relative to
+                                            #   this file, checked to exist before any run)
     label = "Axial load"                    # of the parameter, for tables and plots
     unit = "N"                              # SI unit of the values (the scene's)
     display_unit = "kN"                     # optional: printed unit and its
@@ -29,8 +31,14 @@ interrupted study continues where it stopped. The runs are jobs on Dask (flexbea
 `--workers N` runs N at once on a LocalCluster (default: one per CPU; 1: one after the other in
 this process), `--scheduler tcp://HOST:PORT` on an existing Dask cluster; each run is the same
 deterministic integration wherever it runs. A flexible cage's reduced cage is built (or found in
-the cache) once per distinct cage before the runs start and reaches them by path. A run that
-fails is reported and the others go on.
+the cache) once per distinct cage before the runs start and reaches them by path; its first
+elastic modes (flexbearing.studies.cage_modes: frequency, family, wave number) go into the
+study's table of cage modes, one row per variant. A run that fails is reported and the others go on.
+
+A cage study varies the cage: `keys = ["cage.pocket_diameter"]`, `["cage.land_width"]`, a web
+(`["cage.outside_diameter"]`, ...) or `keys = ["cage.cad"]` with `values = ["a.step", "b.step"]`
+(each run's cage from its CAD file; the table's first column then names the file and the plots
+put the runs side by side in the order given).
 
 Results, in DIR/<name>/:
 
@@ -39,7 +47,8 @@ Results, in DIR/<name>/:
                  the cage's motion, flexbearing.analysis.windows.cage_motion_table, as cage_<key>: eccentricity
                  ratio, share on the rim, whirl ratio, centre speed, velocity dispersion, time held
                  at one azimuth), SI, with
-                 the value of the parameter and the run's wall time
+                 the value of the parameter and the run's wall time; a flexible cage's first
+                 elastic modes (cage_modes)
     study.md     per quantity, its peak, p99 and mean in each window against the parameter; the
                  cage motion per window
     study.html   the same with the plots, one self-contained page (flexbearing.analysis.html_page)
@@ -73,6 +82,8 @@ from flexbearing.simulation.stopped import StudyIncomplete
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
               "display_scale", "settle")
+# keys whose string values name files, relative to the study file
+FILE_KEYS = ("cage.cad",)
 _PATH_PART = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
 
 
@@ -93,8 +104,16 @@ class Study:
 
     @property
     def parameter(self) -> list[float]:
-        """The first key's value of each run (the plots' abscissa), SI."""
-        return [float(v[0]) for v in self.values]
+        """The first key's value of each run (the plots' abscissa), SI; a string value (a file)
+        has none: the run's index stands for it."""
+        return [float(i) if isinstance(v[0], str) else float(v[0]) for i, v in enumerate(self.values)]
+
+    def value_text(self, i: int) -> str:
+        """The first key's value of run i as printed: in the display unit, or a file's name."""
+        v = self.values[i][0]
+        if isinstance(v, str):
+            return Path(v).name
+        return f"{v * self.display_scale:g}"
 
     @property
     def axis_label(self) -> str:
@@ -171,9 +190,9 @@ def load_study(path) -> Study:
         if isinstance(v, list):
             if len(v) != len(keys):
                 raise InputError(f"{where} = {v!r} has {len(v)} entries; allowed: one per key ({len(keys)})")
-            runs.append(tuple(_number(f"{where}[{j}]", x) for j, x in enumerate(v)))
+            runs.append(tuple(_value(f"{where}[{j}]", x, keys[j], path) for j, x in enumerate(v)))
         else:
-            runs.append((_number(where, v),) * len(keys))
+            runs.append(tuple(_value(where, v, k, path) for k in keys))
     unit = s.get("unit", "")
     scale = _number("study.display_scale", s.get("display_scale", 1.0), 0.0, None, lo_open=True)
     settle = _number("study.settle", s.get("settle", 0.0), 0.0, None, unit="s")
@@ -185,7 +204,7 @@ def load_study(path) -> Study:
         for j, (k, parts) in enumerate(zip(keys, split)):
             set_key(d, parts, v[j], f"study.keys[{j}] = {k!r}")
         d["name"] = f"{name}_{i}"
-        setting = ", ".join(f"{k} = {x:g}" for k, x in zip(keys, v))
+        setting = ", ".join(f"{k} = {_text(x)}" for k, x in zip(keys, v))
         d["description"] = f"{s.get('description', name)}: {setting}"
         try:
             # no TOML text: the results file then keeps the run's own parsed scene (as JSON), which
@@ -201,6 +220,26 @@ def load_study(path) -> Study:
                  keys=tuple(keys), values=tuple(runs), label=str(s.get("label", keys[0])),
                  unit=str(unit), display_unit=str(s.get("display_unit", unit)), display_scale=float(scale),
                  settle=float(settle), scenes=tuple(scenes), path=str(path))
+
+
+def _value(where: str, x, key: str, study_path: Path):
+    """A study value: a number, or a string for a string key; a file key's string is a file
+    relative to the study file, which must exist (refused before any run)."""
+    if not isinstance(x, str):
+        return _number(where, x)
+    if key not in FILE_KEYS:
+        return x                     # a string key (cage.guidance, ...): the scene validates it
+    f = Path(x)
+    if not f.is_absolute():
+        f = (study_path.parent / f).resolve()
+    if not f.is_file():
+        raise InputError(f"{where} = {x!r}: no such file (for {key}, relative to the study file "
+                         f"{str(study_path)!r})")
+    return str(f)
+
+
+def _text(x) -> str:
+    return Path(x).name if isinstance(x, str) and ("/" in x or "\\" in x) else (x if isinstance(x, str) else f"{x:g}")
 
 
 # ---------------------------------------------------------------- running
@@ -291,7 +330,7 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
     def done(i, summary):
         summaries[i] = summary
         if not quiet:
-            v = f"{study.values[i][0] * study.display_scale:g} {study.display_unit}".rstrip()
+            v = f"{study.value_text(i)} {study.display_unit}".rstrip()
             print(f"   run {i + 1}/{n} ({study.label} {v}): "
                   f"wall {summary.get('wall_time_s', float('nan')):.1f} s", flush=True)
 
@@ -321,7 +360,7 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
         raise StudyIncomplete(f"{len(failures)} of {n} runs failed ({'; '.join(map(str, failures))}); "
                               f"the other runs are finished in {folder}: run the study again to retry "
                               f"the failed ones", failures=failures)
-    result = collect(study, out_dir, summaries)
+    result = collect(study, out_dir, summaries, _variant_cage_modes(study, cages))
     result["wall_time_s"] = time.perf_counter() - t0
     (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
     plots = write_study_plots(study, result, folder)
@@ -329,6 +368,26 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
                                      + "\n".join(f"![{p.stem}]({p.name})" for p in plots) + "\n")
     write_html(folder / "study.md")      # the tables and the plots in one self-contained page
     return result
+
+
+def _variant_cage_modes(study: Study, cages: dict) -> dict:
+    """Run index -> the first elastic modes of its reduced cage (flexbearing.studies.cage_modes),
+    for the flexible-cage runs: the file built for this study, or (a run finished before) the
+    cache's, not rebuilt when it is gone (the table then shows none)."""
+    from flexbearing.coupling.flexible_cage import reduced_cage_key
+    from flexbearing.fem_cage.reduced_cage import find_cached
+    from flexbearing.studies.cage_modes import cage_modes
+    out, seen = {}, {}
+    for i, sc in enumerate(study.scenes):
+        if sc.cage_model != "flexible":
+            continue
+        h = reduced_cage_hash(sc)
+        if h not in seen:
+            path = cages.get(h) or find_cached(reduced_cage_key(sc))
+            seen[h] = None if path is None else [m._asdict() for m in cage_modes(path)]
+        if seen[h] is not None:
+            out[i] = seen[h]
+    return out
 
 
 def _json_default(o):
@@ -356,8 +415,9 @@ def window_id(row: dict, ids: dict) -> str:
     return ids.get((group, round(row["t_end"], 12)), row["label"])
 
 
-def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
-    """study.json content from the runs' results files (flexbearing.analysis.windows.phase_table each)."""
+def collect(study: Study, out_dir, summaries: dict | None = None, cage_modes: dict | None = None) -> dict:
+    """study.json content from the runs' results files (flexbearing.analysis.windows.phase_table each);
+    `cage_modes`: run index -> its cage's first elastic modes (_variant_cage_modes)."""
     runs = []
     for i, (v, x) in enumerate(zip(study.values, study.parameter)):
         path = run_path(out_dir, study, i)
@@ -369,7 +429,9 @@ def collect(study: Study, out_dir, summaries: dict | None = None) -> dict:
             w.update({f"cage_{key}": m.get(key) for _, key, _, _ in MOTION_ROWS})
         s = (summaries or {}).get(i, {})
         runs.append({"index": i, "values": dict(zip(study.keys, v)), "parameter": x,
-                     "results_file": str(path), "wall_time_s": s.get("wall_time_s"), "windows": windows})
+                     "parameter_text": study.value_text(i),
+                     "results_file": str(path), "wall_time_s": s.get("wall_time_s"), "windows": windows,
+                     **({"cage_modes": cage_modes[i]} if cage_modes and i in cage_modes else {})})
     return {"study": {"name": study.name, "description": study.description, "scene": study.scene_path,
                       "keys": list(study.keys), "label": study.label, "unit": study.unit,
                       "settle_s": study.settle},
@@ -407,7 +469,7 @@ def _markdown_rows(study: Study, result: dict, title: str, column: str, cell) ->
     ids, rows = study_column(result, column)
     lines = [f"## {title}", "", "| " + " | ".join([study.axis_label] + ids) + " |", "|" + "---:|" * (len(ids) + 1)]
     for r, vals in zip(result["runs"], rows):
-        cells = [f"{r['parameter'] * study.display_scale:g}"] + ["–" if x is None else cell(x) for x in vals]
+        cells = [r["parameter_text"]] + ["–" if x is None else cell(x) for x in vals]
         lines.append("| " + " | ".join(cells) + " |")
     return lines + [""]
 
@@ -428,7 +490,29 @@ def study_markdown(study: Study, result: dict) -> str:
         if any(w.get(f"cage_{key}") is not None for r in result["runs"] for w in r["windows"]):
             lines += _markdown_rows(study, result, f"Cage motion: {label}", f"cage_{key}",
                                     lambda x, s=scale, f=fmt: f.format(x * s))
+    lines += cage_modes_markdown(study, result)
     return "\n".join(lines)
+
+
+def cage_modes_markdown(study: Study, result: dict) -> list[str]:
+    """The table of each variant's first elastic cage modes (frequency, family, n), when the runs
+    have a flexible cage."""
+    from flexbearing.studies.cage_modes import mode_cell
+    runs = [r for r in result["runs"] if r.get("cage_modes")]
+    if not runs:
+        return []
+    numbers = list(dict.fromkeys(m["mode"] for r in runs for m in r["cage_modes"]))
+    lines = ["## Cage modes", "",
+             "First elastic modes of each variant's reduced cage (free–free, Craig–Bampton Ritz values; "
+             "numbered with the 6 rigid modes; family and circumferential wave number n, "
+             "flexbearing.fem_cage.classify).", "",
+             "| " + " | ".join([study.axis_label] + [f"mode {k}" for k in numbers]) + " |",
+             "|" + "---:|" * (len(numbers) + 1)]
+    for r in runs:
+        by = {m["mode"]: m for m in r["cage_modes"]}
+        lines.append("| " + " | ".join([r["parameter_text"]] + [mode_cell(by[k]) if k in by else "–"
+                                                                for k in numbers]) + " |")
+    return lines + [""]
 
 
 def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
@@ -438,7 +522,8 @@ def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     folder = Path(folder)
-    x = [r["parameter"] * study.display_scale for r in result["runs"]]
+    files = any(isinstance(v[0], str) for v in study.values)
+    x = [r["parameter"] * (1.0 if files else study.display_scale) for r in result["runs"]]
     paths = []
     cols = _quantity_columns(result)
     for key in dict.fromkeys(k for k, _ in cols):
@@ -452,6 +537,8 @@ def write_study_plots(study: Study, result: dict, folder) -> list[Path]:
                 style = dict(lw=2.2, color="k") if wid == "whole run" else dict(lw=1.2, marker="o", ms=3)
                 ax.plot(x, y, label=wid, **style)
             ax.set_xlabel(study.axis_label)
+            if files:                                   # the runs side by side, named by their file
+                ax.set_xticks(x, [r["parameter_text"] for r in result["runs"]], rotation=20, fontsize=7)
             ax.set_ylabel(f"{q.label}, {stat} [{q.display_unit}]")
             ax.grid(alpha=0.3)
         axes[0][0].legend(fontsize=7)

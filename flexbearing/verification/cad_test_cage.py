@@ -14,11 +14,16 @@ import math
 Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0   # mm, degrees
 
 
+DIMPLE = 2.0        # mm: radius of the spherical dimple on the outside (`make_cad_cage(dimple=True)`)
+
+
 def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere_offset_mm: float = 0.0,
-                  scale: float = 1.0, shape: str = "spherical"):
+                  scale: float = 1.0, shape: str = "spherical", dimple: bool = False):
     """Write the test cage to `path` (.step in mm, or .brep in mm·scale); pocket 3 moved radially
     by sphere_offset_mm (a pocket off the pitch circle, for the refusal); shape "cylindrical":
-    radial cylinders through the ring instead of the spheres. Returns the path."""
+    radial cylinders through the ring instead of the spheres; dimple: a spherical dimple of
+    DIMPLE mm centred on the outside between pockets 0 and 1 (a sphere the geometric search
+    takes for a fifteenth pocket; named groups leave it out). Returns the path."""
     import gmsh
     gmsh.initialize()
     try:
@@ -37,6 +42,9 @@ def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere
                 continue
             r = pitch / 2 + (sphere_offset_mm if k == 3 else 0.0)
             tools.append((3, occ.addSphere(0, r * math.cos(th), r * math.sin(th), dp / 2)))
+        if dimple:
+            th = math.pi / z + math.radians(TURN)
+            tools.append((3, occ.addSphere(0, OD / 2 * math.cos(th), OD / 2 * math.sin(th), DIMPLE)))
         ring, _ = occ.cut(ring, tools)
         if scale != 1.0:
             occ.dilate(ring, 0, 0, 0, scale, scale, scale)
@@ -44,4 +52,59 @@ def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere
         gmsh.write(str(path))
     finally:
         gmsh.finalize()
+    return path
+
+
+def make_named_cad_cage(path, guidance: str = "inner", wrong: str = "", **cage):
+    """Write the test cage as STEP (`make_cad_cage(**cage)`, beside `path`) and the gmsh .geo
+    `path` that merges it and names its faces by the convention of flexbearing.mesh.cad_cage:
+    `pocket_1` … `pocket_Z` (pocket k+1 the faces within a pocket radius of its sphere's centre),
+    `guide` (the bore for "inner", the outside for "outer"). The faces are found here from the
+    numbers the cage is drawn with (their bounding boxes), independently of the reader.
+    `wrong` makes the names disagree with the geometry: "count" (the last pocket group left
+    out), "side_as_pocket" (pocket_4 names a side face), "outside_as_guide" (the guide named on
+    the outside of an inner-guided cage), "pocket_as_guide" (a pocket face in the guide group).
+    Returns the path of the .geo."""
+    import gmsh
+    from pathlib import Path
+    path = Path(path)
+    step = make_cad_cage(path.with_suffix(".step"), **cage)
+    pockets, bore, outside, sides = [[] for _ in range(Z)], [], [], []
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.occ.importShapes(str(step))
+        gmsh.model.occ.synchronize()
+        for _, s in gmsh.model.getEntities(2):
+            x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(2, s)
+            c = [(x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2]
+            if abs(x1 - x0) < 1e-3:
+                sides.append(s)
+                continue
+            for k in range(Z):
+                th = 2 * math.pi * k / Z + math.radians(TURN)
+                centre = (0.0, PITCH / 2 * math.cos(th), PITCH / 2 * math.sin(th))
+                if math.dist(c, centre) < DP / 2 and abs(x1 - x0) < DP + 1e-3 and abs(x1 - x0) < WIDTH - 1e-3:
+                    pockets[k].append(s)
+                    break
+            else:
+                if y1 - y0 > BORE - 1e-3:       # a whole ring cylinder: its radius is half its span
+                    (outside if (y1 - y0) / 2 > PITCH / 2 else bore).append(s)
+    finally:
+        gmsh.finalize()
+    assert all(len(f) == 1 for f in pockets) and len(bore) == 1 and len(outside) == 1, (pockets, bore, outside)
+    guide = bore if guidance == "inner" else outside
+    names = [(f"pocket_{k + 1}", f) for k, f in enumerate(pockets)]
+    if wrong == "count":
+        names = names[:-1]
+    elif wrong == "side_as_pocket":
+        names[3] = ("pocket_4", [sides[0]])
+    elif wrong == "outside_as_guide":
+        guide = outside
+    elif wrong == "pocket_as_guide":
+        guide = guide + pockets[0][:1]
+    lines = ['SetFactory("OpenCASCADE");', f'Merge "{step.name}";']
+    lines += [f'Physical Surface("{n}") = {{{", ".join(map(str, f))}}};' for n, f in names]
+    lines.append(f'Physical Surface("guide") = {{{", ".join(map(str, guide))}}};')
+    path.write_text("\n".join(lines) + "\n")
     return path
