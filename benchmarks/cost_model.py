@@ -58,8 +58,14 @@ from flexbearing.multibody.profiles import speed_at  # noqa: E402
 
 
 # ---------------------------------------------------------------- compiled loops over the parts
+# The loops over the rhs's kernels are compiled as rhs is, without NRT reference counting
+# (flexbearing.multibody.dynamics: the kernels are inlined, and with it every array they take would
+# cost an atomic increment and decrement per ball). Not cached on disk: numba keys a cached function on its own source file only, and these loops
+# link the right-hand side's kernels into their machine code, so a cached loop would go on timing
+# the kernels of the day it was cached after dynamics.py changed (measured: a stale loop_rhs timed
+# a 15 us rhs for one of 14 us). Compiling them takes a few seconds per run.
 
-@njit(cache=True)
+@njit
 def loop_rhs(n, t, y, dydt, p, flags, htab, ttab, sp, ld, imp, work, cage):
     acc = 0.0
     for _ in range(n):
@@ -68,7 +74,7 @@ def loop_rhs(n, t, y, dydt, p, flags, htab, ttab, sp, ld, imp, work, cage):
     return acc
 
 
-@njit(cache=True)
+@njit(_nrt=False)
 def loop_contacts(n, y, p, flags, htab, ttab, omega_i, work):
     """The race contacts of every ball: flexbearing.multibody.dynamics.ball_race_contacts as rhs calls it
     (the 2–3 ball–race contacts of D._race, the ring's reactions, the work columns)."""
@@ -86,7 +92,7 @@ def loop_contacts(n, y, p, flags, htab, ttab, omega_i, work):
     return acc
 
 
-@njit(cache=True)
+@njit(_nrt=False)
 def loop_pockets(n, y, p, flags, cage, work):
     """Every pocket: flexbearing.multibody.dynamics.ball_pocket as rhs calls it (pose of the interface node,
     the ball–pocket force, the node load onto the floating frame; the film coefficients once per
@@ -128,7 +134,7 @@ def loop_pockets(n, y, p, flags, cage, work):
     return acc
 
 
-@njit(cache=True)
+@njit
 def loop_land(n, y, p, flags):
     z = int(p[M.P_Z])
     c0 = SL.cage_offset(z)
@@ -140,7 +146,7 @@ def loop_land(n, y, p, flags):
     return acc
 
 
-@njit(cache=True)
+@njit(_nrt=False)
 def loop_drag(n, y, p, flags, work):
     """The churning drag of every ball: flexbearing.multibody.dynamics.ball_churning_drag as rhs calls it."""
     z = int(p[M.P_Z])
@@ -155,7 +161,7 @@ def loop_drag(n, y, p, flags, work):
     return acc
 
 
-@njit(cache=True)
+@njit
 def loop_cage_equations(n, y, dydt, p, cage, lfy, lfz, lmx):
     z = int(p[M.P_Z])
     c0 = SL.cage_offset(z)

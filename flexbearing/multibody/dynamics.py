@@ -631,8 +631,14 @@ def _flag(work, zb, status, ball, contact, value):
         work[zb, WR_BAD_VALUE] = value
 
 
-# ---------------------------------------------------------------- named results of the kernels
-# Namedtuples are value types in nopython mode (no allocation); their fields are read by name.
+# ---------------------------------------------------------------- the kernels of `rhs`
+# Named results: namedtuples are value types in nopython mode (no allocation); fields read by name.
+# Compilation: the kernels are inlined into `rhs` by numba (inline="always"; as separate LLVM
+# functions they are not inlined and the calls cost ~1 us per rhs), and `rhs` and the kernels are
+# compiled without NRT reference counting (_nrt=False; they allocate nothing): with it every array a
+# kernel takes costs an atomic increment and decrement per ball (measured: 20 us per rhs instead
+# of 14 us at the paper's rigid-cage state). Both are numba options that change the machine code
+# only, never the arithmetic: dy/dt is bit-identical to the single-function rhs (benchmarks/rhs_ab.py).
 BallState = namedtuple("BallState", "x r psi x_dot r_dot psi_dot w_x w_r w_t cos_psi sin_psi v_t")
 BallState.__doc__ = "Ball j's state slots (state_layout.BALL_*), cos/sin of its azimuth and its orbital speed r·psi'."
 RingState = namedtuple("RingState", "x y z tilt_y tilt_z vx vy vz tilt_y_dot tilt_z_dot")
@@ -658,7 +664,7 @@ CageFrame.__doc__ = ("The cage's arrays the pockets use, taken once per rhs (eve
                      "rows, modal coordinates, node loads, node geometry and modes, modal force Q_ext.")
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ball_state(y, j):
     """Ball j's slots of y (state_layout) with cos psi, sin psi and v_t = r·psi'."""
     o = ball_offset(j)
@@ -669,7 +675,7 @@ def ball_state(y, j):
                      y[o + BALL_W_R], y[o + BALL_W_T], math.cos(psi), math.sin(psi), r * psid)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ring_state(y, r0):
     """The inner ring's positions and rates (state_layout.RING_*) from its block at r0."""
     return RingState(y[r0 + RING_X], y[r0 + RING_Y], y[r0 + RING_Z], y[r0 + RING_TILT_Y], y[r0 + RING_TILT_Z],
@@ -677,7 +683,7 @@ def ring_state(y, r0):
                      y[r0 + RING_TILT_Z_DOT])
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _record_race_contact(work, j, c, res, ft):
     """Contact c of ball j into its work columns (model.WC_*), ft the tangential force with the lean term."""
     wc = c * N_WC
@@ -697,7 +703,7 @@ def _record_race_contact(work, j, c, res, ft):
     work[j, wc + WC_P_DAMPING] = res.p_damping
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def inner_race_reaction(res, ft, ft_lean, b, ring, x0, rr0, rl):
     """The inner ring's share of one inner contact (`_race`), added to the ring load rl.
 
@@ -743,7 +749,7 @@ def inner_race_reaction(res, ft, ft_lean, b, ring, x0, rr0, rl):
                     rmz + (m3 - res.cr * sn + h3))
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl):
     """Ball j's race contacts (`_race`: Hertz Q = K·delta^1.5, EHL traction, rolling resistance,
     damping; outer, inner-left and on a split ring inner-right), added to the ball load and the
@@ -816,7 +822,7 @@ def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl
     return BallRaceContacts(load, rl, ctl)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ball_pocket(j, b, y, c0, m0, A, w_body, pos, vel, axv, wn, Fc, Tn, q_modes, nl, node_position, node_modes, q_ext,
                 xc, yc, zc, p, flags, c_roll, c_slide, c_root, work, load):
     """Ball j in its pocket (`_pocket_force`, paper §2.3.1): the force on the ball added to its load,
@@ -884,7 +890,7 @@ def ball_pocket(j, b, y, c0, m0, A, w_body, pos, vel, axv, wn, Fc, Tn, q_modes, 
     return load
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load):
     """Churning drag on the orbiting ball j in the oil–air mixture at rest (flexbearing.multibody.drag):
     F_d = ½·rho_mix·C_d(Re)·(pi·Dw²/4)·v², v = r·psi', along −e_t; with the option ball_drag_moment the
@@ -906,7 +912,7 @@ def ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load):
                     load.mt - c_spin * b.w_t)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def race_control_couple(b, load, ctl, omega_i, ring, p, flags, rl):
     """Which race controls ball b's attitude (`control_race`) and, with race control or no pivoting
     and the option attitude_ring_reaction, the inner ring's reaction to the gyroscopic couple
@@ -943,7 +949,7 @@ def race_control_couple(b, load, ctl, omega_i, ring, p, flags, rl):
     return Attitude(c, cnx, cnr, w_ring, ux, ur, rl)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ball_equations(j, b, load, att, p, dydt):
     """dy/dt of ball j (module docstring): Newton in the orbiting frame,
         m_b·x'' = F_x,  m_b·(r'' − r·psi'²) = F_r,  m_b·(r·psi'' + 2·r'·psi') = F_t,
@@ -998,7 +1004,7 @@ def ball_equations(j, b, load, att, p, dydt):
     return rl
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl):
     """An inner-ring land (`_cage_guidance`) puts the opposite of its force and torque on the ring,
     the force applied at the cage centre (so the pair conserves angular momentum)."""
@@ -1008,7 +1014,7 @@ def guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl):
     return RingLoad(rl.fx, rl.fy - g.fy, rl.fz - g.fz, rl.mx + (m1 - g.mx), rl.my + m2, rl.mz + m3)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def inner_ring_equations(y, dydt, r0, omega_i, rl, work, zb, p):
     """dy/dt of the inner ring (module docstring): m_i·(x'', y'', z'') = F_ext(t) + race reactions
     (− m_i·g along Z), I_d·theta_y'' = M_y − I_p·omega_i·theta_z', I_d·theta_z'' = M_z +
@@ -1028,7 +1034,7 @@ def inner_ring_equations(y, dydt, r0, omega_i, rl, work, zb, p):
     work[zb, WR_RING_TORQUE] = rl.mx
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, w_b, cage, flags, work, zb):
     """Dissipated power of the guide land and of the cage's modal damping (flexbearing.multibody.power_loss):
     the land's force, torque and distributed modal loads on the cage, less the rim's normal force,
@@ -1062,7 +1068,7 @@ def land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, w_b,
     work[zb, WR_P_STRUCTURAL] = p_struct
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work, cage):
     """dy/dt of the bearing at time t (module docstring); fills `work` with the contact results.
 
