@@ -51,16 +51,21 @@ sys.path.insert(0, str(ROOT))
 from flexbearing.multibody import dynamics as D  # noqa: E402
 from flexbearing.multibody import integrator as I  # noqa: E402
 from flexbearing.multibody import model as M  # noqa: E402
-from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose_arrays  # noqa: E402
-from flexbearing.multibody.drag import churning_drag, oil_air_mixture  # noqa: E402
-from flexbearing.multibody.floating_frame import add_node_load  # noqa: E402
-from flexbearing.multibody.geometry import ring_point_in_plane, ring_velocity_in_plane  # noqa: E402
+from flexbearing.multibody import state_layout as SL  # noqa: E402
+from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation  # noqa: E402
+from flexbearing.multibody.drag import oil_air_mixture  # noqa: E402
 from flexbearing.multibody.profiles import speed_at  # noqa: E402
 
 
 # ---------------------------------------------------------------- compiled loops over the parts
+# The loops over the rhs's kernels are compiled as rhs is, without NRT reference counting
+# (flexbearing.multibody.dynamics: the kernels are inlined, and with it every array they take would
+# cost an atomic increment and decrement per ball). Not cached on disk: numba keys a cached function on its own source file only, and these loops
+# link the right-hand side's kernels into their machine code, so a cached loop would go on timing
+# the kernels of the day it was cached after dynamics.py changed (measured: a stale loop_rhs timed
+# a 15 us rhs for one of 14 us). Compiling them takes a few seconds per run.
 
-@njit(cache=True)
+@njit
 def loop_rhs(n, t, y, dydt, p, flags, htab, ttab, sp, ld, imp, work, cage):
     acc = 0.0
     for _ in range(n):
@@ -69,58 +74,37 @@ def loop_rhs(n, t, y, dydt, p, flags, htab, ttab, sp, ld, imp, work, cage):
     return acc
 
 
-@njit(cache=True)
-def loop_contacts(n, y, p, flags, htab, ttab, omega_i):
-    """The 3 ball–race contacts of every ball, arguments as flexbearing.multibody.dynamics.rhs builds them."""
+@njit(_nrt=False)
+def loop_contacts(n, y, p, flags, htab, ttab, omega_i, work):
+    """The race contacts of every ball: flexbearing.multibody.dynamics.ball_race_contacts as rhs calls it
+    (the 2–3 ball–race contacts of D._race, the ring's reactions, the work columns)."""
     z = int(p[M.P_Z])
-    r0 = 9 * z
-    xi, yi, zi, ty, tz = y[r0], y[r0 + 1], y[r0 + 2], y[r0 + 3], y[r0 + 4]
-    vxi, vyi, vzi, tyd, tzd = y[r0 + 5], y[r0 + 6], y[r0 + 7], y[r0 + 8], y[r0 + 9]
+    ring = D.ring_state(y, SL.ring_offset(z))
     acc = 0.0
     for _ in range(n):
+        rl = D.RingLoad(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         for j in range(z):
-            o = 9 * j
-            xb, rb, psi = y[o], y[o + 1], y[o + 2]
-            vbx, vbr, psid = y[o + 3], y[o + 4], y[o + 5]
-            w_x, w_r, w_t = y[o + 6], y[o + 7], y[o + 8]
-            cs = math.cos(psi)
-            sn = math.sin(psi)
-            vbt = rb * psid
-            rv_x, rv_r, rv_t, g1, g2, ring_rc = ring_velocity_in_plane(psi, omega_i, xi, yi, zi, vxi, vyi,
-                                                                       vzi, tyd, tzd)
-            rv_r_trans = vyi * cs + vzi * sn
-            res = D._race(0, xb, rb, p[M.P_XO], p[M.P_RO], p[M.P_FE], vbx, vbr, vbt, w_x, w_r, w_t, psid,
-                          0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, p, flags, htab, ttab)
-            acc += res[0]
-            for c in (1, 2):
-                if c == 1:
-                    x0 = p[M.P_XIL]
-                    rr0 = p[M.P_RIL]
-                else:
-                    x0 = p[M.P_XIR]
-                    rr0 = p[M.P_RIR]
-                xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
-                th_rate = (tyd * sn - tzd * cs) + (ty * cs + tz * sn) * psid
-                cd_x = vxi + rr0 * th_rate
-                cd_r = rv_r_trans + (-yi * sn + zi * cs) * psid - x0 * th_rate
-                res = D._race(1, xb, rb, xc_g, rc_g, p[M.P_FI], vbx, vbr, vbt, w_x, w_r, w_t, psid,
-                              rv_x, rv_r, rv_t, omega_i, ring_rc, g1, g2, cd_x, cd_r, p, flags, htab, ttab)
-                acc += res[0]
+            b = D.ball_state(y, j)
+            load = D.BallLoad(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            res = D.ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl)
+            rl = res.ring
+            acc += res.ball.fx
     return acc
 
 
-@njit(cache=True)
-def loop_pockets(n, y, p, flags, cage):
-    """Every pocket: pose of its interface node, the ball–pocket force, the node load onto the
-    floating frame (as flexbearing.multibody.dynamics.rhs: its film coefficients once per call, the scratch
-    rows and the modal coordinates taken once)."""
+@njit(_nrt=False)
+def loop_pockets(n, y, p, flags, cage, work):
+    """Every pocket: flexbearing.multibody.dynamics.ball_pocket as rhs calls it (pose of the interface node,
+    the ball–pocket force, the node load onto the floating frame; the film coefficients once per
+    call, the scratch rows and the modal coordinates taken once)."""
     z = int(p[M.P_Z])
-    c0 = 9 * z + 11
-    m0 = c0 + 12
+    c0 = SL.cage_offset(z)
+    m0 = SL.modal_offset(z)
     A = cage.A
     scr = cage.scratch
     acc = 0.0
     nm = cage.stiffness.shape[0]
+    q_modes = y[m0:m0 + nm]
     w_body = scr[1]
     pos = scr[3]
     vel = scr[4]
@@ -128,72 +112,67 @@ def loop_pockets(n, y, p, flags, cage):
     wn = scr[6]
     Fc = scr[7]
     Tn = scr[2]
-    q_modes = y[m0:m0 + nm]
+    nl = cage.node_load
+    node_position = cage.node_position
+    node_modes = cage.node_modes
+    Qext = cage.Qext
+    xc = y[c0 + SL.CAGE_X]
+    yc = y[c0 + SL.CAGE_Y]
+    zc = y[c0 + SL.CAGE_Z]
     for _ in range(n):
-        cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
+        cage_rotation(y[c0 + SL.CAGE_PHI], y[c0 + SL.CAGE_TILT_Y], y[c0 + SL.CAGE_TILT_Z], A)
         cage_body_angular_velocity(A, y, c0, w_body)
         c_roll, c_slide, c_root = D.pocket_film_coefficients(p, flags)
-        for k in range(cage.Qext.shape[0]):
-            cage.Qext[k] = 0.0
+        for k in range(Qext.shape[0]):
+            Qext[k] = 0.0
         for j in range(z):
-            o = 9 * j
-            xb, rb, psi = y[o], y[o + 1], y[o + 2]
-            vbx, vbr, psid = y[o + 3], y[o + 4], y[o + 5]
-            w_x, w_r, w_t = y[o + 6], y[o + 7], y[o + 8]
-            cs = math.cos(psi)
-            sn = math.sin(psi)
-            vbt = rb * psid
-            pocket_pose_arrays(j, y, c0, m0, A, cage.node_position, cage.node_modes, w_body, pos, vel, axv, wn)
-            pk = D._pocket_force(xb, rb * cs, rb * sn, vbx, vbr * cs - vbt * sn, vbr * sn + vbt * cs, w_x,
-                                 w_r * cs - w_t * sn, w_r * sn + w_t * cs, pos[0], pos[1], pos[2],
-                                 axv[0], axv[1], axv[2], vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
-                                 y[c0], y[c0 + 1], y[c0 + 2], p, flags, c_roll, c_slide, c_root)
-            Fc[0] = -pk[0]
-            Fc[1] = -pk[1]
-            Fc[2] = -pk[2]
-            Tn[0] = -pk[3]
-            Tn[1] = -pk[4]
-            Tn[2] = -pk[5]
-            add_node_load(A, q_modes, cage.node_position, cage.node_modes, j, Fc, Tn, cage.Qext)
-            acc += pk[9]
+            b = D.ball_state(y, j)
+            load = D.BallLoad(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            load = D.ball_pocket(j, b, y, c0, m0, A, w_body, pos, vel, axv, wn, Fc, Tn, q_modes, nl, node_position,
+                                 node_modes, Qext, xc, yc, zc, p, flags, c_roll, c_slide, c_root, work, load)
+            acc += load.fx
     return acc
 
 
-@njit(cache=True)
+@njit
 def loop_land(n, y, p, flags):
     z = int(p[M.P_Z])
-    c0 = 9 * z + 11
+    c0 = SL.cage_offset(z)
     acc = 0.0
     for _ in range(n):
-        r = D._guide_land(y[c0 + 1], y[c0 + 2], y[c0 + 7], y[c0 + 8], y[c0 + 9], p, flags)
-        acc += r[0]
+        r = D._guide_land(y[c0 + SL.CAGE_Y], y[c0 + SL.CAGE_Z], y[c0 + SL.CAGE_VY], y[c0 + SL.CAGE_VZ],
+                          y[c0 + SL.CAGE_OMEGA], p, flags)
+        acc += r.fy
     return acc
 
 
-@njit(cache=True)
-def loop_drag(n, y, p):
+@njit(_nrt=False)
+def loop_drag(n, y, p, flags, work):
+    """The churning drag of every ball: flexbearing.multibody.dynamics.ball_churning_drag as rhs calls it."""
     z = int(p[M.P_Z])
     dw = p[M.P_DW]
     rho_mix, eta_mix = oil_air_mixture(p[M.P_OILFRAC], p[M.P_RHO_OIL], p[M.P_ETA0])
     acc = 0.0
     for _ in range(n):
         for j in range(z):
-            acc += churning_drag(dw, y[9 * j + 1] * y[9 * j + 5], rho_mix, eta_mix)
+            b = D.ball_state(y, j)
+            load = D.BallLoad(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            acc += D.ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load).ft
     return acc
 
 
-@njit(cache=True)
+@njit
 def loop_cage_equations(n, y, dydt, p, cage, lfy, lfz, lmx):
     z = int(p[M.P_Z])
-    c0 = 9 * z + 11
-    m0 = c0 + 12
+    c0 = SL.cage_offset(z)
+    m0 = SL.modal_offset(z)
     A = cage.A
     acc = 0.0
     for _ in range(n):
-        cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
+        cage_rotation(y[c0 + SL.CAGE_PHI], y[c0 + SL.CAGE_TILT_Y], y[c0 + SL.CAGE_TILT_Z], A)
         cage_body_angular_velocity(A, y, c0, cage.scratch[1])
         cage_equations(y, dydt, c0, m0, cage, lfy, lfz, lmx, p[M.P_GRAV])
-        acc += dydt[c0 + 6]
+        acc += dydt[c0 + SL.CAGE_VX]
     return acc
 
 
@@ -345,8 +324,8 @@ def stable_step(lam: complex, R) -> float:
 def state_label(model, k: int) -> str:
     lay = M.state_layout(model)
     z = model.n_balls
-    if k < 9 * z:
-        return f"ball {k // 9 + 1} {lay['ball_fields'][k % 9]}"
+    if k < lay["ring"]:
+        return f"ball {k // SL.BALL_STATE + 1} {lay['ball_fields'][k % SL.BALL_STATE]}"
     if k < lay["cage"]:
         return f"ring {lay['ring_fields'][k - lay['ring']]}"
     if k < lay["modes"]:
@@ -390,18 +369,18 @@ def split_parts(model, t, y, sp, ld, imp, flexible: bool) -> dict:
     D.rhs(*base)                                   # cage arrays (Qext, node loads) at this state
     omega_i = speed_at(t, sp)
     res = {"rhs_full_us": full * 1e6}
-    args = (y, model.p, model.flags, model.hertz_table, model.traction_table, omega_i)
+    args = (y, model.p, model.flags, model.hertz_table, model.traction_table, omega_i, work.copy())
     res["contacts_us"] = cpu_per_call(loop_contacts, args, calls_for(loop_contacts, args)) * 1e6
     fl = model.flags.copy()
     fl[M.F_TRACTION] = 0
-    args0 = (y, model.p, fl, model.hertz_table, model.traction_table, omega_i)
+    args0 = (y, model.p, fl, model.hertz_table, model.traction_table, omega_i, work.copy())
     res["contacts_no_traction_us"] = cpu_per_call(loop_contacts, args0, calls_for(loop_contacts, args0)) * 1e6
     res["traction_slices_us"] = res["contacts_us"] - res["contacts_no_traction_us"]
-    a = (y, model.p, model.flags, model.cage)
+    a = (y, model.p, model.flags, model.cage, work.copy())
     res["pockets_us"] = cpu_per_call(loop_pockets, a, calls_for(loop_pockets, a)) * 1e6
     a = (y, model.p, model.flags)
     res["land_us"] = cpu_per_call(loop_land, a, calls_for(loop_land, a)) * 1e6
-    a = (y, model.p)
+    a = (y, model.p, model.flags, work.copy())
     res["drag_us"] = cpu_per_call(loop_drag, a, calls_for(loop_drag, a)) * 1e6
     D.rhs(*base)
     zb = model.n_balls
@@ -522,7 +501,7 @@ def modes_growth(t_state=0.005, counts=(6, 12, 26, 40, 50)) -> dict:
         a = (y, np.zeros_like(y), model.p, model.cage, work[zb, M.WR_LAND_FY], work[zb, M.WR_LAND_FZ],
              work[zb, M.WR_LAND_M])
         ff = cpu_per_call(loop_cage_equations, a, calls_for(loop_cage_equations, a)) * 1e6
-        pk = (y, model.p, model.flags, model.cage)
+        pk = (y, model.p, model.flags, model.cage, work.copy())
         pocket = cpu_per_call(loop_pockets, pk, calls_for(loop_pockets, pk)) * 1e6
         out[nm] = {"rhs_us": us, "floating_frame_us": ff, "pockets_us": pocket, "n_state": int(y.size),
                    "steps_per_ms": n / (t_state * 1e3)}

@@ -65,21 +65,22 @@ def orbital_traction_stiffness(model, y, omega, load, rel_step: float = 1e-4) ->
     the races want the ball to orbit at becomes a pocket-force variation k·dv."""
     from flexbearing.multibody import dynamics as D
     from flexbearing.multibody import model as M
+    from flexbearing.multibody import state_layout as SL
 
     z = model.n_balls
     c0 = M.state_layout(model)["cage"]
     speed_table = np.array([[0.0, omega]])
     load_table = np.array([[0.0, *load]])
     work, dydt = D.new_work(model), np.zeros_like(y)
-    step = rel_step * abs(y[c0 + 9])
+    step = rel_step * abs(y[c0 + SL.CAGE_OMEGA])
     acc = []
     for sign in (1.0, -1.0):
         yy = y.copy()
-        yy[5:9 * z:9] += sign * step
-        yy[c0 + 9] += sign * step
+        yy[SL.BALL_PSI_DOT:SL.ring_offset(z):SL.BALL_STATE] += sign * step
+        yy[c0 + SL.CAGE_OMEGA] += sign * step
         D.rhs(0.0, yy, dydt, model.p, model.flags, model.hertz_table, model.traction_table, speed_table,
               load_table, np.zeros((0, 6)), work, model.cage)
-        acc.append(dydt[5:9 * z:9].copy())
+        acc.append(dydt[SL.BALL_PSI_DOT:SL.ring_offset(z):SL.BALL_STATE].copy())
     return -model.p[M.P_MB] * (acc[0] - acc[1]) / (2.0 * step)
 
 
@@ -89,6 +90,7 @@ def run_dynamics(model, y, omega, load, duration, average_from):
     t >= average_from."""
     from flexbearing.multibody import outputs as O
     from flexbearing.multibody import model as M
+    from flexbearing.multibody import state_layout as SL
     from flexbearing.multibody.integrator import Workspace, advance
 
     z = model.n_balls
@@ -102,9 +104,9 @@ def run_dynamics(model, y, omega, load, duration, average_from):
         y, t, h, _, _ = advance(model, y, t, k * 1e-4, speed_table, load_table, impacts, tol=1e-6, h=h, ws=ws)
         if t >= average_from - 1e-12:
             o = O.evaluate_outputs(model, t, y, speed_table, load_table, impacts)
-            psi.append(y[2:9 * z:9].copy())
+            psi.append(y[SL.BALL_PSI:SL.ring_offset(z):SL.BALL_STATE].copy())
             ft.append(o["pocket_force_tangential"])
-            centre.append(y[c0 + 1:c0 + 3].copy())
+            centre.append(y[c0 + SL.CAGE_Y:c0 + SL.CAGE_Z + 1].copy())
             land.append(o["cage_land_force"])
             resultant.append(o["pocket_force_on_cage"].sum(axis=0))
     return (np.array(psi), np.array(ft), np.mean(centre, axis=0), np.mean(land, axis=0),
@@ -131,6 +133,7 @@ def main(argv=None) -> int:
     from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
     from flexbearing.multibody.model import P_CG, build_model
     from flexbearing.multibody.steady import steady_held_cage_state
+    from flexbearing.multibody import state_layout as SL
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=0.12, help="dynamic run length, s (averaged over its last 40 %%)")
@@ -147,7 +150,7 @@ def main(argv=None) -> int:
         y, info = steady_held_cage_state(model, omega, load)
         t_frozen = time.perf_counter() - t0
         out = info["outputs"]
-        psi0 = y[2:9 * z:9]
+        psi0 = y[SL.BALL_PSI:SL.ring_offset(z):SL.BALL_STATE]
         f0, f1, phi1, rms = harmonic_fit(psi0, out["pocket_force_tangential"])
         t0 = time.perf_counter()
         psi_d, ft_d, centre_d, land_d, res_d = run_dynamics(model, y.copy(), omega, load, args.duration,

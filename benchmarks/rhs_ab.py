@@ -72,18 +72,18 @@ def parts(model, t, y, sp, ld, imp, repeats):
     res["rhs_full_us"] = cpc(CM.loop_rhs, base, CM.calls_for(CM.loop_rhs, base), repeats) * 1e6
     D.rhs(*base)
     omega_i = speed_at(t, sp)
-    a = (y, model.p, model.flags, model.hertz_table, model.traction_table, omega_i)
+    a = (y, model.p, model.flags, model.hertz_table, model.traction_table, omega_i, work.copy())
     res["contacts_us"] = cpc(CM.loop_contacts, a, CM.calls_for(CM.loop_contacts, a), repeats) * 1e6
     fl = model.flags.copy()
     fl[M.F_TRACTION] = 0
-    a0 = (y, model.p, fl, model.hertz_table, model.traction_table, omega_i)
+    a0 = (y, model.p, fl, model.hertz_table, model.traction_table, omega_i, work.copy())
     res["contacts_no_traction_us"] = cpc(CM.loop_contacts, a0, CM.calls_for(CM.loop_contacts, a0), repeats) * 1e6
     res["traction_slices_us"] = res["contacts_us"] - res["contacts_no_traction_us"]
-    a = (y, model.p, model.flags, model.cage)
+    a = (y, model.p, model.flags, model.cage, work.copy())
     res["pockets_us"] = cpc(CM.loop_pockets, a, CM.calls_for(CM.loop_pockets, a), repeats) * 1e6
     a = (y, model.p, model.flags)
     res["land_us"] = cpc(CM.loop_land, a, CM.calls_for(CM.loop_land, a), repeats) * 1e6
-    a = (y, model.p)
+    a = (y, model.p, model.flags, work.copy())
     res["drag_us"] = cpc(CM.loop_drag, a, CM.calls_for(CM.loop_drag, a), repeats) * 1e6
     D.rhs(*base)
     zb = model.n_balls
@@ -120,17 +120,18 @@ def measure(states, out, repeats):
 
 
 def blocks(z, nm):
-    """(name, index array) of every field of the state vector (module docstring)."""
+    """(name, index array) of every field of the state vector (flexbearing.multibody.state_layout)."""
+    from flexbearing.multibody import state_layout as SL
     out = []
+    r0 = SL.ring_offset(z)
     for f, name in enumerate(("x", "r", "psi", "x'", "r'", "psi'", "w_x", "w_r", "w_t")):
-        out.append((f"ball {name}", np.arange(f, 9 * z, 9)))
-    r0 = 9 * z
-    out.append(("ring pos", np.arange(r0, r0 + 5)))
-    out.append(("ring vel", np.arange(r0 + 5, r0 + 11)))
-    c0 = r0 + 11
-    out.append(("cage pos", np.arange(c0, c0 + 6)))
-    out.append(("cage vel", np.arange(c0 + 6, c0 + 12)))
-    m0 = c0 + 12
+        out.append((f"ball {name}", np.arange(f, r0, SL.BALL_STATE)))
+    out.append(("ring pos", np.arange(r0, r0 + SL.RING_POSITIONS)))
+    out.append(("ring vel", np.arange(r0 + SL.RING_POSITIONS, r0 + SL.RING_STATE)))
+    c0 = SL.cage_offset(z)
+    out.append(("cage pos", np.arange(c0, c0 + SL.CAGE_POSITIONS)))
+    out.append(("cage vel", np.arange(c0 + SL.CAGE_POSITIONS, c0 + SL.CAGE_STATE)))
+    m0 = SL.modal_offset(z)
     if nm:
         out.append(("modal q", np.arange(m0, m0 + nm)))
         out.append(("modal q'", np.arange(m0 + nm, m0 + 2 * nm)))

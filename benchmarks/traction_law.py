@@ -35,6 +35,7 @@ from flexbearing.multibody.film import film_thickness  # noqa: E402
 from flexbearing.multibody.hertz import hertz_point_contact  # noqa: E402
 from flexbearing.multibody.initial import initial_state  # noqa: E402
 from flexbearing.multibody.model import build_model  # noqa: E402
+from flexbearing.multibody import state_layout as SL  # noqa: E402
 
 SLIPS = np.concatenate([[0.0], np.geomspace(1e-5, 1.0, 241)])
 
@@ -148,20 +149,21 @@ def attitude_table():
             model = A._model(mu0, ns)
             y0 = initial_state(model, omega, case["axial_load"], 0.0)
             for j in range(model.n_balls):
-                y0[9 * j], y0[9 * j + 1] = ref[0], ref[1]
-                y0[9 * j + 5:9 * j + 9] = ref[3:7]
-            y0[9 * model.n_balls] = ref[2]
-            y0[9 * model.n_balls + 20] = ref[3]
+                o = SL.ball_offset(j)
+                y0[o + SL.BALL_X], y0[o + SL.BALL_R] = ref[0], ref[1]
+                y0[o + SL.BALL_PSI_DOT:o + SL.BALL_W_T + 1] = ref[3:7]
+            y0[SL.ring_offset(model.n_balls) + SL.RING_X] = ref[2]
+            y0[SL.cage_offset(model.n_balls) + SL.CAGE_OMEGA] = ref[3]
             y_s, info = steady_thrust_state(model, omega, case["axial_load"], y_start=y0)
-            row[f"beta_steady_{ns}"] = A.pitch_deg(y_s[5], y_s[6], y_s[7])
+            row[f"beta_steady_{ns}"] = A.pitch_deg(y_s[SL.BALL_PSI_DOT], y_s[SL.BALL_W_X], y_s[SL.BALL_W_R])
             row[f"cage_steady_{ns}"] = info["cage_speed"]
             if ns == A.N_SLICES:
                 sp, ld = np.array([[0.0, omega]]), np.array([[0.0, case["axial_load"], 0.0, 0.0]])
                 y_d, *_ = I.advance(model, y_s.copy(), 0.0, 0.02, sp, ld, np.zeros((0, 6)), 1e-6, 1e-7, I.Workspace(model))
                 z = model.n_balls
-                row["beta_dynamics"] = float(np.mean([A.pitch_deg(y_d[9 * j + 5], y_d[9 * j + 6], y_d[9 * j + 7])
+                row["beta_dynamics"] = float(np.mean([A.pitch_deg(*y_d[SL.ball_offset(j) + SL.BALL_PSI_DOT:SL.ball_offset(j) + SL.BALL_W_R + 1])
                                                       for j in range(z)]))
-                row["cage_dynamics"] = float(np.mean(y_d[[9 * j + 5 for j in range(z)]]))
+                row["cage_dynamics"] = float(np.mean(y_d[[SL.ball_offset(j) + SL.BALL_PSI_DOT for j in range(z)]]))
         rows.append(row)
         print(row)
     return rows

@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.common.validation import InputError, require_range
+from flexbearing.multibody import state_layout as SL
 
 
 def register(subparsers) -> None:
@@ -265,7 +266,7 @@ def _cmd_friction(scene, args) -> int:
             print(f"{name:12s}: Qmax {q[:, k].max():9.1f} N  p0max {p0[:, k].max() / 1e6:7.1f} MPa  alpha "
                   f"{math.degrees(ang[:, k].min()):6.2f} to {math.degrees(ang[:, k].max()):6.2f} deg")
         if args.balls:
-            psi = y[2:9 * len(q):9]
+            psi = y[SL.BALL_PSI:SL.ring_offset(len(q)):SL.BALL_STATE]
             print("ball  psi(deg)   Q_o(N)  Q_il(N)  Q_ir(N)  alpha_o(deg)  pocket_t(N)")
             for j in range(len(q)):
                 print(f"{j:4d} {math.degrees(psi[j]) % 360:9.2f} {q[j, 0]:8.1f} {q[j, 1]:8.1f} {q[j, 2]:8.1f} "

@@ -42,6 +42,7 @@ from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID, static_co
 from flexbearing.fem_cage.stress_modes import von_mises
 from flexbearing.fem_cage.von_mises_search import TrackingMaxVonMises, load_space_blocks, load_space_stress
 from flexbearing.multibody import initial, integrator, model as mb, outputs, stress_peak
+from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rotation
 from flexbearing.multibody.floating_frame import FlexibleBody
 from flexbearing.multibody.run_backend import RunBackend, select_recorded
@@ -347,7 +348,7 @@ def backend(scene, reduced_cage=None):
         y = np.array(initial.initial_state(model, speed_rad_s, Fa, Fr, load=load), dtype=np.float64)
         lay = mb.state_layout(model)
         # start on the static centrifugal deformation of the spinning cage (no breathing transient)
-        spin = y[lay["cage"] + 9]
+        spin = y[lay["cage"] + SL.CAGE_OMEGA]
         y[lay["modes"]:lay["modes"] + n] = spin ** 2 * (basis.body.Sx[1, 1] + basis.body.Sx[2, 2]) / basis.body.stiffness
         return y
 
@@ -403,7 +404,7 @@ def backend(scene, reduced_cage=None):
             pk = snapshot
             if pk is None:
                 A = model.cage.A
-                cage_rotation(y[lay["cage"] + 3], y[lay["cage"] + 4], y[lay["cage"] + 5], A)
+                cage_rotation(y[lay["cage"] + SL.CAGE_PHI], y[lay["cage"] + SL.CAGE_TILT_Y], y[lay["cage"] + SL.CAGE_TILT_Z], A)
                 w = np.zeros(3)
                 cage_body_angular_velocity(A, y, lay["cage"], w)
                 spin = w[0]                                         # body-frame spin component

@@ -18,6 +18,10 @@ from numba import njit
 
 from flexbearing.multibody.floating_frame import accelerations as ffrf_accelerations
 from flexbearing.multibody.geometry import cross
+from flexbearing.multibody.state_layout import (
+    CAGE_OMEGA, CAGE_PHI, CAGE_POSITIONS, CAGE_TILT_Y, CAGE_TILT_Y_DOT, CAGE_TILT_Z, CAGE_TILT_Z_DOT, CAGE_VX,
+    CAGE_VY, CAGE_VZ,
+)
 
 
 @njit(cache=True)
@@ -69,7 +73,8 @@ def cage_angular_velocity(by, bz, dphi, dby, dbz):
 @njit(cache=True)
 def cage_body_angular_velocity(A, y, c0, w):
     """w[:] = Aᵀ·G(theta)·theta': the cage's angular velocity in its body frame (A current)."""
-    wx, wy, wz = cage_angular_velocity(y[c0 + 4], y[c0 + 5], y[c0 + 9], y[c0 + 10], y[c0 + 11])
+    wx, wy, wz = cage_angular_velocity(y[c0 + CAGE_TILT_Y], y[c0 + CAGE_TILT_Z], y[c0 + CAGE_OMEGA],
+                                       y[c0 + CAGE_TILT_Y_DOT], y[c0 + CAGE_TILT_Z_DOT])
     w[0] = A[0, 0] * wx + A[1, 0] * wy + A[2, 0] * wz
     w[1] = A[0, 1] * wx + A[1, 1] * wy + A[2, 1] * wz
     w[2] = A[0, 2] * wx + A[1, 2] * wy + A[2, 2] * wz
@@ -118,12 +123,12 @@ def cage_equations(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     node_load = cage.node_load
     land_modes = cage.land_modes
     n = cage.stiffness.shape[0]
-    phi = y[c0 + 3]
-    by = y[c0 + 4]
-    bz = y[c0 + 5]
-    dphi = y[c0 + 9]
-    dby = y[c0 + 10]
-    dbz = y[c0 + 11]
+    phi = y[c0 + CAGE_PHI]
+    by = y[c0 + CAGE_TILT_Y]
+    bz = y[c0 + CAGE_TILT_Z]
+    dphi = y[c0 + CAGE_OMEGA]
+    dby = y[c0 + CAGE_TILT_Y_DOT]
+    dbz = y[c0 + CAGE_TILT_Z_DOT]
     cage_rotation(phi, by, bz, A)
     w = cage.scratch[0]
     cage_body_angular_velocity(A, y, c0, w)
@@ -150,19 +155,19 @@ def cage_equations(y, dydt, c0, m0, cage, land_fy, land_fz, land_mx, grav):
     qd = y[m0 + n:m0 + 2 * n]
     ffrf_accelerations(A, w, q, qd, Qext, cage.mass[0], cage.first, cage.second, cage.S1, cage.Sx, cage.SS,
                        cage.Mff, cage.stiffness, cage.damping, cage.Mmat, cage.rhs, cage.U, cage.Wab, acc)
-    for k in range(6):
-        dydt[c0 + k] = y[c0 + 6 + k]
-    dydt[c0 + 6] = acc[0]
-    dydt[c0 + 7] = acc[1]
-    dydt[c0 + 8] = acc[2]
+    for k in range(CAGE_POSITIONS):
+        dydt[c0 + k] = y[c0 + CAGE_POSITIONS + k]
+    dydt[c0 + CAGE_VX] = acc[0]
+    dydt[c0 + CAGE_VY] = acc[1]
+    dydt[c0 + CAGE_VZ] = acc[2]
     # w' (inertial) = A·w'_body
     ax = A[0, 0] * acc[3] + A[0, 1] * acc[4] + A[0, 2] * acc[5]
     ay = A[1, 0] * acc[3] + A[1, 1] * acc[4] + A[1, 2] * acc[5]
     az = A[2, 0] * acc[3] + A[2, 1] * acc[4] + A[2, 2] * acc[5]
     u, v, ww = cage_angle_accelerations(by, bz, dphi, dby, dbz, ax, ay, az)
-    dydt[c0 + 9] = u
-    dydt[c0 + 10] = v
-    dydt[c0 + 11] = ww
+    dydt[c0 + CAGE_OMEGA] = u
+    dydt[c0 + CAGE_TILT_Y_DOT] = v
+    dydt[c0 + CAGE_TILT_Z_DOT] = ww
     for k in range(n):
         dydt[m0 + k] = qd[k]
         dydt[m0 + n + k] = acc[6 + k]
@@ -222,7 +227,7 @@ def pocket_pose_arrays(j, y, c0, m0, A, npos, nmodes, w, pos, vel, axis, wnode):
     b2 = w[0] * u1 - w[1] * u0 + d2
     for i in range(3):
         pos[i] = y[c0 + i] + A[i, 0] * u0 + A[i, 1] * u1 + A[i, 2] * u2
-        vel[i] = y[c0 + 6 + i] + A[i, 0] * b0 + A[i, 1] * b1 + A[i, 2] * b2
+        vel[i] = y[c0 + CAGE_VX + i] + A[i, 0] * b0 + A[i, 1] * b1 + A[i, 2] * b2
     # undeformed radial axis through the node, turned by the node rotation: e + rot × e
     ny = npos[j, 1]
     nz = npos[j, 2]

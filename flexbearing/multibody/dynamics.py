@@ -130,6 +130,7 @@ tilt rates included).
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -162,6 +163,12 @@ from flexbearing.multibody.traction import TRACTION_LAWS, sliced_traction, slice
 from flexbearing.multibody.film import film_thickness as hamrock_dowson_film
 from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation, pocket_pose_arrays
 from flexbearing.multibody.floating_frame import add_node_load
+from flexbearing.multibody.state_layout import (
+    BALL_PSI, BALL_PSI_DOT, BALL_R, BALL_R_DOT, BALL_W_R, BALL_W_T, BALL_W_X, BALL_X, BALL_X_DOT,
+    CAGE_OMEGA, CAGE_PHI, CAGE_TILT_Y, CAGE_TILT_Z, CAGE_VY, CAGE_VZ, CAGE_X, CAGE_Y, CAGE_Z,
+    RING_PHI, RING_POSITIONS, RING_TILT_Y, RING_TILT_Y_DOT, RING_TILT_Z, RING_TILT_Z_DOT, RING_VX, RING_VY,
+    RING_VZ, RING_X, RING_Y, RING_Z, ball_offset, cage_offset, modal_offset, ring_offset,
+)
 
 
 
@@ -223,6 +230,17 @@ DELTA_MAX_FRAC = 0.01       # 220 um for Dw = 22 mm: ~4x the Hertz approach at t
 CONTACT_NAMES = ("outer race", "inner-left race", "inner-right race", "pocket", "guide land rim")
 
 
+# ---------------------------------------------------------------- named results of the contact laws
+RaceContact = namedtuple("RaceContact", "q cos_a sin_a p0 ur rx ry a slip delta fx fr ft mx mr mt x_p r_p "
+                                        "cx cr p_traction p_rolling p_damping f_h")
+RaceContact.__doc__ = "One ball–race contact (`_race` docstring: fields, units SI)."
+PocketContact = namedtuple("PocketContact", "fx fy fz mx my mz x_action y_action z_action q offset power")
+PocketContact.__doc__ = "One ball–pocket contact (`_pocket_force` docstring), inertial components, SI."
+GuidanceLoad = namedtuple("GuidanceLoad", "fy fz mx eps rim_force")
+GuidanceLoad.__doc__ = ("What guides the cage (`_cage_guidance`): force (y, z) (N) and torque about X (N·m) on the "
+                        "cage, eccentricity ratio e/Cg and the rim's normal force (N).")
+
+
 @njit(cache=True)
 def _hertz_lookup(htab, kind, cos_a):
     """Linear interpolation of the Hertz table (model._hertz_tables) at cos(alpha) in [0, 1]."""
@@ -278,9 +296,10 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     for the fixed outer ring). (cd_x, cd_r) = d(xc, rc)/dt, the rate of the
     groove centre seen in the ball's plane (it follows the ball around an offset or tilted ring),
     gives the approach rate d(delta)/dt = (v_b − c')·n of the contact damping: the spin of a
-    groove about its own axis does not move it. Returns (Q, cos_a, sin_a, p0, UR, Rx, Ry, a,
-    slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p, Cx, Cr, P_traction, P_rolling, P_damping, F_H)
-    with F, M the force and the moment about the ball centre acting on the ball; the race receives
+    groove about its own axis does not move it. Returns RaceContact(q, cos_a, sin_a, p0, ur, rx,
+    ry, a, slip, delta, fx, fr, ft, mx, mr, mt, x_p, r_p, cx, cr, p_traction, p_rolling, p_damping,
+    f_h): load Q, contact angle, Hertz pressure, rolling speed UR, curvature radii, semi-major axis,
+    slide-to-roll ratio, approach, with F, M the force and the moment about the ball centre acting on the ball; the race receives
     −F at the contact point (x_p, r_p), the couple −(Cx, Cr, 0), the traction's spin moment about
     the contact normal, and the couple (b − p) × (−F_H·e_t) that puts its share −F_H of the pressure
     rolling force on the ball's line of action, through the ball centre (every pair then has zero
@@ -296,8 +315,8 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     dw = p[P_DW]
     delta, ca, sa = race_contact(xb, rb, xc, rc, f, dw)
     if delta <= 0.0:
-        return (0.0, ca, sa, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, delta,
-                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        return RaceContact(0.0, ca, sa, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, delta,
+                           0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     dx = xb - xc
     dr = rb - rc
     dist = math.sqrt(dx * dx + dr * dr)
@@ -403,8 +422,8 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
         # velocity there is the ring's rigid-body velocity at (xb, rb)
         vring_bt = ring_velocity_at(rv_x, rv_r, rv_t0, g1, g2, ring_rc, ring_speed, xb, rb)[2]
         p_roll = f_r * du0 - f_h * (vb_t - vring_bt)
-    return (Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p,
-            cx, cr, p_trac, p_roll, p_damp, f_h)
+    return RaceContact(Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p,
+                       cx, cr, p_trac, p_roll, p_damp, f_h)
 
 
 @njit(cache=True)
@@ -443,8 +462,8 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     the pocket axis Z = |d − (d·a)a|, d = b − p; normal force on the ball −Q(Z)·u, u the unit
     offset, Q = Kc·Z (Z <= Cp), Kc·Cp + Kn·(Z − Cp)^1.5 (+ damping) beyond; with the drag switch
     the hydrodynamic pocket resistances (comment below) and optional Coulomb friction mu_p·Q.
-    Returns (F on ball (3), M on ball about its centre (3), point of action on the cage (3), Q, Z,
-    P) with P the power the pocket dissipates (flexbearing.multibody.power_loss): with the non-conservative
+    Returns PocketContact(fx, fy, fz: F on the ball; mx, my, mz: M on the ball about its centre;
+    x_action, y_action, z_action: point of action on the cage; q: Q; offset: Z; power: P) with P the power the pocket dissipates (flexbearing.multibody.power_loss): with the non-conservative
     part F_nc = F + Q_el·u of the force (Q_el the spring/Hertz part of Q) and the cage receiving
     −F and −M − (b − p)×F at its node,
 
@@ -460,7 +479,7 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     ex, ey, ez, ux, uy, uz, zz = pocket_contact_offset(dx, dy, dz, ax, ay, az, flags[F_POCKET_SHAPE],
                                                        p[P_POCKET_CONE], p[P_RPOCKET], p[P_POCKET_B])
     if zz < 1e-15:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz, 0.0
+        return PocketContact(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz, 0.0)
     ux /= zz
     uy /= zz
     uz /= zz
@@ -541,12 +560,12 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     pw = ((fx + q_el * ux) * (vbx - vpx - r1) + (fy + q_el * uy) * (vby - vpy - r2)
           + (fz + q_el * uz) * (vbz - vpz - r3)
           + mx * (wbx - wcx) + my * (wby - wcy) + mz * (wbz - wcz))
-    return fx, fy, fz, mx, my, mz, qx, qy, qz, Q, zz, -pw
+    return PocketContact(fx, fy, fz, mx, my, mz, qx, qy, qz, Q, zz, -pw)
 
 
 @njit(cache=True)
 def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
-    """Guide-land force (y, z) and torque about X on the cage, plus eps and the rim force.
+    """Guide-land force (y, z) and torque about X on the cage, plus eps and the rim force: GuidanceLoad.
 
     flexbearing.multibody.guide_land.guide_land_force (Ocvirk short bearing with the whirl and squeeze terms,
     Childs' pi-film; the paper's form is the special case without them; Petroff-type torque;
@@ -564,13 +583,13 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
     fy, fz, mx = guide_land_force(yc, zc, vy, vz, omega_c, 0.0, p[P_R1], p[P_LAND_L] / n_lands, cg,
                                   eta, p[P_EPSMAX], True, p[P_KRIM], mu, n_lands)
     frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
-    return fy, fz, mx, e / cg, frim
+    return GuidanceLoad(fy, fz, mx, e / cg, frim)
 
 
 @njit(cache=True)
 def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flags):
     """Force (y, z) and torque about X on the cage from what guides it (flags[F_GUIDANCE]), plus
-    eps and the rim force: (fy, fz, mx, eps, frim).
+    eps and the rim force: GuidanceLoad(fy, fz, mx, eps, rim_force).
 
     "outer" (0): `_guide_land`, the outer ring's land, fixed. "inner" (1): the same short-bearing
     film and rim between the cage bore and the inner ring's land, with the cage offset and
@@ -588,7 +607,7 @@ def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flag
     if g == 0:
         return _guide_land(yc, zc, vyc, vzc, omega_c, p, flags)
     if g == 2:
-        return 0.0, 0.0, 0.0, 0.0, 0.0
+        return GuidanceLoad(0.0, 0.0, 0.0, 0.0, 0.0)
     ey = yc - yi
     ez = zc - zi
     e = math.sqrt(ey * ey + ez * ez)
@@ -600,7 +619,7 @@ def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flag
                                   p[P_LAND_L] / n_lands, cg, eta, p[P_EPSMAX], True, p[P_KRIM], mu,
                                   n_lands)
     frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
-    return fy, fz, mx, e / cg, frim
+    return GuidanceLoad(fy, fz, mx, e / cg, frim)
 
 
 @njit(cache=True)
@@ -612,417 +631,423 @@ def _flag(work, zb, status, ball, contact, value):
         work[zb, WR_BAD_VALUE] = value
 
 
-@njit(cache=True)
-def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work, cage):
-    """dy/dt of the bearing at time t (module docstring); fills `work` with the contact results.
+# ---------------------------------------------------------------- the kernels of `rhs`
+# Named results: namedtuples are value types in nopython mode (no allocation); fields read by name.
+# Compilation: the kernels are inlined into `rhs` by numba (inline="always"; as separate LLVM
+# functions they are not inlined and the calls cost ~1 us per rhs), and `rhs` and the kernels are
+# compiled without NRT reference counting (_nrt=False; they allocate nothing): with it every array a
+# kernel takes costs an atomic increment and decrement per ball (measured: 20 us per rhs instead
+# of 14 us at the paper's rigid-cage state). Both are numba options that change the machine code
+# only, never the arithmetic: dy/dt is bit-identical to the single-function rhs (benchmarks/rhs_ab.py).
+BallState = namedtuple("BallState", "x r psi x_dot r_dot psi_dot w_x w_r w_t cos_psi sin_psi v_t")
+BallState.__doc__ = "Ball j's state slots (state_layout.BALL_*), cos/sin of its azimuth and its orbital speed r·psi'."
+RingState = namedtuple("RingState", "x y z tilt_y tilt_z vx vy vz tilt_y_dot tilt_z_dot")
+RingState.__doc__ = "The inner ring's positions and rates (state_layout.RING_*), inertial, m, rad, m/s, rad/s."
+BallLoad = namedtuple("BallLoad", "fx fr ft mx mr mt")
+BallLoad.__doc__ = "Force (N) and moment about the centre (N·m) on a ball, on its orbiting triad (e_x, e_r, e_t)."
+RingLoad = namedtuple("RingLoad", "fx fy fz mx my mz")
+RingLoad.__doc__ = "Force (N) and moment about its centre (N·m) on the inner ring from the balls and the cage, inertial."
+RaceControl = namedtuple("RaceControl", "q_outer a_outer nx_outer nr_outer x_outer r_outer "
+                                        "q_inner a_inner nx_inner nr_inner x_inner r_inner")
+RaceControl.__doc__ = ("Load Q (N), semi-major axis a (m), contact normal (n_x, n_r) from the groove centre through "
+                       "the ball and contact point (x, r) of the outer contact and of the more loaded inner half: "
+                       "what `control_race` and the race-control couple need.")
+BallRaceContacts = namedtuple("BallRaceContacts", "ball ring control")
+Attitude = namedtuple("Attitude", "control n_x n_r w_race u_x u_r ring")
+Attitude.__doc__ = ("The controlling race of a ball (`control_race` code), its contact normal (n_x, n_r), its "
+                    "angular velocity w_race (rad/s), the free rolling axis u = e_t × n, and the inner ring's "
+                    "load with the race-control couple's reaction added.")
+CageFrame = namedtuple("CageFrame", "A w_body pos vel axis w_node force torque q_modes node_load "
+                                    "node_position node_modes q_ext")
+CageFrame.__doc__ = ("The cage's arrays the pockets use, taken once per rhs (every array view costs an atomic "
+                     "reference count; made per ball they were ~20 % of a rigid cage's rhs): rotation A, scratch "
+                     "rows, modal coordinates, node loads, node geometry and modes, modal force Q_ext.")
 
-    p, flags, htab, ttab, cage: Model.p, Model.flags, Model.hertz_table, Model.traction_table,
-    Model.cage; speed_table, load_table, impacts: flexbearing.multibody.profiles arrays; work: float64
-    (Z+1, N_WORK). Allocation-free.
+
+@njit(cache=True, _nrt=False, inline="always")
+def ball_state(y, j):
+    """Ball j's slots of y (state_layout) with cos psi, sin psi and v_t = r·psi'."""
+    o = ball_offset(j)
+    r = y[o + BALL_R]
+    psi = y[o + BALL_PSI]
+    psid = y[o + BALL_PSI_DOT]
+    return BallState(y[o + BALL_X], r, psi, y[o + BALL_X_DOT], y[o + BALL_R_DOT], psid, y[o + BALL_W_X],
+                     y[o + BALL_W_R], y[o + BALL_W_T], math.cos(psi), math.sin(psi), r * psid)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def ring_state(y, r0):
+    """The inner ring's positions and rates (state_layout.RING_*) from its block at r0."""
+    return RingState(y[r0 + RING_X], y[r0 + RING_Y], y[r0 + RING_Z], y[r0 + RING_TILT_Y], y[r0 + RING_TILT_Z],
+                     y[r0 + RING_VX], y[r0 + RING_VY], y[r0 + RING_VZ], y[r0 + RING_TILT_Y_DOT],
+                     y[r0 + RING_TILT_Z_DOT])
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _record_race_contact(work, j, c, res, ft):
+    """Contact c of ball j into its work columns (model.WC_*), ft the tangential force with the lean term."""
+    wc = c * N_WC
+    work[j, wc + WC_Q] = res.q
+    work[j, wc + WC_COS] = res.cos_a
+    work[j, wc + WC_SIN] = res.sin_a
+    work[j, wc + WC_P0] = res.p0
+    work[j, wc + WC_UR] = res.ur
+    work[j, wc + WC_RX] = res.rx
+    work[j, wc + WC_RY] = res.ry
+    work[j, wc + WC_A] = res.a
+    work[j, wc + WC_SLIP] = res.slip
+    work[j, wc + WC_DELTA] = res.delta
+    work[j, wc + WC_FT] = ft
+    work[j, wc + WC_P_TRACTION] = res.p_traction
+    work[j, wc + WC_P_ROLLING] = res.p_rolling
+    work[j, wc + WC_P_DAMPING] = res.p_damping
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def inner_race_reaction(res, ft, ft_lean, b, ring, x0, rr0, rl):
+    """The inner ring's share of one inner contact (`_race`), added to the ring load rl.
+
+    Normal part (+Q·n through the groove centre): generalised forces of the linearised ring
+    kinematics (geometry.ring_point_in_plane), i.e. −dV/du of the Hertz potential, so that the force
+    field stays conservative: with g = Q·n in the ball plane, n = (−sin a, −cos a),
+        F = (g_x, g_r cos psi, g_r sin psi),
+        M_y = sin psi·(g_x r0 − g_r x0),  M_z = −cos psi·(g_x r0 − g_r x0).
+    Traction part (all the rest of −F): force at the contact point with its lever from the ring
+    centre (this also gives the drive torque about X). The lean force (`ball_race_contacts`) is the
+    psi-gradient of the ball's Hertz potential; the ring's generalised forces above already are the
+    exact ring gradient, so it has no reaction here (momentum is then off by Q·t_c/r_b ~ 1e-5·Q:
+    second order). Then the reaction to the traction's spin couple (Cx, Cr) on the ball, and the
+    couple (b − p) × (−F_H·e_t) that moves the ring's share of the pressure rolling force onto the
+    line through the ball centre (`_race` docstring).
     """
-    z = int(p[P_Z])
-    zb = z
+    cs = b.cos_psi
+    sn = b.sin_psi
+    qn = res.q
+    gxn = -qn * res.sin_a
+    grn = -qn * res.cos_a
+    rfx = rl.fx + gxn
+    rfy = rl.fy + grn * cs
+    rfz = rl.fz + grn * sn
+    arm = gxn * rr0 - grn * x0
+    rmy = rl.my + sn * arm
+    rmz = rl.mz - cs * arm
+    gx = -res.fx - gxn
+    gr = -res.fr - grn
+    gt = -(ft - ft_lean)
+    gy = gr * cs - gt * sn
+    gz = gr * sn + gt * cs
+    rfx += gx
+    rfy += gy
+    rfz += gz
+    lx = res.x_p - ring.x
+    ly = res.r_p * cs - ring.y
+    lz = res.r_p * sn - ring.z
+    m1, m2, m3 = cross(lx, ly, lz, gx, gy, gz)
+    h1, h2, h3 = cross(b.x - res.x_p, (b.r - res.r_p) * cs, (b.r - res.r_p) * sn,
+                       0.0, res.f_h * sn, -res.f_h * cs)
+    return RingLoad(rfx, rfy, rfz, rl.mx + (m1 - res.cx + h1), rmy + (m2 - res.cr * cs + h2),
+                    rmz + (m3 - res.cr * sn + h3))
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl):
+    """Ball j's race contacts (`_race`: Hertz Q = K·delta^1.5, EHL traction, rolling resistance,
+    damping; outer, inner-left and on a split ring inner-right), added to the ball load and the
+    ring load rl, recorded into work; returns BallRaceContacts(ball, ring, control).
+
+    The groove-centre circle of a displaced (offset, tilted) ring is not centred on the bearing
+    axis: seen from the ball the contact normal leans out of the ball plane,
+        F_t = −(Q/r_b)·d(delta)/d(psi) = (Q/r_b)·(n_x·dx_c/dpsi + n_r·dr_c/dpsi),
+    with (geometry.ring_point_in_plane) dx_c/dpsi = r0·th', dr_c/dpsi = t_c − x0·th',
+    t_c = −y_i·sin psi + z_i·cos psi, th' = tilt_y·cos psi + tilt_z·sin psi, and n = (−sin a, −cos a)
+    for an inner race. This keeps the Hertz force the exact gradient of its potential
+    (tests/test_energy.py). The groove-centre rate (the ring's own motion and the ball's orbit
+    around it) gives the contact damping's approach rate.
+    """
+    zb = int(p[P_Z])
     dw = p[P_DW]
+    cs = b.cos_psi
+    sn = b.sin_psi
+    psid = b.psi_dot
+    # race-control attitude (module docstring): outer contact and the more loaded inner half
+    ctl = RaceControl(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0)
+    # inner-ring rigid-body velocity field over the ball plane: translation, the spin of the
+    # offset centre, the tilt rates
+    rv_x, rv_r, rv_t, g1, g2, ring_rc = ring_velocity_in_plane(b.psi, omega_i, ring.x, ring.y, ring.z, ring.vx,
+                                                               ring.vy, ring.vz, ring.tilt_y_dot, ring.tilt_z_dot)
+    rv_r_trans = ring.vy * cs + ring.vz * sn
+    # contact 2 (the second inner half) exists on a split ring only (model.F_INNER_HALVES)
+    for c in range(1 + flags[F_INNER_HALVES]):
+        ft_lean = 0.0
+        x0 = 0.0
+        rr0 = 0.0
+        if c == 0:
+            res = _race(0, b.x, b.r, p[P_XO], p[P_RO], p[P_FE], b.x_dot, b.r_dot, b.v_t, b.w_x, b.w_r, b.w_t, psid,
+                        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, p, flags, htab, ttab)
+            ft = res.ft
+        else:
+            if c == 1:
+                x0 = p[P_XIL]
+                rr0 = p[P_RIL]
+            else:
+                x0 = p[P_XIR]
+                rr0 = p[P_RIR]
+            xc_g, rc_g = ring_point_in_plane(b.psi, x0, rr0, ring.x, ring.y, ring.z, ring.tilt_y, ring.tilt_z)
+            th_rate = (ring.tilt_y_dot * sn - ring.tilt_z_dot * cs) + (ring.tilt_y * cs + ring.tilt_z * sn) * psid
+            cd_x = ring.vx + rr0 * th_rate
+            cd_r = rv_r_trans + (-ring.y * sn + ring.z * cs) * psid - x0 * th_rate
+            res = _race(1, b.x, b.r, xc_g, rc_g, p[P_FI], b.x_dot, b.r_dot, b.v_t, b.w_x, b.w_r, b.w_t, psid,
+                        rv_x, rv_r, rv_t, omega_i, ring_rc, g1, g2, cd_x, cd_r, p, flags, htab, ttab)
+            ft = res.ft
+            if res.q > 0.0:
+                thp = ring.tilt_y * cs + ring.tilt_z * sn
+                dxc = rr0 * thp
+                drc = (-ring.y * sn + ring.z * cs) - x0 * thp
+                ft_lean = res.q * (-res.sin_a * dxc - res.cos_a * drc) / b.r
+                ft = res.ft + ft_lean
+        if c == 0:      # outer: n = (sin a, cos a)
+            ctl = RaceControl(res.q, res.a, res.sin_a, res.cos_a, res.x_p, res.r_p, ctl.q_inner, ctl.a_inner,
+                              ctl.nx_inner, ctl.nr_inner, ctl.x_inner, ctl.r_inner)
+        elif res.q > ctl.q_inner:      # inner: n = (−sin a, −cos a)
+            ctl = RaceControl(ctl.q_outer, ctl.a_outer, ctl.nx_outer, ctl.nr_outer, ctl.x_outer, ctl.r_outer,
+                              res.q, res.a, -res.sin_a, -res.cos_a, res.x_p, res.r_p)
+        _record_race_contact(work, j, c, res, ft)
+        if res.delta > DELTA_MAX_FRAC * dw:
+            _flag(work, zb, STATUS_DEEP_RACE, j, c, res.delta)
+        if res.q > 0.0 or res.delta > 0.0:
+            load = BallLoad(load.fx + res.fx, load.fr + res.fr, load.ft + ft, load.mx + res.mx, load.mr + res.mr,
+                            load.mt + res.mt)
+            if c > 0:
+                rl = inner_race_reaction(res, ft, ft_lean, b, ring, x0, rr0, rl)
+    return BallRaceContacts(load, rl, ctl)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def ball_pocket(j, b, y, c0, m0, A, w_body, pos, vel, axv, wn, Fc, Tn, q_modes, nl, node_position, node_modes, q_ext,
+                xc, yc, zc, p, flags, c_roll, c_slide, c_root, work, load):
+    """Ball j in its pocket (`_pocket_force`, paper §2.3.1): the force on the ball added to its load,
+    the opposite load on the cage's interface node (floating frame + modes), recorded into work.
+
+    On the cage: −F_b and the reaction moment, applied at the point w of the pocket axis level with
+    the ball (the normal force's line of action passes through it), carried to the interface node:
+    node force −F_b, node moment (w − p)×(−F_b) − M_b − (b − w)×F_b. This is the virtual work of the
+    pocket force for the node's motion, so the normal force stays the exact gradient of its
+    potential (conservative runs conserve energy). A spherical pocket has no axis: w = p.
+    """
+    zb = int(p[P_Z])
+    dw = p[P_DW]
+    cs = b.cos_psi
+    sn = b.sin_psi
+    # pose of the pocket's interface node
+    pocket_pose_arrays(j, y, c0, m0, A, node_position, node_modes, w_body, pos, vel, axv, wn)
+    ppx = pos[0]
+    ppy = pos[1]
+    ppz = pos[2]
+    ax = axv[0]
+    ay = axv[1]
+    az = axv[2]
+    # ball in inertial components
+    bx = b.x
+    byy = b.r * cs
+    bzz = b.r * sn
+    pk = _pocket_force(bx, byy, bzz, b.x_dot, b.r_dot * cs - b.v_t * sn, b.r_dot * sn + b.v_t * cs, b.w_x,
+                       b.w_r * cs - b.w_t * sn, b.w_r * sn + b.w_t * cs,
+                       ppx, ppy, ppz, ax, ay, az, vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
+                       xc, yc, zc, p, flags, c_roll, c_slide, c_root)
+    pfx, pfy, pfz = pk.fx, pk.fy, pk.fz
+    work[j, W_POCKET_Q] = pk.q
+    work[j, W_POCKET_Z] = pk.offset
+    work[j, W_P_POCKET] = pk.power
+    if pk.offset > p[P_CP] + DELTA_MAX_FRAC * dw:
+        _flag(work, zb, STATUS_DEEP_POCKET, j, 3, pk.offset - p[P_CP])
+    # on the ball, to the orbiting frame
+    pft = -pfy * sn + pfz * cs
+    work[j, W_POCKET_T] = pft
+    load = BallLoad(load.fx + pfx, load.fr + (pfy * cs + pfz * sn), load.ft + pft, load.mx + pk.mx,
+                    load.mr + (pk.my * cs + pk.mz * sn), load.mt + (-pk.my * sn + pk.mz * cs))
+    # on the cage (docstring)
+    da_ = pocket_axis_point(bx - ppx, byy - ppy, bzz - ppz, ax, ay, az, flags[F_POCKET_SHAPE], p[P_POCKET_CONE])
+    wpx = ppx + da_ * ax
+    wpy = ppy + da_ * ay
+    wpz = ppz + da_ * az
+    Fc[0] = -pfx
+    Fc[1] = -pfy
+    Fc[2] = -pfz
+    l1, l2, l3 = cross(da_ * ax, da_ * ay, da_ * az, -pfx, -pfy, -pfz)
+    b1, b2, b3 = cross(bx - wpx, byy - wpy, bzz - wpz, pfx, pfy, pfz)
+    Tn[0] = l1 - pk.mx - b1
+    Tn[1] = l2 - pk.my - b2
+    Tn[2] = l3 - pk.mz - b3
+    add_node_load(A, q_modes, node_position, node_modes, j, Fc, Tn, q_ext)
+    for i in range(3):
+        nl[j, i] = A[0, i] * Fc[0] + A[1, i] * Fc[1] + A[2, i] * Fc[2]
+        nl[j, 3 + i] = A[0, i] * Tn[0] + A[1, i] * Tn[1] + A[2, i] * Tn[2]
+    work[j, W_PK_FX] = -pfx
+    work[j, W_PK_FY] = -pfy
+    work[j, W_PK_FZ] = -pfz
+    work[j, W_PK_LY] = wpy - yc
+    work[j, W_PK_LZ] = wpz - zc
+    return load
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load):
+    """Churning drag on the orbiting ball j in the oil–air mixture at rest (flexbearing.multibody.drag):
+    F_d = ½·rho_mix·C_d(Re)·(pi·Dw²/4)·v², v = r·psi', along −e_t; with the option ball_drag_moment the
+    mixture's viscous moment on the spinning ball, M = −c·w, c = pi·eta_mix·Dw³ (Stokes–Lamb), and
+    the power they dissipate, −F_d·v + c·|w|². Added to the ball load, recorded into work."""
+    if not flags[F_DRAG]:
+        work[j, W_DRAG] = 0.0
+        work[j, W_P_CHURNING] = 0.0
+        return load
+    vbt = b.v_t
+    fd = churning_drag(dw, vbt, rho_mix, eta_mix)
+    work[j, W_DRAG] = -fd
+    work[j, W_P_CHURNING] = -fd * vbt
+    if not flags[F_BALL_DRAG_MOMENT]:
+        return BallLoad(load.fx, load.fr, load.ft + fd, load.mx, load.mr, load.mt)
+    c_spin = ball_drag_moment_coefficient(dw, eta_mix)
+    work[j, W_P_CHURNING] += c_spin * (b.w_x * b.w_x + b.w_r * b.w_r + b.w_t * b.w_t)
+    return BallLoad(load.fx, load.fr, load.ft + fd, load.mx - c_spin * b.w_x, load.mr - c_spin * b.w_r,
+                    load.mt - c_spin * b.w_t)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def race_control_couple(b, load, ctl, omega_i, ring, p, flags, rl):
+    """Which race controls ball b's attitude (`control_race`) and, with race control or no pivoting
+    and the option attitude_ring_reaction, the inner ring's reaction to the gyroscopic couple
+    M_c = I_b·psi'·w_r − M_t the races supply: forces +f·u_i at the inner contact point and −f·u_i
+    at the outer one, f = M_c/((p_i − p_o) × u_i)_t, u_i = e_t × n_i (module docstring, "Ball
+    attitude"); the ring receives −f·u_i at its contact point. Returns Attitude."""
+    cs = b.cos_psi
+    sn = b.sin_psi
+    c = control_race(flags[F_ATTITUDE], ctl.q_outer, ctl.a_outer, ctl.nx_outer, ctl.nr_outer, ctl.q_inner,
+                     ctl.a_inner, ctl.nx_inner, ctl.nr_inner)
+    cnx = cnr = w_ring = ux = ur = 0.0
+    if c == -1:
+        return Attitude(c, cnx, cnr, w_ring, ux, ur, rl)
+    if c == 0:
+        cnx, cnr, w_ring = ctl.nx_outer, ctl.nr_outer, 0.0
+    elif c == 1:
+        cnx, cnr, w_ring = ctl.nx_inner, ctl.nr_inner, omega_i
+    ux = -cnr
+    ur = cnx
+    if flags[F_ATT_RING] and ctl.q_outer > 0.0 and ctl.q_inner > 0.0:
+        dpx = ctl.x_inner - ctl.x_outer
+        dpr = ctl.r_inner - ctl.r_outer
+        uix = -ctl.nr_inner
+        uir = ctl.nx_inner
+        arm = dpx * uir - dpr * uix
+        if arm != 0.0:
+            f_g = (p[P_IB] * b.psi_dot * b.w_r - load.mt) / arm
+            gx = -f_g * uix
+            gr = -f_g * uir
+            gy = gr * cs
+            gz = gr * sn
+            m1, m2, m3 = cross(ctl.x_inner - ring.x, ctl.r_inner * cs - ring.y, ctl.r_inner * sn - ring.z, gx, gy, gz)
+            rl = RingLoad(rl.fx + gx, rl.fy + gy, rl.fz + gz, rl.mx + m1, rl.my + m2, rl.mz + m3)
+    return Attitude(c, cnx, cnr, w_ring, ux, ur, rl)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def ball_equations(j, b, load, att, p, dydt):
+    """dy/dt of ball j (module docstring): Newton in the orbiting frame,
+        m_b·x'' = F_x,  m_b·(r'' − r·psi'²) = F_r,  m_b·(r·psi'' + 2·r'·psi') = F_t,
+    Euler of the free ball, I_b·w_x' = M_x, I_b·(w_r' − psi'·w_t) = M_r, I_b·(w_t' + psi'·w_r) = M_t,
+    or with race control the one rotation about u = e_t × n driven by M·u, the no-spin and no-yaw
+    constraints relaxed at the rate k = attitude_rate (no pivoting: only the yaw). Returns the
+    inner ring's load att.ring with, under inner-race control, the reaction −M_n·n to the
+    spin-locking couple M_n = I_b·(dw/dt − dw/dt_free)·n (that race's spin friction; without it 6 %
+    of the loss at the paper case went unaccounted)."""
+    o = ball_offset(j)
     mb = p[P_MB]
     ib = p[P_IB]
-    grav = p[P_GRAV]
-    r0 = 9 * z
-    c0 = r0 + 11
-    m0 = c0 + 12
-    A = cage.A
-    scr = cage.scratch
-    Qext = cage.Qext
-    for k in range(Qext.shape[0]):
-        Qext[k] = 0.0
-    cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
-    cage_body_angular_velocity(A, y, c0, scr[1])
-    omega_i = speed_at(t, speed_table)
-    load_at(t, load_table, impacts, work[zb, WR_FX:WR_FX + 3])
-    work[zb, WR_OMEGA_I] = omega_i
-    # inner ring
-    xi = y[r0]
-    yi = y[r0 + 1]
-    zi = y[r0 + 2]
-    ty = y[r0 + 3]
-    tz = y[r0 + 4]
-    vxi = y[r0 + 5]
-    vyi = y[r0 + 6]
-    vzi = y[r0 + 7]
-    tyd = y[r0 + 8]
-    tzd = y[r0 + 9]
-    # cage
-    xc = y[c0]
-    yc = y[c0 + 1]
-    zc = y[c0 + 2]
-    vxc = y[c0 + 6]
-    vyc = y[c0 + 7]
-    vzc = y[c0 + 8]
-    wcx = y[c0 + 9]
-    # accumulators
-    rfx = 0.0
-    rfy = 0.0
-    rfz = 0.0
-    rmx = 0.0
-    rmy = 0.0
-    rmz = 0.0
-    fo = p[P_FE]
-    fi = p[P_FI]
-    rho_mix, eta_mix = oil_air_mixture(cavity_oil_fraction(p[P_OILFRAC], p[P_OIL_WREF], omega_i),
-                                       p[P_RHO_OIL], p[P_ETA0])
-    c_roll, c_slide, c_root = pocket_film_coefficients(p, flags)
-    # the scratch rows, the modal coordinates and the node loads, taken once: every array view
-    # costs an atomic reference-count increment and decrement (made per ball they were ~20 % of
-    # a rigid cage's rhs)
-    w_body = scr[1]
-    pos = scr[3]
-    vel = scr[4]
-    axv = scr[5]
-    wn = scr[6]
-    Fc = scr[7]
-    Tn = scr[2]
-    q_modes = y[m0:m0 + cage.stiffness.shape[0]]
-    nl = cage.node_load
-    node_position = cage.node_position
-    node_modes = cage.node_modes
-    for j in range(z):
-        o = 9 * j
-        xb = y[o]
-        rb = y[o + 1]
-        psi = y[o + 2]
-        vbx = y[o + 3]
-        vbr = y[o + 4]
-        psid = y[o + 5]
-        w_x = y[o + 6]
-        w_r = y[o + 7]
-        w_t = y[o + 8]
-        cs = math.cos(psi)
-        sn = math.sin(psi)
-        vbt = rb * psid
-        fx = 0.0
-        fr = -mb * grav * sn
-        ft = -mb * grav * cs
-        mx = 0.0
-        mr = 0.0
-        mt = 0.0
-        # race-control attitude (module docstring): load, semi-major axis and normal of the outer
-        # contact and of the more loaded inner half
-        q_ctl_o = 0.0
-        a_ctl_o = 0.0
-        nxo = 0.0
-        nro = 1.0
-        q_ctl_i = 0.0
-        a_ctl_i = 0.0
-        nxi = 0.0
-        nri = -1.0
-        xpo = 0.0
-        rpo = 0.0
-        xpi = 0.0
-        rpi = 0.0
-        # inner-ring rigid-body velocity field over the ball plane: translation, the spin of the
-        # offset centre, the tilt rates
-        rv_x, rv_r, rv_t, g1, g2, ring_rc = ring_velocity_in_plane(psi, omega_i, xi, yi, zi, vxi, vyi, vzi,
-                                                                   tyd, tzd)
-        rv_r_trans = vyi * cs + vzi * sn
-        # contact 2 (the second inner half) exists on a split ring only (model.F_INNER_HALVES)
-        for c in range(1 + flags[F_INNER_HALVES]):
-            ft_lean = 0.0
-            if c == 0:
-                xc_g = p[P_XO]
-                rc_g = p[P_RO]
-                res = _race(0, xb, rb, xc_g, rc_g, fo, vbx, vbr, vbt, w_x, w_r, w_t, psid,
-                            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, p, flags, htab, ttab)
-            else:
-                if c == 1:
-                    x0 = p[P_XIL]
-                    rr0 = p[P_RIL]
-                else:
-                    x0 = p[P_XIR]
-                    rr0 = p[P_RIR]
-                xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
-                # groove-centre rate: the ring's own motion and the ball's orbit around it
-                th_rate = (tyd * sn - tzd * cs) + (ty * cs + tz * sn) * psid
-                cd_x = vxi + rr0 * th_rate
-                cd_r = rv_r_trans + (-yi * sn + zi * cs) * psid - x0 * th_rate
-                res = _race(1, xb, rb, xc_g, rc_g, fi, vbx, vbr, vbt, w_x, w_r, w_t, psid,
-                            rv_x, rv_r, rv_t, omega_i, ring_rc, g1, g2, cd_x, cd_r, p, flags, htab, ttab)
-                # The groove-centre circle of a displaced (offset, tilted) ring is not centred on
-                # the bearing axis: seen from the ball the contact normal leans out of the ball
-                # plane, F_t = −(Q/r_b)·d(delta)/d(psi) = (Q/r_b)·(n_x·dx_c/dpsi + n_r·dr_c/dpsi),
-                # with (geometry.ring_point_in_plane) dx_c/dpsi = r0·th', dr_c/dpsi = t_c − x0·th',
-                # t_c = −y_i·sin psi + z_i·cos psi, th' = tilt_y·cos psi + tilt_z·sin psi, and
-                # n = (−sin a, −cos a) for an inner race. This keeps the Hertz force the exact
-                # gradient of its potential (tests/test_energy.py).
-                if res[0] > 0.0:
-                    thp = ty * cs + tz * sn
-                    dxc = rr0 * thp
-                    drc = (-yi * sn + zi * cs) - x0 * thp
-                    ft_lean = res[0] * (-res[2] * dxc - res[1] * drc) / rb
-                    res = res[:12] + (res[12] + ft_lean,) + res[13:]
-            if c == 0:
-                q_ctl_o = res[0]
-                a_ctl_o = res[7]
-                nxo = res[2]                 # outer: n = (sin a, cos a)
-                nro = res[1]
-                xpo = res[16]
-                rpo = res[17]
-            elif res[0] > q_ctl_i:
-                q_ctl_i = res[0]
-                a_ctl_i = res[7]
-                nxi = -res[2]                # inner: n = (−sin a, −cos a)
-                nri = -res[1]
-                xpi = res[16]
-                rpi = res[17]
-            wc = c * N_WC
-            work[j, wc + WC_Q] = res[0]
-            work[j, wc + WC_COS] = res[1]
-            work[j, wc + WC_SIN] = res[2]
-            work[j, wc + WC_P0] = res[3]
-            work[j, wc + WC_UR] = res[4]
-            work[j, wc + WC_RX] = res[5]
-            work[j, wc + WC_RY] = res[6]
-            work[j, wc + WC_A] = res[7]
-            work[j, wc + WC_SLIP] = res[8]
-            work[j, wc + WC_DELTA] = res[9]
-            work[j, wc + WC_FT] = res[12]
-            work[j, wc + WC_P_TRACTION] = res[20]
-            work[j, wc + WC_P_ROLLING] = res[21]
-            work[j, wc + WC_P_DAMPING] = res[22]
-            if res[9] > DELTA_MAX_FRAC * dw:
-                _flag(work, zb, STATUS_DEEP_RACE, j, c, res[9])
-            if res[0] > 0.0 or res[9] > 0.0:
-                fx += res[10]
-                fr += res[11]
-                ft += res[12]
-                mx += res[13]
-                mr += res[14]
-                mt += res[15]
-                if c > 0:
-                    # Reaction on the inner ring. Normal part (+Q·n through the groove centre):
-                    # generalised forces of the linearised ring kinematics (geometry.
-                    # ring_point_in_plane), i.e. −dV/du of the Hertz potential, so that the force
-                    # field stays conservative: with g = Q·n in the ball plane,
-                    #   F = (g_x, g_r cos psi, g_r sin psi),
-                    #   M_y = sin psi·(g_x r0 − g_r x0),  M_z = −cos psi·(g_x r0 − g_r x0).
-                    # Traction part (all the rest of −F): force at the contact point with its
-                    # lever from the ring centre (this also gives the drive torque about X).
-                    qn = res[0]
-                    gxn = -qn * res[2]          # Q·n_x, n = (−sin a, −cos a) for an inner race
-                    grn = -qn * res[1]
-                    rfx += gxn
-                    rfy += grn * cs
-                    rfz += grn * sn
-                    arm = gxn * rr0 - grn * x0
-                    rmy += sn * arm
-                    rmz -= cs * arm
-                    gx = -res[10] - gxn
-                    gr = -res[11] - grn
-                    # the lean force is the psi-gradient of the ball's Hertz potential; the ring's
-                    # generalised forces above already are the exact ring gradient, so it has no
-                    # reaction here (momentum is then off by Q·t_c/r_b ~ 1e-5·Q: second order)
-                    gt = -(res[12] - ft_lean)
-                    gy = gr * cs - gt * sn
-                    gz = gr * sn + gt * cs
-                    rfx += gx
-                    rfy += gy
-                    rfz += gz
-                    lx = res[16] - xi
-                    ly = res[17] * cs - yi
-                    lz = res[17] * sn - zi
-                    m1, m2, m3 = cross(lx, ly, lz, gx, gy, gz)
-                    # and the reaction to the traction's spin couple (Cx, Cr) on the ball, and
-                    # the couple (b − p) × (−F_H·e_t) that moves the ring's share of the pressure
-                    # rolling force onto the line through the ball centre (_race docstring)
-                    h1, h2, h3 = cross(xb - res[16], (rb - res[17]) * cs, (rb - res[17]) * sn,
-                                        0.0, res[23] * sn, -res[23] * cs)
-                    rmx += m1 - res[18] + h1
-                    rmy += m2 - res[19] * cs + h2
-                    rmz += m3 - res[19] * sn + h3
-        # ---- pocket j: pose of the pocket's interface node (floating frame + modes)
-        pocket_pose_arrays(j, y, c0, m0, A, node_position, node_modes, w_body, pos, vel, axv, wn)
-        ppx = pos[0]
-        ppy = pos[1]
-        ppz = pos[2]
-        ax = axv[0]
-        ay = axv[1]
-        az = axv[2]
-        # ball in inertial components
-        bx = xb
-        byy = rb * cs
-        bzz = rb * sn
-        vbyy = vbr * cs - vbt * sn
-        vbzz = vbr * sn + vbt * cs
-        wby = w_r * cs - w_t * sn
-        wbz = w_r * sn + w_t * cs
-        pk = _pocket_force(bx, byy, bzz, vbx, vbyy, vbzz, w_x, wby, wbz,
-                           ppx, ppy, ppz, ax, ay, az, vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
-                           xc, yc, zc, p, flags, c_roll, c_slide, c_root)
-        pfx, pfy, pfz = pk[0], pk[1], pk[2]
-        work[j, W_POCKET_Q] = pk[9]
-        work[j, W_POCKET_Z] = pk[10]
-        work[j, W_P_POCKET] = pk[11]
-        if pk[10] > p[P_CP] + DELTA_MAX_FRAC * dw:
-            _flag(work, zb, STATUS_DEEP_POCKET, j, 3, pk[10] - p[P_CP])
-        # on the ball, to the orbiting frame
-        pft = -pfy * sn + pfz * cs
-        work[j, W_POCKET_T] = pft
-        fx += pfx
-        fr += pfy * cs + pfz * sn
-        ft += pft
-        mx += pk[3]
-        mr += pk[4] * cs + pk[5] * sn
-        mt += -pk[4] * sn + pk[5] * cs
-        # On the cage: −F_b and the reaction moment, applied at the point w of the pocket axis
-        # level with the ball (the normal force's line of action passes through it), carried to
-        # the interface node: node force −F_b, node moment (w − p)×(−F_b) − M_b − (b − w)×F_b.
-        # This is the virtual work of the pocket force for the node's motion, so the normal
-        # force stays the exact gradient of its potential (conservative runs conserve energy).
-        da_ = pocket_axis_point(bx - ppx, byy - ppy, bzz - ppz, ax, ay, az, flags[F_POCKET_SHAPE], p[P_POCKET_CONE])
-        wpx = ppx + da_ * ax
-        wpy = ppy + da_ * ay
-        wpz = ppz + da_ * az
-        Fc[0] = -pfx
-        Fc[1] = -pfy
-        Fc[2] = -pfz
-        l1, l2, l3 = cross(da_ * ax, da_ * ay, da_ * az, -pfx, -pfy, -pfz)
-        b1, b2, b3 = cross(bx - wpx, byy - wpy, bzz - wpz, pfx, pfy, pfz)
-        Tn[0] = l1 - pk[3] - b1
-        Tn[1] = l2 - pk[4] - b2
-        Tn[2] = l3 - pk[5] - b3
-        add_node_load(A, q_modes, node_position, node_modes, j, Fc, Tn, Qext)
-        for i in range(3):
-            nl[j, i] = A[0, i] * Fc[0] + A[1, i] * Fc[1] + A[2, i] * Fc[2]
-            nl[j, 3 + i] = A[0, i] * Tn[0] + A[1, i] * Tn[1] + A[2, i] * Tn[2]
-        work[j, W_PK_FX] = -pfx
-        work[j, W_PK_FY] = -pfy
-        work[j, W_PK_FZ] = -pfz
-        work[j, W_PK_LY] = wpy - yc
-        work[j, W_PK_LZ] = wpz - zc
-        # ---- churning drag on the orbiting ball (oil–air mixture at rest)
-        if flags[F_DRAG]:
-            fd = churning_drag(dw, vbt, rho_mix, eta_mix)
-            ft += fd
-            work[j, W_DRAG] = -fd
-            work[j, W_P_CHURNING] = -fd * vbt
-            if flags[F_BALL_DRAG_MOMENT]:
-                # viscous moment of the mixture at rest on the spinning ball, −c·w (drag.py), and
-                # the power it dissipates, c·|w|²
-                c_spin = ball_drag_moment_coefficient(dw, eta_mix)
-                mx -= c_spin * w_x
-                mr -= c_spin * w_r
-                mt -= c_spin * w_t
-                work[j, W_P_CHURNING] += c_spin * (w_x * w_x + w_r * w_r + w_t * w_t)
+    kr = p[P_ATT_RATE]
+    rb = b.r
+    vbr = b.r_dot
+    psid = b.psi_dot
+    w_r = b.w_r
+    w_t = b.w_t
+    mx, mr, mt = load.mx, load.mr, load.mt
+    rl = att.ring
+    dydt[o + BALL_X] = b.x_dot
+    dydt[o + BALL_R] = vbr
+    dydt[o + BALL_PSI] = psid
+    dydt[o + BALL_X_DOT] = load.fx / mb
+    dydt[o + BALL_R_DOT] = load.fr / mb + rb * psid * psid
+    dydt[o + BALL_PSI_DOT] = (load.ft / mb - 2.0 * vbr * psid) / rb
+    ctl = att.control
+    if ctl < 0:
+        dydt[o + BALL_W_X] = mx / ib
+        dydt[o + BALL_W_R] = mr / ib + psid * w_t
+        if ctl == -2:
+            # no gyroscopic pivoting: the yaw is held at 0, the pitch is free
+            dydt[o + BALL_W_T] = -kr * w_t
         else:
-            work[j, W_DRAG] = 0.0
-            work[j, W_P_CHURNING] = 0.0
-        # ---- race-control attitude (module docstring): which race controls
-        ctl = control_race(flags[F_ATTITUDE], q_ctl_o, a_ctl_o, nxo, nro, q_ctl_i, a_ctl_i, nxi, nri)
-        kr = p[P_ATT_RATE]
-        cnx = cnr = w_ring = ux = ur = 0.0
-        if ctl != -1:
-            # race control or no pivoting: the races carry the gyroscopic couple
-            if ctl == 0:
-                cnx, cnr, w_ring = nxo, nro, 0.0
-            elif ctl == 1:
-                cnx, cnr, w_ring = nxi, nri, omega_i
-            ux = -cnr
-            ur = cnx
-            if flags[F_ATT_RING] and q_ctl_o > 0.0 and q_ctl_i > 0.0:
-                # the gyroscopic couple I_b·psi'·w_r − M_t the races supply: forces +f·u_i at the
-                # inner contact point and −f·u_i at the outer one (module docstring); the inner
-                # ring receives −f·u_i at its contact point
-                dpx = xpi - xpo
-                dpr = rpi - rpo
-                uix = -nri
-                uir = nxi
-                arm = dpx * uir - dpr * uix
-                if arm != 0.0:
-                    f_g = (ib * psid * w_r - mt) / arm
-                    gx = -f_g * uix
-                    gr = -f_g * uir
-                    gy = gr * cs
-                    gz = gr * sn
-                    rfx += gx
-                    rfy += gy
-                    rfz += gz
-                    m1, m2, m3 = cross(xpi - xi, rpi * cs - yi, rpi * sn - zi, gx, gy, gz)
-                    rmx += m1
-                    rmy += m2
-                    rmz += m3
-        # ---- ball equations (module docstring)
-        dydt[o] = vbx
-        dydt[o + 1] = vbr
-        dydt[o + 2] = psid
-        dydt[o + 3] = fx / mb
-        dydt[o + 4] = fr / mb + rb * psid * psid
-        dydt[o + 5] = (ft / mb - 2.0 * vbr * psid) / rb
-        if ctl < 0:
-            dydt[o + 6] = mx / ib
-            dydt[o + 7] = mr / ib + psid * w_t
-            if ctl == -2:
-                # no gyroscopic pivoting: the yaw is held at 0, the pitch is free
-                dydt[o + 8] = -kr * w_t
-            else:
-                dydt[o + 8] = mt / ib - psid * w_r
-        else:
-            # race control: no spin on the controlling race, no yaw; the one free rotation is
-            # about u = e_t × n (in the ball plane, normal to n), driven by M·u
-            a_u = (mx * ux + mr * ur) / ib + psid * w_t * ur
-            b_n = kr * (w_ring * cnx - (w_x * cnx + w_r * cnr))
-            dydt[o + 6] = a_u * ux + b_n * cnx
-            dydt[o + 7] = a_u * ur + b_n * cnr
-            dydt[o + 8] = -kr * w_t
-            if ctl == 1:
-                # the spin-locking couple M_n·n that holds the ball on the inner race is that race's
-                # spin friction: the ring takes −M_n·n (module docstring), which sets its share of
-                # the friction torque (without it: 6 % of the loss at the paper case unaccounted)
-                m_n = ib * b_n - (mx * cnx + (mr + ib * psid * w_t) * cnr)
-                rmx -= m_n * cnx
-                rmy -= m_n * cnr * cs
-                rmz -= m_n * cnr * sn
-    # ---- cage guidance (`_cage_guidance`): an inner-ring land puts the opposite force and torque
-    # on the ring, its force applied at the cage centre (so the pair conserves angular momentum)
-    lfy, lfz, lmx, eps, frim = _cage_guidance(yc, zc, vyc, vzc, wcx, yi, zi, vyi, vzi, omega_i, p, flags)
-    if flags[F_GUIDANCE] == 1:
-        rfy -= lfy
-        rfz -= lfz
-        m1, m2, m3 = cross(xc - xi, yc - yi, zc - zi, 0.0, -lfy, -lfz)
-        rmx += m1 - lmx
-        rmy += m2
-        rmz += m3
-    # ---- inner ring
+            dydt[o + BALL_W_T] = mt / ib - psid * w_r
+        return rl
+    # race control: no spin on the controlling race, no yaw; the one free rotation is about u
+    cnx = att.n_x
+    cnr = att.n_r
+    ux = att.u_x
+    ur = att.u_r
+    a_u = (mx * ux + mr * ur) / ib + psid * w_t * ur
+    b_n = kr * (att.w_race * cnx - (b.w_x * cnx + w_r * cnr))
+    dydt[o + BALL_W_X] = a_u * ux + b_n * cnx
+    dydt[o + BALL_W_R] = a_u * ur + b_n * cnr
+    dydt[o + BALL_W_T] = -kr * w_t
+    if ctl == 1:
+        m_n = ib * b_n - (mx * cnx + (mr + ib * psid * w_t) * cnr)
+        cs = b.cos_psi
+        sn = b.sin_psi
+        rl = RingLoad(rl.fx, rl.fy, rl.fz, rl.mx - m_n * cnx, rl.my - m_n * cnr * cs, rl.mz - m_n * cnr * sn)
+    return rl
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl):
+    """An inner-ring land (`_cage_guidance`) puts the opposite of its force and torque on the ring,
+    the force applied at the cage centre (so the pair conserves angular momentum)."""
+    if flags[F_GUIDANCE] != 1:
+        return rl
+    m1, m2, m3 = cross(xc - ring.x, yc - ring.y, zc - ring.z, 0.0, -g.fy, -g.fz)
+    return RingLoad(rl.fx, rl.fy - g.fy, rl.fz - g.fz, rl.mx + (m1 - g.mx), rl.my + m2, rl.mz + m3)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def inner_ring_equations(y, dydt, r0, omega_i, rl, work, zb, p):
+    """dy/dt of the inner ring (module docstring): m_i·(x'', y'', z'') = F_ext(t) + race reactions
+    (− m_i·g along Z), I_d·theta_y'' = M_y − I_p·omega_i·theta_z', I_d·theta_z'' = M_z +
+    I_p·omega_i·theta_y' (gyroscopic coupling of the spinning ring), phi_i' = omega_i; the drive
+    torque about X into work."""
     mi = p[P_MI]
     idr = p[P_IID]
     ipr = p[P_IIP]
-    for k in range(5):
-        dydt[r0 + k] = y[r0 + 5 + k]
-    dydt[r0 + 5] = (work[zb, WR_FX] + rfx) / mi
-    dydt[r0 + 6] = (work[zb, WR_FX + 1] + rfy) / mi
-    dydt[r0 + 7] = (work[zb, WR_FX + 2] + rfz) / mi - grav
-    dydt[r0 + 8] = (rmy - ipr * omega_i * y[r0 + 9]) / idr
-    dydt[r0 + 9] = (rmz + ipr * omega_i * y[r0 + 8]) / idr
-    dydt[r0 + 10] = omega_i
-    work[zb, WR_RING_TORQUE] = rmx
-    # ---- cage: guide land + pockets
-    work[zb, WR_LAND_FY] = lfy
-    work[zb, WR_LAND_FZ] = lfz
-    work[zb, WR_LAND_M] = lmx
-    work[zb, WR_RIM_F] = frim
-    work[zb, WR_EPS] = eps
-    if eps > 2.0:
-        _flag(work, zb, STATUS_RIM, -1, 4, eps)
-    cage_equations(y, dydt, c0, m0, cage, lfy, lfz, lmx, p[P_GRAV])
-    # ---- dissipated power of the guide land and of the cage's modal damping
-    # (flexbearing.multibody.power_loss): the land's force, torque and distributed modal loads on the cage,
-    # less the rim's normal force, which is conservative (potential k_rim·(e − Cg)²/2)
-    w_b = scr[1]
+    for k in range(RING_POSITIONS):
+        dydt[r0 + k] = y[r0 + RING_POSITIONS + k]
+    dydt[r0 + RING_VX] = (work[zb, WR_FX] + rl.fx) / mi
+    dydt[r0 + RING_VY] = (work[zb, WR_FX + 1] + rl.fy) / mi
+    dydt[r0 + RING_VZ] = (work[zb, WR_FX + 2] + rl.fz) / mi - p[P_GRAV]
+    dydt[r0 + RING_TILT_Y_DOT] = (rl.my - ipr * omega_i * y[r0 + RING_TILT_Z_DOT]) / idr
+    dydt[r0 + RING_TILT_Z_DOT] = (rl.mz + ipr * omega_i * y[r0 + RING_TILT_Y_DOT]) / idr
+    dydt[r0 + RING_PHI] = omega_i
+    work[zb, WR_RING_TORQUE] = rl.mx
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, w_b, cage, flags, work, zb):
+    """Dissipated power of the guide land and of the cage's modal damping (flexbearing.multibody.power_loss):
+    the land's force, torque and distributed modal loads on the cage, less the rim's normal force,
+    which is conservative (potential k_rim·(e − Cg)²/2); an inner land works on the cage's motion
+    relative to the ring. P_structural = sum_k d_k·q_k'²."""
+    lfy, lfz, lmx, frim = g.fy, g.fz, g.mx, g.rim_force
     wx_inertial = A[0, 0] * w_b[0] + A[0, 1] * w_b[1] + A[0, 2] * w_b[2]
     if flags[F_GUIDANCE] == 1:
-        # inner land: the film and rim work on the cage's motion relative to the ring
-        ey_ = yc - yi
-        ez_ = zc - zi
-        p_land = lfy * (vyc - vyi) + lfz * (vzc - vzi) + lmx * (wx_inertial - omega_i)
+        ey_ = yc - ring.y
+        ez_ = zc - ring.z
+        p_land = lfy * (vyc - ring.vy) + lfz * (vzc - ring.vz) + lmx * (wx_inertial - omega_i)
         if frim > 0.0:
-            p_land += frim * (ey_ * (vyc - vyi) + ez_ * (vzc - vzi)) / math.sqrt(ey_ * ey_ + ez_ * ez_)
+            p_land += frim * (ey_ * (vyc - ring.vy) + ez_ * (vzc - ring.vz)) / math.sqrt(ey_ * ey_ + ez_ * ez_)
     else:
         p_land = lfy * vyc + lfz * vzc + lmx * wx_inertial
         if frim > 0.0:
@@ -1041,6 +1066,82 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         p_struct += damp[k] * qd_k * qd_k
     work[zb, WR_P_LAND] = -p_land
     work[zb, WR_P_STRUCTURAL] = p_struct
+
+
+@njit(cache=True, _nrt=False)
+def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work, cage):
+    """dy/dt of the bearing at time t (module docstring); fills `work` with the contact results.
+
+    p, flags, htab, ttab, cage: Model.p, Model.flags, Model.hertz_table, Model.traction_table,
+    Model.cage; speed_table, load_table, impacts: flexbearing.multibody.profiles arrays; work: float64
+    (Z+1, N_WORK). Allocation-free. Per ball: race contacts, pocket, churning drag, race control,
+    ball equations; then the cage guidance, the inner ring, the cage (floating frame), the powers.
+    """
+    z = int(p[P_Z])
+    zb = z
+    dw = p[P_DW]
+    mb = p[P_MB]
+    grav = p[P_GRAV]
+    r0 = ring_offset(z)
+    c0 = cage_offset(z)
+    m0 = modal_offset(z)
+    A = cage.A
+    scr = cage.scratch
+    Qext = cage.Qext
+    for k in range(Qext.shape[0]):
+        Qext[k] = 0.0
+    cage_rotation(y[c0 + CAGE_PHI], y[c0 + CAGE_TILT_Y], y[c0 + CAGE_TILT_Z], A)
+    cage_body_angular_velocity(A, y, c0, scr[1])
+    omega_i = speed_at(t, speed_table)
+    load_at(t, load_table, impacts, work[zb, WR_FX:WR_FX + 3])
+    work[zb, WR_OMEGA_I] = omega_i
+    ring = ring_state(y, r0)
+    xc = y[c0 + CAGE_X]
+    yc = y[c0 + CAGE_Y]
+    zc = y[c0 + CAGE_Z]
+    vyc = y[c0 + CAGE_VY]
+    vzc = y[c0 + CAGE_VZ]
+    wcx = y[c0 + CAGE_OMEGA]
+    rl = RingLoad(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    rho_mix, eta_mix = oil_air_mixture(cavity_oil_fraction(p[P_OILFRAC], p[P_OIL_WREF], omega_i),
+                                       p[P_RHO_OIL], p[P_ETA0])
+    c_roll, c_slide, c_root = pocket_film_coefficients(p, flags)
+    # the scratch rows, the modal coordinates and the node loads, taken once: every array view
+    # costs an atomic reference-count increment and decrement (made per ball they were ~20 % of
+    # a rigid cage's rhs)
+    w_body = scr[1]
+    pos = scr[3]
+    vel = scr[4]
+    axv = scr[5]
+    wn = scr[6]
+    Fc = scr[7]
+    Tn = scr[2]
+    q_modes = y[m0:m0 + cage.stiffness.shape[0]]
+    nl = cage.node_load
+    node_position = cage.node_position
+    node_modes = cage.node_modes
+    for j in range(z):
+        b = ball_state(y, j)
+        load = BallLoad(0.0, -mb * grav * b.sin_psi, -mb * grav * b.cos_psi, 0.0, 0.0, 0.0)
+        contacts = ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl)
+        load = ball_pocket(j, b, y, c0, m0, A, w_body, pos, vel, axv, wn, Fc, Tn, q_modes, nl, node_position,
+                           node_modes, Qext, xc, yc, zc, p, flags, c_roll, c_slide, c_root, work, contacts.ball)
+        load = ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load)
+        att = race_control_couple(b, load, contacts.control, omega_i, ring, p, flags, contacts.ring)
+        rl = ball_equations(j, b, load, att, p, dydt)
+    g = _cage_guidance(yc, zc, vyc, vzc, wcx, ring.y, ring.z, ring.vy, ring.vz, omega_i, p, flags)
+    rl = guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl)
+    inner_ring_equations(y, dydt, r0, omega_i, rl, work, zb, p)
+    # the cage: guide land + pockets (floating frame; the only place the resultants become accelerations)
+    work[zb, WR_LAND_FY] = g.fy
+    work[zb, WR_LAND_FZ] = g.fz
+    work[zb, WR_LAND_M] = g.mx
+    work[zb, WR_RIM_F] = g.rim_force
+    work[zb, WR_EPS] = g.eps
+    if g.eps > 2.0:
+        _flag(work, zb, STATUS_RIM, -1, 4, g.eps)
+    cage_equations(y, dydt, c0, m0, cage, g.fy, g.fz, g.mx, p[P_GRAV])
+    land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, scr[1], cage, flags, work, zb)
 
 
 # ---------------------------------------------------------------- the work array of `rhs`

@@ -19,6 +19,12 @@ from flexbearing.multibody.geometry import race_contact, ring_point_in_plane
 from flexbearing.multibody.model import (F_GUIDANCE, F_HERTZ_FIXED, F_INNER_HALVES, F_POCKET_SHAPE, P_ALPHA0, P_CG, P_CP, P_DW, P_FE, P_FI, P_GRAV, P_IB, P_IID,
                              P_KC, P_KN, P_KRIM, P_MB, P_MI, P_RIL, P_RIR, P_RO, P_XIL, P_XIR, P_XO, P_Z)
 from flexbearing.multibody.profiles import load_at
+from flexbearing.multibody.state_layout import (
+    BALL_PSI, BALL_PSI_DOT, BALL_R, BALL_R_DOT, BALL_W_R, BALL_W_T, BALL_W_X, BALL_X, BALL_X_DOT, CAGE_PHI,
+    CAGE_TILT_Y, CAGE_TILT_Z, CAGE_VX, CAGE_VY, CAGE_VZ, CAGE_Y, CAGE_Z, RING_TILT_Y, RING_TILT_Y_DOT,
+    RING_TILT_Z, RING_TILT_Z_DOT, RING_VX, RING_VY, RING_VZ, RING_X, RING_Y, RING_Z, ball_offset, cage_offset,
+    modal_offset, ring_offset,
+)
 
 
 @njit(cache=True)
@@ -35,31 +41,31 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     v = (R', w_body, q'), plus the modal strain energy ½·Σ omega_k²·q_k².
     """
     z = int(p[P_Z])
-    r0 = 9 * z
-    c0 = r0 + 11
-    m0 = c0 + 12
+    r0 = ring_offset(z)
+    c0 = cage_offset(z)
+    m0 = modal_offset(z)
     A = cage.A
     scr = cage.scratch
-    cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], A)
+    cage_rotation(y[c0 + CAGE_PHI], y[c0 + CAGE_TILT_Y], y[c0 + CAGE_TILT_Z], A)
     cage_body_angular_velocity(A, y, c0, scr[1])
     mb = p[P_MB]
     ib = p[P_IB]
     dw = p[P_DW]
     ek = 0.0
     ev = 0.0
-    xi = y[r0]
-    yi = y[r0 + 1]
-    zi = y[r0 + 2]
-    ty = y[r0 + 3]
-    tz = y[r0 + 4]
+    xi = y[r0 + RING_X]
+    yi = y[r0 + RING_Y]
+    zi = y[r0 + RING_Z]
+    ty = y[r0 + RING_TILT_Y]
+    tz = y[r0 + RING_TILT_Z]
     for j in range(z):
-        o = 9 * j
-        xb = y[o]
-        rb = y[o + 1]
-        psi = y[o + 2]
-        ek += 0.5 * mb * (y[o + 3] ** 2 + y[o + 4] ** 2 + (rb * y[o + 5]) ** 2)
+        o = ball_offset(j)
+        xb = y[o + BALL_X]
+        rb = y[o + BALL_R]
+        psi = y[o + BALL_PSI]
+        ek += 0.5 * mb * (y[o + BALL_X_DOT] ** 2 + y[o + BALL_R_DOT] ** 2 + (rb * y[o + BALL_PSI_DOT]) ** 2)
         ev += mb * p[P_GRAV] * rb * math.sin(psi)
-        ek += 0.5 * ib * (y[o + 6] ** 2 + y[o + 7] ** 2 + y[o + 8] ** 2)
+        ek += 0.5 * ib * (y[o + BALL_W_X] ** 2 + y[o + BALL_W_R] ** 2 + y[o + BALL_W_T] ** 2)
         for c in range(1 + flags[F_INNER_HALVES]):      # one-piece ring: no second inner half
             if c == 0:
                 xc_g = p[P_XO]
@@ -100,16 +106,16 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
         else:
             ev += 0.5 * kc * cp * cp + kc * cp * (zz - cp) + 0.4 * p[P_KN] * (zz - cp) ** 2.5
     # ring (translation + tilt) and cage
-    ek += 0.5 * p[P_MI] * (y[r0 + 5] ** 2 + y[r0 + 6] ** 2 + y[r0 + 7] ** 2)
-    ev += p[P_GRAV] * (p[P_MI] * zi + cage.mass[0] * y[c0 + 2])
-    ek += 0.5 * p[P_IID] * (y[r0 + 8] ** 2 + y[r0 + 9] ** 2)
+    ek += 0.5 * p[P_MI] * (y[r0 + RING_VX] ** 2 + y[r0 + RING_VY] ** 2 + y[r0 + RING_VZ] ** 2)
+    ev += p[P_GRAV] * (p[P_MI] * zi + cage.mass[0] * y[c0 + CAGE_Z])
+    ek += 0.5 * p[P_IID] * (y[r0 + RING_TILT_Y_DOT] ** 2 + y[r0 + RING_TILT_Z_DOT] ** 2)
     stiff = cage.stiffness
     n = stiff.shape[0]
     q = y[m0:m0 + n]
     v = cage.rhs                 # work array: the velocity (R', w_body, q')
-    v[0] = y[c0 + 6]
-    v[1] = y[c0 + 7]
-    v[2] = y[c0 + 8]
+    v[0] = y[c0 + CAGE_VX]
+    v[1] = y[c0 + CAGE_VY]
+    v[2] = y[c0 + CAGE_VZ]
     v[3] = scr[1, 0]
     v[4] = scr[1, 1]
     v[5] = scr[1, 2]
@@ -126,9 +132,9 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     # a ball-riding cage has no rim (dynamics._cage_guidance)
     guidance = flags[F_GUIDANCE]
     if guidance == 1:
-        e = math.sqrt((y[c0 + 1] - yi) ** 2 + (y[c0 + 2] - zi) ** 2)
+        e = math.sqrt((y[c0 + CAGE_Y] - yi) ** 2 + (y[c0 + CAGE_Z] - zi) ** 2)
     else:
-        e = math.sqrt(y[c0 + 1] ** 2 + y[c0 + 2] ** 2)
+        e = math.sqrt(y[c0 + CAGE_Y] ** 2 + y[c0 + CAGE_Z] ** 2)
     if guidance != 2 and e > p[P_CG]:
         ev += 0.5 * p[P_KRIM] * (e - p[P_CG]) ** 2
     f3 = np.empty(3)

@@ -39,6 +39,7 @@ from scipy.optimize import root
 from flexbearing.common.validation import InputError, require_range
 from flexbearing.multibody import model as M
 from flexbearing.multibody.dynamics import _hertz_lookup, control_race
+from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody.geometry import nominal_cage_speed
 from flexbearing.multibody.geometry import race_contact, ring_point_in_plane
 
@@ -379,10 +380,10 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
     y = np.zeros(lay["n_state"])
     ring = qs["ring"]
     for j in range(z):
-        o = 9 * j
+        o = SL.ball_offset(j)
         x, r, psi = qs["ball_x"][j], qs["ball_r"][j], qs["psi"][j]
-        y[o:o + 3] = (x, r, psi)
-        y[o + 5] = om
+        y[o + SL.BALL_X], y[o + SL.BALL_R], y[o + SL.BALL_PSI] = x, r, psi
+        y[o + SL.BALL_PSI_DOT] = om
         # pure rolling at the outer and the loaded inner contact: rolling-direction slide = 0
         cont = qs["contacts"][j]
         ci = 1 if cont[1][0] >= cont[2][0] else 2
@@ -404,10 +405,10 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
             rows = [rows[k], [nx, nr]]
             rhs = [rhs[k], w_race * nx]
         w = np.linalg.solve(np.array(rows), np.array(rhs))
-        y[o + 6], y[o + 7] = w
+        y[o + SL.BALL_W_X], y[o + SL.BALL_W_R] = w
     r0 = lay["ring"]
-    y[r0:r0 + 5] = ring
+    y[r0:r0 + SL.RING_POSITIONS] = ring
     c0 = lay["cage"]
-    y[c0 + 9] = om
-    y[c0] = float(np.mean(qs["ball_x"]))  # cage follows the balls axially
+    y[c0 + SL.CAGE_OMEGA] = om
+    y[c0 + SL.CAGE_X] = float(np.mean(qs["ball_x"]))  # cage follows the balls axially
     return y

@@ -58,6 +58,7 @@ from numba import njit
 from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import outputs as O
 from flexbearing.multibody import model as M
+from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody.stress_peak import disabled_monitor, peak_of, stress_peak_step, take_peak
 
 DEFAULT_TOL = 1e-6
@@ -417,8 +418,8 @@ def _worst_contact(model, t, y, speed_table, load_table, impacts):
     z = model.n_balls
     if not np.all(np.isfinite(y)):
         bad = int(np.flatnonzero(~np.isfinite(y))[0])
-        if bad < 9 * z:
-            return bad // 9, "ball state", f"state component {bad % 9} non-finite"
+        if bad < SL.ring_offset(z):
+            return bad // SL.BALL_STATE, "ball state", f"state component {bad % SL.BALL_STATE} non-finite"
         return -1, "ring/cage state", f"state index {bad} non-finite"
     try:
         out = O.evaluate_outputs(model, t, y, speed_table, load_table, impacts)

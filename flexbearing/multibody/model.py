@@ -7,6 +7,9 @@ arguments. Nothing in the hot loop looks at a Python object.
 
 State vector y (float64, SI; `state_layout(model)` returns the offsets)
 -----------------------------------------------------------------------
+Block sizes, slot names and offsets are constants of flexbearing.multibody.state_layout (BALL_STATE,
+BALL_X, ..., ring_offset(Z), cage_offset(Z), modal_offset(Z)); use those, not the numbers below.
+
 Ball j (j = 0..Z-1), block of 9 at ``9*j`` (orbiting frame of the ball, right-handed
 (e_x, e_r, e_t), e_t = e_x × e_r, azimuth psi measured from +Y towards +Z, as flexbearing.multibody.geometry):
 
@@ -100,6 +103,7 @@ from flexbearing.multibody.hertz import effective_modulus, ellipticity, hertz_st
 from flexbearing.multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table
 from flexbearing.multibody.geometry import inner_groove_centres, outer_groove_centre
 from flexbearing.multibody.guide_land import rim_stiffness
+from flexbearing.multibody import state_layout as SL
 
 # ---------------------------------------------------------------- parameter indices
 # Viscosities: the guide-land film, the churning drag and the film thickness use eta(T) at the oil
@@ -257,12 +261,12 @@ def rigid_cage_body(cage, pitch_diameter: float):
 def state_layout(model: Model) -> dict:
     """Offsets and block sizes of the state vector (module docstring)."""
     z = model.n_balls
-    ring = 9 * z
-    cage = ring + 11
-    modes = cage + 12
-    return {"ball": 0, "ball_block": 9, "ring": ring, "ring_block": 11, "cage": cage,
-            "cage_block": 12, "modes": modes, "n_modes": model.n_modes,
-            "n_state": modes + 2 * model.n_modes,
+    ring = SL.ring_offset(z)
+    cage = SL.cage_offset(z)
+    modes = SL.modal_offset(z)
+    return {"ball": 0, "ball_block": SL.BALL_STATE, "ring": ring, "ring_block": SL.RING_STATE, "cage": cage,
+            "cage_block": SL.CAGE_STATE, "modes": modes, "n_modes": model.n_modes,
+            "n_state": SL.state_size(z, model.n_modes),
             "ball_fields": ["x", "r", "psi", "x_dot", "r_dot", "psi_dot", "w_x", "w_r", "w_t"],
             "ring_fields": ["x", "y", "z", "tilt_y", "tilt_z", "x_dot", "y_dot", "z_dot",
                             "tilt_y_dot", "tilt_z_dot", "phi"],
@@ -474,7 +478,7 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     flags[F_GUIDANCE] = GUIDANCES.index(cage.guidance)
     flags[F_POCKET_SHAPE] = POCKET_SHAPES.index(cage.pocket_shape)
     htab = _hertz_tables(bearing, e_br)
-    n_state = 9 * z + 11 + 12 + 2 * n_modes
+    n_state = SL.state_size(z, n_modes)
     scale, relmask = _error_scales(z, n_modes, dw)
     return Model(p=p, flags=flags, hertz_table=htab, traction_table=ttab,
                  scale=scale, relmask=relmask, n_balls=z, n_modes=n_modes, n_state=n_state,
@@ -515,34 +519,35 @@ def _error_scales(z: int, n_modes: int, dw: float) -> tuple[np.ndarray, np.ndarr
     1.1e-4 at 0.1 m/s) and moves the race-control pitch by 0.023° (tests/test_ball_attitude.py:
     0.02°); 0.3 m/s passes both.
     """
-    n = 9 * z + 23 + 2 * n_modes
+    n = SL.state_size(z, n_modes)
     s = np.zeros(n)
     rel = np.zeros(n)
     for j in range(z):
-        b = 9 * j
-        s[b:b + 2] = 1e-4
-        s[b + 2] = 1e-4 / (0.5 * 0.167)   # ~1e-4 m of arc at the pitch radius
-        s[b + 3:b + 5] = 0.3               # ball x', r': the Hertz vibration (docstring)
-        s[b + 5] = 1.0
-        s[b + 6:b + 9] = 10.0
-        rel[b + 5:b + 9] = 1.0
-    r0 = 9 * z
-    s[r0:r0 + 3] = 1e-4
-    s[r0 + 3:r0 + 5] = 1e-3
-    s[r0 + 5:r0 + 8] = 0.1
-    s[r0 + 8:r0 + 10] = 1.0
-    s[r0 + 10] = 1e-3
-    c0 = r0 + 11
-    s[c0:c0 + 3] = 1e-4
-    s[c0 + 3] = 1e-3
-    s[c0 + 4:c0 + 6] = 1e-3
-    s[c0 + 6:c0 + 9] = 0.1
-    s[c0 + 9] = 1.0
-    rel[c0 + 9] = 1.0
-    s[c0 + 10:c0 + 12] = 1.0
+        b = SL.ball_offset(j)
+        s[b + SL.BALL_X:b + SL.BALL_R + 1] = 1e-4
+        s[b + SL.BALL_PSI] = 1e-4 / (0.5 * 0.167)   # ~1e-4 m of arc at the pitch radius
+        s[b + SL.BALL_X_DOT:b + SL.BALL_R_DOT + 1] = 0.3   # ball x', r': the Hertz vibration (docstring)
+        s[b + SL.BALL_PSI_DOT] = 1.0
+        s[b + SL.BALL_W_X:b + SL.BALL_W_T + 1] = 10.0
+        rel[b + SL.BALL_PSI_DOT:b + SL.BALL_W_T + 1] = 1.0
+    r0 = SL.ring_offset(z)
+    s[r0 + SL.RING_X:r0 + SL.RING_Z + 1] = 1e-4
+    s[r0 + SL.RING_TILT_Y:r0 + SL.RING_TILT_Z + 1] = 1e-3
+    s[r0 + SL.RING_VX:r0 + SL.RING_VZ + 1] = 0.1
+    s[r0 + SL.RING_TILT_Y_DOT:r0 + SL.RING_TILT_Z_DOT + 1] = 1.0
+    s[r0 + SL.RING_PHI] = 1e-3
+    c0 = SL.cage_offset(z)
+    s[c0 + SL.CAGE_X:c0 + SL.CAGE_Z + 1] = 1e-4
+    s[c0 + SL.CAGE_PHI] = 1e-3
+    s[c0 + SL.CAGE_TILT_Y:c0 + SL.CAGE_TILT_Z + 1] = 1e-3
+    s[c0 + SL.CAGE_VX:c0 + SL.CAGE_VZ + 1] = 0.1
+    s[c0 + SL.CAGE_OMEGA] = 1.0
+    rel[c0 + SL.CAGE_OMEGA] = 1.0
+    s[c0 + SL.CAGE_TILT_Y_DOT:c0 + SL.CAGE_TILT_Z_DOT + 1] = 1.0
     if n_modes:
         # modal coordinates of mass-normalised modes: displacement ~ q / sqrt(cage mass), so the
         # position and velocity scales of the bodies apply
-        s[c0 + 12:c0 + 12 + n_modes] = 1e-4
-        s[c0 + 12 + n_modes:] = 0.1
+        m0 = SL.modal_offset(z)
+        s[m0:m0 + n_modes] = 1e-4
+        s[m0 + n_modes:] = 0.1
     return s, rel

@@ -11,6 +11,7 @@ import numpy as np
 from numba import njit
 
 from flexbearing.multibody import model as M
+from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody.dynamics import new_work, rhs
 from flexbearing.multibody.cage_offset import cage_offset_from_guide
 from flexbearing.multibody.energy import mechanical_energy
@@ -48,9 +49,9 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
     rhs(t, y, dydt, model.p, model.flags, model.hertz_table, model.traction_table,
         speed_table, load_table, impacts, work, model.cage)
     lay = state_layout_cached(model)
-    balls = y[: 9 * z].reshape(z, 9)
-    ring = y[lay["ring"]: lay["ring"] + 11]
-    cage = y[lay["cage"]: lay["cage"] + 12]
+    balls = y[: lay["ring"]].reshape(z, SL.BALL_STATE)
+    ring = y[lay["ring"]: lay["ring"] + SL.RING_STATE]
+    cage = y[lay["cage"]: lay["cage"] + SL.CAGE_STATE]
     wc = work[:z, : 3 * N_WC].reshape(z, 3, N_WC)
     Q = wc[:, :, WC_Q]
     ang = np.arctan2(wc[:, :, WC_SIN], wc[:, :, WC_COS])
@@ -72,19 +73,20 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
         "cage_land_torque": float(work[z, M.WR_LAND_M]),
         "cage_rim_force": float(work[z, M.WR_RIM_F]),
         "cage_eccentricity_ratio": float(work[z, M.WR_EPS]),
-        "cage_speed": float(cage[9]),
-        "cage_centre": cage[0:3].copy(),
-        "cage_guide_offset": cage_offset_from_guide(int(model.flags[M.F_GUIDANCE]), cage[1:3], ring[1:3],
-                                                    balls[:, 1], balls[:, 2]),
-        "cage_tilt": cage[4:6].copy(),
+        "cage_speed": float(cage[SL.CAGE_OMEGA]),
+        "cage_centre": cage[SL.CAGE_X:SL.CAGE_Z + 1].copy(),
+        "cage_guide_offset": cage_offset_from_guide(int(model.flags[M.F_GUIDANCE]), cage[SL.CAGE_Y:SL.CAGE_Z + 1],
+                                                    ring[SL.RING_Y:SL.RING_Z + 1], balls[:, SL.BALL_R],
+                                                    balls[:, SL.BALL_PSI]),
+        "cage_tilt": cage[SL.CAGE_TILT_Y:SL.CAGE_TILT_Z + 1].copy(),
         "inner_ring_speed": float(work[z, M.WR_OMEGA_I]),
-        "inner_ring_displacement": ring[0:5].copy(),
+        "inner_ring_displacement": ring[:SL.RING_POSITIONS].copy(),
         "ring_drive_torque": drive_torque(work, z),
         "external_load": work[z, M.WR_FX:M.WR_FX + 3].copy(),
-        "ball_position": balls[:, 0:3].copy(),
-        "ball_velocity": balls[:, 3:6].copy(),
-        "ball_angular_velocity": balls[:, 6:9].copy(),
-        "ball_orbit_speed": balls[:, 5].copy(),
+        "ball_position": balls[:, SL.BALL_X:SL.BALL_PSI + 1].copy(),
+        "ball_velocity": balls[:, SL.BALL_X_DOT:SL.BALL_PSI_DOT + 1].copy(),
+        "ball_angular_velocity": balls[:, SL.BALL_W_X:SL.BALL_W_T + 1].copy(),
+        "ball_orbit_speed": balls[:, SL.BALL_PSI_DOT].copy(),
     }
     sources = power_by_source(work, z)
     for src, name in RECORDED.items():
@@ -93,9 +95,9 @@ def evaluate_outputs(model, t: float, y: np.ndarray, speed_table: np.ndarray, lo
     out["drive_power"] = out["ring_drive_torque"] * out["inner_ring_speed"]
     if energy:
         f_ext = work[z, M.WR_FX:M.WR_FX + 3]
-        out["external_load_power"] = float(f_ext @ ring[5:8])
+        out["external_load_power"] = float(f_ext @ ring[SL.RING_VX:SL.RING_VZ + 1])
         ek, ev = mechanical_energy(t, y, model.p, model.flags, model.hertz_table, load_table, impacts, model.cage)
-        out["mechanical_energy"] = float(ek + ev + f_ext @ ring[0:3])
+        out["mechanical_energy"] = float(ek + ev + f_ext @ ring[SL.RING_X:SL.RING_Z + 1])
     ao, ai = loaded_contact_angles(out["contact_load"], out["contact_angle"])
     out["contact_angle_outer"] = ao
     out["contact_angle_inner_loaded"] = ai

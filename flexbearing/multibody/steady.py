@@ -49,6 +49,7 @@ from flexbearing.common.validation import InputError, require_range
 from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import outputs as O
 from flexbearing.multibody import model as M
+from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody.initial import initial_state
 
 UNKNOWNS = ("ball_x", "ball_r", "pocket_offset", "orbit_speed", "ball_w_x", "ball_w_r", "ball_w_t",
@@ -84,10 +85,10 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
     # start: quasi-static ball, displaced towards the pocket side that drives the cage (the pocket
     # force is the soft linear Kc·z inside the clearance, paper §2.3.1; starting at the centre, where
     # it vanishes, slows the search at light loads)
-    u0 = np.array([y0[0], y0[1], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], y0[5], y0[6], y0[7], y0[8],
-                   y0[r0], y0[c0]])
-    w_ball = abs(y0[6]) + abs(y0[7]) + 1.0
-    scale_u = np.array([1e-6, 1e-6, 1e-4, 1e-3 * abs(y0[5]) + 1e-3, 1e-3 * w_ball, 1e-3 * w_ball,
+    u0 = np.array([y0[SL.BALL_X], y0[SL.BALL_R], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], y0[SL.BALL_PSI_DOT],
+                   y0[SL.BALL_W_X], y0[SL.BALL_W_R], y0[SL.BALL_W_T], y0[r0 + SL.RING_X], y0[c0 + SL.CAGE_X]])
+    w_ball = abs(y0[SL.BALL_W_X]) + abs(y0[SL.BALL_W_R]) + 1.0
+    scale_u = np.array([1e-6, 1e-6, 1e-4, 1e-3 * abs(y0[SL.BALL_PSI_DOT]) + 1e-3, 1e-3 * w_ball, 1e-3 * w_ball,
                         1e-3 * w_ball, 1e-6, 1e-6])
     # accelerations -> forces per ball (N), relative to the axial load per ball
     half_dw, half_dm = 0.5 * p[M.P_DW], 0.5 * p[M.P_DM]
@@ -99,18 +100,20 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
         u = u0 + v * scale_u
         y = np.zeros_like(y0)
         for j in range(z):
-            y[9 * j:9 * j + 9] = (u[0], u[1], 2.0 * math.pi * j / z + u[2], 0.0, 0.0, u[3], u[4], u[5], u[6])
-        y[r0] = u[7]
-        y[c0] = u[8]
-        y[c0 + 9] = u[3]                # the cage turns with the balls
+            o = SL.ball_offset(j)
+            y[o:o + SL.BALL_STATE] = (u[0], u[1], 2.0 * math.pi * j / z + u[2], 0.0, 0.0, u[3], u[4], u[5], u[6])
+        y[r0 + SL.RING_X] = u[7]
+        y[c0 + SL.CAGE_X] = u[8]
+        y[c0 + SL.CAGE_OMEGA] = u[3]                # the cage turns with the balls
         return y
 
     def residual(v):
         y = state(v)
         D.rhs(0.0, y, dydt, p, model.flags, model.hertz_table, model.traction_table, speed_table, load_table,
               impacts, work, model.cage)
-        return scale_r * np.array([dydt[3], dydt[4], dydt[5], dydt[6], dydt[7], dydt[8], dydt[r0 + 5],
-                                   dydt[c0 + 9], dydt[c0 + 6]])
+        return scale_r * np.array([dydt[SL.BALL_X_DOT], dydt[SL.BALL_R_DOT], dydt[SL.BALL_PSI_DOT],
+                                   dydt[SL.BALL_W_X], dydt[SL.BALL_W_R], dydt[SL.BALL_W_T], dydt[r0 + SL.RING_VX],
+                                   dydt[c0 + SL.CAGE_OMEGA], dydt[c0 + SL.CAGE_VX]])
 
     sol = root(residual, np.zeros(9), method="hybr", options=dict(xtol=1e-12))
     nfev = sol.nfev
@@ -120,7 +123,7 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
     y = state(sol.x)
     res = float(np.max(np.abs(sol.fun)))
     out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
-    info = dict(converged=bool(res <= tol), residual=res, cage_speed=float(y[c0 + 9]),
+    info = dict(converged=bool(res <= tol), residual=res, cage_speed=float(y[c0 + SL.CAGE_OMEGA]),
                 slip_rate=float(out["slip_rate"]), nfev=int(nfev))
     info.update(zip(UNKNOWNS, (u0 + sol.x * scale_u).tolist()))
     info["outputs"] = out
@@ -387,11 +390,12 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
         y0 = initial_state(model, speed_rad_s, 0.0, 0.0, load=tuple(load))
         u0 = np.zeros(n)
         for j in range(z):
-            b = y0[9 * j:9 * j + 9]
-            u0[6 * j:6 * j + 6] = (b[0], b[1], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], b[6], b[7], b[8])
-        u0[nb] = np.mean(y0[5:9 * z:9])
-        u0[nb + 1:nb + 6] = y0[r0:r0 + 5]
-        u0[nb + 6] = np.mean(y0[0:9 * z:9])
+            b = y0[SL.ball_offset(j):SL.ball_offset(j) + SL.BALL_STATE]
+            u0[6 * j:6 * j + 6] = (b[SL.BALL_X], b[SL.BALL_R], 0.6 * p[M.P_CP] / p[M.P_RCAGE_POCKET], b[SL.BALL_W_X],
+                                   b[SL.BALL_W_R], b[SL.BALL_W_T])
+        u0[nb] = np.mean(y0[SL.BALL_PSI_DOT:r0:SL.BALL_STATE])
+        u0[nb + 1:nb + 6] = y0[r0:r0 + SL.RING_POSITIONS]
+        u0[nb + 6] = np.mean(y0[SL.BALL_X:r0:SL.BALL_STATE])
     else:
         u0 = np.array(start, dtype=float)
     dydt = np.zeros(lay["n_state"])
@@ -416,21 +420,22 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
         omega_c = u[nb]
         for j in range(z):
             x, r, offset, wx, wr, wt = u[6 * j:6 * j + 6]
-            y[9 * j:9 * j + 9] = (x, r, phase + 2.0 * math.pi * j / z + offset, 0.0, 0.0, omega_c, wx, wr, wt)
-        y[r0:r0 + 5] = u[nb + 1:nb + 6]
-        y[c0:c0 + 6] = (u[nb + 6], u[nb + 7], u[nb + 8], phase, u[nb + 9], u[nb + 10])
-        y[c0 + 9] = omega_c
+            o = SL.ball_offset(j)
+            y[o:o + SL.BALL_STATE] = (x, r, phase + 2.0 * math.pi * j / z + offset, 0.0, 0.0, omega_c, wx, wr, wt)
+        y[r0:r0 + SL.RING_POSITIONS] = u[nb + 1:nb + 6]
+        y[c0:c0 + SL.CAGE_POSITIONS] = (u[nb + 6], u[nb + 7], u[nb + 8], phase, u[nb + 9], u[nb + 10])
+        y[c0 + SL.CAGE_OMEGA] = omega_c
         return y
 
     def residual(v):
         D.rhs(0.0, state(v), dydt, p, model.flags, model.hertz_table, model.traction_table, speed_table,
               load_table, impacts, work, model.cage)
         f = np.empty(n)
-        f[:nb] = dydt[:9 * z].reshape(z, 9)[:, 3:9].ravel()
-        f[nb] = dydt[c0 + 9]
-        f[nb + 1:nb + 6] = dydt[r0 + 5:r0 + 10]
-        f[nb + 6:nb + 9] = dydt[c0 + 6:c0 + 9]
-        f[nb + 9:nb + 11] = dydt[c0 + 10:c0 + 12]
+        f[:nb] = dydt[:r0].reshape(z, SL.BALL_STATE)[:, SL.BALL_X_DOT:].ravel()
+        f[nb] = dydt[c0 + SL.CAGE_OMEGA]
+        f[nb + 1:nb + 6] = dydt[r0 + SL.RING_VX:r0 + SL.RING_TILT_Z_DOT + 1]
+        f[nb + 6:nb + 9] = dydt[c0 + SL.CAGE_VX:c0 + SL.CAGE_VZ + 1]
+        f[nb + 9:nb + 11] = dydt[c0 + SL.CAGE_TILT_Y_DOT:c0 + SL.CAGE_TILT_Z_DOT + 1]
         return scale_r * f
 
     v, f, iterations, nfev = _newton(residual, n, tol)
@@ -438,7 +443,7 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
     res = float(np.max(np.abs(f)))
     out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
     info = dict(converged=bool(res <= tol), residual=res, iterations=int(iterations), nfev=int(nfev),
-                cage_speed=float(y[c0 + 9]), cage_centre=y[c0:c0 + 3].copy(),
+                cage_speed=float(y[c0 + SL.CAGE_OMEGA]), cage_centre=y[c0 + SL.CAGE_X:c0 + SL.CAGE_Z + 1].copy(),
                 cage_eccentricity_ratio=float(out["cage_eccentricity_ratio"]),
                 cage_land_force=out["cage_land_force"].copy(),
                 pocket_resultant=out["pocket_force_on_cage"].sum(axis=0),

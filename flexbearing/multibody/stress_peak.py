@@ -53,6 +53,7 @@ from numba import njit
 from flexbearing.common.validation import InputError, require_range
 from flexbearing.fem_cage.von_mises import empty_tracking_arrays, tracking_max_sq
 from flexbearing.multibody.dynamics import cage_body_angular_velocity, cage_rotation
+from flexbearing.multibody.state_layout import CAGE_PHI, CAGE_TILT_Y, CAGE_TILT_Z
 
 PEAK_VM_SQ, PEAK_ROW, PEAK_T, PEAK_N = 0, 1, 2, 3
 EMPTY_PEAK = (-1.0, -1.0, np.nan, 0.0)   # no step since the last reset (vm^2 < 0)
@@ -76,7 +77,7 @@ def stress_peak_step(t, y, cage, mon):
     m0 = idx[1]
     n_el = idx[2]
     R = cage.A
-    cage_rotation(y[c0 + 3], y[c0 + 4], y[c0 + 5], R)
+    cage_rotation(y[c0 + CAGE_PHI], y[c0 + CAGE_TILT_Y], y[c0 + CAGE_TILT_Z], R)
     cage_body_angular_velocity(R, y, c0, w)
     yv[0] = w[0] * w[0]
     for k in range(n_el):
