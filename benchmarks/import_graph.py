@@ -6,7 +6,7 @@ Prints, for the `flexbearing` package of this checkout (or of --root):
   with the layer rule of tests/test_architecture.py (the same reader, so the two agree);
 - the imports written inside functions, split into the heavy ones a lazy import is kept for (the FE
   stack: dolfinx, petsc4py, slepc4py, gmsh, ufl, basix, mpi4py; matplotlib, dask/distributed,
-  xarray, netCDF4) and the rest, which hide what a module needs;
+  xarray, netCDF4; numba and scipy, whose import alone delays the command line) and the rest, which hide what a module needs;
 - the largest modules (lines) and the largest functions and methods (lines from `def` to the end).
 
 Reproduce the numbers of an architecture change by running it on the commits before and after:
@@ -21,7 +21,10 @@ import importlib.util
 from pathlib import Path
 
 HEAVY = ("dolfinx", "petsc4py", "slepc4py", "gmsh", "ufl", "basix", "mpi4py", "matplotlib",
-         "dask", "distributed", "xarray", "netCDF4", "meshio", "pyvista")
+         "dask", "distributed", "xarray", "netCDF4", "meshio", "pyvista",
+         # not the FE stack, but each costs a noticeable part of a second at import (numba with its
+         # cached kernels, scipy's submodules): `flexbearing --help` must not wait for them
+         "numba", "scipy")
 
 
 _MODS: dict[str, Path] = {}

@@ -42,12 +42,17 @@ from pathlib import Path
 
 import numpy as np
 from numba import njit
+import h5py
+from tqdm import tqdm
 
 from flexbearing.analysis import stress_equivalent as eq
 from flexbearing.analysis.fatigue import Cycles, block_damage, cycle_damage, rainflow_cycles, safety_factor
 from flexbearing.analysis.mean_stress import DEFAULT_CORRECTION, check_correction, equivalent_amplitude
 from flexbearing.analysis.sn_curves import DEFAULT_SN_CURVE, sn_curve
 from flexbearing.common.validation import InputError, require_range
+from flexbearing.analysis.field_export import open_reduced_cage, _dataset, cage_cells, write_xdmf
+from flexbearing.simulation.results import check_run, sample_interval
+from flexbearing.analysis.stress_picture import cage_skin
 
 HOUR = 3600.0
 # Design life of the safety factor: an assumed round number (neither the paper nor SPEC gives the
@@ -118,10 +123,7 @@ class CageFatigue:
 def read_history(run_h5, settle: float, reduced_cage=None):
     """(times (T,) s, q (T, M), peak-search hot-spot nodes (T,), ReducedCage, block duration s) of
     a flexible-cage run at t >= settle (module doc)."""
-    import h5py
 
-    from flexbearing.analysis.field_export import open_reduced_cage
-    from flexbearing.simulation.results import check_run, sample_interval
     path = check_run(run_h5)
     with h5py.File(path, "r") as f:
         out = f["outputs"]
@@ -257,7 +259,6 @@ def dominant_cycles(cycles, curve, correction: str, times: np.ndarray, n: int = 
 def cage_fatigue(run_h5, settings: FatigueSettings = FatigueSettings(), reduced_cage=None,
                  quiet: bool = True) -> CageFatigue:
     """The damage field and the candidate nodes of a flexible-cage run (module doc)."""
-    from tqdm import tqdm
     t0 = time.perf_counter()
     times, q, hot, rc, block = read_history(run_h5, settings.settle, reduced_cage)
     n_nodes = rc.stress_modes.shape[0]
@@ -353,7 +354,6 @@ def cage_fatigue(run_h5, settings: FatigueSettings = FatigueSettings(), reduced_
 
 def _locations(rc, nodes) -> dict:
     """{node: position (m, body frame), azimuth_deg, radius (m), axial (m), surface, pocket}."""
-    from flexbearing.analysis.stress_picture import cage_skin
     skin = cage_skin(rc)
     faces = skin["faces"]
     X = np.asarray(rc.vertices, dtype=np.float64)
@@ -404,9 +404,7 @@ def write_fatigue_files(result: CageFatigue, rc, out_dir) -> dict:
     """fatigue.h5 (fields over the nodes, each candidate's tensor history and its signed von
     Mises cycles), fatigue.xdmf (the fields on the mesh for ParaView, one grid) and fatigue.json
     (facts) in out_dir; returns their paths. Refuses to write through a symlink."""
-    import h5py
 
-    from flexbearing.analysis.field_export import _dataset, cage_cells, write_xdmf
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = {"h5": out_dir / FATIGUE_H5, "xdmf": out_dir / FATIGUE_XDMF, "json": out_dir / FATIGUE_JSON}

@@ -53,6 +53,7 @@ import math
 import numpy as np
 
 from flexbearing.common.validation import InputError
+from flexbearing.multibody.cage_offset import GUIDE_REFERENCE
 
 MIN_EPS = 0.02        # below this mean eccentricity ratio the whirl angle is noise, not a whirl
 HELD_SPEED = 0.1      # centre speed, in units of a half-frequency whirl at full clearance, below which it is held
@@ -153,7 +154,6 @@ def motion_arrays(outputs, guidance: str = "outer") -> dict | None:
     (flexbearing.multibody.cage_offset: the outer ring's, the inner ring's or the balls' pitch
     circle's, by the cage's `guidance`), `reference` says which; a run recorded before that offset
     existed gives its absolute centre, which is the offset for the outer land only."""
-    from flexbearing.multibody.cage_offset import GUIDE_REFERENCE
     need = ("time", "cage_centre", "cage_speed", "cage_eccentricity_ratio")
     if not all(k in outputs for k in need):
         return None

@@ -26,10 +26,13 @@ import itertools
 from pathlib import Path
 
 import numpy as np
+from tqdm import tqdm
 
 from flexbearing.common.validation import InputError
 from flexbearing.simulation.results import opened, output_items
 from flexbearing.multibody import output_registry as R
+from flexbearing.common.progress import Stages
+from flexbearing.common.safe_files import (atomic_output, refuse_overwriting_inputs, check_output_folder)
 
 RUN_ATTRS = ("scene_name", "scene_hash", "scene_path", "cage_model", "status", "duration",
              "sample_interval", "n_samples_expected", "format_version")
@@ -86,8 +89,6 @@ def _dataset_from_dims(out):
 def write_netcdf(path, target, quiet: bool = True) -> Path:
     """The run as one netCDF-4 file (deflate level 1 + shuffle per variable, as the results file);
     quiet=False: a progress bar (read, then write)."""
-    from flexbearing.common.progress import Stages
-    from flexbearing.common.safe_files import atomic_output, refuse_overwriting_inputs
     target = Path(target)
     refuse_overwriting_inputs(target, [getattr(path, "path", path)], "--netcdf")
     stage = Stages(f"netCDF of {Path(str(getattr(path, 'path', path))).name}", {"read": 1.0, "write": 2.0}, quiet)
@@ -115,8 +116,6 @@ def _column_names(name: str, da) -> list[str]:
 def write_csv(path, folder, quiet: bool = True) -> list[Path]:
     """One CSV per output in `folder` (module docstring: the layout). Returns the files.
     quiet=False: a progress bar over the values written, with the output being written."""
-    from tqdm import tqdm
-    from flexbearing.common.safe_files import atomic_output, check_output_folder
     folder = Path(folder)
     if folder.exists() and not folder.is_dir() and not folder.is_symlink():
         raise InputError(f"--csv {folder} is a file: give a folder for the CSV files")

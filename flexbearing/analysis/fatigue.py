@@ -30,6 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+import rainflow
 
 from flexbearing.analysis.mean_stress import (CORRECTIONS, check_correction, equivalent_amplitude,
                                               equivalent_amplitude_of)
@@ -49,7 +50,6 @@ class Cycles(NamedTuple):
 def rainflow_cycles(history, repeated: bool = False) -> Cycles:
     """ASTM E1049 §5.4.4 rainflow cycles of the history (module doc); repeated: the history is one
     block of a repeated loading (rotated to begin and end at its largest |value| first)."""
-    import rainflow
     x = np.asarray(history, dtype=np.float64)
     if x.size < 2:
         return Cycles(*(np.zeros(0) for _ in range(3)), np.zeros(0, np.int64), np.zeros(0, np.int64))

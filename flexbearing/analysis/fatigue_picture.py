@@ -14,6 +14,8 @@ import math
 from pathlib import Path
 
 import numpy as np
+from flexbearing.analysis.plots import plot_style
+from flexbearing.analysis.stress_picture import _panel, _triangles, _unroll, cage_skin
 
 PICTURE = "fatigue_damage.png"
 DECADES = 4
@@ -24,8 +26,6 @@ def write_damage_picture(result, rc, out_dir) -> Path:
     from matplotlib.cm import ScalarMappable
     from matplotlib.colors import Normalize
 
-    from flexbearing.analysis.plots import plot_style
-    from flexbearing.analysis.stress_picture import _panel, _triangles, _unroll, cage_skin
     HOUR = 3600.0
     per_hour = result.damage_rate * HOUR
     worst = int(np.argmax(per_hour))

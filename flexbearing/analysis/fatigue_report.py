@@ -5,6 +5,8 @@ ParaView fields (flexbearing.analysis.cage_fatigue, fatigue_picture). One functi
 from __future__ import annotations
 
 import math
+import h5py
+from flexbearing.analysis.fatigue_picture import write_damage_picture
 
 
 HOUR = 3600.0
@@ -76,10 +78,8 @@ def fatigue_markdown(result, files: dict) -> list[str]:
 def fatigue_section(run_h5, out_dir, settings, reduced_cage=None, quiet: bool = True):
     """(markdown lines, facts for report.json, files) of the fatigue section; for a run without a
     flexible cage the lines say why there is none (facts None). Bad settings raise InputError."""
-    import h5py
 
     from flexbearing.analysis.cage_fatigue import cage_fatigue, facts, write_fatigue_files
-    from flexbearing.analysis.fatigue_picture import write_damage_picture
     settings.validate()
     with h5py.File(run_h5, "r") as f:
         if "cage_modal_coordinates_full" not in f["outputs"]:

@@ -65,10 +65,18 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+import xml.etree.ElementTree as ET
 
 import numpy as np
+import h5py
 
 from flexbearing.common.validation import InputError
+from flexbearing.fem_cage.stress_modes import von_mises
+from flexbearing.fem_cage.reduced_cage import file_sha256, read, verify
+from flexbearing.analysis.windows import window_mask, impact_windows, speed_phases
+from flexbearing.simulation.results import opened
+from flexbearing.common.safe_files import check_output_folder
+from flexbearing.analysis import rings
 
 SERIES_CAGE = "series_cage.xdmf"
 SERIES_POINTS = "series_points.xdmf"
@@ -99,7 +107,6 @@ def cage_cells(rc) -> tuple[str, np.ndarray]:
 def nodal_field(rc, q_full) -> tuple[np.ndarray, np.ndarray]:
     """(von Mises (Nn,) Pa, elastic displacement (Nn, 3) m, body frame) of full-basis modal
     coordinates q_full at the mesh's geometry nodes (module doc)."""
-    from flexbearing.fem_cage.stress_modes import von_mises
     q = np.asarray(q_full, dtype=np.float64)
     return von_mises(rc.stress_modes @ q), rc.vertex_displacement @ q
 
@@ -107,7 +114,6 @@ def nodal_field(rc, q_full) -> tuple[np.ndarray, np.ndarray]:
 def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
     """(ReducedCage, note on its content hash) of the run's reduced cage file; InputError if it is
     missing or its basis size differs from the recorded modal coordinates'."""
-    from flexbearing.fem_cage.reduced_cage import file_sha256, read, verify
     if rc_path is None or not Path(str(rc_path)).is_file():
         raise InputError(f"reduced cage file {rc_path!r} of {run_path} not found (pass its path: "
                          f"flexbearing report ... --reduced-cage FILE)")
@@ -151,7 +157,6 @@ def auto_frames(t: np.ndarray, vm: np.ndarray, phases: list[dict], impacts: list
     each impact window (the impact's stress peak) and in each phase of the speed profile outside
     the impact windows (the phase's own running peak, which an impact would otherwise hide); the
     whole run's maximum when the scene has neither. Sorted by time, duplicates merged."""
-    from flexbearing.analysis.windows import window_mask
     picks: dict[int, list[str]] = {}
     ok = np.isfinite(vm)
     in_impact = np.zeros(len(t), bool)
@@ -211,10 +216,7 @@ def write_von_mises_xdmf(run, out_dir, frames="auto", reduced_cage=None) -> Path
     The JSON sidecar lists each frame's time, reason, the recorded max von Mises and the field's
     maximum over the nodes (equal: the run searches the same nodes). run: an open
     flexbearing.simulation.results.Run or a path."""
-    import h5py
 
-    from flexbearing.simulation.results import opened
-    from flexbearing.analysis.windows import impact_windows, speed_phases
     with opened(run) as r:
         path, f = r.path, r.file
         _require_modal_coordinates(path, f)
@@ -240,7 +242,6 @@ def write_von_mises_xdmf(run, out_dir, frames="auto", reduced_cage=None) -> Path
         M = out["cage_modal_coordinates_full"].shape[1]
         q_full = out["cage_modal_coordinates_full"][idx, :] if idx else np.zeros((0, M))
     rc, hash_note = open_reduced_cage(path, rc_path, rc_hash, M)
-    from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
     check_output_folder(out_dir, FIELD_FILES, [getattr(run, "path", run), reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -311,7 +312,6 @@ def write_xdmf(xdmf, h5_name: str, name: str, topology_type: str, topology_path:
     readers and meshio.xdmf.TimeSeriesReader both read it; `info` goes into Information elements
     of the Domain. Written by hand: meshio 5.0's TimeSeriesWriter puts the .h5 in the current
     directory instead of beside the .xdmf, and writes neither units nor per-step geometry."""
-    import xml.etree.ElementTree as ET
     xdmf = Path(xdmf)
 
     def item(parent, path, shape, dtype="Float", precision="8"):
@@ -401,7 +401,6 @@ def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scal
     the reason in "notes", when the run lacks what it needs; InputError when both are.
     displacement_scale: s of "displacement_scaled" (None: auto, module doc).
     Returns {"cage", "points", "rings", "json", "notes", "n_frames"} (paths None when not written)."""
-    import h5py
     if displacement_scale is not None and not (displacement_scale > 0 and math.isfinite(displacement_scale)):
         raise InputError(f"--displacement-scale = {displacement_scale!r} must be a finite number > 0")
     d = _read_series(run, series, reduced_cage)
@@ -433,7 +432,6 @@ def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scal
         meta["cage_spin_angle_rad"] = [float(p) for p in phi]
     else:           # the body frame: no rigid motion
         d["centre"] = np.zeros_like(d["centre"])
-    from flexbearing.common.safe_files import check_output_folder
     out_dir = Path(out_dir)
     check_output_folder(out_dir, FIELD_FILES, [getattr(run, "path", run), reduced_cage])
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -455,7 +453,6 @@ def write_series(run, out_dir, series: str, reduced_cage=None, displacement_scal
 def _read_series(run, series: str, reduced_cage) -> dict:
     """What the series needs from the run (an open Run or a path), with a note for each part it
     did not record."""
-    from flexbearing.simulation.results import opened
     notes = []
     with opened(run) as r:
         path, f, out, t = r.path, r.file, r.outputs, r.t
@@ -585,7 +582,6 @@ def _write_series_rings(g, out_dir: Path, d: dict, meta, inertial: bool) -> Path
     """The rings of write_series (flexbearing.analysis.rings): the outer ring fixed, the inner
     ring at its recorded position and tilt (at rest when the run did not record "kinematics"), one
     quadrilateral surface with point data "ring" (1 outer, 2 inner), series_rings.xdmf."""
-    from flexbearing.analysis import rings
     b = d["bearing"]
     outer = rings.revolve(rings.outer_ring_profile(b))
     inner = rings.revolve(rings.inner_ring_profile(b))

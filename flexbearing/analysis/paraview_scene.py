@@ -29,14 +29,13 @@ import json
 import math
 import os
 import sys
+from paraview import servermanager, simple as pv
 
 # run as a script, this folder is sys.path[0]: its modules must not shadow ParaView's (paraview_state)
 sys.path[:] = [p for p in sys.path if os.path.abspath(p or ".") != os.path.dirname(os.path.abspath(__file__))]
 
 
 def build(settings: dict) -> dict:
-    from paraview import servermanager
-    from paraview import simple as pv
     folder = settings["folder"]
     meta = json.load(open(os.path.join(folder, "series.json")))
     frames = meta["cage"]["frames"] if "cage" in meta else []

@@ -13,6 +13,7 @@ import numpy as np
 from flexbearing.simulation.results import Run, opened
 from flexbearing.analysis.windows import (QUANTITIES, QUANTITY, RPM_PER_RAD_S, envelope, impact_windows, quantity_arrays,
                               read_motion, report_windows, speed_phases, window_title)
+from flexbearing.analysis.cage_motion import normalised_orbit
 
 
 def _run_data(run: Run) -> dict:
@@ -208,7 +209,6 @@ def write_orbit_plot(run: Run | str, out_dir, settle: float = 0.0) -> Path | Non
     """cage_orbit.png: the cage centre in units of the guide clearance (the rim is the unit circle),
     one panel per phase of the speed profile, samples inside impact windows in red; below, the
     eccentricity ratio against time. None when the run did not record the cage orbit."""
-    from flexbearing.analysis.cage_motion import normalised_orbit
     motion, scene, dt = read_motion(run)
     if motion is None or motion["t"].size == 0:
         return None

@@ -24,6 +24,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from contextlib import ExitStack
 
 import numpy as np
 
@@ -33,6 +34,12 @@ from flexbearing.simulation.results import Run
 from flexbearing.analysis.windows import (MOTION_ROWS, QUANTITIES, QUANTITY, Quantity, cage_motion_rows, cage_strength_rows,
                               phase_rows, phase_table, power_loss_rows, read_motion, read_power, read_run,
                               window_title)
+from flexbearing.analysis import field_export
+from flexbearing.analysis.summary import summary_rows, input_rows
+from flexbearing.analysis.paraview_state import NEEDS, pvpython_command, write_paraview_scene
+from flexbearing.common.progress import Stages
+from flexbearing.common.safe_files import check_output_folder
+from flexbearing.analysis.html_page import write_html
 
 
 def _motion_markdown(rows: list[dict]) -> str:
@@ -125,7 +132,6 @@ def _markdown_table(columns: list[tuple[str, dict]], keys, increase_from: int | 
 def _check_frames(run: Run, frames) -> None:
     """InputError if `frames` (--frames) is not 'auto' or times inside the run, or names times of a
     run without a flexible cage (whose von Mises field they would select)."""
-    from flexbearing.analysis import field_export
     if frames is None or (isinstance(frames, str) and frames.strip() == "auto"):
         return
     field_export.parse_frames(frames, run.t, run.dt)
@@ -166,7 +172,6 @@ def title_section(r: Report) -> list[str]:
 
 def summary_section(r: Report) -> list[str]:
     """The summary block: what was simulated, with what, by which program, and what came out."""
-    from flexbearing.analysis.summary import summary_rows
     return ["## Summary", "", "| item | value |", "|---|---|"] + [
         f"| {label} | {value} |" for label, value in summary_rows(r.run, r.rows, r.strength_rows, r.power_rows)] + [""]
 
@@ -198,7 +203,6 @@ def notes_section(r: Report) -> list[str]:
 
 def inputs_section(r: Report) -> list[str]:
     """The scene as the run read it, one row per input (the scene's TOML, flattened)."""
-    from flexbearing.analysis.summary import input_rows
     scene = r.run.scene
     if scene is None:
         return ["## Inputs", "", "The run's scene could not be read from its results file.", ""]
@@ -319,7 +323,6 @@ def stress_picture_section(r: Report) -> list[str]:
 
 
 def paraview_section(r: Report) -> list[str]:
-    from flexbearing.analysis import field_export
     md = ["## Cage von Mises field (ParaView)", "", f"Frames at the peaks: {r.xdmf_note}", "",
           field_export.series_markdown(r.series, r.series_spec), ""]
     pv = (r.series or {}).get("paraview")
@@ -376,12 +379,7 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
     fatigue: a flexbearing.analysis.cage_fatigue.FatigueSettings adds the cage's fatigue section
     (flexbearing.analysis.fatigue_report). Returns {"report", "html", "json", "plots", "xdmf",
     "stress_picture", "series", "paraview", "pdf", "fatigue"} (None where not written)."""
-    from contextlib import ExitStack
 
-    from flexbearing.analysis import field_export
-    from flexbearing.analysis.paraview_state import NEEDS, pvpython_command, write_paraview_scene
-    from flexbearing.common.progress import Stages
-    from flexbearing.common.safe_files import check_output_folder
     t_start = time.perf_counter()
     if movie and series is None:
         raise InputError("--movie needs --series T0:T1[:N] (the window the movie shows)")
@@ -462,7 +460,6 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
             md += section(r)
         report = out_dir / "report.md"
         report.write_text("\n".join(md))
-        from flexbearing.analysis.html_page import write_html
         page = write_html(report)
         js = out_dir / "report.json"
         js.write_text(json.dumps({"run": str(run.path), "scene": run.name, "status": run.status, "units": {

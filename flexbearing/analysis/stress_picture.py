@@ -31,6 +31,9 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.common.validation import InputError
+from flexbearing.analysis.field_export import (_require_modal_coordinates, nodal_field, open_reduced_cage)
+from flexbearing.simulation.results import opened
+from flexbearing.analysis.plots import plot_style
 
 PICTURE = "von_mises_peak.png"
 
@@ -104,8 +107,6 @@ def peak_sample(run, settle: float = 0.0):
     """(sample index, t of the peak step, recorded max, recorded node or None, q_full, reduced
     cage path, recorded hash) of the run's largest von_mises_max at t >= settle (run: an open
     flexbearing.simulation.results.Run or a path)."""
-    from flexbearing.analysis.field_export import _require_modal_coordinates
-    from flexbearing.simulation.results import opened
     with opened(run) as r:
         path, f = r.path, r.file
         _require_modal_coordinates(path, f)
@@ -159,8 +160,6 @@ def write_stress_picture(run, out_dir, reduced_cage=None, settle: float = 0.0,
     "sample", "von_mises_max", "recorded_von_mises_max", "node", "recorded_node", "position" (m,
     body frame), "azimuth_deg", "radius", "surface", "hottest_pocket"}. yield_strength (Pa):
     marked on the colour bar when the field reaches it. run: an open Run or a path."""
-    from flexbearing.analysis.field_export import nodal_field, open_reduced_cage
-    from flexbearing.analysis.plots import plot_style
     k, tk, vm_rec, node_rec, q, rc_path, rc_hash = peak_sample(run, settle)
     rc, _ = open_reduced_cage(getattr(run, "path", run), reduced_cage or rc_path, rc_hash, len(q))
     vm, _ = nodal_field(rc, q)

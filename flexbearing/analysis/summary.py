@@ -11,8 +11,13 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+import numpy as np
+import h5py
 
 from flexbearing.analysis.windows import QUANTITY, impact_windows, speed_phases
+import flexbearing.mesh.cage_mesh as cm
+from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
+from flexbearing.common.provenance import git_commit, program_version
 
 INTEGRATORS = {"dopri5": "Dormand–Prince 5(4)", "bs32": "Bogacki–Shampine 3(2)"}
 
@@ -33,7 +38,6 @@ def speed_line(scene) -> str:
 
 
 def load_line(scene) -> str:
-    import numpy as np
     tab = np.asarray(scene.load_table)
     fa = tab[:, 1]
     fr = np.hypot(tab[:, 2], tab[:, 3])
@@ -66,9 +70,7 @@ def cage_line(scene, attrs) -> str:
            f"{scene.bearing.guide_clearance * 1e6:.0f} µm")
     if scene.cage_model != "flexible":
         return f"rigid; {geo}"
-    import flexbearing.mesh.cage_mesh as cm
     from flexbearing.coupling.flexible_cage import DEFAULT_DAMPING_BETA
-    from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
     fl = scene.flexible
     n = int(fl.get("n_modes", DEFAULT_N_KEEP))
     mesh = (f"FE mesh: element size {fl.get('mesh_size', cm.DEFAULT_MESH_SIZE) * 1e3:g} mm, "
@@ -81,7 +83,6 @@ def cage_line(scene, attrs) -> str:
 
 def _reduced_cage_size(path) -> str:
     """'N nodes, M tetrahedra' of a reduced cage file ('' when it is not there)."""
-    import h5py
     if not path or not Path(str(path)).is_file():
         return ""
     try:
@@ -134,7 +135,6 @@ def headline_rows(whole: dict, strength: dict | None, power: dict | None) -> lis
 def summary_rows(run, rows: list[dict], strength_rows: list[dict], power_rows: list[dict]) -> list[tuple[str, str]]:
     """(item, value) of the report's summary block (module doc) for an open Run and its report
     tables (whole run first)."""
-    from flexbearing.common.provenance import git_commit, program_version
     scene = run.scene
     attrs = run.attrs
     try:

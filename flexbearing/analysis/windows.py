@@ -68,12 +68,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+import warnings
 
 import numpy as np
 
 from flexbearing.common.validation import InputError
 from flexbearing.simulation.results import Run, opened
 from flexbearing.multibody.output_registry import OUTPUT
+from flexbearing.analysis.cage_motion import motion_arrays, window_motion
 
 
 RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
@@ -175,7 +177,6 @@ def impact_windows(scene) -> list[dict]:
 
 
 def _nanreduce(func, a, axis):
-    import warnings
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         return func(a, axis=axis)
@@ -323,7 +324,6 @@ def phase_rows(t, arrays, scene, dt, include_impacts: bool, settle: float) -> li
 def read_motion(run: Run | str):
     """(cage-motion arrays of flexbearing.analysis.cage_motion.motion_arrays or None, scene or None,
     sample interval) of a run (an open Run or a path)."""
-    from flexbearing.analysis.cage_motion import motion_arrays
     with opened(run) as r:
         guidance = r.scene.bearing.cage.guidance if r.scene is not None else "outer"
         return motion_arrays(r.outputs, guidance), r.scene, r.dt
@@ -338,7 +338,6 @@ def cage_motion_table(run_h5, include_impacts: bool = True, settle: float = 0.0)
 
 
 def cage_motion_rows(motion, scene, dt, include_impacts: bool, settle: float) -> list[dict]:
-    from flexbearing.analysis.cage_motion import window_motion
     if motion is None:
         return []
     m = motion

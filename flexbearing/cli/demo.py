@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from importlib.resources import files
+from flexbearing.analysis.report import write_report
 
 SETTLE_S = 0.05
 # the ParaView series of the report: the unsteady run's second impact (50 kN half-sine centred at
@@ -21,7 +23,6 @@ SETTLE_S = 0.05
 SERIES = "0.29:0.31:4"
 def _scenes_folder() -> Path:
     """The example scenes shipped with the package (pyproject.toml maps scenes/ to flexbearing.scenes)."""
-    from importlib.resources import files
     return Path(str(files("flexbearing.scenes")))
 
 
@@ -42,7 +43,6 @@ def _scene_path(name: str, rigid: bool) -> Path:
 def run(args) -> int:
     from flexbearing.simulation.run import RunInterrupted, run_scene
     from flexbearing.simulation.scene import load_scene
-    from flexbearing.analysis.report import write_report
 
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)

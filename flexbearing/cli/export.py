@@ -9,6 +9,7 @@ xarray.open_dataset(RUN.h5, group="outputs").
 from __future__ import annotations
 
 from flexbearing.common.validation import InputError
+from flexbearing.analysis.export import write_csv, write_netcdf
 
 
 def register(subparsers) -> None:
@@ -22,7 +23,6 @@ def register(subparsers) -> None:
 
 
 def cmd_export(args) -> int:
-    from flexbearing.analysis.export import write_csv, write_netcdf
     if not args.netcdf and not args.csv:
         raise InputError("give --netcdf FILE and/or --csv DIR (what to write)")
     if args.netcdf:

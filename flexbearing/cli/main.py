@@ -22,6 +22,7 @@ from flexbearing.cli import report as cli_report
 from flexbearing.cli import run as cli_run
 from flexbearing.cli import study as cli_study
 from flexbearing.cli import uncertainty as cli_uncertainty
+from flexbearing.common.provenance import program_version
 
 # Order = order in --help.
 COMMAND_MODULES = (
@@ -41,7 +42,6 @@ COMMAND_MODULES = (
 def version() -> str:
     """The installed package's version (pyproject.toml's [project] version, the one place it is
     written), or "unknown" when flexbearing runs from a source tree that was not installed."""
-    from flexbearing.common.provenance import program_version
     return program_version()
 
 

@@ -12,6 +12,10 @@ from pathlib import Path
 from flexbearing.common.validation import InputError
 from flexbearing.mesh.cage_geometry import CAGE_PRESETS
 from flexbearing.mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_ORDER, DEFAULT_POCKET_SIZE
+from flexbearing.mesh.quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
+from flexbearing.fem_cage.xdmf import write_mesh_xdmf
+from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+from flexbearing.mesh.cad_cage import build_cad_cage_mesh
 
 
 def add_geometry_arguments(p):
@@ -85,7 +89,6 @@ def quality_line(summary: dict, repair: dict | None) -> str:
 
 def cmd_check(path) -> int:
     """`flexbearing mesh --check FILE`: the quality of any mesh file; exit 1 if it would be refused."""
-    from flexbearing.mesh.quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
     q = mesh_file_quality(path)
     print(f"{path}: {quality_line(q.summary(), None)}")
     try:
@@ -99,8 +102,6 @@ def cmd_check(path) -> int:
 
 def cmd_mesh(args) -> int:
     from mpi4py import MPI
-    from flexbearing.fem_cage.xdmf import write_mesh_xdmf
-    from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
     if args.check:
         return cmd_check(Path(args.check))
     if not args.output:
@@ -129,9 +130,6 @@ def cmd_mesh_cad(args, out: Path, t0: float) -> int:
     to the bearing (the paper's, with --n-balls/--pitch-diameter-mm/--ball-diameter-mm changes),
     mesh and check; print what was found."""
     from mpi4py import MPI
-    from flexbearing.fem_cage.xdmf import write_mesh_xdmf
-    from flexbearing.mesh.cad_cage import build_cad_cage_mesh
-    from flexbearing.mesh.cage_mesh import mesh_quality_of
     from flexbearing.multibody.bearing import PAPER_BEARING
     n_balls = args.n_balls or PAPER_BEARING.n_balls
     dm = args.pitch_diameter_mm * 1e-3 if args.pitch_diameter_mm else PAPER_BEARING.pitch_diameter

@@ -11,6 +11,11 @@ from pathlib import Path
 from flexbearing.cli.mesh import MAX_ELEMENT_SIZE, add_geometry_arguments, add_mesh_arguments, geometry_from_args
 from flexbearing.mesh.cage_geometry import CAGE_PRESETS
 from flexbearing.mesh.cage_mesh import DEFAULT_DEGREE
+from flexbearing.mesh.cage_mesh import cached_cage_mesh, cache_path
+from flexbearing.common.validation import require_range, InputError
+from flexbearing.fem_cage.modes import MAX_N_MODES, mode_table, run_modes
+from flexbearing.fem_cage.mesh_study import run_mesh_study, DEFAULT_STUDY
+from flexbearing.fem_cage.calibrate import run_calibration
 
 
 def _comm():
@@ -20,7 +25,6 @@ def _comm():
 
 def mesh_for(args, g) -> Path:
     """The .msh to use: --mesh FILE, else the cached mesh for (geometry, size, order)."""
-    from flexbearing.mesh.cage_mesh import cached_cage_mesh, cache_path
     comm = _comm()
     if getattr(args, "mesh", None):
         return Path(args.mesh)
@@ -32,8 +36,6 @@ def mesh_for(args, g) -> Path:
 
 
 def cmd_modes(args) -> int:
-    from flexbearing.common.validation import require_range
-    from flexbearing.fem_cage.modes import MAX_N_MODES, mode_table, run_modes
     require_range("modes.n_modes", args.n_modes, 7, MAX_N_MODES)       # before any mesh or FE work
     comm = _comm()
     t0 = time.perf_counter()
@@ -70,9 +72,6 @@ def cmd_modes(args) -> int:
 
 
 def cmd_mesh_study(args) -> int:
-    from flexbearing.common.validation import require_range
-    from flexbearing.fem_cage.mesh_study import run_mesh_study, DEFAULT_STUDY
-    from flexbearing.fem_cage.modes import MAX_N_MODES
     require_range("mesh-study.n_modes", args.n_modes, 7, MAX_N_MODES)
     g = geometry_from_args(args)
     levels = DEFAULT_STUDY if not args.levels else [_level(s) for s in args.levels]
@@ -83,7 +82,6 @@ def cmd_mesh_study(args) -> int:
 def _level(text: str) -> tuple:
     """--levels SIZE,POCKET,ORDER,DEGREE (sizes in m, as every --size) -> flexbearing.fem_cage.mesh_study's level
     (sizes in mm)."""
-    from flexbearing.common.validation import InputError
     try:
         size, pocket, order, degree = (float(x) for x in text.split(","))
     except ValueError:
@@ -96,7 +94,6 @@ def _level(text: str) -> tuple:
 
 
 def cmd_calibrate(args) -> int:
-    from flexbearing.fem_cage.calibrate import run_calibration
     run_calibration(Path(args.output), size=args.size, pocket_size=args.pocket_size,
                     order=args.order, degree=args.degree, params=args.params, quiet=args.quiet,
                     max_evals=args.max_evals)

@@ -14,6 +14,11 @@ import numpy as np
 
 from flexbearing.cli.mesh import element_size
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP
+from flexbearing.fem_cage import reduced_cage as rcf
+from flexbearing.mesh.cage_geometry import PAPER_CAGE
+from flexbearing.common.validation import require_range, InputError
+from flexbearing.fem_cage.reduction import build
+import flexbearing.mesh.cage_mesh as cm
 
 
 def run_scene(args) -> int:
@@ -21,7 +26,6 @@ def run_scene(args) -> int:
     parametric, mesh size and FE degree), built once and cached under the run's own key."""
     from flexbearing.simulation.scene import load_scene
     from flexbearing.coupling.flexible_cage import reduced_cage_path
-    from flexbearing.fem_cage import reduced_cage as rcf
     scene = load_scene(args.scene)
     if scene.cad and not args.quiet:
         print("\n".join(scene.cad["report"]))
@@ -70,11 +74,6 @@ def register(subparsers) -> None:
 def run(args) -> int:
     if getattr(args, "scene", None):
         return run_scene(args)
-    from flexbearing.mesh.cage_geometry import PAPER_CAGE
-    from flexbearing.common.validation import require_range, InputError
-    from flexbearing.fem_cage import reduced_cage as rcf
-    from flexbearing.fem_cage.reduction import build
-    import flexbearing.mesh.cage_mesh as cm      # light: gmsh is imported inside its functions
     size = cm.DEFAULT_MESH_SIZE if args.size is None else args.size
     pocket = cm.DEFAULT_POCKET_SIZE if args.pocket_size is None else args.pocket_size
     order = cm.DEFAULT_ORDER if args.order is None else args.order

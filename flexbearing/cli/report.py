@@ -10,13 +10,14 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
+from flexbearing.analysis.report import _fmt, _stat_rows, write_report
+from flexbearing.analysis.windows import QUANTITIES, window_title
+from flexbearing.common.validation import InputError
 
 
 def print_table(rows: list[dict], file=None) -> None:
     # imported here: every command builds this module's parser, only `report` prints tables
     # (flexbearing.analysis.report loads the plots and windows modules)
-    from flexbearing.analysis.report import _fmt, _stat_rows
-    from flexbearing.analysis.windows import QUANTITIES, window_title
     file = sys.stdout if file is None else file    # the stream at call time, not at import
     keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
     w = max(len(lab) for lab, _, _ in _stat_rows(keys)) if keys else 10
@@ -82,7 +83,6 @@ def _fatigue_settings(args):
     if not args.fatigue:
         return None
     from flexbearing.analysis.cage_fatigue import HOUR, FatigueSettings
-    from flexbearing.common.validation import InputError
     try:
         nodes = tuple(int(n) for n in args.fatigue_nodes.split(",") if n.strip())
     except ValueError:
@@ -95,7 +95,6 @@ def _fatigue_settings(args):
 
 
 def cmd_report(args) -> int:
-    from flexbearing.analysis.report import write_report
     run = Path(args.run)
     out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,

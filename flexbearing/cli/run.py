@@ -21,6 +21,9 @@ import sys
 from pathlib import Path
 
 from flexbearing.common.validation import InputError
+from flexbearing.cli import validate_series as cli_validate_series
+from flexbearing.simulation.results import summary_path
+from flexbearing.simulation.stopped import CasesIncomplete, RunInterrupted
 
 # printed tables only: SI -> engineer's units (the files stay SI)
 _PRINT_UNITS = {"Pa": (1e-6, "MPa"), "m": (1e6, "um"), "rad/s": (60.0 / (2 * 3.141592653589793), "rpm"),
@@ -87,7 +90,6 @@ def register(subparsers) -> None:
                    help="diametral clearance Pd of the test bearing, m (default: the design clearance)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
-    from flexbearing.cli import validate_series as cli_validate_series
     cli_validate_series.register(vs)
     v.set_defaults(func=lambda args: (v.print_help(), 2)[1])
 
@@ -122,7 +124,6 @@ def print_summary(summary: dict, file=None) -> None:
 
 
 def cmd_run(args) -> int:
-    from flexbearing.simulation.results import summary_path
     from flexbearing.simulation.run import RunInterrupted, run_scene
     from flexbearing.simulation.scene import load_scene
 
@@ -167,7 +168,6 @@ def cmd_validate_slip_rate(args) -> int:
     runs until the cage speed settles, oil temperature VALIDATION_OIL_TEMPERATURE_C). With
     --case-set FILE: every case of FILE is run as a scene through flexbearing.simulation.run (one resumable
     results file per case in --out, fixed duration, slip averaged from average_from)."""
-    from flexbearing.simulation.stopped import CasesIncomplete, RunInterrupted
     from flexbearing.studies.case_sets import run_case_set_slip_rate
     from flexbearing.simulation.scene import load_case_set
 

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from flexbearing.common.validation import InputError
+from flexbearing.simulation.stopped import UncertaintyInterrupted
 
 
 def register(subparsers) -> None:
@@ -31,8 +33,6 @@ def register(subparsers) -> None:
 
 
 def cmd_uncertainty(args) -> int:
-    from flexbearing.common.validation import InputError
-    from flexbearing.simulation.stopped import UncertaintyInterrupted
     from flexbearing.studies import uncertainty as U, uncertainty_report as UR
     study = U.load_unknowns(args.unknowns)
     cases = None

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import shlex
 import sys
+from flexbearing.studies import race_control as RC, validate_series as VS
 
 
 def register(validate_subparsers) -> None:
@@ -34,8 +35,6 @@ def register(validate_subparsers) -> None:
 
 
 def cmd_validate_series(args) -> int:
-    from flexbearing.studies import race_control as RC
-    from flexbearing.studies import validate_series as VS
     directory = args.directory or RC.VALIDATION_DIR
     res = VS.run_series(args.out, directory, args.samples, args.series, args.workers or os.cpu_count() or 1,
                         args.scheduler, progress=not args.quiet)

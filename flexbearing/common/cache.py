@@ -5,6 +5,8 @@ import hashlib
 import json
 import os
 from pathlib import Path
+from flexbearing.common.validation import InputError
+import tempfile
 
 
 def cache_dir() -> Path:
@@ -12,7 +14,6 @@ def cache_dir() -> Path:
     umask). A cache shared by a group of users (a cluster's workers) needs a folder its group
     owns with the setgid bit and a umask of 002 (files rw for the group) or 022 (readable): the
     cache's files are created with the umask's permissions (flexbearing.common.safe_files)."""
-    from flexbearing.common.validation import InputError
     root = Path(os.environ.get("FLEXBEARING_CACHE", Path.home() / ".cache" / "flexbearing"))
     if root.exists() and not root.is_dir():
         raise InputError(f"cache folder {root} (FLEXBEARING_CACHE) is a file, not a folder: point "
@@ -43,7 +44,6 @@ def file_sha256(path) -> str:
 def write_text_atomic(path, text: str) -> Path:
     """Write text to path through a temporary file and a rename: a concurrent reader never sees
     half a file."""
-    import tempfile
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=path.parent)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import sys
 import threading
 import time
+from tqdm import tqdm
 
 
 def time_left(weights: dict, done: list[str], current: str | None, elapsed_done: float,
@@ -51,7 +52,6 @@ class Stages:
         self.bar = None
         if quiet:
             return
-        from tqdm import tqdm
         self.bar = tqdm(total=float(sum(self.weights.values())), desc=task, file=sys.stderr,
                         mininterval=0.5, dynamic_ncols=True,
                         bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed} elapsed{postfix}")

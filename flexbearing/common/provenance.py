@@ -9,6 +9,7 @@ from __future__ import annotations
 import subprocess
 from functools import lru_cache
 from pathlib import Path
+from importlib.metadata import PackageNotFoundError, version
 
 UNKNOWN = "unknown"
 
@@ -16,7 +17,6 @@ UNKNOWN = "unknown"
 def program_version() -> str:
     """The installed flexbearing's version, or "unknown" when it runs from a source tree that was
     not installed (importlib.metadata scans the installed distributions: ask only when needed)."""
-    from importlib.metadata import PackageNotFoundError, version
     try:
         return version("flexbearing")
     except PackageNotFoundError:

@@ -27,6 +27,7 @@ import shutil
 import stat
 import tempfile
 from pathlib import Path
+from fnmatch import fnmatch
 
 from flexbearing.common.validation import InputError
 
@@ -198,7 +199,6 @@ def check_output_folder(folder, names, inputs, option: str = "-o", patterns=()) 
     `folder`: InputError if the folder is a link or a file, if one of those names there is a
     symbolic link (planted: writing would follow it), or is one of the command's `inputs` (the
     same file: writing would replace the input). Nothing is written or changed."""
-    from fnmatch import fnmatch
     folder = Path(folder)
     refuse_link_folder(folder, option)
     if not folder.is_dir():

@@ -42,12 +42,15 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from dataclasses import asdict
 
 import numpy as np
 
 from flexbearing.common.validation import InputError
 from .cage_geometry import GUIDANCES, CageGeometry, PAPER_CAGE
 from . import cage_mesh as CM
+from flexbearing.common.cache import file_sha256, cache_dir, content_hash, write_text_atomic
+from flexbearing.common.materials import Material
 
 CAD_SUFFIXES = {".step": "step", ".stp": "step", ".brep": "brep", ".brp": "brep", ".geo": "geo"}
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 25.4e-3}
@@ -119,7 +122,6 @@ def cad_kind(path) -> str:
 
 def geo_merged_files(path) -> list[Path]:
     """The CAD files a gmsh .geo file merges (`Merge "f"` or `ShapeFromFile("f")`), relative to it."""
-    import re
     text = Path(path).read_text(errors="replace")
     names = re.findall(r'(?:Merge\s*|ShapeFromFile\s*\(\s*)"([^"]+)"', text)
     return [Path(path).parent / n for n in names]
@@ -183,7 +185,6 @@ _STEP_PREFIX = {"$": "m", ".MILLI.": "mm", ".CENTI.": "cm"}
 def step_length_unit(path) -> str | None:
     """The length unit a STEP file declares (ISO 10303-41 SI_UNIT or the inch's
     CONVERSION_BASED_UNIT), as a key of UNITS; None when it declares none we know."""
-    import re
     text = Path(path).read_text(errors="replace")
     m = re.search(r"LENGTH_UNIT\(\)\s*NAMED_UNIT\(\*\)\s*SI_UNIT\((\$|\.\w+\.)\s*,\s*\.METRE\.\)", text)
     if m:
@@ -570,8 +571,6 @@ def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_dia
 def _cad_key(path, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
              unit: str | None, material) -> dict:
     """Every input of `read_cad_cage`: the file by its content (sha256), not its name."""
-    from dataclasses import asdict
-    from flexbearing.common.cache import file_sha256
     merged = {str(f.name): file_sha256(f) for f in geo_merged_files(path) if f.is_file()} \
         if cad_kind(path) == "geo" else {}
     return {"kind": "cad_cage", "cad_sha256": file_sha256(path), "n_balls": int(n_balls),
@@ -581,7 +580,6 @@ def _cad_key(path, n_balls: int, pitch_diameter: float, ball_diameter: float, gu
 
 
 def _geometry_from_dict(d: dict) -> CageGeometry:
-    from flexbearing.common.materials import Material
     d = dict(d)
     d["material"] = Material(**d["material"])
     return CageGeometry(**d)
@@ -591,7 +589,6 @@ def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: 
                       guidance: str = "outer", unit: str | None = None, material=None):
     """(equivalent CageGeometry, report lines, key) of a CAD cage, cached by the file's content
     and the bearing (`_cad_key`): a scene reads it without gmsh once it has been found."""
-    from flexbearing.common.cache import cache_dir, content_hash, write_text_atomic
     import gmsh
     material = material or PAPER_CAGE.material
     cad_kind(path)
@@ -609,7 +606,6 @@ def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: 
         cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
     finally:
         gmsh.finalize()
-    from dataclasses import asdict
     rec = {"key": key, "geometry": asdict(cad.geometry), "report": cad.report_lines(pitch_diameter, ball_diameter)}
     write_text_atomic(store, json.dumps(rec, indent=1))
     return cad.geometry, rec["report"], key
@@ -621,7 +617,6 @@ def cached_cad_cage_mesh(path, n_balls: int, pitch_diameter: float, ball_diamete
                          order: int = CM.DEFAULT_ORDER) -> tuple[Path, dict]:
     """The CAD cage's mesh from the cache (keyed by the file's content, the bearing and the mesh
     sizes), built once (`build_cad_cage_mesh`); returns (path, key)."""
-    from flexbearing.common.cache import cache_dir, content_hash
     material = material or PAPER_CAGE.material
     key = {**_cad_key(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material),
            "size": float(size), "pocket_size": None if pocket_size is None else float(pocket_size),

@@ -28,11 +28,15 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+import json
 
 import numpy as np
 
 from .cage_geometry import CageGeometry
 from flexbearing.common.validation import InputError, require_range
+from . import quality as Q
+from flexbearing.common.safe_files import atomic_output
+from flexbearing.common.cache import cache_dir, content_hash
 
 # Converged default: Lagrange P3 on a curved quadratic mesh of uniform 4 mm elements.
 # Stress (benchmarks/results/cage_stress_convergence.md): the maximum von Mises stress of every
@@ -288,7 +292,6 @@ def _validate_and_repair(fe_degree: int = DEFAULT_DEGREE) -> dict:
     (measured: "HighOrder" fails, "HighOrderElastic" leaves min det J / det J(centroid) = -0.002,
     benchmarks/results/mesh_quality.md)."""
     import gmsh
-    from . import quality as Q
     tags, coords, _ = gmsh.model.mesh.getNodes()
     X = np.asarray(coords).reshape(-1, 3)
     index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
@@ -333,7 +336,6 @@ def _write(path: Path):
     path.parent.mkdir(parents=True, exist_ok=True)
     # Written atomically (a unique temporary beside it, renamed; removed on any failure): a
     # concurrent reader of the cache never sees half a file; permissions those of the umask
-    from flexbearing.common.safe_files import atomic_output
     with atomic_output(path, suffix=".msh") as tmp:
         gmsh.write(str(tmp))
 
@@ -366,7 +368,6 @@ def build_ring_mesh(geometry: CageGeometry, size: float, order: int, path,
 def _mesh_to_file(geometry, size, order, path, pocket_size, with_pockets, verbose, local=None,
                   repair: bool = True) -> Path:
     import gmsh
-    import json
     gmsh.initialize()      # gmsh 4.8 has no isInitialized(): own the session for this call
     try:
         gmsh.model.add("cage")
@@ -389,8 +390,6 @@ def quality_path(msh_path) -> Path:
 def mesh_quality_of(msh_path, fe_degree: int = DEFAULT_DEGREE) -> dict:
     """{"quality": ..., "repair": ...} of a mesh: the sidecar written when it was built, else
     computed from the file (no repair information then)."""
-    import json
-    from . import quality as Q
     side = quality_path(msh_path)
     if side.exists():
         return json.loads(side.read_text())
@@ -409,7 +408,6 @@ def mesh_key(geometry: CageGeometry, size: float, order: int, pocket_size: float
 
 def cache_path(geometry: CageGeometry, size: float, order: int, pocket_size: float | None,
                local=None) -> Path:
-    from flexbearing.common.cache import cache_dir, content_hash
     key = mesh_key(geometry, size, order, pocket_size, local=local)
     return cache_dir() / "meshes" / f"{content_hash(key)}.msh"
 
@@ -427,7 +425,6 @@ def cached_cage_mesh(geometry: CageGeometry, size: float = DEFAULT_MESH_SIZE,
 
 
 def cached_ring_mesh(geometry: CageGeometry, size: float, order: int = DEFAULT_ORDER) -> Path:
-    from flexbearing.common.cache import cache_dir, content_hash
     path = cache_dir() / "meshes" / f"{content_hash(mesh_key(geometry, size, order, None, 'ring'))}.msh"
     if not path.exists():
         build_ring_mesh(geometry, size, order, path)

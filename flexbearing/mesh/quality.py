@@ -39,6 +39,8 @@ import math
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
+import contextlib
+import io
 
 import numpy as np
 
@@ -237,8 +239,6 @@ def read_tetrahedra(path) -> tuple[np.ndarray, np.ndarray]:
         with open(path, "rb") as fh:
             if not fh.read(64).lstrip().startswith(b"$MeshFormat"):
                 raise unreadable("it does not start with gmsh's $MeshFormat header")
-    import contextlib
-    import io
     try:
         # meshio prints its own error and calls sys.exit on a file none of its readers takes
         with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):

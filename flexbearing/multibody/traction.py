@@ -165,6 +165,7 @@ import math
 
 import numpy as np
 from numba import njit
+from flexbearing.common.validation import require_range
 
 # Wang, Yang & Wang (2004) fit for 4106 oil: rows A, B, C, D; columns (factor, exponent of Qb,
 # exponent of Ub, exponent of Tb). Replace this table (same shape) to use another oil.
@@ -419,7 +420,6 @@ def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float
     outside EHL_RANGES are refused (flexbearing.common.validation.require_range names the field).
     ball_thermal, race_thermal (flexbearing.common.materials.Thermal, None = bearing steel): the
     solids of the flash temperature, combined by `flash_constants` (a silicon nitride ball)."""
-    from flexbearing.common.validation import require_range
     for name, value in (("traction_scale", traction_scale), ("contact_temperature_rise", contact_temperature_rise),
                         ("eyring_stress", eyring_stress), ("limiting_shear_coeff", limiting_shear_coeff),
                         ("shear_modulus", shear_modulus)):

@@ -65,11 +65,16 @@ import os
 import shutil
 from contextlib import contextmanager
 from pathlib import Path
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
+import h5py
+from h5py import h5ds
 
 from flexbearing.common.validation import InputError
 from flexbearing.multibody import output_registry as R
+from flexbearing.common.safe_files import (reserve_space, release_space, write_text_atomic, atomic_output)
+from flexbearing.common.provenance import git_commit, program_version
 
 FORMAT = "flexbearing-results"
 FORMAT_VERSION = 2        # 2: dimension scales, CF `units`, compressed chunks (1 is still read)
@@ -125,7 +130,6 @@ def _attach_dimensions(out, name: str, ds, dims) -> None:
     /outputs created at its first use: the labels of its columns, or the index 0..n-1), so that
     `xarray.open_dataset(run.h5, group="outputs")` names them. The axes of a dataset the registry
     does not know (a test's backend) are `<name>_dim1`, ... ."""
-    import h5py
     if name == "time":
         ds.make_scale("time")
         return
@@ -149,7 +153,6 @@ def _attach_dimensions(out, name: str, ds, dims) -> None:
 
 def different_scene(path, file_hash, scene):
     """The InputError for a results file that another scene wrote (resume, or a study's re-run)."""
-    from flexbearing.common.validation import InputError
     return InputError(f"--resume: {path} was written by a different scene (scene hash {file_hash} in the "
                       f"file, {scene.content_hash()} for {scene.path or scene.name}); resume needs the same "
                       f"scene, or write a new file")
@@ -158,7 +161,6 @@ def different_scene(path, file_hash, scene):
 def output_items(out):
     """(name, dataset) of the recorded outputs in a results file's /outputs group, time included:
     every dataset but the dimension scales (ball, contact, ...)."""
-    from h5py import h5ds
     return [(k, ds) for k, ds in out.items() if k == "time" or not h5ds.is_scale(ds.id)]
 
 
@@ -180,7 +182,6 @@ class ResultsWriter:
     # ---- opening
     @classmethod
     def create(cls, path, scene, units: dict | None = None) -> "ResultsWriter":
-        import h5py
         f = h5py.File(path, "w")
         f.attrs["format"] = FORMAT
         f.attrs["format_version"] = FORMAT_VERSION
@@ -193,7 +194,6 @@ class ResultsWriter:
         f.attrs["n_samples_expected"] = scene.n_samples
         f.attrs["status"] = "running"
         f.attrs["n_resumes"] = 0
-        from flexbearing.common.provenance import git_commit, program_version
         f.attrs["program_version"] = program_version()
         f.attrs["git_commit"] = git_commit()
         f.create_dataset("scene", data=scene.text or json.dumps(scene.data, default=repr))
@@ -209,9 +209,7 @@ class ResultsWriter:
         """Open an existing run of `scene`; return (writer, checkpoint dict or None).
 
         None means no valid checkpoint (the run must start over; the file has been reset)."""
-        import h5py
 
-        from flexbearing.common.validation import InputError
         # checked before HDF5 opens it for writing: h5py's "r+" writes a superblock into an empty file
         if not h5py.is_hdf5(path):
             raise InputError(f"--resume: {path} is not an HDF5 results file ({Path(path).stat().st_size} "
@@ -306,7 +304,6 @@ class ResultsWriter:
         evaluates a checkpoint interval's outputs there). If the thread fails, its block is not in
         the file (n_written does not advance; a partly written block is overwritten by the next)
         and `wait` raises: the caller writes those samples again (flexbearing.simulation.run keeps them)."""
-        from concurrent.futures import ThreadPoolExecutor
         self.wait()
         if self._pool is None:
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="results-writer")
@@ -423,7 +420,6 @@ def _sync(f) -> None:
 def _reserve(f, nbytes: int) -> None:
     """Reserve nbytes past the end of the open results file `f` (flexbearing.common.safe_files.
     reserve_space); DiskFull if the disk has not got them."""
-    from flexbearing.common.safe_files import reserve_space
     try:
         reserve_space(f.id.get_vfd_handle(), nbytes, f.filename)
     except OSError as exc:
@@ -433,7 +429,6 @@ def _reserve(f, nbytes: int) -> None:
 
 
 def _release(path) -> None:
-    from flexbearing.common.safe_files import release_space
     release_space(path)
 
 
@@ -536,9 +531,7 @@ def write_summary(results_path, extra: dict) -> dict:
     """Compute the per-output statistics from the file, write the run's compressed file with them in
     its `summary` attribute (`finish`) and <stem>.summary.json beside it (each file replaced whole,
     atomically)."""
-    import h5py
 
-    from flexbearing.common.safe_files import write_text_atomic
     with h5py.File(results_path, "r") as f:
         summary = dict(extra)
         summary["results_file"] = str(Path(results_path).name)
@@ -561,9 +554,7 @@ def finish(path, summary_text: str) -> None:
     new file is written beside it and renamed over it (flexbearing.common.safe_files.atomic_output):
     a kill at any instant leaves the uncompressed file or the compressed one, each whole. With too
     little free space for the copy, the uncompressed file is kept (the summary written into it)."""
-    import h5py
 
-    from flexbearing.common.safe_files import atomic_output
     path = Path(path)
     # a compressed copy a SIGKILL interrupted: the caller holds the claim on this file
     # (flexbearing.common.file_lock), so no other process is finishing it (unlink never follows a link)
@@ -615,7 +606,6 @@ def _copy_attrs(src, dst) -> None:
 
 
 def _summary_in_place(path, summary_text: str) -> None:
-    import h5py
     with h5py.File(path, "r+") as f:
         f.attrs["summary"] = summary_text
         _sync(f)
@@ -623,7 +613,6 @@ def _summary_in_place(path, summary_text: str) -> None:
 
 def read_outputs(path) -> dict[str, np.ndarray]:
     """All recorded outputs of a results file as arrays (small runs, tests, reports)."""
-    import h5py
     with h5py.File(path, "r") as f:
         return {k: ds[...] for k, ds in output_items(f["outputs"])}
 
@@ -637,8 +626,6 @@ def check_run(path) -> Path:
 
 def _open_run(path):
     """(Path, the file open for reading) of a flexbearing results file; InputError naming it otherwise."""
-    import h5py
-    from flexbearing.common.validation import InputError
     path = Path(path)
     if not path.is_file():
         raise InputError(f"run file {str(path)!r} does not exist (a results file written by "

@@ -39,6 +39,8 @@ from flexbearing.simulation.progress import RunProgress
 from flexbearing.simulation.results import FORMAT, DiskFull, OutputTooLarge, ResultsWriter, different_scene, write_summary
 from flexbearing.simulation.stopped import RunInterrupted
 from flexbearing.simulation.wall_budget import WallBudget
+from flexbearing.common.safe_files import refuse_overwriting_inputs
+from flexbearing.common.validation import require_range
 
 GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (RunLoop._integrate says why)
 SAMPLES_PER_CALL = 25          # samples per compiled call at most (progress and Ctrl-C respond
@@ -97,8 +99,6 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     bytes per sample) and checked against the free space and `max_output_bytes`
     (flexbearing.simulation.results.DEFAULT_MAX_OUTPUT_BYTES when None): OutputTooLarge.
     """
-    from flexbearing.common.safe_files import refuse_overwriting_inputs
-    from flexbearing.common.validation import require_range
     if max_output_bytes is not None:
         require_range("--max-output-size", max_output_bytes, 1.0, 1e15, unit="bytes")
     out_path = Path(out_path)

@@ -112,6 +112,7 @@ from flexbearing.multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, 
 from flexbearing.multibody.model import DEFAULT_OPTIONS
 from flexbearing.multibody.output_registry import GROUPS
 from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints, load_at
+from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry
 
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
@@ -369,7 +370,6 @@ def _cad_cage(cad: dict, changes: dict, given_cage: dict, scene_path: str):
     """The equivalent geometry of cage.cad (flexbearing.mesh.cad_cage, cached by the file's
     content): the file is found relative to the scene; its pockets and land are matched to the
     scene's bearing; the cage's geometry keys are the file's, so the scene may not give them."""
-    from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry
     given = sorted(k for k in given_cage if k in _CAD_OWN)
     if given:
         raise InputError(f"cage.{given[0]} = {given_cage[given[0]]!r}: the geometry of this cage is read "

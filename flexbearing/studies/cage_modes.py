@@ -17,6 +17,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+import h5py
+from flexbearing.fem_cage.classify import classify_mode
 
 N_RIGID = 6                 # modes 0-5 of a reduced cage file are rigid (its schema)
 N_TABLE = 6                 # elastic modes per variant in the study's table
@@ -33,8 +35,6 @@ class CageMode(NamedTuple):
 
 def cage_modes(reduced_cage_file, n_modes: int = N_TABLE) -> list[CageMode]:
     """The first `n_modes` elastic modes of the reduced cage file, classified."""
-    import h5py
-    from flexbearing.fem_cage.classify import classify_mode
     with h5py.File(reduced_cage_file, "r") as f:
         freqs = np.asarray(f["modes/frequency_hz"][()], dtype=float)
         stop = min(len(freqs), N_RIGID + n_modes)

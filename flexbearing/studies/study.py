@@ -68,6 +68,9 @@ import re
 import time
 from dataclasses import dataclass
 from pathlib import Path
+import signal
+import sys
+import threading
 
 from flexbearing.analysis.html_page import write_html
 from flexbearing.analysis.windows import (cage_motion_table, impact_windows, MOTION_ROWS, phase_table,
@@ -79,6 +82,8 @@ from flexbearing.simulation.jobs import require_scheduler, require_workers, run_
 from flexbearing.simulation.run import finished_run, run_scene
 from flexbearing.simulation.scene import _number, parse_scene, read_toml
 from flexbearing.simulation.stopped import StudyIncomplete
+from flexbearing.fem_cage.reduced_cage import find_cached
+from flexbearing.studies.cage_modes import cage_modes, mode_cell
 
 STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit", "display_unit",
               "display_scale", "settle")
@@ -263,8 +268,6 @@ def _import_gmsh_off_the_main_thread() -> None:
     the main thread only ("signal only works in main thread"): so it is imported here with
     signal.signal a no-op, and with no handler to restore; the worker's own SIGINT stays as it is.
     Later `import gmsh` statements find the module imported."""
-    import signal
-    import sys
     if "gmsh" in sys.modules:
         sys.modules["gmsh"].oldsig = None
         return
@@ -280,7 +283,6 @@ def _import_gmsh_off_the_main_thread() -> None:
 def _build_reduced_cage(scene, quiet: bool) -> str:
     """The reduced cage of the scene: from the cache or built (a job: on a worker, which imports the
     FE stack; the file lock of the cache makes a second builder wait). Returns its path."""
-    import threading
     if threading.current_thread() is not threading.main_thread():
         _import_gmsh_off_the_main_thread()
     return str(Path(reduced_cage_path(scene, quiet=quiet)).resolve())
@@ -375,8 +377,6 @@ def _variant_cage_modes(study: Study, cages: dict) -> dict:
     for the flexible-cage runs: the file built for this study, or (a run finished before) the
     cache's, not rebuilt when it is gone (the table then shows none)."""
     from flexbearing.coupling.flexible_cage import reduced_cage_key
-    from flexbearing.fem_cage.reduced_cage import find_cached
-    from flexbearing.studies.cage_modes import cage_modes
     out, seen = {}, {}
     for i, sc in enumerate(study.scenes):
         if sc.cage_model != "flexible":
@@ -497,7 +497,6 @@ def study_markdown(study: Study, result: dict) -> str:
 def cage_modes_markdown(study: Study, result: dict) -> list[str]:
     """The table of each variant's first elastic cage modes (frequency, family, n), when the runs
     have a flexible cage."""
-    from flexbearing.studies.cage_modes import mode_cell
     runs = [r for r in result["runs"] if r.get("cage_modes")]
     if not runs:
         return []

@@ -238,7 +238,6 @@ def case_oil_air_fraction(fraction_ref: float, speed_rpm: float, scaling: str = 
         return fraction_ref
     if scaling == "inverse_speed":      # the continuous-supply law, flexbearing.multibody.oil_supply
         return float(cavity_oil_fraction(fraction_ref, OIL_AIR_REFERENCE_RPM, speed_rpm))
-    from flexbearing.common.validation import InputError
     raise InputError(f"oil_air_scaling = {scaling!r} is not known; allowed: 'constant', 'inverse_speed'")
 
 

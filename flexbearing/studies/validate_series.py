@@ -44,6 +44,9 @@ import numpy as np
 
 from flexbearing.common.validation import InputError
 from flexbearing.studies import race_control as RC
+from flexbearing.common.materials import ball_material_named
+from flexbearing.multibody.clearance import resolve_inner_ring
+from flexbearing.simulation.jobs import run_jobs
 
 # One parameter set for every series (module docstring): the slip-rate validation's model and oil state.
 # Where a series publishes a value (oil inlet temperature, supply) that value is used instead.
@@ -114,9 +117,7 @@ def sample_values(vs: RC.ValidationSeries, n: int, seed: int = 35) -> list[dict]
 def series_bearing(vs: RC.ValidationSeries, values: dict):
     """The model's Bearing of a series at the unknowns' `values` (module docstring); InputError if the
     combination is not a bearing (e.g. a free contact angle no shim angle gives with that clearance)."""
-    from flexbearing.common.materials import ball_material_named
     from flexbearing.multibody.bearing import PAPER_BEARING as P
-    from flexbearing.multibody.clearance import resolve_inner_ring
 
     def get(key, default=None):
         v = _given(vs, key)
@@ -331,7 +332,6 @@ def run_series(out_dir, directory=RC.VALIDATION_DIR, n_samples: int = 16, series
     """Every job of every series (or of the named ones) not yet in OUT_DIR/rows.jsonl, on Dask
     (flexbearing.simulation.jobs.run_jobs), each row appended and flushed as it finishes (resumable).
     Returns {"rows_file", "rows", "failures", "new_rows", "series"}."""
-    from flexbearing.simulation.jobs import run_jobs
     if isinstance(n_samples, bool) or not isinstance(n_samples, int) or not 0 <= n_samples <= 4096:
         raise InputError(f"samples = {n_samples!r} is not allowed; allowed: an integer in [0, 4096]")
     all_series = RC.load_all(directory)

@@ -10,6 +10,7 @@ paper's bearing, turned 7° so that no pocket sits at +y. Guided by the inner ri
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0   # mm, degrees
 
@@ -66,7 +67,6 @@ def make_named_cad_cage(path, guidance: str = "inner", wrong: str = "", **cage):
     the outside of an inner-guided cage), "pocket_as_guide" (a pocket face in the guide group).
     Returns the path of the .geo."""
     import gmsh
-    from pathlib import Path
     path = Path(path)
     step = make_cad_cage(path.with_suffix(".step"), **cage)
     pockets, bore, outside, sides = [[] for _ in range(Z)], [], [], []

@@ -45,6 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from flexbearing.common.validation import InputError
 
 CCX = "ccx"
 # meshio's tetra10 (VTK order) -> C3D10 order: identical (module docstring); kept explicit so the
@@ -168,7 +169,6 @@ def deck_text(mesh: Tet10Mesh, material, *, analysis: str = "static", boundary=(
     stress, node_output: write the nodal stresses (*EL FILE S) / displacements and, for a static
       step, reaction forces (*NODE FILE U, RF) to the .frd.
     Node and element numbers in the deck are the 0-based indices + 1."""
-    from flexbearing.common.validation import InputError
     material.validate("calculix.material")
     if analysis not in ("static", "frequency"):
         raise InputError(f"calculix.analysis = {analysis!r} is outside the allowed set {{static, frequency}}")

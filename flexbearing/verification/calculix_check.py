@@ -64,12 +64,17 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
 
 from flexbearing.verification import calculix as cx
 from flexbearing.fem_cage.stress_modes import von_mises
+from flexbearing.fem_cage.stress_modes import NodalStress, VOIGT
+from flexbearing.common.validation import InputError
+from flexbearing.fem_cage.reduction import centrifugal_load
+from flexbearing.fem_cage.modes import free_free_modes
 
 
 # ------------------------------------------------------------------ project side
@@ -106,8 +111,6 @@ def project_model(msh_path, material, degree: int = 2, quadrature_degree: int | 
     from mpi4py import MPI
     from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass
     from flexbearing.fem_cage.craig_bampton import petsc_to_scipy
-    from flexbearing.fem_cage.stress_modes import NodalStress
-    from flexbearing.common.validation import InputError
     if degree != 2:
         raise InputError(f"calculix_check.degree = {degree} is outside the allowed set {{2}} "
                          "(C3D10 is the P2 isoparametric element)")
@@ -198,7 +201,6 @@ def extrapolated_nodal_stress(model: ProjectModel, u: np.ndarray) -> np.ndarray:
     from their solutions (module docstring)."""
     from dolfinx import fem
     from flexbearing.fem_cage.elasticity import stress
-    from flexbearing.fem_cage.stress_modes import VOIGT
     op = model.stress_op
     op.u.x.array[:] = u
     expr = fem.Expression(stress(op.u, model.material), _ref_points())
@@ -310,7 +312,6 @@ def spin_case(model: ProjectModel, material, omega: float, support, threads: int
               n_pockets: int | None = None) -> dict:
     """The spinning cage (module docstring): project 3-2-1 and inertia relief vs CalculiX CENTRIF.
     n_pockets: the cage's Z-fold symmetry (with the mirror x -> -x) for the peak distance."""
-    from flexbearing.fem_cage.reduction import centrifugal_load
     X = model.V.tabulate_dof_coordinates()[:, :3]
     f = omega ** 2 * centrifugal_load(model.M, X)
     p = project_static(model, f, support)
@@ -341,7 +342,6 @@ def pocket_case(model: ProjectModel, geometry, force_n: float, direction: str, s
     'circumferential' (e_theta of the pocket), 'axial' (x) or 'radial' (e_r)."""
     from flexbearing.fem_cage import interface as itf
     from flexbearing.fem_cage.craig_bampton import full_static
-    from flexbearing.common.validation import InputError
     th = geometry.pocket_azimuths()[k_load]
     dirs = {"circumferential": (0.0, -np.sin(th), np.cos(th)), "axial": (1.0, 0.0, 0.0),
             "radial": (0.0, np.cos(th), np.sin(th))}
@@ -395,7 +395,6 @@ def frequency_case(model: ProjectModel, material, n_elastic: int = 20, threads: 
     support) and of the project (flexbearing.fem_cage.modes.free_free_modes) on the model's K and M, and
     with the project's K and M integrated by ccx's 4-point rule (quadrature degree 2) when
     msh_path is given."""
-    from flexbearing.fem_cage.modes import free_free_modes
     from flexbearing.fem_cage.craig_bampton import scipy_to_petsc
     n = 6 + n_elastic
     t0 = time.perf_counter()
@@ -436,7 +435,6 @@ def check_mesh(msh_path, geometry, omega: float = SPIN_RAD_S, force_n: float = P
     loaded pockets (pi + pi/Z), and 120° and 240° from there. quadrature_degree: the project's
     (None: flexbearing.fem_cage.elasticity's default, 4 for P2; 2 is ccx's own 4-point rule). Returns a dict
     (JSON-ready)."""
-    from pathlib import Path
     t0 = time.perf_counter()
     model = project_model(msh_path, geometry.material, quadrature_degree=quadrature_degree)
     support = support_dofs(model.mesh.nodes, 0.5 * geometry.outside_diameter,

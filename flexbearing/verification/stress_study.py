@@ -34,6 +34,11 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from flexbearing.fem_cage.reduction import centrifugal_load, guide_load_vectors
+from flexbearing.fem_cage.stress_modes import von_mises, NodalStress
+from flexbearing.mesh.cage_mesh import cached_cage_mesh, mesh_quality_of
+from flexbearing.mesh.quality import MIN_JACOBIAN_RATIO
+from flexbearing.fem_cage.mesh_study import richardson
 
 # The paper case's cage spin: 14,000 rpm inner ring, cage at ~0.46 of it (Table 5 kinematics).
 SPIN_RAD_S = 645.0
@@ -56,7 +61,6 @@ def pocket_direction(theta: float, kind: str) -> np.ndarray:
 def load_vectors(V, facet_tags, M, geometry, cases=CASES, pocket: int = POCKET) -> dict:
     """Nodal load vector (n,) of each case (module docstring), body frame, N."""
     from flexbearing.fem_cage import interface as itf
-    from flexbearing.fem_cage.reduction import centrifugal_load, guide_load_vectors
     X = V.tabulate_dof_coordinates()[:, :3]
     n = 3 * len(X)
     out = {}
@@ -95,7 +99,6 @@ def solve_free(K, M, X, loads: dict) -> dict:
 def max_von_mises(op, u, mask=None) -> dict:
     """Max nodal von Mises of displacement u (op: stress_modes.NodalStress), its node, position
     (m), radius and azimuth, and the five highest nodal values (Pa)."""
-    from flexbearing.fem_cage.stress_modes import von_mises
     vm = von_mises(op(u))
     if mask is not None:
         vm = np.where(mask, vm, -1.0)
@@ -113,7 +116,6 @@ def run_level(geometry, size: float, pocket_size: float, degree: int, order: int
     """One mesh level: mesh (cached, validated and repaired by flexbearing.mesh.cage_mesh), then run_mesh.
     Sizes in m. local = (pockets, h): refine around the edges of those pockets
     (flexbearing.mesh.cage_mesh.build_cage_mesh)."""
-    from flexbearing.mesh.cage_mesh import cached_cage_mesh
     msh = cached_cage_mesh(geometry, size, order, pocket_size, local)
     out = run_mesh(geometry, msh, degree, cases, quiet, None if local is None else local[0])
     out.update({"size_m": size, "pocket_size_m": pocket_size, "order": order,
@@ -135,11 +137,8 @@ def run_mesh(geometry, msh, degree: int, cases=CASES, quiet: bool = True, zone_p
     flexbearing.mesh.quality.MIN_JACOBIAN_RATIO; the quality-bound study passes a lower one to measure what
     badly curved elements do to the stress; check=False reads even inverted ones)."""
     from mpi4py import MPI
-    from flexbearing.mesh.cage_mesh import mesh_quality_of
-    from flexbearing.mesh.quality import MIN_JACOBIAN_RATIO
     from flexbearing.fem_cage.craig_bampton import petsc_to_scipy
     from flexbearing.fem_cage.elasticity import load_cage_mesh, assemble_stiffness_mass, global_ndofs
-    from flexbearing.fem_cage.stress_modes import NodalStress
     t0 = time.perf_counter()
     quality = mesh_quality_of(msh, degree)
     bound = MIN_JACOBIAN_RATIO if min_quality is None else min_quality
@@ -173,7 +172,6 @@ def run_mesh(geometry, msh, degree: int, cases=CASES, quiet: bool = True, zone_p
 def extrapolate(levels: list[dict], case: str) -> dict:
     """Richardson limit of the max von Mises of `case` from the three finest levels (h = ndofs^-1/3),
     and each level's error against it."""
-    from flexbearing.fem_cage.mesh_study import richardson
     lv = sorted(levels, key=lambda r: r["ndofs"])
     f = [r["cases"][case]["vm_max_Pa"] for r in lv]
     h = [r["ndofs"] ** (-1.0 / 3.0) for r in lv]
