@@ -92,6 +92,70 @@ def design_loop_once(code: Path | None) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def static_coordinates(path) -> dict:
+    """{case: full modal vector q} of the full basis' quasi-static answer to each load case of the
+    stress-convergence study (static_max_von_mises)."""
+    import numpy as np
+    from flexbearing.fem_cage import reduced_cage as rcf
+    from flexbearing.verification import stress_study as ss
+    rc = rcf.read(path)
+    Z = rc.interface_modes.shape[0]
+    theta = 2 * np.pi * ss.POCKET / Z
+    cases = {"spin": (None, rcf.centrifugal_modal_load(rc.invariants, ss.SPIN_RAD_S)),
+             "land": (None, rc.guide_modal_loads @ np.array([0.0, ss.LAND_FORCE_N, 0.0]))}
+    for kind in ("circ", "axial", "radial"):
+        F = np.zeros((Z, 6))
+        F[ss.POCKET, :3] = ss.POCKET_FORCE_N * ss.pocket_direction(theta, kind)
+        cases[f"pocket_{kind}"] = (F, None)
+    out = {}
+    for name, (F, g) in cases.items():
+        q = np.zeros(rc.n_modes)
+        q[6:] = rcf.static_correction(rc.interface_modes, rc.omega,
+                                      np.zeros((Z, 6)) if F is None else F, 6, g)
+        out[name] = q
+    return out
+
+
+def quantisation_bounds(path) -> dict:
+    """{case: bound (Pa) on the change of the max von Mises by the 16-bit storage}
+    (flexbearing.fem_cage.reduced_cage.quantisation_bound) for the static_coordinates cases of a
+    schema-6 file; {} for older files."""
+    import h5py
+    from flexbearing.fem_cage import reduced_cage as rcf
+    with h5py.File(path) as f:
+        name = "stress/modes" + rcf.SCALE_SUFFIX
+        if name not in f:
+            return {}
+        scale = f[name][()]
+    return {k: rcf.quantisation_bound(scale, q) for k, q in static_coordinates(path).items()}
+
+
+def search_setup(path, n_keep: int = 26) -> dict:
+    """The run's stress-search setup from a reduced cage file: read the file, build the search
+    and write its cache file (first run of a geometry), then set it up again from that file
+    (every later run); seconds, and the search file's size."""
+    import os
+    import tempfile
+    from flexbearing.coupling.flexible_cage import StressRecovery
+    from flexbearing.fem_cage import reduced_cage as rcf
+    t = time.perf_counter()
+    rc = rcf.read(path)
+    t_read = time.perf_counter() - t
+    StressRecovery(rc, n_keep, None)                   # compiles and warms what both paths share
+    with tempfile.TemporaryDirectory(prefix="fb-search-") as d:
+        cache = Path(d) / "search.npz"
+        t = time.perf_counter()
+        StressRecovery(rc, n_keep, cache)
+        t_first = time.perf_counter() - t
+        t = time.perf_counter()
+        StressRecovery(rc, n_keep, cache)
+        t_again = time.perf_counter() - t
+        size = os.path.getsize(cache)
+    return {"read_reduced_cage_s": t_read, "first_run_build_and_write_s": t_first,
+            "later_run_from_file_s": t_again, "search_file_MB": size / 1e6,
+            "reduced_cage_file_MB": os.path.getsize(path) / 1e6}
+
+
 def static_max_von_mises(path) -> dict:
     """Max nodal von Mises (Pa) of the full basis' quasi-static answer to each load case of the
     stress-convergence study (flexbearing.verification.stress_study: constants and directions),
@@ -100,23 +164,9 @@ def static_max_von_mises(path) -> dict:
     import numpy as np
     from flexbearing.fem_cage import reduced_cage as rcf
     from flexbearing.fem_cage.stress_modes import von_mises
-    from flexbearing.verification import stress_study as ss
     rc = rcf.read(path)
-    Z = rc.interface_modes.shape[0]
-    out = {}
-    theta = 2 * np.pi * ss.POCKET / Z
-    cases = {"spin": (None, rcf.centrifugal_modal_load(rc.invariants, ss.SPIN_RAD_S)),
-             "land": (None, rc.guide_modal_loads @ np.array([0.0, ss.LAND_FORCE_N, 0.0]))}
-    for kind in ("circ", "axial", "radial"):
-        F = np.zeros((Z, 6))
-        F[ss.POCKET, :3] = ss.POCKET_FORCE_N * ss.pocket_direction(theta, kind)
-        cases[f"pocket_{kind}"] = (F, None)
-    for name, (F, g) in cases.items():
-        q = np.zeros(rc.n_modes)
-        q[6:] = rcf.static_correction(rc.interface_modes, rc.omega,
-                                      np.zeros((Z, 6)) if F is None else F, 6, g)
-        out[name] = float(von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max())
-    return out
+    return {name: float(von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max())
+            for name, q in static_coordinates(path).items()}
 
 
 def compare_files(before, after) -> dict:
@@ -130,6 +180,8 @@ def compare_files(before, after) -> dict:
             "frequency_hz_first_elastic": [float(fa[0]), float(fb[0])],
             "von_mises_Pa": {k: [va[k], vb[k]] for k in va},
             "von_mises_max_rel_diff": max(abs(vb[k] - va[k]) / va[k] for k in va),
+            # bound on the change by the 16-bit storage of AFTER, relative (schema 6 files)
+            "quantisation_bound_rel": {k: v / vb[k] for k, v in quantisation_bounds(after).items()},
             "rigid_mass_rel_diff": abs(b.invariants["mass"] - a.invariants["mass"]) / a.invariants["mass"]}
 
 
@@ -146,7 +198,16 @@ def main(argv=None):
     ap.add_argument("--code", type=Path, default=None,
                     help="with --design-loop: also time this checkout, interleaved")
     ap.add_argument("--compare", nargs=2, type=Path, metavar=("BEFORE", "AFTER"))
+    ap.add_argument("--search-setup", type=Path, metavar="REDUCED_CAGE_H5",
+                    help="time the run's stress-search setup from this file (search_setup)")
     args = ap.parse_args(argv)
+    if args.search_setup:
+        out = json.loads(LOOP_RESULTS.read_text()) if LOOP_RESULTS.exists() else {}
+        r = search_setup(args.search_setup)
+        print(json.dumps(r, indent=1))
+        out.setdefault("search_setup", {})[str(args.search_setup)] = r
+        LOOP_RESULTS.write_text(json.dumps(out, indent=1, default=float))
+        return
     if args.compare or args.design_loop:
         out = json.loads(LOOP_RESULTS.read_text()) if LOOP_RESULTS.exists() else {}
         if args.compare:
