@@ -26,8 +26,16 @@ von Mises of the full basis' static answer to the stress-convergence study's loa
 pocket 5, a land force) — basis-invariant numbers, so modes that rotate inside a double root
 do not count as a difference. Writes benchmarks/results/reduce_design_loop.json.
 
+--openblas DIR adds this checkout with an unpacked OpenBLAS (nothing installed) first on
+LD_LIBRARY_PATH, 1 and 2 threads. --compare also gives the bound on the change of each case's max
+von Mises by the 16-bit storage of AFTER (schema 6). --search-setup FILE times the run's
+stress-search setup from a reduced cage file (first run: build and write; later runs: from the
+search file) and gives the search file's size.
+
     nice .venv/bin/python benchmarks/bench_reduce.py --design-loop [--repeat 3] [--code DIR]
+        [--openblas DIR]
     .venv/bin/python benchmarks/bench_reduce.py --compare BEFORE.h5 AFTER.h5
+    .venv/bin/python benchmarks/bench_reduce.py --search-setup FILE.h5
 """
 from __future__ import annotations
 
@@ -75,14 +83,15 @@ print(json.dumps({"import_s": t_import, "mesh_s": t_mesh, "build_s": t_build,
 """
 
 
-def design_loop_once(code: Path | None) -> dict:
+def design_loop_once(code: Path | None, extra_env: dict | None = None) -> dict:
     """One repetition of the design loop in a fresh process and an empty cache (the module
-    docstring); code: another checkout to run instead of this one."""
+    docstring); code: another checkout to run instead of this one; extra_env: variables set for
+    the child (e.g. LD_LIBRARY_PATH to an unpacked OpenBLAS)."""
     import os
     import subprocess
     import sys
     import tempfile
-    env = dict(os.environ)
+    env = dict(os.environ, **(extra_env or {}))
     with tempfile.TemporaryDirectory(prefix="fb-loop-") as cache:
         env["FLEXBEARING_CACHE"] = cache
         if code is not None:
@@ -197,6 +206,10 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--code", type=Path, default=None,
                     help="with --design-loop: also time this checkout, interleaved")
+    ap.add_argument("--openblas", type=Path, default=None, metavar="DIR",
+                    help="with --design-loop: also time this checkout with DIR (an unpacked "
+                         "libopenblas0-pthread's openblas-pthread folder) first on LD_LIBRARY_PATH, "
+                         "1 and 2 threads, interleaved")
     ap.add_argument("--compare", nargs=2, type=Path, metavar=("BEFORE", "AFTER"))
     ap.add_argument("--search-setup", type=Path, metavar="REDUCED_CAGE_H5",
                     help="time the run's stress-search setup from this file (search_setup)")
@@ -215,19 +228,25 @@ def main(argv=None):
             out["compare"]["files"] = [str(p) for p in args.compare]
             print(json.dumps(out["compare"], indent=1))
         if args.design_loop:
-            runs = {"this": [], "other": []}
+            configs = [("other", args.code, None), ("this", None, None)]
+            if args.openblas:
+                configs += [(f"this_openblas{n}", None, {"LD_LIBRARY_PATH": str(args.openblas),
+                                                        "OPENBLAS_NUM_THREADS": str(n)})
+                            for n in (1, 2)]
+            runs = {which: [] for which, _, _ in configs}
             for _ in range(args.repeat):
-                for which, code in (("other", args.code), ("this", None)):
+                for which, code, extra in configs:
                     if which == "other" and code is None:
                         continue
-                    r = design_loop_once(code)
+                    r = design_loop_once(code, extra)
+                    r["load_average"] = __import__("os").getloadavg()
                     runs[which].append(r)
                     print(which, f"new geometry {r['new_geometry_s']:.1f} s (mesh {r['mesh_s']:.1f}, "
                           f"reduce {r['timings']['reduce_total_s']:.1f}), cpu "
                           f"{r['cpu_user_s'] + r['cpu_sys_s']:.1f} s, peak {r['peak_rss_MB']:.0f} MB, "
                           f"file {r['file_MB']:.1f} MB", flush=True)
-            out["design_loop"] = {"this": runs["this"], "other": runs["other"],
-                                  "other_code": None if args.code is None else str(args.code)}
+            out["design_loop"] = dict(runs, other_code=None if args.code is None else str(args.code),
+                                      openblas=None if args.openblas is None else str(args.openblas))
         LOOP_RESULTS.parent.mkdir(exist_ok=True)
         LOOP_RESULTS.write_text(json.dumps(out, indent=1, default=float))
         return
