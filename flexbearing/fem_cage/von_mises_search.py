@@ -341,8 +341,9 @@ class TrackingMaxVonMises:
     # the 4 mm paper cage), not the load-space stress W itself (129 MB, a second copy of the
     # stress modes): `load` takes W, rebuilt by the caller from the reduced cage, and re-derives
     # the two tables that are W in another layout (the rows L W_n in search order, and their
-    # float32 leaf copies). Building the whole search costs ~1.2 s beyond W, loading ~0.1 s
-    # beyond W (benchmarks/results/reduce_design_loop.md, round two).
+    # float32 leaf copies). On the 4 mm paper cage W takes ~0.9 s, the search built from it
+    # ~0.9-1.3 s more, loaded from the file ~0.14 s more (benchmarks/results/
+    # reduce_design_loop.md, round two).
     FILE_VERSION = 2          # bump when the construction above changes what the arrays hold
     _FROM_W = (0, 1)          # arrays[0] (rows of L W_n), arrays[1] (their leaf copies): from W
 
