@@ -77,8 +77,8 @@ FE 1.8e-11 in displacement, 1.1e-10 in max von Mises; the schema-3 basis 1.7 % a
 correction (static_correction with guide_modal_loads), not by the kept modes.
 5 = /stress/modes and /modes/vertex_displacement stored as float32, chunked, with the HDF5
 shuffle filter and gzip (level 1); read() returns them as float64 (see "Storage" below); same
-datasets and shapes otherwise. 6 = the same two tables as 16-bit integers with per-(component, mode) scales (datasets
-NAME_scale; "Storage" below); read() returns them as float64. read() also accepts version-5
+datasets and shapes otherwise. 6 = the same two tables as 16-bit integers with per-(component,
+mode) scales (datasets NAME_scale; "Storage" below); read() returns them as float64. read() also accepts version-5
 files (float32 tables) and version-2, 3 and 4 files (same layout without /loads:
 ReducedCage.guide_modal_loads is None; centrifugal_vector of a version-2 file reads False;
 guide_load_vectors and inertia_relief_vectors read False).
@@ -92,9 +92,11 @@ by the sum of |q_k| times each mode's step, not by the result (`quantisation_bou
 the maximum von Mises). Measured on the paper cage (benchmarks/results/reduce_design_loop.md,
 round two): the bound is at most 6.4e-5 of the max von Mises of the stress-study load cases and
 4.4e-5 of that of any sample of a 20 ms run, the actual change at most 1.3e-5; the default mesh's
-max von Mises is held to 5 % (benchmarks/results/cage_stress_convergence.md), ~800 times the bound. Every other dataset
-(frequencies, interface modes, invariants: what the integrator's equations use) stays float64,
-so a run integrates the same equations; only stress and displacement recovery see the rounding.
+max von Mises is held to 5 % (benchmarks/results/cage_stress_convergence.md), ~800 times the
+bound. Every other dataset (frequencies, interface modes, invariants: what the integrator's
+equations use) stays float64, so a run integrates the same equations (a 20 ms run: 60 of 61
+outputs bit-identical to the float32 file's); only stress and displacement recovery see the
+rounding.
 The digest (data_digest) covers the stored integers and their scales.
 
 Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
