@@ -26,8 +26,16 @@ von Mises of the full basis' static answer to the stress-convergence study's loa
 pocket 5, a land force) — basis-invariant numbers, so modes that rotate inside a double root
 do not count as a difference. Writes benchmarks/results/reduce_design_loop.json.
 
+--openblas DIR adds this checkout with an unpacked OpenBLAS (nothing installed) first on
+LD_LIBRARY_PATH, 1 and 2 threads. --compare also gives the bound on the change of each case's max
+von Mises by the 16-bit storage of AFTER (schema 6). --search-setup FILE times the run's
+stress-search setup from a reduced cage file (first run: build and write; later runs: from the
+search file) and gives the search file's size.
+
     nice .venv/bin/python benchmarks/bench_reduce.py --design-loop [--repeat 3] [--code DIR]
+        [--openblas DIR]
     .venv/bin/python benchmarks/bench_reduce.py --compare BEFORE.h5 AFTER.h5
+    .venv/bin/python benchmarks/bench_reduce.py --search-setup FILE.h5
 """
 from __future__ import annotations
 
@@ -75,14 +83,15 @@ print(json.dumps({"import_s": t_import, "mesh_s": t_mesh, "build_s": t_build,
 """
 
 
-def design_loop_once(code: Path | None) -> dict:
+def design_loop_once(code: Path | None, extra_env: dict | None = None) -> dict:
     """One repetition of the design loop in a fresh process and an empty cache (the module
-    docstring); code: another checkout to run instead of this one."""
+    docstring); code: another checkout to run instead of this one; extra_env: variables set for
+    the child (e.g. LD_LIBRARY_PATH to an unpacked OpenBLAS)."""
     import os
     import subprocess
     import sys
     import tempfile
-    env = dict(os.environ)
+    env = dict(os.environ, **(extra_env or {}))
     with tempfile.TemporaryDirectory(prefix="fb-loop-") as cache:
         env["FLEXBEARING_CACHE"] = cache
         if code is not None:
@@ -90,6 +99,70 @@ def design_loop_once(code: Path | None) -> dict:
         out = subprocess.run([sys.executable, "-c", _LOOP_CHILD], env=env, check=True,
                              capture_output=True, text=True, cwd=str(code or Path.cwd()))
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def static_coordinates(path) -> dict:
+    """{case: full modal vector q} of the full basis' quasi-static answer to each load case of the
+    stress-convergence study (static_max_von_mises)."""
+    import numpy as np
+    from flexbearing.fem_cage import reduced_cage as rcf
+    from flexbearing.verification import stress_study as ss
+    rc = rcf.read(path)
+    Z = rc.interface_modes.shape[0]
+    theta = 2 * np.pi * ss.POCKET / Z
+    cases = {"spin": (None, rcf.centrifugal_modal_load(rc.invariants, ss.SPIN_RAD_S)),
+             "land": (None, rc.guide_modal_loads @ np.array([0.0, ss.LAND_FORCE_N, 0.0]))}
+    for kind in ("circ", "axial", "radial"):
+        F = np.zeros((Z, 6))
+        F[ss.POCKET, :3] = ss.POCKET_FORCE_N * ss.pocket_direction(theta, kind)
+        cases[f"pocket_{kind}"] = (F, None)
+    out = {}
+    for name, (F, g) in cases.items():
+        q = np.zeros(rc.n_modes)
+        q[6:] = rcf.static_correction(rc.interface_modes, rc.omega,
+                                      np.zeros((Z, 6)) if F is None else F, 6, g)
+        out[name] = q
+    return out
+
+
+def quantisation_bounds(path) -> dict:
+    """{case: bound (Pa) on the change of the max von Mises by the 16-bit storage}
+    (flexbearing.fem_cage.reduced_cage.quantisation_bound) for the static_coordinates cases of a
+    schema-6 file; {} for older files."""
+    import h5py
+    from flexbearing.fem_cage import reduced_cage as rcf
+    with h5py.File(path) as f:
+        name = "stress/modes" + rcf.SCALE_SUFFIX
+        if name not in f:
+            return {}
+        scale = f[name][()]
+    return {k: rcf.quantisation_bound(scale, q) for k, q in static_coordinates(path).items()}
+
+
+def search_setup(path, n_keep: int = 26) -> dict:
+    """The run's stress-search setup from a reduced cage file: read the file, build the search
+    and write its cache file (first run of a geometry), then set it up again from that file
+    (every later run); seconds, and the search file's size."""
+    import os
+    import tempfile
+    from flexbearing.coupling.flexible_cage import StressRecovery
+    from flexbearing.fem_cage import reduced_cage as rcf
+    t = time.perf_counter()
+    rc = rcf.read(path)
+    t_read = time.perf_counter() - t
+    StressRecovery(rc, n_keep, None)                   # compiles and warms what both paths share
+    with tempfile.TemporaryDirectory(prefix="fb-search-") as d:
+        cache = Path(d) / "search.npz"
+        t = time.perf_counter()
+        StressRecovery(rc, n_keep, cache)
+        t_first = time.perf_counter() - t
+        t = time.perf_counter()
+        StressRecovery(rc, n_keep, cache)
+        t_again = time.perf_counter() - t
+        size = os.path.getsize(cache)
+    return {"read_reduced_cage_s": t_read, "first_run_build_and_write_s": t_first,
+            "later_run_from_file_s": t_again, "search_file_MB": size / 1e6,
+            "reduced_cage_file_MB": os.path.getsize(path) / 1e6}
 
 
 def static_max_von_mises(path) -> dict:
@@ -100,23 +173,9 @@ def static_max_von_mises(path) -> dict:
     import numpy as np
     from flexbearing.fem_cage import reduced_cage as rcf
     from flexbearing.fem_cage.stress_modes import von_mises
-    from flexbearing.verification import stress_study as ss
     rc = rcf.read(path)
-    Z = rc.interface_modes.shape[0]
-    out = {}
-    theta = 2 * np.pi * ss.POCKET / Z
-    cases = {"spin": (None, rcf.centrifugal_modal_load(rc.invariants, ss.SPIN_RAD_S)),
-             "land": (None, rc.guide_modal_loads @ np.array([0.0, ss.LAND_FORCE_N, 0.0]))}
-    for kind in ("circ", "axial", "radial"):
-        F = np.zeros((Z, 6))
-        F[ss.POCKET, :3] = ss.POCKET_FORCE_N * ss.pocket_direction(theta, kind)
-        cases[f"pocket_{kind}"] = (F, None)
-    for name, (F, g) in cases.items():
-        q = np.zeros(rc.n_modes)
-        q[6:] = rcf.static_correction(rc.interface_modes, rc.omega,
-                                      np.zeros((Z, 6)) if F is None else F, 6, g)
-        out[name] = float(von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max())
-    return out
+    return {name: float(von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max())
+            for name, q in static_coordinates(path).items()}
 
 
 def compare_files(before, after) -> dict:
@@ -130,6 +189,8 @@ def compare_files(before, after) -> dict:
             "frequency_hz_first_elastic": [float(fa[0]), float(fb[0])],
             "von_mises_Pa": {k: [va[k], vb[k]] for k in va},
             "von_mises_max_rel_diff": max(abs(vb[k] - va[k]) / va[k] for k in va),
+            # bound on the change by the 16-bit storage of AFTER, relative (schema 6 files)
+            "quantisation_bound_rel": {k: v / vb[k] for k, v in quantisation_bounds(after).items()},
             "rigid_mass_rel_diff": abs(b.invariants["mass"] - a.invariants["mass"]) / a.invariants["mass"]}
 
 
@@ -145,8 +206,21 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--code", type=Path, default=None,
                     help="with --design-loop: also time this checkout, interleaved")
+    ap.add_argument("--openblas", type=Path, default=None, metavar="DIR",
+                    help="with --design-loop: also time this checkout with DIR (an unpacked "
+                         "libopenblas0-pthread's openblas-pthread folder) first on LD_LIBRARY_PATH, "
+                         "1 and 2 threads, interleaved")
     ap.add_argument("--compare", nargs=2, type=Path, metavar=("BEFORE", "AFTER"))
+    ap.add_argument("--search-setup", type=Path, metavar="REDUCED_CAGE_H5",
+                    help="time the run's stress-search setup from this file (search_setup)")
     args = ap.parse_args(argv)
+    if args.search_setup:
+        out = json.loads(LOOP_RESULTS.read_text()) if LOOP_RESULTS.exists() else {}
+        r = search_setup(args.search_setup)
+        print(json.dumps(r, indent=1))
+        out.setdefault("search_setup", {})[str(args.search_setup)] = r
+        LOOP_RESULTS.write_text(json.dumps(out, indent=1, default=float))
+        return
     if args.compare or args.design_loop:
         out = json.loads(LOOP_RESULTS.read_text()) if LOOP_RESULTS.exists() else {}
         if args.compare:
@@ -154,19 +228,25 @@ def main(argv=None):
             out["compare"]["files"] = [str(p) for p in args.compare]
             print(json.dumps(out["compare"], indent=1))
         if args.design_loop:
-            runs = {"this": [], "other": []}
+            configs = [("other", args.code, None), ("this", None, None)]
+            if args.openblas:
+                configs += [(f"this_openblas{n}", None, {"LD_LIBRARY_PATH": str(args.openblas),
+                                                        "OPENBLAS_NUM_THREADS": str(n)})
+                            for n in (1, 2)]
+            runs = {which: [] for which, _, _ in configs}
             for _ in range(args.repeat):
-                for which, code in (("other", args.code), ("this", None)):
+                for which, code, extra in configs:
                     if which == "other" and code is None:
                         continue
-                    r = design_loop_once(code)
+                    r = design_loop_once(code, extra)
+                    r["load_average"] = __import__("os").getloadavg()
                     runs[which].append(r)
                     print(which, f"new geometry {r['new_geometry_s']:.1f} s (mesh {r['mesh_s']:.1f}, "
                           f"reduce {r['timings']['reduce_total_s']:.1f}), cpu "
                           f"{r['cpu_user_s'] + r['cpu_sys_s']:.1f} s, peak {r['peak_rss_MB']:.0f} MB, "
                           f"file {r['file_MB']:.1f} MB", flush=True)
-            out["design_loop"] = {"this": runs["this"], "other": runs["other"],
-                                  "other_code": None if args.code is None else str(args.code)}
+            out["design_loop"] = dict(runs, other_code=None if args.code is None else str(args.code),
+                                      openblas=None if args.openblas is None else str(args.openblas))
         LOOP_RESULTS.parent.mkdir(exist_ok=True)
         LOOP_RESULTS.write_text(json.dumps(out, indent=1, default=float))
         return

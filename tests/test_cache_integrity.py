@@ -167,22 +167,22 @@ def test_a_damaged_or_foreign_stress_search_file_is_rebuilt(tmp_path):
     from flexbearing.fem_cage.von_mises_search import TrackingMaxVonMises
     from test_von_mises import _cage_like, _search
     S, omega, phi_b, q_cf, coords = _cage_like()
-    _, built = _search(S, omega, phi_b, q_cf, coords)
+    W, built = _search(S, omega, phi_b, q_cf, coords)
     f = tmp_path / "search.npz"
     built.save(f, source="digest-A")
-    assert TrackingMaxVonMises.load(f, "digest-A") is not None
-    assert TrackingMaxVonMises.load(f, "digest-B") is None            # built from another cage
+    assert TrackingMaxVonMises.load(f, W, "digest-A") is not None
+    assert TrackingMaxVonMises.load(f, W, "digest-B") is None         # built from another cage
     data = bytearray(f.read_bytes())
     data[len(data) // 2] ^= 0x01                                      # one flipped bit
     f.write_bytes(bytes(data))
     with pytest.raises(Exception):
-        TrackingMaxVonMises.load(f, "digest-A")
+        TrackingMaxVonMises.load(f, W, "digest-A")
     # StressRecovery treats both as missing (and then builds and writes the search again)
     rec = StressRecovery.__new__(StressRecovery)
     rec.source, rec.n_elastic, rec.load_modes = "digest-A", 0, np.zeros((1, 6, 1))
-    assert rec._read_search(f) is None
+    assert rec._read_search(f, W) is None
     f.write_bytes(b"PK\x03\x04 truncated")
-    assert rec._read_search(f) is None
+    assert rec._read_search(f, W) is None
 
 
 def test_a_full_cache_disk_is_one_error_and_leaves_no_temporary(tmp_path):

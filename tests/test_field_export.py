@@ -72,13 +72,11 @@ def rotation(phi, by, bz):
 
 
 def fake_cage(tmp_path, quadratic=True):
-    from flexbearing.fem_cage.reduced_cage import write
+    from flexbearing.fem_cage.reduced_cage import read, write
     X, tets10, tets = kuhn_cube(0.01, (-0.005, R_POCKET - 0.005, -0.005))
     rng = np.random.default_rng(11)
-    # float32-representable: the file stores these tables in float32 (reduced_cage schema 5), so the
-    # arrays the checks use are exactly what the export reads
-    S = (rng.normal(size=(len(X), 6, M)) * 1e7).astype(np.float32).astype(float)
-    Phi = (rng.normal(size=(len(X), 3, M)) * 1e-5).astype(np.float32).astype(float)
+    S = rng.normal(size=(len(X), 6, M)) * 1e7
+    Phi = rng.normal(size=(len(X), 3, M)) * 1e-5
     az = 2 * np.pi * np.arange(Z) / Z
     data = {"mesh/vertices": X, "mesh/tets": tets, "stress/modes": S, "modes/vertex_displacement": Phi,
             "modes/frequency_hz": np.ones(M), "modes/omega": np.ones(M), "modes/modal_stiffness": np.ones(M),
@@ -87,7 +85,9 @@ def fake_cage(tmp_path, quadratic=True):
             "invariants/mass": 1.0}
     if quadratic:
         data["mesh/tets10"] = tets10
-    return write(tmp_path / "cage.h5", data, {"content_hash": "0123456789abcdef"}), X, S, Phi, data["modes/interface"]
+    path = write(tmp_path / "cage.h5", data, {"content_hash": "0123456789abcdef"})
+    stored = read(path)           # the tables as the file holds them (16-bit, reduced_cage schema 6)
+    return path, X, stored.stress_modes, stored.vertex_displacement, data["modes/interface"]
 
 
 def motion(t):

@@ -224,17 +224,23 @@ def test_file_round_trip(reduced, tmp_path):
     assert np.array_equal(rc.truncate(26).guide_modal_loads, red["guide_modal_loads"][:26])
 
 
-def test_float32_mode_tables_keep_the_static_stress(reduced, tmp_path):
-    """Schema 5 stores the stress and displacement tables in float32. The full basis' quasi-static
-    stress of a pocket force plus a land force, read from the file, differs from the float64 one
-    by no more than the float32 rounding allows: each component of sigma_n = sum_k S_nk q_k moves
-    by at most 2^-24 sum_k |S_nk q_k|, and von Mises (a seminorm, largest gain sqrt(3) on a Voigt
-    vector) moves its maximum by at most sqrt(3) sqrt(6) times that."""
+def test_16_bit_mode_tables_keep_the_static_stress(reduced, tmp_path):
+    """Schema 6 stores the stress and displacement tables as 16-bit integers with a scale per
+    (component, mode). The full basis' quasi-static stress of a pocket force plus a land force,
+    read from the file, differs from the float64 one by no more than the quantisation allows:
+    the max von Mises by at most rcf.quantisation_bound (each component of sigma_n = sum_k S_nk q_k
+    within 1/2 sum_k s_ck |q_k|, von Mises a seminorm), and that bound is far below the 5 % the
+    default mesh is held to; each displacement component within 1/2 sum_k s_dk |q_k|."""
+    import h5py
     from flexbearing.fem_cage.reduction import file_arrays
     from flexbearing.fem_cage import reduced_cage as rcf
     from flexbearing.fem_cage.stress_modes import von_mises
     red = reduced["all"]
-    rc = rcf.read(rcf.write(tmp_path / "c.h5", file_arrays(red), {}))
+    p = rcf.write(tmp_path / "c.h5", file_arrays(red), {})
+    rc = rcf.read(p)
+    with h5py.File(p) as f:
+        s_stress = f["stress/modes" + rcf.SCALE_SUFFIX][()]
+        s_disp = f["modes/vertex_displacement" + rcf.SCALE_SUFFIX][()]
     Z = rc.interface_modes.shape[0]
     F = np.zeros((Z, 6))
     F[1, :3] = [0.0, 300.0, 800.0]                                  # N on pocket 1
@@ -242,13 +248,12 @@ def test_float32_mode_tables_keep_the_static_stress(reduced, tmp_path):
     q[6:] = rcf.static_correction(rc.interface_modes, rc.omega, F, 6,
                                   rc.guide_modal_loads @ np.array([0.0, 500.0, 2.0]))
     vm64 = von_mises(np.einsum("nsm,m->ns", red["stress"], q)).max()
-    vm32 = von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max()
-    bound = np.sqrt(18.0) * 2.0 ** -24 * np.einsum("nsm,m->ns", np.abs(red["stress"]), np.abs(q)).max()
-    assert abs(vm32 - vm64) <= bound and bound < 1e-5 * vm64
+    vm16 = von_mises(np.einsum("nsm,m->ns", rc.stress_modes, q)).max()
+    bound = rcf.quantisation_bound(s_stress, q)
+    assert abs(vm16 - vm64) <= bound and bound < 1e-3 * vm64
     u64 = np.einsum("nsm,m->ns", red["vertex_displacement"], q)
-    u32 = np.einsum("nsm,m->ns", rc.vertex_displacement, q)
-    assert np.abs(u32 - u64).max() <= 2.0 ** -24 * np.einsum(
-        "nsm,m->ns", np.abs(red["vertex_displacement"]), np.abs(q)).max()
+    u16 = np.einsum("nsm,m->ns", rc.vertex_displacement, q)
+    assert np.all(np.abs(u16 - u64) <= 0.5 * s_disp @ np.abs(q) * (1 + 1e-9))
 
 
 @pytest.mark.slow

@@ -38,13 +38,13 @@ def test_round_trip_truncate_elastic(tmp_path):
                   {"static": {"max_rel_error_full": 1e-9}})
     rc = rcf.read(p)
     assert rc.n_modes == 10
-    # the mode-shape tables are stored in float32 (schema 5) and read back as float64: exactly
-    # the float32 rounding of what was written, within 2^-24 relative of it
+    # the mode-shape tables are stored as 16-bit integers (schema 6) and read back as float64:
+    # each entry within half a step, max|column| / 65534, of what was written (quantise, (Q))
     for name, got in (("stress/modes", rc.stress_modes),
                       ("modes/vertex_displacement", rc.vertex_displacement)):
         assert got.dtype == np.float64
-        assert np.array_equal(got, data[name].astype(np.float32).astype(np.float64))
-        assert np.all(np.abs(got - data[name]) <= 2.0 ** -24 * np.abs(data[name]))
+        half_step = np.abs(data[name]).max(axis=0) / (2 * 32767)
+        assert np.all(np.abs(got - data[name]) <= half_step * (1 + 1e-12))
     assert rc.attrs["parameters"] == {"a": 1}
     assert rc.checks["static"]["max_rel_error_full"] == 1e-9
     t = rc.truncate(8)
@@ -89,22 +89,28 @@ def test_older_schema_versions_read_without_guide_loads(tmp_path):
     assert rcf.read(p).guide_modal_loads is None
 
 
-def test_mode_tables_are_float32_on_disk_and_the_rest_float64(tmp_path):
-    """Schema 5 stores only the two mode-shape tables in float32 (compressed); what the equations
-    of motion use (frequencies, interface modes, invariants) stays float64."""
+def test_mode_tables_are_16_bit_on_disk_and_the_rest_float64(tmp_path):
+    """Schema 6 stores only the two mode-shape tables as int16 with float64 scales per (component,
+    mode); what the equations of motion use (frequencies, interface modes, invariants) stays
+    float64."""
     import h5py
-    p = rcf.write(tmp_path / "c.h5", _synthetic(), {})
+    data = _synthetic()
+    data["stress/modes"][:, :, :6] = 0.0                   # rigid modes: no stress
+    p = rcf.write(tmp_path / "c.h5", data, {})
     with h5py.File(p) as f:
-        assert f.attrs["schema_version"] == 5
-        for name in rcf.FLOAT32_DATASETS:
-            assert f[name].dtype == np.float32 and f[name].compression == "gzip" and f[name].shuffle
+        assert f.attrs["schema_version"] == 6
+        for name in rcf.QUANTISED_DATASETS:
+            assert f[name].dtype == np.int16
+            assert f[name + rcf.SCALE_SUFFIX].dtype == np.float64
+            assert f[name + rcf.SCALE_SUFFIX].shape == data[name].shape[1:]
         for name in ("modes/omega", "modes/interface", "invariants/SS", "loads/guide_modal_loads"):
             assert f[name].dtype == np.float64
+    assert np.all(rcf.read(p).stress_modes[:, :, :6] == 0.0)      # an all-zero column stays exactly 0
 
 
 def test_an_older_format_cache_entry_is_rebuilt_not_read(tmp_path, monkeypatch):
     """A version-4 file (float64 tables) sits at the cache path of a version-4 key; the
-    version-5 key of the same cage names another file, so find_cached finds nothing and the
+    version-6 key of the same cage names another file, so find_cached finds nothing and the
     caller builds the cage again (never mixes the formats)."""
     monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path))
     key5 = rcf.cache_key(PAPER_CAGE, 4e-3, 2, 2e-3, "rbe3", 30)
@@ -130,7 +136,7 @@ def test_cache_key_depends_on_every_input():
     # augmented version-4 file
     assert rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True) == \
         rcf.cache_key(PAPER_CAGE, 3e-3, 2, 1.5e-3, "rbe3", 30, 3, True, True, True)
-    assert base["schema_version"] == 5 and base["guide_load_vectors"] and base["inertia_relief_vectors"]
+    assert base["schema_version"] == 6 and base["guide_load_vectors"] and base["inertia_relief_vectors"]
     mat = PAPER_CAGE.material.__class__(7800.0, 209e9, 0.295)
     variants.append(rcf.cache_key(PAPER_CAGE.with_(material=mat), 3e-3, 2, 1.5e-3, "rbe3", 30))
     paths = {rcf.cache_path(k) for k in variants}
@@ -170,3 +176,46 @@ def test_cli_on_cached_file_never_imports_dolfinx(tmp_path):
     assert summary["static"]["max_rel_error_full"] == 1e-10
     assert len(summary["kept_frequencies_hz"]) == 26
     assert (tmp_path / "m.xdmf").exists()
+
+
+def test_quantisation_bound_holds_under_cancellation():
+    """rcf.quantisation_bound: the max von Mises of sigma = S q moved by the 16-bit storage of S is
+    within the bound, here where 40 modes with large coordinates cancel to a small result (the
+    bound scales with sum_k |q_k| max|S_k|, not with the result). The uniaxial one-mode case
+    reaches the bound's value exactly: vm = |sigma_xx|, error half a step."""
+    from flexbearing.fem_cage.stress_modes import von_mises
+    rng = np.random.default_rng(3)
+    n, m = 500, 40
+    S = rng.normal(size=(n, 6, m)) * 1e8
+    q = rng.normal(size=m)
+    q[-1] = -(S[:, :, :-1] @ q[:-1])[0, 0] / S[0, 0, -1]          # node 0's sigma_xx cancels
+    ints, scale = rcf.quantise(S)
+    St = rcf.dequantise(ints, scale)
+    e = 0.5 * scale @ np.abs(q)
+    assert np.all(np.abs((St - S) @ q) <= e * (1 + 1e-12))
+    exact, stored = von_mises(S @ q).max(), von_mises(St @ q).max()
+    assert abs(stored - exact) <= rcf.quantisation_bound(scale, q)
+    # one mode, uniaxial: sigma_xx = 1 + 1/2 step rounds to 1 step, e_xx = step/2, the bound
+    # sqrt(1/2 (e^2 + e^2)) = step/2 = the actual change
+    step = 1.0
+    col = np.zeros((2, 6, 1))
+    col[0, 0, 0], col[1, 0, 0] = 32767 * step, 0.5000001 * step
+    ints, scale = rcf.quantise(col)
+    assert scale[0, 0] == pytest.approx(step, rel=1e-15)
+    assert rcf.quantisation_bound(scale, np.ones(1)) == pytest.approx(0.5 * step, rel=1e-12)
+    assert rcf.dequantise(ints, scale)[1, 0, 0] == pytest.approx(1.0 * step, rel=1e-12)
+
+
+def test_a_version_5_file_with_float32_tables_still_reads(tmp_path):
+    """Schema 5 stored the mode tables as float32 (no scales): read() widens them to float64."""
+    import h5py
+    data = _synthetic()
+    p = rcf.write(tmp_path / "c.h5", data, {})
+    with h5py.File(p, "a") as f:
+        f.attrs["schema_version"] = 5
+        for name in rcf.QUANTISED_DATASETS:
+            del f[name], f[name + rcf.SCALE_SUFFIX]
+            f[name] = data[name].astype(np.float32)
+    rc = rcf.read(p)
+    assert rc.stress_modes.dtype == np.float64
+    assert np.array_equal(rc.stress_modes, data["stress/modes"].astype(np.float32).astype(float))

@@ -256,16 +256,17 @@ TETS = np.array([[0, 1, 2, 3], [1, 2, 3, 4], [1, 2, 4, 5]])
 
 def _fake_flexible_run(tmp_path):
     """A flexible run: modal coordinates q(t) in a tiny reduced cage's full basis (3 modes)."""
-    from flexbearing.fem_cage.reduced_cage import write
+    from flexbearing.fem_cage.reduced_cage import read, write
     rng = np.random.default_rng(7)
-    # float32-representable, as the file stores them (reduced_cage schema 5)
-    S = (rng.normal(size=(NV, 6, M)) * 1e7).astype(np.float32).astype(float)     # Pa per unit q
-    Phi = (rng.normal(size=(NV, 3, M)) * 1e-5).astype(np.float32).astype(float)  # m per unit q
+    S = rng.normal(size=(NV, 6, M)) * 1e7     # Pa per unit q
+    Phi = rng.normal(size=(NV, 3, M)) * 1e-5  # m per unit q
     rc = write(tmp_path / "cage.h5", {
         "mesh/vertices": VERTS, "mesh/tets": TETS, "stress/modes": S, "modes/vertex_displacement": Phi,
         "modes/frequency_hz": np.ones(M), "modes/omega": np.ones(M), "modes/modal_stiffness": np.ones(M),
         "modes/interface": np.zeros((2, 6, M)), "interface/positions": np.zeros((2, 3)),
         "invariants/mass": 1.0}, {"content_hash": "abcd1234abcd1234"})
+    stored = read(rc)             # the tables as the file holds them (16-bit, reduced_cage schema 6)
+    S, Phi = stored.stress_modes, stored.vertex_displacement
     run = write_run(tmp_path / "flex.h5", cage="flexible")
     n = 601
     q = rng.normal(size=(n, M))

@@ -195,12 +195,18 @@ def test_a_saved_search_reads_back_and_finds_the_same_maxima(tmp_path, monkeypat
     """TrackingMaxVonMises.save/load (the run's cache beside the reduced cage): the search read
     back returns the same (max, node) as the one built, bit for bit, on 50 load vectors, each
     checked against the brute-force maximum over every node; a file of another FILE_VERSION is
-    not used."""
+    not used. The file holds the tree, not W (the caller passes W again): its tables rebuilt from
+    W are equal to the built ones, and the file is smaller than W alone."""
     S, omega, phi_b, q_cf, coords = _cage_like()
     W, built = _search(S, omega, phi_b, q_cf, coords)
     f = tmp_path / "search.npz"
     built.save(f)
-    read = TrackingMaxVonMises.load(f)
+    assert f.stat().st_size < W.nbytes
+    read = TrackingMaxVonMises.load(f, W)
+    assert len(read.arrays) == len(built.arrays)
+    for a, b in zip(read.arrays, built.arrays):
+        assert a.dtype == b.dtype and np.array_equal(a, b)
+    assert TrackingMaxVonMises.load(f, W[:, :, :-1]) is None          # W of another mode count
     rng = np.random.default_rng(7)
     for _ in range(50):
         y = _load_vector(rng, N_KEEP - 6)
@@ -208,7 +214,7 @@ def test_a_saved_search_reads_back_and_finds_the_same_maxima(tmp_path, monkeypat
         assert a == b
         assert a[0] == pytest.approx(read.brute_force(y)[0], rel=1e-12)
     monkeypatch.setattr(TrackingMaxVonMises, "FILE_VERSION", TrackingMaxVonMises.FILE_VERSION + 1)
-    assert TrackingMaxVonMises.load(f) is None
+    assert TrackingMaxVonMises.load(f, W) is None
 
 
 def test_a_search_with_its_own_state_shares_the_tables_and_stays_exact():

@@ -2,10 +2,10 @@
 
 numpy + h5py only: a run that finds its reduced cage in the cache never imports dolfinx.
 
-Schema "flexbearing.reduced_cage", version 5 (HDF5; SI units: m, kg, s, Pa, rad)
+Schema "flexbearing.reduced_cage", version 6 (HDF5; SI units: m, kg, s, Pa, rad)
 -------------------------------------------------------------------------------
 Root attributes
-  schema = "flexbearing.reduced_cage", schema_version = 5, content_hash (16 hex: cache key of
+  schema = "flexbearing.reduced_cage", schema_version = 6, content_hash (16 hex: cache key of
   every input, see cache_key()), parameters (JSON: geometry, material, mesh size/order/
   pocket_size, FE degree, coupling, n_fixed, centrifugal_vector, guide_load_vectors,
   inertia_relief_vectors), coupling ("rbe2" | "rbe3"),
@@ -77,20 +77,27 @@ FE 1.8e-11 in displacement, 1.1e-10 in max von Mises; the schema-3 basis 1.7 % a
 correction (static_correction with guide_modal_loads), not by the kept modes.
 5 = /stress/modes and /modes/vertex_displacement stored as float32, chunked, with the HDF5
 shuffle filter and gzip (level 1); read() returns them as float64 (see "Storage" below); same
-datasets and shapes otherwise. read() also accepts version-2, 3 and 4 files (same layout without /loads:
+datasets and shapes otherwise. 6 = the same two tables as 16-bit integers with per-(component,
+mode) scales (datasets NAME_scale; "Storage" below); read() returns them as float64. read() also accepts version-5
+files (float32 tables) and version-2, 3 and 4 files (same layout without /loads:
 ReducedCage.guide_modal_loads is None; centrifugal_vector of a version-2 file reads False;
 guide_load_vectors and inertia_relief_vectors read False).
 
-Storage (version 5). The two mode-shape tables are 98 % of a float64 file (paper cage, 4 mm P3:
-18,247 nodes x 9 x 160 modes, 210 MB of 216 MB). They are stored in float32: a relative rounding
-of 2^-24 = 6e-8 per entry. A stress sigma = S q sums M terms; its float32 error is at most
-6e-8 sum_k |S_nk q_k| <= 6e-8 M max_k |S_nk q_k|, ~1e-5 relative even if the 160 terms cancelled
-down to 1/100 of the largest, against the 5 % the default mesh's max von Mises is held to
-(benchmarks/results/cage_stress_convergence.md) and the 1e-6 of the full basis' static
-exactness checks; measured on the paper cage: benchmarks/results/reduce_design_loop.md. Every
-other dataset (frequencies, interface modes, invariants: what the integrator's equations use)
-stays float64, so a run integrates the same equations; only stress and displacement recovery
-see the rounding. The digest (data_digest) covers the stored float32 bytes.
+Storage (version 6). The two mode-shape tables are 98 % of a float64 file (paper cage, 4 mm P3:
+18,247 nodes x 9 x 160 modes, 210 MB of 216 MB). They are stored as 16-bit integers with one
+float64 scale per (component, mode) (`quantise`; datasets stress/modes_scale (6, M) and
+modes/vertex_displacement_scale (3, M)): each entry within half a step, max|column| / 65534 =
+1.5e-5 of its column's largest entry. A stress sigma = S q sums M terms, so its error is bounded
+by the sum of |q_k| times each mode's step, not by the result (`quantisation_bound`: the bound on
+the maximum von Mises). Measured on the paper cage (benchmarks/results/reduce_design_loop.md,
+round two): the bound is at most 6.4e-5 of the max von Mises of the stress-study load cases and
+4.4e-5 of that of any sample of a 20 ms run, the actual change at most 1.3e-5; the default mesh's
+max von Mises is held to 5 % (benchmarks/results/cage_stress_convergence.md), ~800 times the
+bound. Every other dataset (frequencies, interface modes, invariants: what the integrator's
+equations use) stays float64, so a run integrates the same equations (a 20 ms run: 60 of 61
+outputs bit-identical to the float32 file's); only stress and displacement recovery see the
+rounding.
+The digest (data_digest) covers the stored integers and their scales.
 
 Basis and truncation. The file holds the FULL orthonormalised Craig–Bampton basis (all 6Z
 constraint modes + n_fixed fixed-interface modes + the centrifugal vector, M-orthonormalised,
@@ -124,15 +131,20 @@ from flexbearing.common.cache import file_sha256   # noqa: F401 (rcf.file_sha256
 from flexbearing.mesh.cage_mesh import MESH_VERSION
 
 SCHEMA = "flexbearing.reduced_cage"
-SCHEMA_VERSION = 5
-READABLE_VERSIONS = (2, 3, 4, 5)     # 2, 3: no /loads; 2: basis without the centrifugal vector
-# the mode-shape tables stored as float32 (schema 5; why: the module docstring, "Storage")
-FLOAT32_DATASETS = ("stress/modes", "modes/vertex_displacement")
-# HDF5 chunks of the float32 tables: whole rows of ~4096 nodes (about 16 MB at 160 modes)
+SCHEMA_VERSION = 6
+READABLE_VERSIONS = (2, 3, 4, 5, 6)  # 2, 3: no /loads; 2: basis without the centrifugal vector
+# the mode-shape tables stored as 16-bit integers, one scale per (component, mode) in the dataset
+# NAME + SCALE_SUFFIX (schema 6; why: the module docstring, "Storage"); schema 5 stored them float32
+QUANTISED_DATASETS = ("stress/modes", "modes/vertex_displacement")
+SCALE_SUFFIX = "_scale"
+_INT16_MAX = 32767
+# HDF5 chunks of the quantised tables: whole rows of ~4096 nodes (about 8 MB at 160 modes)
 _CHUNK_NODES = 4096
 GUIDE_LOAD_COLUMNS = ("land force y N", "land force z N", "land torque x N m")
 N_RIGID = 6
 DEFAULT_N_KEEP = 26
+# 30, not 20 or 24: those save 2.5-6 s CPU of a reduction but raise kept free-free frequencies by
+# up to 0.4 % (benchmarks/results/reduce_design_loop.md, round two)
 DEFAULT_N_FIXED = 30
 DEFAULT_COUPLING = "rbe3"
 COUPLINGS = ("rbe2", "rbe3")
@@ -311,10 +323,12 @@ def write(path, data: dict, attrs: dict, checks: dict | None = None,
                 f.attrs[k] = json.dumps(v) if isinstance(v, (dict, list)) else v
             for name, arr in data.items():
                 a = np.asarray(arr)
-                if name in FLOAT32_DATASETS:
-                    a = a.astype(np.float32)
-                    f.create_dataset(name, data=a, chunks=(min(len(a), _CHUNK_NODES),) + a.shape[1:],
-                                     shuffle=True, compression="gzip", compression_opts=1)
+                if name in QUANTISED_DATASETS:
+                    a, scale = quantise(a)
+                    filters = _COMPRESSION[name]
+                    chunks = (min(len(a), _CHUNK_NODES),) + a.shape[1:] if filters else None
+                    f.create_dataset(name, data=a, chunks=chunks, **filters)
+                    f.create_dataset(name + SCALE_SUFFIX, data=scale)
                 else:
                     f.create_dataset(name, data=a)
             for group, values in (group_attrs or {}).items():
@@ -324,6 +338,51 @@ def write(path, data: dict, attrs: dict, checks: dict | None = None,
             g.attrs["summary"] = json.dumps(checks or {}, default=_jsonable)
             f.attrs["data_sha256"] = data_digest(f)
     return path
+
+
+# HDF5 filters of the quantised tables (schema 6), paper cage (benchmarks/results/
+# reduce_design_loop.md, round two): shuffle + gzip 1 takes the stress 35.0 -> 31.0 MB for 0.6 s
+# of the write; the displacement only 17.5 -> 17.1 MB for 0.3 s, so it is stored plain
+_COMPRESSION = {"stress/modes": {"shuffle": True, "compression": "gzip", "compression_opts": 1},
+                "modes/vertex_displacement": {}}
+
+
+def quantise(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A mode table T (N, C, M) as 16-bit integers and one scale per (component c, mode k):
+
+        s_ck = max_n |T_nck| / 32767,   I_nck = round(T_nck / s_ck),   T~_nck = s_ck I_nck
+        |T~_nck - T_nck| <= s_ck / 2 = max_n |T_nck| / 65534                                 (Q)
+
+    (uniform scalar quantisation with rounding to nearest, e.g. Gray & Neuhoff, "Quantization",
+    IEEE Trans. Inf. Theory 44 (1998), §I; the bound is half a step). A column that is all zero
+    (a rigid mode's stress) gets s = 0 and reads back exactly 0. Returns (I int16, s float64 (C, M))."""
+    t = np.asarray(table, dtype=np.float64)
+    peak = np.abs(t).max(axis=0)
+    scale = peak / _INT16_MAX
+    safe = np.where(scale > 0, scale, 1.0)
+    return np.rint(t / safe).astype(np.int16), scale
+
+
+def dequantise(ints: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """T~ = s I (float64) of `quantise`'s (I, s)."""
+    return ints * np.asarray(scale, dtype=np.float64)
+
+
+def quantisation_bound(scale: np.ndarray, q: np.ndarray) -> float:
+    """Largest change of the maximum von Mises stress over the mesh (Pa) that the 16-bit storage
+    of the stress modes (`quantise`, scale (6, M) of stress/modes) can make to sigma = S q:
+
+        e_c = 1/2 sum_k s_ck |q_k|       (|delta sigma_nc| <= e_c at every node n, from (Q))
+        |max_n vm(S~ q) - max_n vm(S q)| <= max_n vm(delta sigma_n)
+          <= sqrt(1/2 [(e_xx+e_yy)^2 + (e_yy+e_zz)^2 + (e_zz+e_xx)^2] + 3 (e_yz^2 + e_xz^2 + e_xy^2))
+
+    (von Mises is a seminorm of the Voigt vector, so the triangle inequality moves the maximum by
+    at most the von Mises of the error; each square is bounded term by term by the e_c). It grows
+    with sum_k |q_k| max|S_k|, not with the result: cancellation between modes is what it covers."""
+    e = 0.5 * np.asarray(scale, dtype=np.float64) @ np.abs(np.asarray(q, dtype=np.float64))
+    xx, yy, zz, yz, xz, xy = e
+    return float(np.sqrt(0.5 * ((xx + yy) ** 2 + (yy + zz) ** 2 + (zz + xx) ** 2)
+                         + 3.0 * (yz ** 2 + xz ** 2 + xy ** 2)))
 
 
 # the root attributes the digest covers: what the file is (its cache key) and its parameters
@@ -400,6 +459,13 @@ def _jsonable(x):
     return repr(x)
 
 
+def _mode_table(f, name) -> np.ndarray:
+    """A mode table as float64: dequantised (schema 6), or float32 / float64 widened (5 and older)."""
+    if name + SCALE_SUFFIX in f:
+        return dequantise(f[name][()], f[name + SCALE_SUFFIX][()])
+    return f[name][()].astype(float, copy=False)
+
+
 def read(path) -> ReducedCage:
     """Load a reduced cage file (checks schema and version)."""
     import h5py
@@ -424,9 +490,9 @@ def read(path) -> ReducedCage:
             interface_positions=f["interface/positions"][()],
             interface_modes=f["modes/interface"][()],
             modal_stiffness=f["modes/modal_stiffness"][()], invariants=inv,
-            stress_modes=f["stress/modes"][()].astype(float, copy=False), vertices=f["mesh/vertices"][()],
+            stress_modes=_mode_table(f, "stress/modes"), vertices=f["mesh/vertices"][()],
             tets=f["mesh/tets"][()],
-            vertex_displacement=f["modes/vertex_displacement"][()].astype(float, copy=False),
+            vertex_displacement=_mode_table(f, "modes/vertex_displacement"),
             attrs=attrs, checks=checks,
             tets10=f["mesh/tets10"][()] if "tets10" in f["mesh"] else None,
             guide_modal_loads=gml)

@@ -57,6 +57,7 @@ class MaxVonMisesSorted:
         self.block_starts = starts
         ids = np.arange(n) if node_ids is None else np.asarray(node_ids)
         self.node_ids = ids[order]
+        self.order = order            # row i of the search is row order[i] of W
         self.work = np.zeros(nb)
         self.n_modes = m
 
@@ -179,6 +180,7 @@ class MaxVonMises:
         self.leaf_radius, self.node_radius, self.group_radius = leaf_r, node_r, group_r
         ids = np.arange(n) if node_ids is None else np.asarray(node_ids)
         self.node_ids = ids[order]
+        self.order = order            # row i of the search is row order[i] of W
         self.work = np.zeros(ng)
         self.qb = np.zeros(nb)
         self.count = np.zeros(2, dtype=np.int64)
@@ -252,6 +254,23 @@ def _block_spectral_norms(W: np.ndarray, starts: np.ndarray) -> np.ndarray:
     return out
 
 
+def _rows(W: np.ndarray) -> np.ndarray:
+    """(N, K, 6) rows (L W_n)^T of the load-space stress W (N, 6, K): the node kernel's layout."""
+    return np.ascontiguousarray(np.einsum("rs,nsk->nkr", L_VM, W))
+
+
+def _leaf_tables(Wt: np.ndarray, leaf_starts: np.ndarray, n_tracked: int) -> np.ndarray:
+    """(NL, n_tracked, 6 Lmax) float32: each leaf's tracked rows, node index fastest (zero-padded
+    to the largest leaf), for the leaf kernel's bounds."""
+    ls = np.asarray(leaf_starts)
+    NL, Lmax = len(ls) - 1, int(np.diff(ls).max())
+    Dz = np.zeros((NL, n_tracked, 6, Lmax), dtype=np.float32)
+    for leaf in range(NL):
+        blk = Wt[ls[leaf]:ls[leaf + 1], :n_tracked, :]
+        Dz[leaf, :, :, :blk.shape[0]] = blk.transpose(1, 2, 0)
+    return np.ascontiguousarray(Dz.reshape(NL, n_tracked, 6 * Lmax))
+
+
 class TrackingMaxVonMises:
     """Exact max von Mises along a trajectory of load-space vectors y (module docstring, 2).
 
@@ -276,7 +295,7 @@ class TrackingMaxVonMises:
         if zstart[0] != 0 or zstart[-1] != n_tracked or xstart[0] != n_tracked or xstart[-1] != K:
             raise ValueError(f"blocks must cover [0, {n_tracked}] and [{n_tracked}, {K}]: "
                              f"{zstart.tolist()}, {xstart.tolist()}")
-        Wt = np.ascontiguousarray(np.einsum("rs,nsk->nkr", L_VM, W))   # rows (L W_n)^T: (N, K, 6)
+        Wt = _rows(W)                                                   # rows (L W_n)^T: (N, K, 6)
         X = (np.asarray(coords, dtype=np.float64) if coords is not None
              else Wt[:, :n_tracked].reshape(n, -1))
         leaves = _bisect_leaves(X, int(leaf_size))
@@ -293,16 +312,13 @@ class TrackingMaxVonMises:
         Pg = np.array([Pl[a:b].max(axis=0) for a, b in zip(gs[:-1], gs[1:])])
         Eg = np.array([El[a:b].max(axis=0) for a, b in zip(gs[:-1], gs[1:])])
         Lmax = int(np.diff(ls).max())
-        Dz = np.zeros((NL, n_tracked, 6, Lmax), dtype=np.float32)
         coln = np.linalg.norm(Wt[:, :n_tracked, :], axis=2)              # (N, nz) ||D_n[:, c]||
         Cl = np.array([coln[a:b].max(axis=0) for a, b in zip(ls[:-1], ls[1:])]) * SAFETY
-        for leaf in range(NL):
-            blk = Wt[ls[leaf]:ls[leaf + 1], :n_tracked, :]
-            Dz[leaf, :, :, :blk.shape[0]] = blk.transpose(1, 2, 0)
+        Dz = _leaf_tables(Wt, ls, n_tracked)
         G = len(gs) - 1
         nbz = len(zstart) - 1
         R = int(ring)
-        self.arrays = (Wt, np.ascontiguousarray(Dz.reshape(NL, n_tracked, 6 * Lmax)), Cl, zstart,
+        self.arrays = (Wt, Dz, Cl, zstart,
                        xstart, Pn, Pl, Pg, El, np.ascontiguousarray(Eg.T),
                        gs, ls, np.abs(Wt).max(axis=(0, 2)),
                        np.zeros(n), np.zeros(NL), np.zeros(NL), -np.ones(NL, dtype=np.int64),
@@ -314,45 +330,67 @@ class TrackingMaxVonMises:
                        np.zeros(4, dtype=np.int64))
         ids = np.arange(n) if node_ids is None else np.asarray(node_ids)
         self.node_ids = ids[order]
+        self.order = order            # row i of the search is row order[i] of W
         self.n_tracked = int(n_tracked)
         self.n_coordinates = K
         self.n_leaves, self.n_groups = NL, G
         self._seed = -np.ones(1, dtype=np.int64)
 
-    # ---- the search as a file (flexbearing.coupling.flexible_cage caches it beside the reduced cage: building
-    # it costs ~2.8 s on the 4 mm paper cage, reading it back ~0.3 s)
-    FILE_VERSION = 1          # bump when the construction above changes what the arrays hold
+    # ---- the search as a file (flexbearing.coupling.flexible_cage caches it beside the reduced cage).
+    # The file holds the tree (node order, leaf and group bounds, per-node block norms: ~2 MB on
+    # the 4 mm paper cage), not the load-space stress W itself (129 MB, a second copy of the
+    # stress modes): `load` takes W, rebuilt by the caller from the reduced cage, and re-derives
+    # the two tables that are W in another layout (the rows L W_n in search order, and their
+    # float32 leaf copies). On the 4 mm paper cage W takes ~0.9 s, the search built from it
+    # ~0.9-1.3 s more, loaded from the file ~0.14 s more (benchmarks/results/
+    # reduce_design_loop.md, round two).
+    FILE_VERSION = 2          # bump when the construction above changes what the arrays hold
+    _FROM_W = (0, 1)          # arrays[0] (rows of L W_n), arrays[1] (their leaf copies): from W
 
     def save(self, path, source: str = "") -> None:
-        """Write the freshly built search (its arrays, node order and sizes) to an .npz file,
-        atomically (flexbearing.common.safe_files.atomic_output: a unique temporary created
-        exclusively beside it, renamed over it; removed on any failure). Call it before the first
-        search: the arrays include the search's scratch and references. `source`: what it was
-        built from (the reduced cage's digest), checked by `load`."""
+        """Write the freshly built search (its arrays but those derived from W, node order and
+        sizes) to an .npz file, atomically (flexbearing.common.safe_files.atomic_output: a unique
+        temporary created exclusively beside it, renamed over it; removed on any failure). Call
+        it before the first search: the arrays include the search's scratch and references.
+        `source`: what it was built from (the reduced cage's digest), checked by `load`."""
         from flexbearing.common.safe_files import atomic_output
-        size = sum(a.nbytes for a in self.arrays) + self.node_ids.nbytes + (1 << 16)
+        kept = {f"arr_{i}": a for i, a in enumerate(self.arrays) if i not in self._FROM_W}
+        size = sum(a.nbytes for a in kept.values()) + 2 * self.node_ids.nbytes + (1 << 16)
         with atomic_output(path, suffix=".npz", reserve=size) as tmp:
             with open(tmp, "wb") as fh:
-                np.savez(fh, *self.arrays, node_ids=self.node_ids, source=np.array(str(source)),
+                np.savez(fh, **kept, node_ids=self.node_ids, order=self.order,
+                         source=np.array(str(source)),
                          meta=np.array([self.FILE_VERSION, self.n_tracked, self.n_coordinates,
                                         self.n_leaves, self.n_groups, len(self.arrays)], dtype=np.int64))
 
     @classmethod
-    def load(cls, path, source: str | None = None) -> "TrackingMaxVonMises | None":
-        """The search `save` wrote, or None if the file is of another FILE_VERSION or was built
-        from another `source`. A damaged file raises (zip's CRC-32 of every array is checked as
-        it is read)."""
+    def load(cls, path, W: np.ndarray, source: str | None = None) -> "TrackingMaxVonMises | None":
+        """The search `save` wrote, over the load-space stress W (N, 6, K) it was built from
+        (load_space_stress of the same reduced cage and mode count), or None if the file is of
+        another FILE_VERSION, was built from another `source`, or does not fit W's shape. A
+        damaged file raises (zip's CRC-32 of every array is checked as it is read)."""
+        W = np.asarray(W, dtype=np.float64)
         with np.load(str(path), allow_pickle=False) as f:
             meta = f["meta"]
             if int(meta[0]) != cls.FILE_VERSION:
                 return None
             if source is not None and ("source" not in f.files or str(f["source"]) != str(source)):
                 return None
+            order = f["order"]
+            if W.ndim != 3 or W.shape[1] != 6 or W.shape[2] != int(meta[2]) or len(order) != W.shape[0]:
+                return None
+            n_arrays = int(meta[5])
+            stored = {i: np.ascontiguousarray(f[f"arr_{i}"]) for i in range(n_arrays)
+                      if i not in cls._FROM_W}
             self = cls.__new__(cls)
-            self.arrays = tuple(np.ascontiguousarray(f[f"arr_{i}"]) for i in range(int(meta[5])))
             self.node_ids = f["node_ids"]
+            self.order = order
         self.n_tracked, self.n_coordinates = int(meta[1]), int(meta[2])
         self.n_leaves, self.n_groups = int(meta[3]), int(meta[4])
+        Wt = np.ascontiguousarray(_rows(W)[order])
+        stored[0] = Wt
+        stored[1] = _leaf_tables(Wt, stored[11], self.n_tracked)
+        self.arrays = tuple(stored[i] for i in range(n_arrays))
         self._seed = -np.ones(1, dtype=np.int64)
         return self
 
