@@ -55,10 +55,18 @@ from __future__ import annotations
 import json
 import time
 from pathlib import Path
+import warnings
+import argparse
+import gc
 
 import numpy as np
 
 from flexbearing.mesh.cage_geometry import NOMINAL_CAGE
+from .modes import PAPER_TABLE8_HZ, run_modes, mode_table
+from flexbearing.common.cache import content_hash
+from .ring_theory import thick_ring_inplane_hz
+from flexbearing.mesh.cage_mesh import (cached_cage_mesh, DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER, DEFAULT_DEGREE)
+from flexbearing.common.validation import InputError
 
 MM = 1e-3
 BOXES = {
@@ -80,7 +88,6 @@ START = {"pocket_diameter": 22.6e-3, "chamfer": 1.2e-3, "land_width": 5.0e-3, "r
 
 
 def table8_vector() -> np.ndarray:
-    from .modes import PAPER_TABLE8_HZ
     return np.array([PAPER_TABLE8_HZ[m] for m in range(7, 28)])
 
 
@@ -103,7 +110,6 @@ def geometry_of(names, p, base=NOMINAL_CAGE):
 
 
 def _base_id(base) -> str:
-    from flexbearing.common.cache import content_hash
     return content_hash(base.to_dict())
 
 
@@ -148,8 +154,6 @@ class Evaluator:
         if key in self.memo:
             return np.array(self.memo[key])
         from mpi4py import MPI
-        from flexbearing.mesh.cage_mesh import cached_cage_mesh
-        from .modes import run_modes
         g = self.geometry(p)
         size, ps, order, degree = self.mesh
         t0 = time.perf_counter()
@@ -158,7 +162,6 @@ class Evaluator:
         for v in vecs:
             v.destroy()
         del V, vecs
-        import gc
         gc.collect()
         f = res["frequencies_hz"]
         self.memo[key] = f
@@ -232,7 +235,6 @@ def linearised_fit(f0, Jf, z0, z_lo, z_hi, min_guide_flat=None, names=None, lo=N
     matching Table 8, over z_lo <= z <= z_hi (and land_width - chamfer >= min_guide_flat when
     the parameters are chamfer and land_width). Multi-start SLSQP (the re-sort makes the
     objective piecewise quadratic). Returns (z, residuals)."""
-    import warnings
     from scipy.optimize import minimize
     t = np.sort(table8_vector())
 
@@ -271,7 +273,6 @@ def equivalent_ring_thickness(frequency_hz: float, n: int, mean_radius: float, w
     It condenses a pocketed cage's in-plane stiffness-to-mass ratio into one length; the
     in-plane frequencies do not depend on b for a solid ring, b only enters the shear term."""
     from scipy.optimize import brentq
-    from .ring_theory import thick_ring_inplane_hz
 
     def g(h):
         return thick_ring_inplane_hz(n, mean_radius + 0.5 * h, mean_radius - 0.5 * h, width,
@@ -294,9 +295,6 @@ def inplane_equivalent_thickness(report_modes, reference=NOMINAL_CAGE) -> dict:
 
 def verify(geometry, classify=True):
     """27 modes of `geometry` at the default (converged) mesh; dict with RMS, max, modes."""
-    from flexbearing.mesh.cage_mesh import (cached_cage_mesh, DEFAULT_MESH_SIZE, DEFAULT_POCKET_SIZE, DEFAULT_ORDER,
-                                DEFAULT_DEGREE)
-    from .modes import run_modes
     t0 = time.perf_counter()
     path = cached_cage_mesh(geometry, DEFAULT_MESH_SIZE, DEFAULT_ORDER, DEFAULT_POCKET_SIZE)
     res, _, vecs = run_modes(geometry, path, DEFAULT_DEGREE, 27, classify=classify)
@@ -317,7 +315,6 @@ def run_calibration(outdir: Path, size=None, pocket_size=None, order=2, degree=3
     """CLI driver: fit, then verify at the default mesh with mode classification; write
     calibration.json / calibration.md in outdir."""
     from mpi4py import MPI
-    from flexbearing.common.validation import InputError
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     if box not in BOXES:
@@ -352,7 +349,6 @@ def run_calibration(outdir: Path, size=None, pocket_size=None, order=2, degree=3
 
 
 def calibration_markdown(report) -> str:
-    from .modes import mode_table
     lines = ["# Cage calibration against Table 8", "",
              f"Fitted parameters (box {report.get('box', 'stated')!r}, bounds):", ""]
     for n, v in report["params"].items():
@@ -445,7 +441,6 @@ def _parse_set(items):
 
 def main(argv=None) -> int:
     """python -m flexbearing.fem_cage.calibrate fit|linearise|check (lengths in mm on the command line)."""
-    import argparse
     ap = argparse.ArgumentParser(prog="python -m flexbearing.fem_cage.calibrate",
                                  description="Cage model updating against Table 8: boxes, "
                                              "linearised relaxation, single-point checks.")

@@ -19,6 +19,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+from flexbearing.mesh.cage_mesh import cached_cage_mesh, cache_path, DEFAULT_DEGREE
+from .modes import run_modes
+from tqdm import tqdm
 
 # (size mm, pocket size mm, order, degree): the curved-P3 family (the default) refined, the
 # curved-P2 family for comparison, one linear-tet and one straight-sided-P2 level.
@@ -60,8 +63,6 @@ def richardson(f1, f2, f3, h1, h2, h3, p_default=2.0):
 
 def run_level(g, level, n_modes=27):
     from mpi4py import MPI
-    from flexbearing.mesh.cage_mesh import cached_cage_mesh, cache_path
-    from .modes import run_modes
     size, ps, order, degree = level
     t0 = time.perf_counter()
     if MPI.COMM_WORLD.rank == 0:
@@ -77,7 +78,6 @@ def run_level(g, level, n_modes=27):
 
 def run_mesh_study(g, levels, outdir: Path, n_modes=27, quiet=False):
     from mpi4py import MPI
-    from tqdm import tqdm
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     rows = []
@@ -98,7 +98,6 @@ def run_mesh_study(g, levels, outdir: Path, n_modes=27, quiet=False):
                         f"{r['mesh_s']:.2f}", f"{r['solve_s']:.2f}"] + [f"{x:.4f}" for x in r["f"]])
     # Richardson on the finest three levels of each family with >= 3 levels; the summary
     # numbers refer to the default family (curved mesh, DEFAULT_DEGREE).
-    from flexbearing.mesh.cage_mesh import DEFAULT_DEGREE
     summary = {"levels": [{k: v for k, v in r.items() if k != "f"} for r in rows], "families": {}}
     for key in sorted({(r["order"], r["degree"]) for r in rows}):
         fam = sorted([r for r in rows if (r["order"], r["degree"]) == key], key=lambda r: r["ndofs"])

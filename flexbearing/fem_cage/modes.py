@@ -14,6 +14,8 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from flexbearing.common.progress import Stages
+from flexbearing.common.validation import require_range
 
 # Paper Table 8 (Yang, Liu, Deng, Lubricants 2025, 13, 249): free cage, modes 7..27, Hz.
 # Modes 1-6 are the rigid-body modes.
@@ -127,8 +129,6 @@ def run_modes(g, mesh_path, degree: int, n_modes: int, classify: bool = True, qu
     timing_s, eigensolver, and with classify "modes": family, n, label of each) and the solution
     objects (V, vecs) for writing. quiet: no progress bar (rank 0 shows it)."""
     from mpi4py import MPI
-    from flexbearing.common.progress import Stages
-    from flexbearing.common.validation import require_range
     from .elasticity import load_cage_mesh, assemble_stiffness_mass, global_ndofs, total_mass
     require_range("modes.n_modes", n_modes, 7, MAX_N_MODES)       # 6 rigid + at least one elastic
     comm = MPI.COMM_WORLD

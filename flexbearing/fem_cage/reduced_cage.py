@@ -126,9 +126,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import h5py
 
 from flexbearing.common.cache import file_sha256   # noqa: F401 (rcf.file_sha256: the mesh file's digest)
 from flexbearing.mesh.cage_mesh import MESH_VERSION
+from flexbearing.common.cache import cache_dir, content_hash
+from flexbearing.common.safe_files import atomic_output
+from flexbearing.common.validation import InputError, require_range
 
 SCHEMA = "flexbearing.reduced_cage"
 SCHEMA_VERSION = 6
@@ -171,7 +175,6 @@ def cache_key(geometry, mesh_size: float, order: int, pocket_size, coupling: str
 
 
 def cache_path(key: dict) -> Path:
-    from flexbearing.common.cache import cache_dir, content_hash
     return cache_dir() / "reduced_cage" / f"{content_hash(key)}.h5"
 
 
@@ -190,7 +193,6 @@ def find_cached(key: dict) -> Path | None:
 
 
 def _undigested(path) -> bool:
-    import h5py
     try:
         with h5py.File(path, "r") as f:
             return f.attrs.get("schema") == SCHEMA and "data_sha256" not in f.attrs
@@ -247,7 +249,6 @@ class ReducedCage:
 
     def truncate(self, n_keep: int = DEFAULT_N_KEEP) -> "ReducedCage":
         """The first n_keep modes by frequency (rigid ones included)."""
-        from flexbearing.common.validation import require_range
         require_range("reduced_cage.n_keep", n_keep, 1, self.n_modes)
         return self.select(np.arange(int(n_keep)))
 
@@ -304,9 +305,7 @@ def write(path, data: dict, attrs: dict, checks: dict | None = None,
     a full disk included): a concurrent reader never sees half a file. The digest of the content
     (`data_digest`) is stored with it (`data_sha256`) and checked by `read`. group_attrs:
     {group: {name: value}} attributes of groups of `data` (the mesh's provenance)."""
-    import h5py
 
-    from flexbearing.common.safe_files import atomic_output
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     # its whole size reserved first: a full cache disk is one line before HDF5 writes anything
@@ -394,7 +393,6 @@ def data_digest(f) -> str:
     in name order) and the root attributes that say what the file is (_DIGEST_ATTRS), so that a
     flipped bit anywhere in the arrays, or a valid file of another cage copied over the key, does
     not match the digest stored in it."""
-    import h5py
     h = hashlib.sha256()
     names = []
     f.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset) else None)
@@ -420,9 +418,7 @@ def verify(path, expect_key: str | None = None) -> None:
     """InputError naming `path` and the fix if the file cannot be read, is not a reduced cage, its
     content does not match its stored digest (data_sha256), or it is not the cage of cache key
     `expect_key` (its content_hash)."""
-    import h5py
 
-    from flexbearing.common.validation import InputError
     path = Path(path)
     if path.is_dir():
         raise InputError(f"reduced cage file {path} is a folder, not a file: remove it (the cache "
@@ -468,7 +464,6 @@ def _mode_table(f, name) -> np.ndarray:
 
 def read(path) -> ReducedCage:
     """Load a reduced cage file (checks schema and version)."""
-    import h5py
     with h5py.File(path, "r") as f:
         if f.attrs.get("schema") != SCHEMA:
             raise ValueError(f"{path}: not a {SCHEMA} file")

@@ -16,9 +16,15 @@ import time
 from pathlib import Path
 
 import numpy as np
+from tqdm import tqdm
 
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP
 from flexbearing.mesh.cage_mesh import TAG_GUIDE
+from .stress_modes import stress_modes
+from flexbearing.common.validation import InputError
+from flexbearing.mesh.cage_mesh import cached_cage_mesh, mesh_quality_of
+from . import reduced_cage as rcf
+from flexbearing.common.progress import Stages
 
 
 # ------------------------------------------------------------------ the reduction
@@ -192,12 +198,9 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
     The result also carries the guide load vectors f_guide (n, 3) and their modal form
     guide_modal_loads = Phi_full^T f_guide (M, 3), whatever the flags. stage: called with the name
     of each part as it starts (flexbearing.common.progress.Stages; REDUCE_STAGES)."""
-    from tqdm import tqdm
     from . import interface as itf
     from .craig_bampton import petsc_to_scipy, craig_bampton, orthonormalise
     from .invariants import scalar_mass_matrix, mass_moments, rigid_properties, ffrf_invariants
-    from .stress_modes import stress_modes
-    from flexbearing.common.validation import InputError
 
     if coupling not in ("rbe2", "rbe3"):
         raise InputError(f"reduce.coupling = {coupling!r} is outside the allowed set {{rbe2, rbe3}}")
@@ -332,12 +335,9 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
     flexbearing.mesh.cad_cage.cached_cad_cage_mesh), with cad_key, the content key it was made
     from, added to the reduced cage's key."""
     from mpi4py import MPI
-    from flexbearing.mesh.cage_mesh import cached_cage_mesh
     from .elasticity import load_cage_mesh, assemble_stiffness_mass
-    from . import reduced_cage as rcf
     if MPI.COMM_WORLD.size > 1:
         raise RuntimeError("flexbearing reduce runs in serial")
-    from flexbearing.common.progress import Stages
     key = rcf.cache_key(geometry, size, order, pocket_size, coupling, n_fixed, degree, centrifugal,
                         guide_loads, inertia_relief)
     stage = Stages("reduce the cage", {k: w for k, w in REDUCE_STAGES.items() if k != "checks" or checks},
@@ -365,7 +365,6 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
              "inertia_relief_vectors": bool(inertia_relief)}
     data = file_arrays(red)
     path = rcf.cache_path(key)
-    from flexbearing.mesh.cage_mesh import mesh_quality_of
     # every attribute goes into the file before it is renamed into the cache (written once, whole)
     group_attrs = {
         "mesh": {"source_msh": str(msh), "msh_sha256": rcf.file_sha256(msh), "n_dofs": int(red["n_dofs"]),

@@ -13,6 +13,8 @@ import time
 import numpy as np
 
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP
+from .stress_modes import von_mises
+from .modes import free_free_modes
 
 
 def _rel(a, b):
@@ -46,7 +48,6 @@ def check_stress(red: dict, load_node: int, fixed_node: int = 0, force_n: float 
     """A circumferential ball force on one pocket (node fixed_node clamped): max von Mises and its
     vertex from the full FE displacement (same vertex-averaging operator) vs modal recovery."""
     from .craig_bampton import full_static, reduced_static_interface
-    from .stress_modes import von_mises
     from .von_mises_search import MaxVonMises
     xm = red["interface_positions"][load_node]
     th = np.arctan2(xm[2], xm[1])
@@ -85,7 +86,6 @@ def check_centrifugal(red: dict, spin: float = 1000.0, n_keep: int = DEFAULT_N_K
     static load, the full basis: the same q.)"""
     import scipy.sparse as sp
     from .craig_bampton import SaddleSolver
-    from .stress_modes import von_mises
     K, M, Bz = red["Kz"], red["Mz"], red["Bz"]
     f = spin ** 2 * (red["T"].T @ red["f_cf"] if red["T"] is not None else red["f_cf"])
     R = Bz[:, :6]
@@ -125,7 +125,6 @@ def check_guide(red: dict, force_y: float = 100.0, force_z: float = 0.0, torque_
     stress nodes (Frobenius), max von Mises over the nodes; full basis and the first n_keep modes."""
     import scipy.sparse as sp
     from .craig_bampton import SaddleSolver
-    from .stress_modes import von_mises
     L = np.array([force_y, force_z, torque_x], dtype=float)
     f_phys = red["f_guide"] @ L
     K, M, Bz, T = red["Kz"], red["Mz"], red["Bz"], red["T"]
@@ -164,7 +163,6 @@ def _mode_scale(omega):
 def check_frequencies(red: dict, n_elastic: int = 10) -> dict:
     """Reduced free–free elastic frequencies vs the full model's (flexbearing.fem_cage.modes), and for RBE2
     vs the full model with the same rigid pocket walls (T^T K T)."""
-    from .modes import free_free_modes
     from .craig_bampton import scipy_to_petsc
     n = 6 + n_elastic
     f_full, _ = free_free_modes(scipy_to_petsc(red["K"]), scipy_to_petsc(red["M"]), n)

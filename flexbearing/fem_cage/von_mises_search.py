@@ -21,6 +21,7 @@ import numpy as np
 
 from flexbearing.fem_cage.von_mises import (L_VM, SAFETY, count_visits, brute_force_max_sq,
                                             max_von_mises_leaves_sq, max_von_mises_sq, tracking_max_sq)
+from flexbearing.common.safe_files import atomic_output
 
 
 class MaxVonMisesSorted:
@@ -353,7 +354,6 @@ class TrackingMaxVonMises:
         temporary created exclusively beside it, renamed over it; removed on any failure). Call
         it before the first search: the arrays include the search's scratch and references.
         `source`: what it was built from (the reduced cage's digest), checked by `load`."""
-        from flexbearing.common.safe_files import atomic_output
         kept = {f"arr_{i}": a for i, a in enumerate(self.arrays) if i not in self._FROM_W}
         size = sum(a.nbytes for a in kept.values()) + 2 * self.node_ids.nbytes + (1 << 16)
         with atomic_output(path, suffix=".npz", reserve=size) as tmp:

@@ -23,6 +23,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+from .stress_modes import von_mises
 
 # basix P2 tetrahedron dof order (vertices, then edges (2,3),(1,3),(1,2),(0,3),(0,2),(0,1))
 # to VTK/XDMF tetra10 (vertices, then edges (0,1),(1,2),(0,2),(0,3),(1,3),(2,3)).
@@ -117,7 +118,6 @@ def write_reduced_cage_xdmf(rc, path, n_keep: int | None = None) -> Path:
     """Mode shapes (vertex displacement, m per unit q) and von Mises of each kept mode on the
     vertex mesh, one XDMF (+ .h5) readable by ParaView. Reads only the reduced cage object."""
     import meshio
-    from .stress_modes import von_mises
     m = rc.n_modes if n_keep is None else min(n_keep, rc.n_modes)
     pd = {}
     for k in range(m):
