@@ -194,7 +194,7 @@ def ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load):
                     load.mt - c_spin * b.w_t)
 
 
-@njit(cache=True, _nrt=False, inline="always")
+@njit(cache=True, _nrt=False)
 def ball_equations(j, b, load, att, p, dydt):
     """dy/dt of ball j (module docstring): Newton in the orbiting frame,
         m_b·x'' = F_x,  m_b·(r'' − r·psi'²) = F_r,  m_b·(r·psi'' + 2·r'·psi') = F_t,
@@ -249,7 +249,7 @@ def ball_equations(j, b, load, att, p, dydt):
     return rl
 
 
-@njit(cache=True, _nrt=False, inline="always")
+@njit(cache=True, _nrt=False)
 def inner_ring_equations(y, dydt, r0, omega_i, rl, work, zb, p):
     """dy/dt of the inner ring (module docstring): m_i·(x'', y'', z'') = F_ext(t) + race reactions
     (− m_i·g along Z), I_d·theta_y'' = M_y − I_p·omega_i·theta_z', I_d·theta_z'' = M_z +

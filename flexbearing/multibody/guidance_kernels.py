@@ -93,7 +93,7 @@ def guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl):
     return RingLoad(rl.fx, rl.fy - g.fy, rl.fz - g.fz, rl.mx + (m1 - g.mx), rl.my + m2, rl.mz + m3)
 
 
-@njit(cache=True, _nrt=False, inline="always")
+@njit(cache=True, _nrt=False)
 def land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, w_b, cage, flags, work, zb):
     """Dissipated power of the guide land and of the cage's modal damping (flexbearing.multibody.power_loss):
     the land's force, torque and distributed modal loads on the cage, less the rim's normal force,

@@ -21,12 +21,14 @@ from flexbearing.multibody.state_layout import (
 
 
 # Named results: namedtuples are value types in nopython mode (no allocation); fields read by name.
-# Compilation: the kernels are inlined into `rhs` by numba (inline="always"; as separate LLVM
-# functions they are not inlined and the calls cost ~1 us per rhs), and `rhs` and the kernels are
-# compiled without NRT reference counting (_nrt=False; they allocate nothing): with it every array a
-# kernel takes costs an atomic increment and decrement per ball (measured: 20 us per rhs instead
-# of 14 us at the paper's rigid-cage state). Both are numba options that change the machine code
-# only, never the arithmetic: dy/dt is bit-identical to the single-function rhs (benchmarks/rhs_ab.py).
+# Compilation: `rhs` and the kernels are compiled without NRT reference counting (_nrt=False; they
+# allocate nothing): with it every array a kernel takes costs an atomic increment and decrement per
+# ball (measured: 20 us per rhs instead of 14 us at the paper's rigid-cage state). The small kernels
+# and the pocket (many array arguments) are inlined by numba (inline="always"), the large ones are
+# calls: inlining all of them saved another 0.5 us per rhs but tripled the first compilation on a
+# new machine (19 s -> 61 s for a first run; 29 s as now), measured with an empty NUMBA_CACHE_DIR.
+# Both options change the machine code only, never the arithmetic: dy/dt is bit-identical to the
+# single-function rhs (benchmarks/rhs_ab.py).
 BallState = namedtuple("BallState", "x r psi x_dot r_dot psi_dot w_x w_r w_t cos_psi sin_psi v_t")
 BallState.__doc__ = "Ball j's state slots (state_layout.BALL_*), cos/sin of its azimuth and its orbital speed r·psi'."
 RingState = namedtuple("RingState", "x y z tilt_y tilt_z vx vy vz tilt_y_dot tilt_z_dot")

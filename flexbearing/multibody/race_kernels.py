@@ -257,7 +257,7 @@ def _record_race_contact(work, j, c, res, ft):
     work[j, wc + WC_P_DAMPING] = res.p_damping
 
 
-@njit(cache=True, _nrt=False, inline="always")
+@njit(cache=True, _nrt=False)
 def inner_race_reaction(res, ft, ft_lean, b, ring, x0, rr0, rl):
     """The inner ring's share of one inner contact (`_race`), added to the ring load rl.
 
@@ -303,7 +303,7 @@ def inner_race_reaction(res, ft, ft_lean, b, ring, x0, rr0, rl):
                     rmz + (m3 - res.cr * sn + h3))
 
 
-@njit(cache=True, _nrt=False, inline="always")
+@njit(cache=True, _nrt=False)
 def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl):
     """Ball j's race contacts (`_race`: Hertz Q = K·delta^1.5, EHL traction, rolling resistance,
     damping; outer, inner-left and on a split ring inner-right), added to the ball load and the
@@ -376,7 +376,7 @@ def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl
     return BallRaceContacts(load, rl, ctl)
 
 
-@njit(cache=True, _nrt=False, inline="always")
+@njit(cache=True, _nrt=False)
 def race_control_couple(b, load, ctl, omega_i, ring, p, flags, rl):
     """Which race controls ball b's attitude (`control_race`) and, with race control or no pivoting
     and the option attitude_ring_reaction, the inner ring's reaction to the gyroscopic couple
