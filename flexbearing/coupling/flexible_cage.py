@@ -169,7 +169,7 @@ def reduced_cage_path(scene, quiet: bool = False):
         from flexbearing.fem_cage.reduction import build      # the FE stack: only to build it
         if not quiet:
             print(f"building the reduced cage (mesh {size * 1e3:g} mm, P{degree}, Craig–Bampton; "
-                  "a few minutes, once): " + str(rcf.cache_path(key)), flush=True)
+                  "about a minute at the default mesh, once): " + str(rcf.cache_path(key)), flush=True)
         mesh = cad_key = None
         if scene.cad:
             from flexbearing.mesh.cad_cage import cached_cad_cage_mesh
