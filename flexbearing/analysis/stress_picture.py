@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections import namedtuple
 from pathlib import Path
 
 import numpy as np
@@ -154,6 +155,66 @@ def cage_skin(rc) -> dict:
             "pocket": j, "pocket_azimuth": pa}
 
 
+UnrolledCage = namedtuple("UnrolledCage", "fig gs axes theta r")
+UnrolledCage.__doc__ = ("The three-panel figure of `draw_unrolled_cage`: the figure, its grid (the label goes in "
+                        "gs[2, 1]), the panels (outside, bore, pocket wall), theta (°, the panels' azimuth) and r (m) "
+                        "of every node.")
+
+
+def draw_unrolled_cage(plt, rc, skin, values, norm, cmap, node: int, pocket: int, pocket_note: str,
+                       surface_note: str, marker_colour: str) -> UnrolledCage:
+    """The cage's skin unrolled (module doc: outside and bore over azimuth theta and axial x, the
+    wall of `pocket` over alpha and r), coloured by `values` at every node (norm, cmap), `node`
+    starred (in `marker_colour`) on each panel that holds it; the colour bar and the label are the
+    caller's. pocket_note ends the wall panel's title, surface_note the two surface panels'."""
+    X = np.asarray(rc.vertices, dtype=np.float64)
+    faces, wall, j, pa = skin["faces"], skin["wall"], skin["pocket"], skin["pocket_azimuth"]
+    Z = len(pa)
+    pitch = 2.0 * math.pi / Z
+    theta0 = -0.5 * pitch
+    theta = np.degrees(np.mod(np.arctan2(X[:, 2], X[:, 1]) - theta0, 2 * math.pi) + theta0)
+    r = np.hypot(X[:, 1], X[:, 2])
+    star = dict(marker="*", ms=14, mfc="none", mec=marker_colour, mew=1.2)
+    fig = plt.figure(figsize=(10.0, 8.4), layout="constrained")
+    gs = fig.add_gridspec(3, 2, height_ratios=[1.0, 1.0, 1.25], width_ratios=[1.0, 0.5])
+    axes = [fig.add_subplot(gs[0, :]), fig.add_subplot(gs[1, :]), fig.add_subplot(gs[2, 0])]
+    lo = math.degrees(theta0)
+    for ax, name in zip(axes[:2], ("outside", "bore")):
+        tri = _triangles(faces[skin[name]])
+        U, tri2 = _unroll(theta, tri, lo)
+        _panel(ax, U, X[:, 0][tri2] * 1e3, tri2, values, norm, cmap)
+        ax.set_xticks(np.arange(0.0, 360.0 + lo, 2 * math.degrees(pitch)))
+        ax.set_xlim(lo, lo + 360.0)
+        top = ax.secondary_xaxis("top")
+        top.set_xticks(np.degrees(np.mod(pa - theta0, 2 * math.pi) + theta0), [str(p) for p in range(Z)])
+        top.tick_params(labelsize=7, length=2)
+        ax.set_ylabel("Axial position x (mm)")
+        ax.set_xlabel("Azimuth θ (°)")
+        ax.set_title(f"{name.capitalize()} surface, unrolled; {surface_note}", loc="left", fontsize=9)
+        ax.grid(False)
+        if np.isin(node, faces[skin[name]]).any():
+            ax.plot([theta[node]], [X[node, 0] * 1e3], **star)
+    # the pocket's wall, about its axis
+    ax = axes[2]
+    tj = pa[pocket]
+    m = wall & (j == pocket)
+    tri = _triangles(faces[m])
+    t_n = -X[:, 1] * math.sin(tj) + X[:, 2] * math.cos(tj)
+    alpha = np.degrees(np.arctan2(t_n, X[:, 0]))
+    U, tri2 = _unroll(alpha, tri, -180.0)
+    _panel(ax, U, r[tri2] * 1e3, tri2, values, norm, cmap)
+    ax.set_xticks(np.arange(-180.0, 181.0, 45.0))
+    ax.set_xlim(-180.0, 180.0)
+    ax.set_xlabel("Angle about the pocket axis α (°):\n0 towards +x, 90 towards increasing θ")
+    ax.set_ylabel("Radius r (mm)")
+    ax.set_title(f"Wall of pocket {pocket} (θ = {math.degrees(tj) % 360:.0f}°), {pocket_note}",
+                 loc="left", fontsize=9)
+    ax.grid(False)
+    if np.isin(node, faces[m]).any():
+        ax.plot([alpha[node]], [r[node] * 1e3], **star)
+    return UnrolledCage(fig, gs, axes, theta, r)
+
+
 def write_stress_picture(run, out_dir, reduced_cage=None, settle: float = 0.0,
                          yield_strength: float | None = None) -> tuple[Path, dict]:
     """<out_dir>/von_mises_peak.png (module doc) and its facts (von_mises_peak.json): {"time",
@@ -165,13 +226,9 @@ def write_stress_picture(run, out_dir, reduced_cage=None, settle: float = 0.0,
     vm, _ = nodal_field(rc, q)
     X = np.asarray(rc.vertices, dtype=np.float64)
     skin = cage_skin(rc)
-    faces, wall, j, pa = skin["faces"], skin["wall"], skin["pocket"], skin["pocket_azimuth"]
+    faces, wall, j = skin["faces"], skin["wall"], skin["pocket"]
     groups = {"outside": skin["outside"], "bore": skin["bore"]}
-    Z = len(pa)
-    pitch = 2.0 * math.pi / Z
-    theta0 = -0.5 * pitch
-    theta = np.degrees(np.mod(np.arctan2(X[:, 2], X[:, 1]) - theta0, 2 * math.pi) + theta0)
-    r = np.hypot(X[:, 1], X[:, 2])
+    Z = len(skin["pocket_azimuth"])
     wall_nodes = [np.unique(faces[wall & (j == p)]) for p in range(Z)]
     hot = int(np.argmax([vm[w].max() if w.size else -1.0 for w in wall_nodes]))
     n_max = int(np.argmax(vm))
@@ -179,53 +236,18 @@ def write_stress_picture(run, out_dir, reduced_cage=None, settle: float = 0.0,
     where = [name for name, m in groups.items() if np.isin(n_max, faces[m]).any()]
     in_wall = [p for p in range(Z) if np.isin(n_max, wall_nodes[p]).any()]
     surface = ", ".join(where + [f"wall of pocket {p} (pocket_{p:02d})" for p in in_wall]) or "side face"
-    facts = {"time": tk, "sample": k, "von_mises_max": float(vm[n_max]), "recorded_von_mises_max": vm_rec,
-             "node": n_max, "recorded_node": node_rec, "position": [float(v) for v in x_m],
-             "azimuth_deg": float(theta[n_max]), "radius": float(r[n_max]), "surface": surface,
-             "hottest_pocket": hot}
 
     plt = plot_style()
     from matplotlib.colors import Normalize
     cmap = plt.get_cmap("turbo")
     norm = Normalize(0.0, float(vm[n_max]) * 1e-6)
-    vm_mpa = vm * 1e-6
-    fig = plt.figure(figsize=(10.0, 8.4), layout="constrained")
-    gs = fig.add_gridspec(3, 2, height_ratios=[1.0, 1.0, 1.25], width_ratios=[1.0, 0.5])
-    axes = [fig.add_subplot(gs[0, :]), fig.add_subplot(gs[1, :]), fig.add_subplot(gs[2, 0])]
-    lo = math.degrees(theta0)
-    for ax, (name, m) in zip(axes[:2], groups.items()):
-        tri = _triangles(faces[m])
-        U, tri2 = _unroll(theta, tri, lo)
-        _panel(ax, U, X[:, 0][tri2] * 1e3, tri2, vm_mpa, norm, cmap)
-        ax.set_xticks(np.arange(0.0, 360.0 + lo, 2 * math.degrees(pitch)))
-        ax.set_xlim(lo, lo + 360.0)
-        top = ax.secondary_xaxis("top")
-        top.set_xticks(np.degrees(np.mod(pa - theta0, 2 * math.pi) + theta0), [str(p) for p in range(Z)])
-        top.tick_params(labelsize=7, length=2)
-        ax.set_ylabel("Axial position x (mm)")
-        ax.set_xlabel("Azimuth θ (°)")
-        ax.set_title(f"{name.capitalize()} surface, unrolled; pocket numbers (mesh groups pocket_00 ...) on top", loc="left", fontsize=9)
-        ax.grid(False)
-        if name in where:
-            ax.plot([theta[n_max]], [x_m[0] * 1e3], marker="*", ms=14, mfc="none", mec="k", mew=1.2)
-    # the hottest pocket's wall, about its axis
-    ax = axes[2]
-    tj = pa[hot]
-    m = wall & (j == hot)
-    tri = _triangles(faces[m])
-    t_n = -X[:, 1] * math.sin(tj) + X[:, 2] * math.cos(tj)
-    alpha = np.degrees(np.arctan2(t_n, X[:, 0]))
-    U, tri2 = _unroll(alpha, tri, -180.0)
-    _panel(ax, U, r[tri2] * 1e3, tri2, vm_mpa, norm, cmap)
-    ax.set_xticks(np.arange(-180.0, 181.0, 45.0))
-    ax.set_xlim(-180.0, 180.0)
-    ax.set_xlabel("Angle about the pocket axis α (°):\n0 towards +x, 90 towards increasing θ")
-    ax.set_ylabel("Radius r (mm)")
-    ax.set_title(f"Wall of pocket {hot} (θ = {math.degrees(tj) % 360:.0f}°), the most stressed pocket",
-                 loc="left", fontsize=9)
-    ax.grid(False)
-    if hot in in_wall:
-        ax.plot([alpha[n_max]], [r[n_max] * 1e3], marker="*", ms=14, mfc="none", mec="k", mew=1.2)
+    fig, gs, axes, theta, r = draw_unrolled_cage(plt, rc, skin, vm * 1e-6, norm, cmap, n_max, hot,
+                                                 "the most stressed pocket",
+                                                 "pocket numbers (mesh groups pocket_00 ...) on top", "k")
+    facts = {"time": tk, "sample": k, "von_mises_max": float(vm[n_max]), "recorded_von_mises_max": vm_rec,
+             "node": n_max, "recorded_node": node_rec, "position": [float(v) for v in x_m],
+             "azimuth_deg": float(theta[n_max]), "radius": float(r[n_max]), "surface": surface,
+             "hottest_pocket": hot}
     from matplotlib.cm import ScalarMappable
     cb = fig.colorbar(ScalarMappable(norm, cmap), ax=axes[:2], location="right", fraction=0.03, pad=0.01)
     cb.set_label("von Mises stress (MPa)")
