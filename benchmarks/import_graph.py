@@ -38,6 +38,10 @@ def _layers(root: Path):
     return mod
 
 
+# this checkout's reader of import statements (tests/test_architecture.py), also for --root trees
+_ARCH = _layers(Path(__file__).resolve().parents[1])
+
+
 def function_imports(name: str, path: Path) -> list[tuple[str, str]]:
     """(function name, imported module) for every import written inside a function body."""
     pkg = name if path.stem == "__init__" else name.rpartition(".")[0]
@@ -50,10 +54,7 @@ def function_imports(name: str, path: Path) -> list[tuple[str, str]]:
             if isinstance(node, ast.Import):
                 out += [(fn.name, a.name) for a in node.names]
             elif isinstance(node, ast.ImportFrom):
-                base = node.module or ""
-                if node.level:
-                    anchor = pkg.rsplit(".", node.level - 1)[0] if node.level > 1 else pkg
-                    base = anchor + ("." + base if base else "")
+                base = _ARCH.from_import_base(node, pkg)
                 names = [f"{base}.{a.name}" for a in node.names]
                 out.append((fn.name, next((n for n in names if n in _MODS), base)))
     return list(dict.fromkeys(out))      # a nested def's import counted once
@@ -71,10 +72,7 @@ def top_level_imports(name: str, path: Path) -> set[str]:
             if isinstance(child, ast.Import):
                 out.update(a.name for a in child.names)
             elif isinstance(child, ast.ImportFrom):
-                base = child.module or ""
-                if child.level:
-                    anchor = pkg.rsplit(".", child.level - 1)[0] if child.level > 1 else pkg
-                    base = anchor + ("." + base if base else "")
+                base = _ARCH.from_import_base(child, pkg)
                 out.add(base)
                 out.update(f"{base}.{a.name}" for a in child.names)
             walk(child)

@@ -44,6 +44,16 @@ def modules() -> dict[str, Path]:
     return out
 
 
+def from_import_base(node: ast.ImportFrom, pkg: str) -> str:
+    """The absolute module of `from <module> import ...` written in package `pkg` (relative ones
+    resolved: level 1 is pkg, level 2 its parent, ...)."""
+    base = node.module or ""
+    if node.level:
+        anchor = pkg.rsplit(".", node.level - 1)[0] if node.level > 1 else pkg
+        base = anchor + ("." + base if base else "")
+    return base
+
+
 def imported_names(name: str, path: Path) -> set[str]:
     """Every dotted name module `name` imports (absolute form; `from a import b` gives a and a.b)."""
     pkg = name if path.stem == "__init__" else name.rpartition(".")[0]
@@ -52,10 +62,7 @@ def imported_names(name: str, path: Path) -> set[str]:
         if isinstance(node, ast.Import):
             found.update(a.name for a in node.names)
         elif isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                anchor = pkg.rsplit(".", node.level - 1)[0] if node.level > 1 else pkg
-                base = anchor + ("." + base if base else "")
+            base = from_import_base(node, pkg)
             found.add(base)
             found.update(f"{base}.{a.name}" for a in node.names)
         elif (isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "import_module"
