@@ -24,6 +24,14 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy p
     python3-xarray python3-netcdf4 python3-h5netcdf \
     python3-pytest python3-hypothesis python3-venv python3-setuptools python3-wheel python3-pip mpi-default-bin \
     calculix-ccx
+# Optimised BLAS/LAPACK (Debian's OpenBLAS, the same archive): installing it switches the
+# libblas.so.3 / liblapack.so.3 alternatives from the reference netlib BLAS, so numpy, scipy and
+# PETSc/MUMPS use it. It is what makes a new cage geometry a reduced cage in ~20 s instead of ~45 s
+# (the block eigensolver and MUMPS's dense fronts: benchmarks/results/reduce_design_loop.md).
+# Optional: without it every result is the same to rounding and the reduction picks the
+# single-vector eigensolver (flexbearing.common.blas); so a machine that cannot install it still
+# sets up. flexbearing runs it on one thread (flexbearing/__init__.py says why).
+OPTIONAL_APT_PACKAGES := libopenblas0-pthread
 # Small pure-Python PyPI packages, pinned, installed with --no-deps into the venv.
 PIP_PACKAGES := rainflow==3.2.0
 
@@ -39,13 +47,28 @@ define apt_install
 	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "installing Debian packages: $$missing"; \
-	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing 2>/dev/null || \
+	  { $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; }; \
+	fi
+	@mkdir -p $(VENV) && touch $@
+endef
+
+# $(call apt_install_optional,PACKAGES): the same, but a package that cannot be installed (no
+# network, no root) is reported and skipped instead of stopping the setup
+define apt_install_optional
+	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing optional Debian packages: $$missing"; \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing 2>/dev/null || \
+	  { $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; } || \
+	  echo "warning: could not install $$missing (optional: the same results, a slower cage reduction)"; \
 	fi
 	@mkdir -p $(VENV) && touch $@
 endef
 
 $(VENV)/.apt-stamp: Makefile
 	$(call apt_install,$(APT_PACKAGES))
+	$(call apt_install_optional,$(OPTIONAL_APT_PACKAGES))
 
 $(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
 	@[ -x $(PY) ] || $(SYSPY) -m venv --system-site-packages $(VENV)

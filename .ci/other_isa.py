@@ -7,7 +7,9 @@ suite twice: as the machine is, and with
   wide vectors; numba sets NUMBA_CPU_FEATURES to "" for it), in its own NUMBA_CACHE_DIR, and
 - numpy's runtime-dispatched kernels (sums, exp, sin, ...) held to the x86-64 baseline
   (NPY_DISABLE_CPU_FEATURES: every dispatched feature this processor has; numpy refuses, with a
-  warning on every import, a name the processor lacks, so only those it has are listed).
+  warning on every import, a name the processor lacks, so only those it has are listed), and
+- OpenBLAS, when it is the BLAS, on its generic x86-64 kernels (OPENBLAS_CORETYPE=Prescott: SSE3,
+  no AVX, no FMA), so the matrix products and factorisations round differently too.
 Every machine CI or a user runs on has more than the baseline, so the second pass always differs
 from the first in the last digits of the arithmetic. Prints the numpy feature list;
 `.ci/on-other-isa CMD...` runs CMD with both settings.

@@ -46,6 +46,9 @@ from pathlib import Path
 
 RESULTS = Path(__file__).parent / "results" / "reduce_paper.json"
 LOOP_RESULTS = Path(__file__).parent / "results" / "reduce_design_loop.json"
+# Debian's reference BLAS and LAPACK (libblas3, liblapack3): first on LD_LIBRARY_PATH, they win
+# over the libblas.so.3 alternative (OpenBLAS when installed) for a child process
+REFERENCE_BLAS = "/usr/lib/x86_64-linux-gnu/blas:/usr/lib/x86_64-linux-gnu/lapack"
 
 # one repetition of the design loop, run as `python -c` in a fresh process (its own peak RSS and
 # CPU time) with FLEXBEARING_CACHE an empty folder; prints one JSON line
@@ -74,7 +77,10 @@ with h5py.File(path) as f:
 t = time.perf_counter()
 rcf.read(path)
 t_read = time.perf_counter() - t
-print(json.dumps({"import_s": t_import, "mesh_s": t_mesh, "build_s": t_build,
+# the BLAS that ran (the code before has no flexbearing.common.blas: read the map here)
+blas = sorted({l.split()[-1] for l in open("/proc/self/maps")
+               if "libblas" in l.split()[-1] or "openblas" in l.split()[-1]})
+print(json.dumps({"blas": blas, "import_s": t_import, "mesh_s": t_mesh, "build_s": t_build,
                   "new_geometry_s": t_mesh + t_build, "timings": red["timings"],
                   "cpu_user_s": ru.ru_utime, "cpu_sys_s": ru.ru_stime,
                   "peak_rss_MB": ru.ru_maxrss / 1024, "file_MB": os.path.getsize(path) / 1e6,
@@ -210,6 +216,12 @@ def main(argv=None):
                     help="with --design-loop: also time this checkout with DIR (an unpacked "
                          "libopenblas0-pthread's openblas-pthread folder) first on LD_LIBRARY_PATH, "
                          "1 and 2 threads, interleaved")
+    ap.add_argument("--reference-blas", action="store_true",
+                    help="with --design-loop: also time both checkouts on Debian's reference "
+                         "(netlib) BLAS and LAPACK, put first on LD_LIBRARY_PATH, interleaved")
+    ap.add_argument("--key", default="design_loop",
+                    help="the key of reduce_design_loop.json to write (default: design_loop for "
+                         "--design-loop, compare for --compare)")
     ap.add_argument("--compare", nargs=2, type=Path, metavar=("BEFORE", "AFTER"))
     ap.add_argument("--search-setup", type=Path, metavar="REDUCED_CAGE_H5",
                     help="time the run's stress-search setup from this file (search_setup)")
@@ -224,11 +236,17 @@ def main(argv=None):
     if args.compare or args.design_loop:
         out = json.loads(LOOP_RESULTS.read_text()) if LOOP_RESULTS.exists() else {}
         if args.compare:
-            out["compare"] = compare_files(*args.compare)
-            out["compare"]["files"] = [str(p) for p in args.compare]
-            print(json.dumps(out["compare"], indent=1))
+            key = "compare" if args.key == "design_loop" else args.key
+            out[key] = compare_files(*args.compare)
+            out[key]["files"] = [str(p) for p in args.compare]
+            print(json.dumps(out[key], indent=1))
         if args.design_loop:
-            configs = [("other", args.code, None), ("this", None, None)]
+            # one BLAS thread for every child: the code before did not set it (flexbearing/__init__.py)
+            one = {"OPENBLAS_NUM_THREADS": "1"}
+            configs = [("other", args.code, one), ("this", None, one)]
+            if args.reference_blas:
+                ref = {"LD_LIBRARY_PATH": REFERENCE_BLAS}
+                configs += [("other_refblas", args.code, ref), ("this_refblas", None, ref)]
             if args.openblas:
                 configs += [(f"this_openblas{n}", None, {"LD_LIBRARY_PATH": str(args.openblas),
                                                         "OPENBLAS_NUM_THREADS": str(n)})
@@ -236,7 +254,7 @@ def main(argv=None):
             runs = {which: [] for which, _, _ in configs}
             for _ in range(args.repeat):
                 for which, code, extra in configs:
-                    if which == "other" and code is None:
+                    if which.startswith("other") and code is None:
                         continue
                     r = design_loop_once(code, extra)
                     r["load_average"] = __import__("os").getloadavg()
@@ -245,7 +263,7 @@ def main(argv=None):
                           f"reduce {r['timings']['reduce_total_s']:.1f}), cpu "
                           f"{r['cpu_user_s'] + r['cpu_sys_s']:.1f} s, peak {r['peak_rss_MB']:.0f} MB, "
                           f"file {r['file_MB']:.1f} MB", flush=True)
-            out["design_loop"] = dict(runs, other_code=None if args.code is None else str(args.code),
+            out[args.key] = dict(runs, other_code=None if args.code is None else str(args.code),
                                       openblas=None if args.openblas is None else str(args.openblas))
         LOOP_RESULTS.parent.mkdir(exist_ok=True)
         LOOP_RESULTS.write_text(json.dumps(out, indent=1, default=float))

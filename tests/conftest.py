@@ -1,5 +1,7 @@
 import json
 import os
+
+import flexbearing  # noqa: F401  (first: sets one BLAS thread before numpy loads it)
 import subprocess
 import sys
 import time

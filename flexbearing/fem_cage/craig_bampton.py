@@ -12,9 +12,11 @@ The Craig–Bampton basis (Craig & Bampton, AIAA J. 6(7):1313, 1968) is u = Psi 
       [ C   0  ] [ Lambda ] = [ I ]                                               (1)
 
   (the saddle point also handles a free–free K: C fixes the rigid motions);
-* fixed-interface normal modes Phi (n x nf): K phi = omega^2 M phi on {C u = 0}, computed by
-  SLEPc (Krylov–Schur) on the operator A x = [I 0] S^-1 [M x; 0] with S the saddle matrix of
-  (1) (eigenvalues 1/omega^2), then cleaned by a Rayleigh–Ritz step on the converged vectors;
+* fixed-interface normal modes Phi (n x nf): K phi = omega^2 M phi on {C u = 0}, the largest
+  eigenvalues 1/omega^2 of the operator A x = [I 0] S^-1 [M x; 0] with S the saddle matrix of
+  (1): by shift-and-invert block Lanczos (flexbearing.fem_cage.block_lanczos) where the BLAS is
+  an optimised one, else by SLEPc's Krylov–Schur, one solve per application, then cleaned by a
+  Rayleigh–Ritz step on the converged vectors (fixed_interface_modes says why both);
 * optional fixed-interface static body-load vectors U (n x nl) (augmentation): the static
   response to a distributed load f with the interface held, min 1/2 u^T K u - u^T f on {C u = 0},
 
@@ -35,7 +37,9 @@ The Craig–Bampton basis (Craig & Bampton, AIAA J. 6(7):1313, 1968) is u = Psi 
   inside the reduction, so the runtime's residual static correction of discarded modes becomes
   exact for the centrifugal load too.
 
-Reduced matrices, with B = [Psi Phi U]:  K_cb = B^T K B with the Psi–Phi block zero (the coupling
+Reduced matrices, with B = [Psi Phi U]:  K_cb = B^T K B with the constraint block
+Psi^T K Psi = -Psi^T C^T Lambda = -(C Psi)^T Lambda = -Lambda, the interface reactions of (1)
+(no product with K needed), the Psi–Phi block zero (the coupling
 Phi^T K Psi = -Phi^T C^T Lambda vanishes because C Phi = 0) and Phi^T K Phi = Omega^2; the Psi–U
 block vanishes for the same reason and the Phi–U block because U is M-orthogonal to the
 fixed-interface eigenvectors (Phi^T K U = Omega^2 Phi^T M U = 0); both are computed, not assumed
@@ -52,9 +56,9 @@ linear and angular momentum about the centre of mass (the linearised mean-axis c
 
 Linear algebra: scipy sparse for assembly-level products; PETSc + MUMPS LDL^T (factorised once;
 the constraint modes and the body-load vectors as blocks of right-hand sides in one call each)
-for the saddle system; SLEPc for the eigenproblem (one solve per operator application: a block
-Lanczos variant that batched them needed 2.5x more applications on the paper cage, 432 against
-170, and lost the gain to its dense orthogonalisation; not kept). Serial only.
+for the saddle system; block Lanczos or SLEPc for the eigenproblem. Products with M go through
+`mass_times` when the caller has a faster one (the vector mass matrix is Ms ⊗ I3: one third of
+the work with the scalar Ms; kron_mass_times). Serial only.
 """
 from __future__ import annotations
 
@@ -137,6 +141,7 @@ class SaddleSolver:
 
     def __init__(self, K: sp.spmatrix, C: sp.spmatrix):
         self.n, self.nc = K.shape[0], C.shape[0]
+        self.C = sp.csr_matrix(C)
         S = saddle_matrix(K, C)
         self.S = scipy_to_petsc(S)
         self.ksp, self.solver = lu_ksp(self.S, symmetric=True)
@@ -206,29 +211,70 @@ def constraint_modes(solver: SaddleSolver):
     return solver.solve(None, np.eye(solver.nc))
 
 
+def kron_mass_times(Ms: sp.spmatrix):
+    """X -> M X for the blocked vector mass matrix M = Ms ⊗ I3 (dof = 3 node + component; the
+    mass of rho u·v on a blocked Lagrange space: entry (3i+a, 3j+b) = delta_ab ∫ rho N_i N_j) from
+    the scalar Ms alone: (M X)[3i+a, k] = sum_j Ms[i, j] X[3j+a, k], i.e. Ms times X viewed as
+    (N, 3k). The same sums as M X without M's structural zeros (a != b): a third of the work."""
+    Ms = sp.csr_matrix(Ms)
+    N = Ms.shape[0]
+
+    def mass_times(X):
+        X = np.ascontiguousarray(X)
+        shape = X.shape
+        return (Ms @ X.reshape(N, -1)).reshape(shape)
+    return mass_times
+
+
 class _ConstrainedInverse:
     """PETSc shell operator x -> u with [K C^T; C 0][u; l] = [M x; 0] (eigenvalues 1/omega^2)."""
 
-    def __init__(self, solver: SaddleSolver, M: sp.spmatrix):
-        self.solver, self.M = solver, M.tocsr()
+    def __init__(self, solver: SaddleSolver, mass_times):
+        self.solver, self.mass_times = solver, mass_times
         self.count = 0
 
     def mult(self, mat, x, y):
-        u, _ = self.solver.solve(self.M @ x.getArray(readonly=True), None)
+        u, _ = self.solver.solve(self.mass_times(x.getArray(readonly=True)), None)
         y.setArray(u)
         self.count += 1
 
 
 def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, n_fixed: int,
-                          tol: float = 1e-10):
-    """The n_fixed lowest modes of K phi = omega^2 M phi with C phi = 0 (SLEPc + Rayleigh–Ritz).
+                          tol: float = 1e-10, method: str = "auto", mass_times=None):
+    """The n_fixed lowest modes of K phi = omega^2 M phi with C phi = 0.
 
-    Returns (omega (n_fixed,), Phi (n x n_fixed) M-orthonormal, info dict).
+    method: "block-lanczos" (flexbearing.fem_cage.block_lanczos: blocks of right-hand sides through
+    the factorisation, level-3 BLAS), "slepc" (Krylov–Schur, one solve per application, then a
+    Rayleigh–Ritz step), or "auto": block Lanczos when the loaded BLAS is an optimised one
+    (flexbearing.common.blas), SLEPc with the reference BLAS, on which block Lanczos is the slower
+    (paper cage, 30 modes: OpenBLAS 7.5 s against SLEPc's 15 s; reference BLAS 31 s against 15 s;
+    benchmarks/results/reduce_design_loop.md). Both converge the same modes (to the tolerances:
+    tests/test_block_lanczos.py). tol: SLEPc's relative residual; block Lanczos uses its own
+    default (block_lanczos.DEFAULT_TOL, the M-norm residual). mass_times: X -> M X (default M @ X).
+
+    Returns (omega (n_fixed,), Phi (n x n_fixed) M-orthonormal, info dict; info["M_Phi"] = M Phi
+    when the method has it).
     """
+    if method == "auto":
+        from flexbearing.common.blas import blas_info
+        method = "block-lanczos" if blas_info().optimised else "slepc"
+    if method not in ("block-lanczos", "slepc"):
+        raise ValueError(f"reduce.eigensolver = {method!r} is outside the allowed set "
+                         "{auto, block-lanczos, slepc}")
+    mass_times = mass_times or (lambda X: M @ X)
+    if method == "block-lanczos":
+        from .block_lanczos import block_lanczos_modes, constraint_projection
+        modes = block_lanczos_modes(lambda F: solver.solve(F, None)[0], mass_times, K.shape[0],
+                                    n_fixed, project=constraint_projection(solver.C))
+        info = {"eigensolver": "block Lanczos", "operator_applications": modes.operator_columns,
+                "lanczos_steps": modes.steps, "lanczos_basis": modes.basis_size,
+                "nconv": n_fixed, "max_relative_residual": float(modes.residual.max()),
+                "M_Phi": modes.M_Phi}
+        return modes.omega, modes.Phi, info
     from petsc4py import PETSc
     from slepc4py import SLEPc
     n = K.shape[0]
-    ctx = _ConstrainedInverse(solver, M)
+    ctx = _ConstrainedInverse(solver, mass_times)
     A = PETSc.Mat().createPython([n, n], ctx, comm=PETSc.COMM_SELF)
     A.setUp()
     eps = SLEPc.EPS().create(PETSc.COMM_SELF)
@@ -250,35 +296,37 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
         Vs[:, i] = vr.getArray(readonly=True)
     # Rayleigh–Ritz on the converged subspace: exact M-orthonormality, clean double roots.
     Kr = Vs.T @ (K @ Vs)
-    Mr = Vs.T @ (M @ Vs)
+    Mr = Vs.T @ mass_times(Vs)
     lam, Y = sla.eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T))
     Phi = Vs @ Y[:, :n_fixed]
-    info = {"slepc_iterations": eps.getIterationNumber(), "operator_applications": ctx.count,
-            "nconv": nconv}
+    info = {"eigensolver": "SLEPc Krylov-Schur", "slepc_iterations": eps.getIterationNumber(),
+            "operator_applications": ctx.count, "nconv": nconv}
     eps.destroy()
     A.destroy()
     return np.sqrt(np.maximum(lam[:n_fixed], 0.0)), Phi, info
 
 
 def body_load_vectors(solver: SaddleSolver, M: sp.spmatrix, Phi: np.ndarray,
-                      body_loads: np.ndarray) -> np.ndarray:
+                      body_loads: np.ndarray, mass_times=None) -> np.ndarray:
     """Fixed-interface static responses (2) to the columns of body_loads (n x nl), M-orthogonalised
     against the fixed-interface modes Phi and among themselves, unit modal mass (n x nl).
 
     Classical Gram–Schmidt in the M inner product, done twice ("twice is enough", Giraud et al.,
     Numer. Math. 101 (2005) 87): U and Phi are nearly parallel in the low modes' directions, and
     one pass leaves M-inner products ~1e-8 there. A load whose response lies in span(Phi) to
-    1e-10 of its norm adds nothing and is refused (the reduction would be singular)."""
+    1e-10 of its norm adds nothing and is refused (the reduction would be singular).
+    mass_times: X -> M X (default M @ X)."""
+    mass_times = mass_times or (lambda X: M @ X)
     U, _ = solver.solve(np.asarray(body_loads, dtype=float).reshape(M.shape[0], -1), None)
     U = U.reshape(M.shape[0], -1)
     out = np.zeros_like(U)
     for j in range(U.shape[1]):
         u = U[:, j].copy()
-        norm0 = np.sqrt(u @ (M @ u))
+        norm0 = np.sqrt(u @ mass_times(u))
         for _ in range(2):
             Q = np.hstack([Phi, out[:, :j]])
-            u -= Q @ (Q.T @ (M @ u))
-        norm = np.sqrt(u @ (M @ u))
+            u -= Q @ (Q.T @ mass_times(u))
+        norm = np.sqrt(u @ mass_times(u))
         if not norm > 1e-10 * norm0:
             raise ValueError(f"craig_bampton.body_loads column {j}: its fixed-interface static "
                              "response lies in the span of the fixed-interface modes")
@@ -287,28 +335,34 @@ def body_load_vectors(solver: SaddleSolver, M: sp.spmatrix, Phi: np.ndarray,
 
 
 def craig_bampton(K: sp.spmatrix, M: sp.spmatrix, C: sp.spmatrix, n_fixed: int, tol=1e-10,
-                  body_loads: np.ndarray | None = None):
+                  body_loads: np.ndarray | None = None, eigensolver: str = "auto",
+                  mass_times=None):
     """Constraint + fixed-interface modes (+ fixed-interface body-load vectors) and the CB
     reduced matrices.
 
     body_loads: None or (n x nl) distributed loads (e.g. the centrifugal load M x_perp) whose
     fixed-interface static responses (2) augment the basis.
+    eigensolver: fixed_interface_modes's method (auto | block-lanczos | slepc). mass_times: X -> M X
+    (default M @ X; kron_mass_times for the blocked vector mass).
     Returns dict: Psi (n x nb), Phi (n x nf), U (n x nl), omega_fixed, K_cb, M_cb
     ((nb+nf+nl)^2), info.
     """
     K, M, C = sp.csr_matrix(K), sp.csr_matrix(M), sp.csr_matrix(C)
+    mass_times = mass_times or (lambda X: M @ X)
     solver = SaddleSolver(K, C)
-    Psi, _ = constraint_modes(solver)
+    Psi, Lam = constraint_modes(solver)
     if n_fixed > 0:
-        omega_f, Phi, info = fixed_interface_modes(solver, K, M, n_fixed, tol)
+        omega_f, Phi, info = fixed_interface_modes(solver, K, M, n_fixed, tol, eigensolver,
+                                                   mass_times)
     else:
         omega_f, Phi, info = np.zeros(0), np.zeros((K.shape[0], 0)), {}
+    M_Phi = info.pop("M_Phi", None)
     if body_loads is not None and np.size(body_loads):
-        U = body_load_vectors(solver, M, Phi, body_loads)
+        U = body_load_vectors(solver, M, Phi, body_loads, mass_times)
     else:
         U = np.zeros((K.shape[0], 0))
     nb, nf, nl = C.shape[0], Phi.shape[1], U.shape[1]
-    Kbb = Psi.T @ (K @ Psi)
+    Kbb = -Lam                                      # Psi^T K Psi = -(C Psi)^T Lambda, (1)
     K_cb = np.zeros((nb + nf + nl, nb + nf + nl))
     K_cb[:nb, :nb] = 0.5 * (Kbb + Kbb.T)
     K_cb[nb:nb + nf, nb:nb + nf] = np.diag(omega_f ** 2)
@@ -321,11 +375,14 @@ def craig_bampton(K: sp.spmatrix, M: sp.spmatrix, C: sp.spmatrix, n_fixed: int, 
         K_cb[nb + nf:, nb + nf:] = 0.5 * (uu + uu.T)
         scale = max(np.abs(np.diag(uu)).max(), 1e-300)
         info["augmentation_coupling_max"] = float(np.abs(KU[:nb + nf]).max() / scale)
-    M_cb = B.T @ (M @ B)
+    MB = np.hstack([mass_times(Psi), M_Phi if M_Phi is not None else mass_times(Phi),
+                    mass_times(U)])
+    M_cb = B.T @ MB
     M_cb = 0.5 * (M_cb + M_cb.T)
     info["lu_solver"] = solver.solver
     solver.destroy()
-    info["coupling_block_max"] = float(np.abs(Phi.T @ (K @ Psi)).max()) if nf else 0.0
+    # Phi^T K Psi = -(C Phi)^T Lambda by (1): zero when C Phi = 0, which this checks
+    info["coupling_block_max"] = float(np.abs((C @ Phi).T @ Lam).max()) if nf else 0.0
     info["n_body_load_vectors"] = int(nl)
     return {"Psi": Psi, "Phi": Phi, "U": U, "omega_fixed": omega_f, "K_cb": K_cb, "M_cb": M_cb,
             "info": info}

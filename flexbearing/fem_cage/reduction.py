@@ -32,7 +32,7 @@ from flexbearing.common.progress import Stages
 # The parts of `build` with their wall times on the paper cage (s; P3, 4 mm mesh, 160,572 dofs;
 # `flexbearing reduce --force` on 2 cores shared with other jobs, load 6-9, 7 min 9 s in all): the
 # progress bar's estimate (flexbearing.common.progress). "checks" was not measured: a guess.
-REDUCE_STAGES = {"mesh": 3.0, "K and M": 7.0, "interface": 16.0, "Craig-Bampton modes (SLEPc)": 267.0,
+REDUCE_STAGES = {"mesh": 3.0, "K and M": 7.0, "interface": 16.0, "Craig-Bampton modes": 267.0,
                  "invariants": 46.0, "stress modes": 81.0, "checks": 300.0, "write": 4.0}
 
 
@@ -161,7 +161,8 @@ def guide_load_vectors(V, facet_tags, tag: int = TAG_GUIDE, quadrature_degree: i
 
 def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: str = "rbe3",
                  n_fixed: int = 30, quiet: bool = True, centrifugal: bool = True,
-                 guide_loads: bool = True, inertia_relief: bool = True, stage=None) -> dict:
+                 guide_loads: bool = True, inertia_relief: bool = True, stage=None,
+                 eigensolver: str = "auto") -> dict:
     """Run the reduction on an assembled model; return a dict of arrays and operators
     (the in-memory reduced cage plus what the checks need: Kz, C, T, Phi_full, stress op).
 
@@ -197,9 +198,11 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
     M = 6Z + n_fixed + (1 if centrifugal) + (3 if guide_loads) + (6 if inertia_relief).
     The result also carries the guide load vectors f_guide (n, 3) and their modal form
     guide_modal_loads = Phi_full^T f_guide (M, 3), whatever the flags. stage: called with the name
-    of each part as it starts (flexbearing.common.progress.Stages; REDUCE_STAGES)."""
+    of each part as it starts (flexbearing.common.progress.Stages; REDUCE_STAGES). eigensolver:
+    the fixed-interface modes' method (flexbearing.fem_cage.craig_bampton.fixed_interface_modes;
+    "auto" picks by the BLAS; the choice changes the modes within the solvers' tolerances only)."""
     from . import interface as itf
-    from .craig_bampton import petsc_to_scipy, craig_bampton, orthonormalise
+    from .craig_bampton import petsc_to_scipy, craig_bampton, orthonormalise, kron_mass_times
     from .invariants import scalar_mass_matrix, mass_moments, rigid_properties, ffrf_invariants
 
     if coupling not in ("rbe2", "rbe3"):
@@ -255,8 +258,11 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
         + (" + 3 land-load vectors" if guide_loads else "")
         + (" + 6 inertia-relief vectors" if inertia_relief else ""))
     t0 = time.perf_counter()
-    stage("Craig-Bampton modes (SLEPc)")
-    cb = craig_bampton(Kz, Mz, C, n_fixed, body_loads=body)
+    stage("Craig-Bampton modes")
+    # the vector mass is Ms ⊗ I3 (RBE3 keeps the physical DOFs); RBE2's T^T M T is not
+    mass_times = kron_mass_times(scalar_mass_matrix(M)) if T is None else None
+    cb = craig_bampton(Kz, Mz, C, n_fixed, body_loads=body, eigensolver=eigensolver,
+                       mass_times=mass_times)
     timings["craig_bampton_s"] = time.perf_counter() - t0
     G = itf.rigid_interface_matrix(xm)
     N, omega, tw = orthonormalise(cb["K_cb"], cb["M_cb"], G)

@@ -1,0 +1,72 @@
+"""Which BLAS this process runs on: the reference (netlib) one or an optimised one.
+
+Debian links numpy, scipy and PETSc/MUMPS against `libblas.so.3`, an alternative that points to
+the reference BLAS unless an optimised one is installed (the Makefile installs Debian's OpenBLAS,
+`libopenblas0-pthread`). Results are the same to rounding either way; speed is not. Level-3
+operations (matrix products, triangular solves with many right-hand sides) run ~10x faster on
+OpenBLAS (0.0105 s per column for a 30-column MUMPS solve on the paper cage against 0.032 s;
+benchmarks/results/reduce_design_loop.md), so the cage reduction's eigensolver is chosen by it
+(flexbearing.fem_cage.craig_bampton.fixed_interface_modes): a block method, whose work is
+level-3 BLAS, only where that is fast.
+
+The library is read from the process's own memory map (/proc/self/maps: the file the dynamic
+linker actually loaded, after the alternatives' symlinks), so it is what runs, not what is installed.
+"""
+from __future__ import annotations
+
+import ctypes
+import os
+from typing import NamedTuple
+
+# substrings of a loaded library's file name that mark an optimised BLAS
+OPTIMISED = {"openblas": "OpenBLAS", "libmkl": "MKL", "libblis": "BLIS", "libflexiblas": "FlexiBLAS"}
+
+
+class BlasInfo(NamedTuple):
+    """name: OpenBLAS | MKL | BLIS | FlexiBLAS | reference | unknown (nothing loaded yet);
+    path: the loaded library file; threads: OpenBLAS's thread count (None when not OpenBLAS);
+    core: the kernel set OpenBLAS chose for this processor (e.g. Haswell; None when not OpenBLAS)."""
+    name: str
+    path: str | None
+    threads: int | None
+    core: str | None
+
+    @property
+    def optimised(self) -> bool:
+        return self.name not in ("reference", "unknown")
+
+
+def loaded_libraries() -> list[str]:
+    """Paths of the shared objects mapped into this process (Linux /proc/self/maps)."""
+    try:
+        with open("/proc/self/maps") as f:
+            return sorted({ln.split()[-1] for ln in f if ".so" in ln and "/" in ln})
+    except OSError:
+        return []
+
+
+def blas_info() -> BlasInfo:
+    """The BLAS numpy runs on (numpy is imported first: it loads the library)."""
+    import numpy  # noqa: F401  (loads libblas.so.3)
+    libs = loaded_libraries()
+    for path in libs:
+        base = os.path.basename(path)
+        for key, name in OPTIMISED.items():
+            if key in base or (key == "openblas" and "/openblas" in path and "libblas" in base):
+                threads, core = _openblas_threads_core(path) if name == "OpenBLAS" else (None, None)
+                return BlasInfo(name, path, threads, core)
+    for path in libs:
+        if os.path.basename(path).startswith("libblas.so"):
+            return BlasInfo("reference", path, None, None)
+    return BlasInfo("unknown", None, None, None)
+
+
+def _openblas_threads_core(path: str):
+    """OpenBLAS's own answers (openblas_get_num_threads, openblas_get_corename) from the loaded
+    library: dlopen of a loaded library returns the same handle, nothing is loaded twice."""
+    try:
+        lib = ctypes.CDLL(path)
+        lib.openblas_get_corename.restype = ctypes.c_char_p
+        return int(lib.openblas_get_num_threads()), lib.openblas_get_corename().decode()
+    except (OSError, AttributeError):
+        return None, None
