@@ -253,7 +253,7 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
         body = np.hstack(loads)
         body = T.T @ body if T is not None else body     # the same virtual work in the DOFs z
     log(f"{n} dofs, {Z} pocket interface nodes ({coupling}); factorising and solving "
-        f"{6 * Z} constraint modes + {n_fixed} fixed-interface modes (SLEPc)"
+        f"{6 * Z} constraint modes + {n_fixed} fixed-interface modes ({eigensolver} eigensolver)"
         + (" + the centrifugal vector" if centrifugal else "")
         + (" + 3 land-load vectors" if guide_loads else "")
         + (" + 6 inertia-relief vectors" if inertia_relief else ""))
