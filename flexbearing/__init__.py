@@ -13,9 +13,10 @@ holds the independent checks that tests and benchmarks run; the program never im
 import os as _os
 
 # One BLAS thread per process unless the user sets OPENBLAS_NUM_THREADS: the program's parallelism
-# is processes (Dask workers, one per core), and OpenBLAS threads on top of them would oversubscribe
-# the cores (measured, the paper cage's reduction alone on 2 cores: 2 threads 1.0 s faster of 33 s for 57 %
-# more CPU time; in a study's two workers, four spinning threads on two cores). One thread also keeps a run's rounding
-# independent of the machine's core count. Read by OpenBLAS when it loads, i.e. at numpy's first
-# import: flexbearing is imported first by the command line and the test suite (tests/conftest.py).
+# is processes (Dask workers, one per core), and OpenBLAS threads on top of them oversubscribe the
+# cores (measured, the paper cage's reduction alone on 2 cores: 2 threads were 1.0 s faster of
+# 33 s for 57 % more CPU time; in a study's two workers, four spinning threads on two cores). One
+# thread also keeps a run's rounding independent of the machine's core count. Read by OpenBLAS
+# when it loads, i.e. at numpy's first import: flexbearing is imported first by the command line
+# and the test suite (tests/conftest.py).
 _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")

@@ -31,11 +31,12 @@ The iteration stops when the n_modes largest Ritz values have || r ||_M <= tol *
 
 Why a block method: each step applies OP to b columns at once, and a factorised solve with b
 right-hand sides costs far less per column than b solves (MUMPS's dense fronts go through level-3
-BLAS: on the paper cage with OpenBLAS 0.0125 s per column for 15 columns against 0.073 s for one).
-Block Lanczos needs more columns than single-vector Krylov–Schur (270 against SLEPc's 170 for the
-paper cage's 30 modes) and its reorthogonalisation is O(n m^2) level-3 work, so it is the faster
-method only with an optimised BLAS: with the reference BLAS the same solve takes 31 s against
-SLEPc's 15 s (benchmarks/results/reduce_design_loop.md). craig_bampton picks by the BLAS loaded
+BLAS: on the paper cage with OpenBLAS 0.015 s per column for 10 columns, 0.012 s for 20, against
+0.073 s for one; with the reference BLAS 0.035 and 0.034 s against 0.063 s). Block Lanczos needs
+more columns than single-vector Krylov–Schur (252 against SLEPc's 170 for the paper cage's 30
+modes) and its reorthogonalisation is O(n m^2) level-3 work, so it is the faster method only with
+an optimised BLAS: 30 modes in 8.0 s against SLEPc's 14.0 s on OpenBLAS, 21.0 s against 14.3 s on
+the reference BLAS (benchmarks/bench_eigensolver.py). craig_bampton picks by the BLAS loaded
 (flexbearing.common.blas).
 
 Staying on ker C. OP's output lies on ker C only to the solver's rounding, relative to its own

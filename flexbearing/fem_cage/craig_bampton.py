@@ -247,8 +247,8 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
     the factorisation, level-3 BLAS), "slepc" (Krylov–Schur, one solve per application, then a
     Rayleigh–Ritz step), or "auto": block Lanczos when the loaded BLAS is an optimised one
     (flexbearing.common.blas), SLEPc with the reference BLAS, on which block Lanczos is the slower
-    (paper cage, 30 modes: OpenBLAS 7.5 s against SLEPc's 15 s; reference BLAS 31 s against 15 s;
-    benchmarks/results/reduce_design_loop.md). Both converge the same modes (to the tolerances:
+    (paper cage, 30 modes, factorisation apart: OpenBLAS 8.0 s against SLEPc's 14.0 s; reference
+    BLAS 21.0 s against 14.3 s; benchmarks/bench_eigensolver.py, results/eigensolver.json). Both converge the same modes (to the tolerances:
     tests/test_block_lanczos.py). tol: SLEPc's relative residual; block Lanczos uses its own
     default (block_lanczos.DEFAULT_TOL, the M-norm residual). mass_times: X -> M X (default M @ X).
 

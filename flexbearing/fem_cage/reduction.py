@@ -29,11 +29,12 @@ from flexbearing.common.progress import Stages
 
 # ------------------------------------------------------------------ the reduction
 
-# The parts of `build` with their wall times on the paper cage (s; P3, 4 mm mesh, 160,572 dofs;
-# `flexbearing reduce --force` on 2 cores shared with other jobs, load 6-9, 7 min 9 s in all): the
-# progress bar's estimate (flexbearing.common.progress). "checks" was not measured: a guess.
-REDUCE_STAGES = {"mesh": 3.0, "K and M": 7.0, "interface": 16.0, "Craig-Bampton modes": 267.0,
-                 "invariants": 46.0, "stress modes": 81.0, "checks": 300.0, "write": 4.0}
+# The parts of `build` with their wall times on the paper cage (s; P3, 4 mm mesh, 160,572 dofs,
+# OpenBLAS, a quiet 2-core machine: benchmarks/results/reduce_design_loop.json "round_three", 22.5 s
+# in all; "K and M" and "write" share the 3.1 s outside the reduction): the progress bar's estimate
+# (flexbearing.common.progress). "checks" was not measured: a guess.
+REDUCE_STAGES = {"mesh": 1.3, "K and M": 2.1, "interface": 0.3, "Craig-Bampton modes": 13.6,
+                 "invariants": 0.7, "stress modes": 3.4, "checks": 300.0, "write": 1.0}
 
 
 def centrifugal_load(M, X: np.ndarray) -> np.ndarray:
