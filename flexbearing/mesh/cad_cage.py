@@ -715,6 +715,7 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
         pocket_centre_diameter=pitch_diameter if shape in ("spherical", "conical") else PAPER_CAGE.pocket_centre_diameter,
         **extras,
         **({"material": material} if material is not None else {}))
+    _check_shape_fields(geometry, source)
     return CadCage(geometry=geometry, pockets=tuple(pockets_out), ring_cylinders=tuple(cyl),
                    guide_faces=tuple(guide), turned_by=turn, unit=used, source=source, scale=scale,
                    groups={k: list(v) for k, v in groups.items()}, found_by=found_by)
@@ -747,6 +748,22 @@ def _shape_fields(shape: str, found: list, dp: float, source: str) -> dict:
                              f"elliptical pocket is at least as long in the direction of rotation")
         return {"pocket_circumferential_diameter": d}
     return {}
+
+
+def _check_shape_fields(geometry: CageGeometry, source: str) -> None:
+    """The model's own limits on a conical or elliptical pocket (CageGeometry.validate: the cone's
+    half-angle and wide end, the ellipse between the axial diameter and what the ball's curvature
+    and the neighbours allow), applied to the found cage: refused in validate's line naming the
+    field. Other limits are left to the bearing's check, as for cylindrical and spherical pockets."""
+    fields = {"conical": "cage.pocket_cone_angle", "elliptical": "cage.pocket_circumferential_diameter"}
+    name = fields.get(geometry.pocket_shape)
+    if name is None:
+        return
+    try:
+        geometry.validate()
+    except InputError as e:
+        if str(e).startswith(name):
+            raise InputError(f"cage.cad = {source!r}: {e} (the {geometry.pocket_shape} pocket found in the file)") from None
 
 
 def _group_of(pocket: dict) -> str:

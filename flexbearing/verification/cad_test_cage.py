@@ -13,7 +13,9 @@ import math
 from pathlib import Path
 
 Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0   # mm, degrees
-DC = 23.2           # mm: the elliptical pockets' diameter in the direction of rotation
+# mm: the elliptical pockets' diameter in the direction of rotation; the model takes at most
+# 2A²/(Dw/2) = 22.807 mm with A = DP/2 and the 22 mm ball (the ball fits the ellipse's end curvature)
+DC = 22.8
 
 
 DIMPLE = 2.0        # mm: radius of the spherical dimple on the outside (`make_cad_cage(dimple=True)`)
