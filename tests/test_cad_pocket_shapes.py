@@ -217,3 +217,60 @@ def test_mesh_of_conical_and_elliptical_cages(tmp_path, cages, key):
             assert dist.max() <= shift + 1e-8
     finally:
         gmsh.finalize()
+
+
+def test_named_conical_pockets(tmp_path, cages):
+    """A .geo naming the conical pockets (pocket_1 … pocket_14, the faces the geometric search
+    found: gmsh numbers the merged STEP's faces the same way) and the guide: the names are used,
+    each named face still checked to be a radial cone, and the same cone found."""
+    import shutil
+    cad = _read(cages["cone+5"])
+    step = tmp_path / "cone.step"
+    shutil.copy(cages["cone+5"], step)
+    lines = ['SetFactory("OpenCASCADE");', f'Merge "{step.name}";']
+    lines += [f'Physical Surface("pocket_{k + 1}") = {{{", ".join(map(str, p.faces))}}};'
+              for k, p in enumerate(cad.pockets)]
+    lines.append(f'Physical Surface("guide") = {{{", ".join(map(str, cad.guide_faces))}}};')
+    (tmp_path / "cone.geo").write_text("\n".join(lines) + "\n")
+    named = _read(tmp_path / "cone.geo")
+    assert named.found_by["pockets"] == "the file's named groups pocket_1 … pocket_14"
+    assert named.geometry == cad.geometry
+    lines[2] = lines[2].split("=")[0] + f"= {{{cad.guide_faces[0]}}};"       # the bore named as pocket_1
+    (tmp_path / "wrong.geo").write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"named group 'pocket_1': face \d+ is not a pocket wall by its geometry "
+                                         r"\(no sphere, no cylinder, cone or elliptic cylinder with a radial axis\)"):
+        _read(tmp_path / "wrong.geo")
+
+
+SCENE = """name = "cone14"
+[bearing]
+n_balls = 14
+inner_land_diameter = 157.25e-3
+[cage]
+model = "flexible"
+cad = "cone.step"
+guidance = "inner"
+[operation]
+duration = 0.01
+[operation.speed]
+phases = [{ kind = "uniform", duration = 0.01, rpm = 14000 }]
+[operation.load]
+axial_load = 55e3
+[output]
+sample_interval = 1e-3
+record = ["cage_speed"]
+"""
+
+
+def test_scene_with_a_conical_cad_cage(tmp_path, monkeypatch, cages):
+    """[cage] cad = a conical cage: the bearing's cage is conical with the file's half-angle, on
+    the bearing's pitch circle (the scene's own checks, CageGeometry.validate, pass)."""
+    import shutil
+    from flexbearing.simulation.scene import load_scene
+    monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path / "cache"))
+    shutil.copy(cages["cone-5"], tmp_path / "cone.step")
+    (tmp_path / "s.toml").write_text(SCENE)
+    g = load_scene(tmp_path / "s.toml").bearing.cage
+    assert (g.n_pockets, g.pocket_shape, g.guidance) == (Z, "conical", "inner")
+    assert g.pocket_cone_angle == pytest.approx(math.radians(-5.0), abs=1e-9)
+    assert (g.pocket_diameter, g.pocket_centre_diameter) == pytest.approx((DP * 1e-3, PITCH * 1e-3), rel=1e-6)
