@@ -9,8 +9,17 @@ What is found (every boundary face is sampled, `_sample_face`, with its normals)
 * side faces: planes normal to x at the cage's two axial ends;
 * pocket walls: a sphere (every normal passes through one point: its centre, by least squares)
   centred near the pitch circle, or a cylinder whose axis is radial (every normal meets one
-  line through the origin normal to x: the axis is the direction orthogonal to all normals);
-  faces of one pocket share its azimuth;
+  line through the origin normal to x: the axis is the direction orthogonal to all normals),
+  or a cone whose axis is radial (every normal makes one angle with the axis; the apex on the
+  radial line: pocket_shape "conical", its half-angle signed + when it widens outwards and the
+  pocket diameter that of the sphere about the pitch point it is tangent to), or an elliptic
+  cylinder whose axis is radial (normals orthogonal to the axis, its distance not constant; the
+  section's axes along x and the direction of rotation: pocket_shape "elliptical", the axial
+  and the circumferential diameter); `fit_face` has the equations. A cone or elliptic cylinder
+  about a line normal to x that misses the bearing axis, or an ellipse turned from the
+  axial/circumferential directions, is refused naming the field, unless it passes the bearing
+  axis farther than its own radius (a hole elsewhere: another face); faces of one pocket share
+  its azimuth;
 * the guide surface: for guidance "outer" the ring cylinder(s) at the largest radius, for
   "inner" at the smallest; "balls" needs none.
 
@@ -62,12 +71,18 @@ FIT_TOL = 1e-5
 @dataclass(frozen=True)
 class FoundPocket:
     """One pocket as found in the CAD: azimuth (rad, from +y towards +z, after the turn that puts
-    pocket 0 at +y), centre (m; a cylinder's is its axis at the pitch radius), shape, diameter (m)."""
+    pocket 0 at +y), centre (m; a cylinder's, a cone's or an elliptic cylinder's is its axis at the
+    pitch radius), shape, diameter (m; a cone's: CageGeometry.pocket_diameter, the diameter of the
+    sphere about the centre it is tangent to; an ellipse's: along the bearing axis), faces; a
+    conical pocket's half-angle (rad, > 0 wider at the outside), an elliptical pocket's diameter in
+    the direction of rotation (m)."""
     azimuth: float
     centre: tuple
     shape: str
     diameter: float
     faces: tuple
+    cone_angle: float = 0.0
+    circumferential_diameter: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -90,8 +105,9 @@ class CadCage:
         lines = [f"{self.source}: unit {self.unit}; outside {g.outside_diameter * 1e3:.3f} mm, bore "
                  f"{g.bore_diameter * 1e3:.3f} mm, width {g.width * 1e3:.3f} mm; turned "
                  f"{math.degrees(self.turned_by):.3f}° about x so pocket 0 is at +y",
-                 f"{len(self.pockets)} {g.pocket_shape} pockets of {g.pocket_diameter * 1e3:.3f} mm "
-                 f"(clearance {cp * 1e6:.1f} µm on a {ball_diameter * 1e3:.3f} mm ball)"]
+                 f"{len(self.pockets)} {g.pocket_shape} pockets of {g.pocket_diameter * 1e3:.3f} mm"
+                 + self._shape_words() +
+                 f" (clearance {cp * 1e6:.1f} µm on a {ball_diameter * 1e3:.3f} mm ball)"]
         lines += [f"{what} found by {how}" for what, how in self.found_by.items() if what != "unused"]
         if "unused" in self.found_by:
             lines.append(f"named groups not used (not pocket_<n>, pockets, guide or land): {self.found_by['unused']}")
@@ -110,6 +126,18 @@ class CadCage:
                          f"land width {g.land_width * 1e3:.3f} mm"
                          + (f" x 2 (relief {g.relief_depth * 1e3:.3f} mm deep)" if g.relief_depth > 0 else ""))
         return lines
+
+
+    def _shape_words(self) -> str:
+        """What the pocket diameter is and the shape's own numbers (none for cylinders, spheres)."""
+        g = self.geometry
+        if g.pocket_shape == "conical":
+            b = g.pocket_cone_angle
+            return (f" at the pitch circle (the sphere the cone is tangent to), half-angle "
+                    f"{math.degrees(b):+.4f}° (wider at the {'outside' if b > 0 else 'bore'})")
+        if g.pocket_shape == "elliptical":
+            return f" axial × {g.pocket_circumferential_diameter * 1e3:.3f} mm circumferential"
+        return ""
 
 
 def cad_kind(path) -> str:
@@ -233,15 +261,15 @@ def named_groups() -> NamedGroups:
 
 def _named_pockets(named: NamedGroups, pockets: list, n_balls: int, source: str):
     """The pockets as the file names them, each face checked to be a pocket wall by its geometry
-    (`pockets`: (face, azimuth, centre, shape, diameter) of every face the geometry takes for a
+    (`pockets`: (face, azimuth, centre, shape, diameter, extra) of every face the geometry takes for a
     pocket wall); entries as `_group_pockets`'s, with the group's name."""
-    wall = {s: (s, az, c, shape, dia) for s, az, c, shape, dia in pockets}
+    wall = {s: (s, az, c, shape, dia, extra) for s, az, c, shape, dia, extra in pockets}
     groups = named.pockets or (("pockets", named.all_pockets),)
     for name, faces in groups:
         for s in faces:
             if s not in wall:
                 raise InputError(f"cage.cad = {source!r}: named group {name!r}: face {s} is not a pocket "
-                                 f"wall by its geometry (no sphere, no cylinder with a radial axis): the "
+                                 f"wall by its geometry (no sphere, no cylinder, cone or elliptic cylinder with a radial axis): the "
                                  f"names disagree with the geometry")
     if not named.pockets:
         return _group_pockets([wall[s] for s in named.all_pockets], n_balls, source, "named group 'pockets': ")
@@ -257,7 +285,7 @@ def _named_pockets(named: NamedGroups, pockets: list, n_balls: int, source: str)
                              f"{sorted(round(math.degrees(a), 3) for a in az)}°: one pocket per group")
         out.append({"az": az[0], "faces": list(faces), "centres": [wall[s][2] for s in faces],
                     "shapes": {wall[s][3] for s in faces}, "diameters": [wall[s][4] for s in faces],
-                    "name": name})
+                    "extras": [wall[s][5] for s in faces], "name": name})
     return out
 
 
@@ -276,10 +304,26 @@ def _face_samples(tag: int, m: int = 5):
 
 def fit_face(P: np.ndarray, N: np.ndarray, tol: float) -> dict:
     """What analytic surface the samples lie on: {"kind": "plane_x" | "cylinder" | "sphere" |
-    "other", ...}. Sphere: all normal lines through one point c (least squares of
-    sum |(I − n nᵀ)(c − p)|²), |p − c| constant. Cylinder: the axis a is the direction orthogonal
-    to every normal (smallest eigenvector of sum n nᵀ), its point the same least squares
-    (minimum-norm), |p − axis| constant."""
+    "cone" | "elliptic_cylinder" | "other", ...}; every fit is checked by its residual (point to
+    surface) against `tol`.
+
+    Sphere: all normal lines through one point c (least squares of sum |(I − n nᵀ)(c − p)|²),
+    |p − c| constant. Cylinder: the axis a is the direction orthogonal to every normal (smallest
+    eigenvector of sum n nᵀ), its point the same least squares (minimum-norm), |p − axis| constant.
+
+    Cone (`_fit_cone`): every normal makes one angle with the axis, n·a = const, so the axis is the
+    smallest eigenvector of the normals' scatter sum (n − n̄)(n − n̄)ᵀ; every tangent plane holds
+    the apex v, n·(p − v) = 0, solved for v by least squares; with h = (p − v)·a (a oriented into
+    the cone, h > 0) and ρ = |(p − v) − h a|, tan β = sum ρh / sum h² (least squares of ρ = h tan β),
+    residual |ρ cos β − h sin β| (the distance to the cone).
+
+    Elliptic cylinder (`_fit_ellipse`): the normals orthogonal to an axis a (as the cylinder) but
+    |p − axis| not constant: in the plane normal to a (coordinates u, v), the conic
+    Q = A u² + B uv + C v² + D u + E v + F = 0 through the points, whose gradient is parallel to the
+    normal, (∂Q/∂u) n_v − (∂Q/∂v) n_u = 0 (both linear in (A … F): the smallest singular vector of
+    the stacked rows, Fitzgibbon & Fisher's algebraic fit, BMVC 1995, with the normals added);
+    centre, semi-axes and orientation from Q's quadratic part (eigen-decomposition), residual
+    |Q| / |∇Q| (first-order distance to the ellipse)."""
     if np.all(np.abs(np.abs(N[:, 0]) - 1.0) < 1e-6) and np.ptp(P[:, 0]) < tol:
         return {"kind": "plane_x", "x": float(P[:, 0].mean())}
     A = np.zeros((3, 3))
@@ -299,7 +343,76 @@ def fit_face(P: np.ndarray, N: np.ndarray, tol: float) -> dict:
         dist = np.linalg.norm(d - np.outer(d @ a, a), axis=1)
         if np.ptp(dist) < tol:
             return {"kind": "cylinder", "axis": a, "point": c, "radius": float(dist.mean())}
-    return {"kind": "other"}
+        if w[1] > 1e-3:                                 # normals span the plane normal to a
+            return _fit_ellipse(P, N, a, tol)
+        return {"kind": "other"}
+    return _fit_cone(P, N, tol)
+
+
+def _fit_cone(P: np.ndarray, N: np.ndarray, tol: float) -> dict:
+    """A circular cone through the samples (`fit_face`): {"kind": "cone", "apex", "axis" (unit,
+    from the apex into the cone), "half_angle" (rad, > 0)} or {"kind": "other"}."""
+    dn = N - N.mean(axis=0)
+    wc, vc = np.linalg.eigh(dn.T @ dn)
+    if not (wc[0] < 1e-9 and wc[1] > 1e-3):            # one angle to one axis; not a plane
+        return {"kind": "other"}
+    a = vc[:, 0]
+    apex, *_ = np.linalg.lstsq(N, np.einsum("ij,ij->i", N, P), rcond=1e-12)
+    d = P - apex
+    h = d @ a
+    if np.mean(h) < 0:
+        a, h = -a, -h
+    if np.any(h <= 0):                                  # both nappes: not a face of one cone
+        return {"kind": "other"}
+    rho = np.linalg.norm(d - np.outer(h, a), axis=1)
+    beta = math.atan(float(rho @ h / (h @ h)))
+    if beta <= 0 or np.max(np.abs(rho * math.cos(beta) - h * math.sin(beta))) >= tol:
+        return {"kind": "other"}
+    return {"kind": "cone", "apex": apex, "axis": a, "half_angle": beta}
+
+
+def _fit_ellipse(P: np.ndarray, N: np.ndarray, a: np.ndarray, tol: float) -> dict:
+    """An elliptic cylinder of axis direction a through the samples (`fit_face`): {"kind":
+    "elliptic_cylinder", "axis", "point" (the ellipse's centre), "semi_axes" (major, minor),
+    "major" (unit direction of the major semi-axis, normal to a)} or {"kind": "other"}."""
+    e1 = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(a, e1)
+    u, v, nu, nv = P @ e1, P @ e2, N @ e1, N @ e2
+    u0, v0 = u.mean(), v.mean()
+    L = max(np.ptp(u), np.ptp(v))
+    if L <= 0:
+        return {"kind": "other"}
+    x, y = (u - u0) / L, (v - v0) / L                   # centred and scaled: a conditioned fit
+    one = np.ones_like(x)
+    rows = np.vstack([np.column_stack([x * x, x * y, y * y, x, y, one]),
+                      np.column_stack([2 * x * nv, y * nv - x * nu, -2 * y * nu, nv, -nu, 0 * one])])
+    Ac, Bc, Cc, Dc, Ec, Fc = np.linalg.svd(rows)[2][-1]
+    M = np.array([[Ac, 0.5 * Bc], [0.5 * Bc, Cc]])
+    g = 0.5 * np.array([Dc, Ec])
+    if np.linalg.det(M) <= 0:                           # not an ellipse (hyperbola, parabola)
+        return {"kind": "other"}
+    ctr = -np.linalg.solve(M, g)
+    F0 = Fc + g @ ctr
+    lam, vec = np.linalg.eigh(M)
+    semi = -F0 / lam
+    if np.any(semi <= 0):
+        return {"kind": "other"}
+    semi = np.sqrt(semi) * L
+    # residual: first-order distance |Q|/|grad Q|, in the model's length
+    Qv = Ac * x * x + Bc * x * y + Cc * y * y + Dc * x + Ec * y + Fc
+    grad = np.column_stack([2 * Ac * x + Bc * y + Dc, Bc * x + 2 * Cc * y + Ec])
+    gn = np.linalg.norm(grad, axis=1)
+    if np.any(gn <= 0) or np.max(np.abs(Qv) / gn) * L >= tol:
+        return {"kind": "other"}
+    cos_n = np.abs(grad[:, 0] * nu + grad[:, 1] * nv) / gn
+    if np.min(cos_n) < 1.0 - 1e-9:                      # the normals agree with the conic's
+        return {"kind": "other"}
+    point = (u0 + L * ctr[0]) * e1 + (v0 + L * ctr[1]) * e2 + a * float(np.mean(P @ a))
+    k = int(np.argmax(semi))                            # the major axis: the smaller eigenvalue
+    major = vec[0, k] * e1 + vec[1, k] * e2
+    return {"kind": "elliptic_cylinder", "axis": a, "point": point,
+            "semi_axes": (float(semi[k]), float(semi[1 - k])), "major": major / np.linalg.norm(major)}
 
 
 def _classify(vol: int, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
@@ -335,12 +448,18 @@ def _classify(vol: int, n_balls: int, pitch_diameter: float, ball_diameter: floa
                 side = math.copysign(1.0, P.mean(axis=0) @ a)
                 az = math.atan2(side * a[2], side * a[1])
                 centre = np.array([off[0], 0.5 * pitch_diameter * math.cos(az), 0.5 * pitch_diameter * math.sin(az)])
-                pockets.append((s, az, centre, "cylindrical", 2.0 * f["radius"]))
+                pockets.append((s, az, centre, "cylindrical", 2.0 * f["radius"], {}))
             else:
                 other.append(s)
         elif f["kind"] == "sphere":
             c = f["centre"] - shift
-            pockets.append((s, math.atan2(c[2], c[1]), c, "spherical", 2.0 * f["radius"]))
+            pockets.append((s, math.atan2(c[2], c[1]), c, "spherical", 2.0 * f["radius"], {}))
+        elif f["kind"] == "cone" and abs(f["axis"][0]) < 1e-6:
+            pocket = _cone_pocket(s, P, f, shift, pitch_diameter, tol, source)
+            (pockets if pocket else other).append(pocket or s)
+        elif f["kind"] == "elliptic_cylinder" and abs(f["axis"][0]) < 1e-6:
+            pocket = _ellipse_pocket(s, P, f, shift, pitch_diameter, tol, source)
+            (pockets if pocket else other).append(pocket or s)
         else:
             other.append(s)
     r_out = max((r for _, r, _, _ in ring), default=max(abs(ymin), abs(ymax), abs(zmin), abs(zmax)))
@@ -351,22 +470,106 @@ def _classify(vol: int, n_balls: int, pitch_diameter: float, ball_diameter: floa
     return x_mid, (xmin, xmax), r_out, ring, sides, pockets, other
 
 
+def _radial_side(P: np.ndarray, a: np.ndarray) -> tuple[float, np.ndarray]:
+    """A radial axis a (normal to x) turned to point from the bearing axis towards the face's
+    points: (azimuth from +y towards +z, the outward radial unit vector)."""
+    side = math.copysign(1.0, P.mean(axis=0) @ a)
+    er = side * np.array([0.0, a[1], a[2]])
+    er /= np.linalg.norm(er)
+    return math.atan2(er[2], er[1]), er
+
+
+def _cone_pocket(s: int, P: np.ndarray, f: dict, shift: np.ndarray, pitch_diameter: float, tol: float,
+                 source: str):
+    """A cone whose axis is normal to the bearing axis as a conical pocket (CageGeometry's
+    `pocket_shape = "conical"`): (face, azimuth, centre, "conical", Dp, {"cone_angle": β}), or
+    None when it is no pocket (its axis passes farther from the bearing axis than its own radius
+    there: a hole elsewhere, left as another face).
+
+    The model's cone (CageGeometry.cone_radius) has its axis on the radial line through the
+    pocket centre c (on the pitch circle) and radius ρ(s) = Dp/(2 cos β) + s tan β at s along the
+    axis from c (+ outwards): tangent to the sphere of diameter Dp about c. The fitted cone (apex v,
+    unit axis a into the cone, half-angle |β|) has ρ = h tan|β| at h = (q − v)·a from the apex, at
+    the pitch point q = (x_axis, R_p e_r); so Dp = 2 ρ(q) cos β = 2 h sin|β|, and β > 0 (wider at
+    the outside) when a points outwards (a·e_r > 0), < 0 when it points to the bore. A radial cone
+    that does not hold the pitch point (h <= 0) is refused naming cage.pocket_shape."""
+    v = f["apex"] - shift
+    a = f["axis"]
+    off = v - (v @ a) * a                               # the axis line's foot nearest the origin
+    az, er = _radial_side(P - shift, a)
+    rp = 0.5 * pitch_diameter
+    q = np.array([off[0], rp * er[1], rp * er[2]])
+    h = float((q - v) @ a)
+    if np.linalg.norm(off[1:]) >= tol:
+        if np.linalg.norm(off[1:]) < abs(h) * math.tan(f["half_angle"]):
+            raise InputError(f"cage.cad = {source!r}: a conical face at {math.degrees(az):.3f}° has its axis "
+                             f"{np.linalg.norm(off[1:]) * 1e3:.4f} mm off the bearing axis: cage.pocket_shape = "
+                             f"'conical' is a cone about the radial line through the pocket centre (its apex on it)")
+        return None
+    if h <= 0:
+        raise InputError(f"cage.cad = {source!r}: the conical face at {math.degrees(az):.3f}° has its apex "
+                         f"{abs(h) * 1e3:.4f} mm beyond the pitch circle: cage.pocket_shape = 'conical' needs "
+                         f"the cone open across the pitch circle")
+    beta = math.copysign(f["half_angle"], a @ er)
+    centre = np.array([off[0], q[1], q[2]])
+    return (s, az, centre, "conical", 2.0 * h * math.sin(f["half_angle"]), {"cone_angle": beta})
+
+
+def _ellipse_pocket(s: int, P: np.ndarray, f: dict, shift: np.ndarray, pitch_diameter: float, tol: float,
+                    source: str):
+    """An elliptic cylinder whose axis is normal to the bearing axis as an elliptical pocket
+    (CageGeometry's `pocket_shape = "elliptical"`: a radial cylinder of elliptical section,
+    diameter Dp along the bearing axis x, Dc in the direction of rotation t = x × e_r):
+    (face, azimuth, centre, "elliptical", Dp, {"circumferential_diameter": Dc}), or None when
+    its axis passes farther from the bearing axis than its minor semi-axis (a hole elsewhere).
+    With the fitted semi-axes A >= B and the major's direction d, the section is turned by φ from
+    the model's (d along x or along t); refused naming cage.pocket_circumferential_diameter when
+    (A − B)|sin φ| (about the largest displacement of the wall) exceeds 10 tol."""
+    c = f["point"] - shift
+    a = f["axis"]
+    off = c - (c @ a) * a
+    az, er = _radial_side(P - shift, a)
+    big, small = f["semi_axes"]
+    if np.linalg.norm(off[1:]) >= tol:
+        if np.linalg.norm(off[1:]) < small:
+            raise InputError(f"cage.cad = {source!r}: an elliptic cylinder at {math.degrees(az):.3f}° has its axis "
+                             f"{np.linalg.norm(off[1:]) * 1e3:.4f} mm off the bearing axis: cage.pocket_shape = "
+                             f"'elliptical' is a cylinder about the radial line through the pocket centre")
+        return None
+    d = f["major"]
+    t = np.cross([1.0, 0.0, 0.0], er)                   # direction of rotation at the pocket
+    along_x = abs(d[0]) >= abs(d @ t)
+    sin_phi = abs(d @ t) if along_x else abs(d[0])
+    if (big - small) * sin_phi > 10 * tol:
+        raise InputError(f"cage.cad = {source!r}: the elliptical pocket at {math.degrees(az):.3f}° has its axes "
+                         f"turned {math.degrees(math.asin(min(1.0, sin_phi))):.3f}° from the bearing axis and the "
+                         f"direction of rotation: the model's cage.pocket_diameter (axial) and "
+                         f"cage.pocket_circumferential_diameter take them axial and circumferential")
+    dx, dt = (2 * big, 2 * small) if along_x else (2 * small, 2 * big)
+    rp = 0.5 * pitch_diameter
+    centre = np.array([off[0], rp * er[1], rp * er[2]])
+    return (s, az, centre, "elliptical", dx, {"circumferential_diameter": dt})
+
+
 def _group_pockets(pockets, n_balls: int, source: str, named: str = ""):
     """Faces of one pocket share its azimuth (within 1e-6 rad): one entry per pocket."""
     out = []
-    for s, az, c, shape, dia in sorted(pockets, key=lambda t: t[1]):
+    for s, az, c, shape, dia, extra in sorted(pockets, key=lambda t: t[1]):
         for p in out:
             if abs(math.remainder(az - p["az"], 2 * math.pi)) < 1e-6:
                 p["faces"].append(s)
                 p["centres"].append(c)
                 p["shapes"].add(shape)
                 p["diameters"].append(dia)
+                p["extras"].append(extra)
                 break
         else:
-            out.append({"az": az, "faces": [s], "centres": [c], "shapes": {shape}, "diameters": [dia]})
+            out.append({"az": az, "faces": [s], "centres": [c], "shapes": {shape}, "diameters": [dia],
+                        "extras": [extra]})
     if not out:
         raise InputError(f"cage.cad = {source!r}: no pocket found (no spherical face centred near the "
-                         f"pitch circle, no cylindrical face with a radial axis)")
+                         f"pitch circle, no cylindrical face with a radial axis, no cone or elliptic "
+                         f"cylinder about a radial axis)")
     if len(out) != n_balls:
         raise InputError(f"cage.cad = {source!r}: {named}{len(out)} pockets found, the bearing has "
                          f"bearing.n_balls = {n_balls}; a cage needs one pocket per ball")
@@ -415,6 +618,9 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
     if len(shapes) != 1:
         raise InputError(f"cage.cad = {source!r}: pockets of mixed shapes {sorted(shapes)}; one shape per cage")
     shape = shapes.pop()
+    if shape in ("conical", "elliptical") and not (named.pockets or named.all_pockets):
+        found_by["pockets"] = ("geometry (cones about a radial axis)" if shape == "conical"
+                               else "geometry (elliptic cylinders about a radial axis)")
     dp = float(diam.mean())
     if np.ptp(diam) > 1e-3 * dp:
         raise InputError(f"cage.cad = {source!r}: pocket diameters differ ({diam.min() * 1e3:.4f} to "
@@ -423,6 +629,7 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
         raise InputError(f"cage.cad = {source!r}: pocket diameter {dp * 1e3:.4f} mm is not larger than "
                          f"the ball, bearing.ball_diameter = {ball_diameter * 1e3:.4f} mm")
     cp = 0.5 * (dp - ball_diameter)
+    extras = _shape_fields(shape, found, dp, source)
     pockets_out = []
     c_turn = (math.cos(turn), math.sin(turn))
     for k, p in enumerate(found):
@@ -438,7 +645,9 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
                              f"x {c[0] * 1e3:+.4f} mm: off the pitch circle (radius "
                              f"{0.5 * pitch_diameter * 1e3:.4f} mm, x 0) by more than 0.1·Cp = "
                              f"{0.1 * cp * 1e6:.1f} µm")
-        pockets_out.append(FoundPocket(az, tuple(c), shape, float(np.mean(p["diameters"])), tuple(p["faces"])))
+        pockets_out.append(FoundPocket(az, tuple(c), shape, float(np.mean(p["diameters"])), tuple(p["faces"]),
+                                       float(np.mean([e.get("cone_angle", 0.0) for e in p["extras"]])),
+                                       float(np.mean([e.get("circumferential_diameter", 0.0) for e in p["extras"]]))))
     if not ring:
         raise InputError(f"cage.cad = {source!r}: no cylindrical face about the bearing axis: not a ring cage")
     # ring cylinders: the face radii clustered within 2·FIT_TOL, each cluster's mean
@@ -503,11 +712,58 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
         outside_diameter=2 * r_o, bore_diameter=2 * r_i, width=width, n_pockets=z, pocket_diameter=dp,
         land_width=land_width, relief_depth=relief, chamfer=0.0, bore_chamfer=None,
         ball_diameter=ball_diameter, guidance=guidance, pocket_shape=shape,
-        pocket_centre_diameter=pitch_diameter if shape == "spherical" else PAPER_CAGE.pocket_centre_diameter,
+        pocket_centre_diameter=pitch_diameter if shape in ("spherical", "conical") else PAPER_CAGE.pocket_centre_diameter,
+        **extras,
         **({"material": material} if material is not None else {}))
+    _check_shape_fields(geometry, source)
     return CadCage(geometry=geometry, pockets=tuple(pockets_out), ring_cylinders=tuple(cyl),
                    guide_faces=tuple(guide), turned_by=turn, unit=used, source=source, scale=scale,
                    groups={k: list(v) for k, v in groups.items()}, found_by=found_by)
+
+
+def _shape_fields(shape: str, found: list, dp: float, source: str) -> dict:
+    """The CageGeometry fields of a conical or an elliptical cage from its pockets (one value for
+    all, as the pocket diameter), refused in one line naming the field when the model cannot take
+    them: the half-angle within ±MAX_CONE_ANGLE; the circumferential diameter at least the axial."""
+    from .cage_geometry import MAX_CONE_ANGLE
+    if shape == "conical":
+        beta = np.array([e["cone_angle"] for p in found for e in p["extras"]])
+        if np.ptp(beta) > 1e-6:
+            raise InputError(f"cage.cad = {source!r}: cone half-angles differ ({math.degrees(beta.min()):+.4f}° to "
+                             f"{math.degrees(beta.max()):+.4f}°); the model takes one cage.pocket_cone_angle")
+        b = float(beta.mean())
+        if abs(b) > MAX_CONE_ANGLE:
+            raise InputError(f"cage.cad = {source!r}: cage.pocket_cone_angle = {math.degrees(b):+.3f}° found, "
+                             f"allowed: within ±{math.degrees(MAX_CONE_ANGLE):.0f}°")
+        return {"pocket_cone_angle": b}
+    if shape == "elliptical":
+        dc = np.array([e["circumferential_diameter"] for p in found for e in p["extras"]])
+        d = float(dc.mean())
+        if np.ptp(dc) > 1e-3 * d:
+            raise InputError(f"cage.cad = {source!r}: pocket circumferential diameters differ ({dc.min() * 1e3:.4f} "
+                             f"to {dc.max() * 1e3:.4f} mm); the model takes one cage.pocket_circumferential_diameter")
+        if d < dp:
+            raise InputError(f"cage.cad = {source!r}: cage.pocket_circumferential_diameter = {d * 1e3:.4f} mm found, "
+                             f"smaller than the axial cage.pocket_diameter = {dp * 1e3:.4f} mm; the model's "
+                             f"elliptical pocket is at least as long in the direction of rotation")
+        return {"pocket_circumferential_diameter": d}
+    return {}
+
+
+def _check_shape_fields(geometry: CageGeometry, source: str) -> None:
+    """The model's own limits on a conical or elliptical pocket (CageGeometry.validate: the cone's
+    half-angle and wide end, the ellipse between the axial diameter and what the ball's curvature
+    and the neighbours allow), applied to the found cage: refused in validate's line naming the
+    field. Other limits are left to the bearing's check, as for cylindrical and spherical pockets."""
+    fields = {"conical": "cage.pocket_cone_angle", "elliptical": "cage.pocket_circumferential_diameter"}
+    name = fields.get(geometry.pocket_shape)
+    if name is None:
+        return
+    try:
+        geometry.validate()
+    except InputError as e:
+        if str(e).startswith(name):
+            raise InputError(f"cage.cad = {source!r}: {e} (the {geometry.pocket_shape} pocket found in the file)") from None
 
 
 def _group_of(pocket: dict) -> str:

@@ -13,18 +13,31 @@ import math
 from pathlib import Path
 
 Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0   # mm, degrees
+# mm: the elliptical pockets' diameter in the direction of rotation; the model takes at most
+# 2A²/(Dw/2) = 22.807 mm with A = DP/2 and the 22 mm ball (the ball fits the ellipse's end curvature)
+DC = 22.8
 
 
 DIMPLE = 2.0        # mm: radius of the spherical dimple on the outside (`make_cad_cage(dimple=True)`)
 
 
 def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere_offset_mm: float = 0.0,
-                  scale: float = 1.0, shape: str = "spherical", dimple: bool = False):
+                  scale: float = 1.0, shape: str = "spherical", dimple: bool = False,
+                  cone_angle_deg: float = 5.0, dc: float = DC, ellipse_turn_deg: float = 0.0,
+                  skew_mm: float = 0.0):
     """Write the test cage to `path` (.step in mm, or .brep in mm·scale); pocket 3 moved radially
     by sphere_offset_mm (a pocket off the pitch circle, for the refusal); shape "cylindrical":
     radial cylinders through the ring instead of the spheres; dimple: a spherical dimple of
     DIMPLE mm centred on the outside between pockets 0 and 1 (a sphere the geometric search
-    takes for a fifteenth pocket; named groups leave it out). Returns the path."""
+    takes for a fifteenth pocket; named groups leave it out).
+
+    shape "conical": radial cones of half-angle cone_angle_deg (> 0 wider at the outside), the
+    model's cone of pocket diameter dp (CageGeometry.cone_radius: radius dp/(2 cos β) + s tan β
+    at s from the pitch circle, outwards); shape "elliptical": radial cylinders of elliptical
+    section, dp along the bearing axis and dc in the direction of rotation, the section turned
+    by ellipse_turn_deg about the pocket axis (0: the model's). skew_mm moves pocket 3's tool of
+    these two shapes in the direction of rotation, its axis then missing the bearing axis.
+    Returns the path."""
     import gmsh
     gmsh.initialize()
     try:
@@ -36,6 +49,10 @@ def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere
         tools = []
         for k in range(z):
             th = 2 * math.pi * k / z + math.radians(TURN)
+            if shape in ("conical", "elliptical"):
+                tools.append(_radial_tool(occ, shape, th, dp, dc, cone_angle_deg, ellipse_turn_deg,
+                                          skew_mm if k == 3 else 0.0))
+                continue
             if shape == "cylindrical":
                 r0, length = BORE / 2 - 5.0, (OD - BORE) / 2 + 10.0
                 tools.append((3, occ.addCylinder(0, r0 * math.cos(th), r0 * math.sin(th),
@@ -54,6 +71,31 @@ def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere
     finally:
         gmsh.finalize()
     return path
+
+
+def _radial_tool(occ, shape: str, th: float, dp: float, dc: float, cone_angle_deg: float,
+                 ellipse_turn_deg: float, skew: float):
+    """The tool cutting one conical or elliptical pocket at azimuth th (`make_cad_cage`): from 5 mm
+    inside the bore to 5 mm outside the outside, along e_r = (0, cos th, sin th)."""
+    r0, length = BORE / 2 - 5.0, (OD - BORE) / 2 + 10.0
+    er = (0.0, math.cos(th), math.sin(th))
+    t = (0.0, -math.sin(th), math.cos(th))              # the direction of rotation
+    if shape == "conical":
+        b = math.radians(cone_angle_deg)
+        rad = [dp / (2 * math.cos(b)) + (s - PITCH / 2) * math.tan(b) for s in (r0, r0 + length)]
+        x0 = [r0 * e + skew * u for e, u in zip(er, t)]
+        return (3, occ.addCone(*x0, *(length * e for e in er), rad[0], rad[1]))
+    # elliptical: drawn in the local xy plane (x -> t, y -> the bearing axis), extruded along z -> e_r
+    big, small = max(dp, dc) / 2, min(dp, dc) / 2
+    curve = occ.addEllipse(0, 0, 0, big, small)
+    surf = occ.addPlaneSurface([occ.addCurveLoop([curve])])
+    spin = (0.0 if dc >= dp else math.pi / 2) + math.radians(ellipse_turn_deg)
+    occ.rotate([(2, surf)], 0, 0, 0, 0, 0, 1, spin)
+    occ.translate([(2, surf)], skew, 0, r0)
+    vol = [dt for dt in occ.extrude([(2, surf)], 0, 0, length) if dt[0] == 3]
+    occ.rotate(vol, 0, 0, 0, 0, 0, 1, -math.pi / 2)     # local x -> -y, y -> x
+    occ.rotate(vol, 0, 0, 0, 1, 0, 0, th - math.pi / 2)  # -y -> t, z -> e_r
+    return vol[0]
 
 
 def make_named_cad_cage(path, guidance: str = "inner", wrong: str = "", **cage):
