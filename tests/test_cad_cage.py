@@ -93,28 +93,20 @@ def test_refusals_name_what_is_missing(tmp_path, step_file, case, match):
 def test_mesh_of_the_cad_cage(tmp_path, step_file):
     """`build_cad_cage_mesh`: tagged like the parametric cage (one group per pocket, guide = the
     bore), every node of pocket k on its sphere (CAD precision or the repair's reported shift)."""
-    import gmsh
     from flexbearing.mesh.cad_cage import build_cad_cage_mesh
     from flexbearing.mesh.cage_mesh import mesh_quality_of
+    from flexbearing.verification.cad_test_cage import mesh_groups
     out = tmp_path / "cage14.msh"
     cad = build_cad_cage_mesh(step_file, out, Z, PITCH * 1e-3, 22e-3, "inner", size=8e-3, pocket_size=6e-3)
     shift = mesh_quality_of(out)["repair"]["max_node_shift_m"]
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.merge(str(out))
-        names = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
-        assert names["cage"] == (3, 1) and names["guide"] == (2, 200)
-        for k in range(Z):
-            d, t = names[f"pocket_{k:02d}"]
-            assert t == 101 + k
-            _, X = gmsh.model.mesh.getNodesForPhysicalGroup(d, t)
-            X = X.reshape(-1, 3)
-            c = np.array(cad.pockets[k].centre)
-            dist = np.abs(np.linalg.norm(X - c, axis=1) - 0.5 * DP * 1e-3)
-            assert dist.max() <= shift + 1e-8
-    finally:
-        gmsh.finalize()
+    groups = mesh_groups(out)
+    assert groups["cage"][:2] == (3, 1) and groups["guide"][:2] == (2, 200)
+    for k in range(Z):
+        d, t, X = groups[f"pocket_{k:02d}"]
+        assert t == 101 + k
+        c = np.array(cad.pockets[k].centre)
+        dist = np.abs(np.linalg.norm(X - c, axis=1) - 0.5 * DP * 1e-3)
+        assert dist.max() <= shift + 1e-8
 
 
 @pytest.mark.slow
@@ -125,12 +117,8 @@ def test_cad_cage_modes_against_calculix(tmp_path, step_file):
     import shutil
     if shutil.which("ccx") is None:
         pytest.skip("CalculiX (ccx) not installed")
-    from flexbearing.mesh.cad_cage import build_cad_cage_mesh
-    from flexbearing.mesh.cage_geometry import PAPER_CAGE
-    from flexbearing.verification.calculix_check import frequency_case, project_model
-    out = tmp_path / "cage14.msh"
-    build_cad_cage_mesh(step_file, out, Z, PITCH * 1e-3, 22e-3, "inner", size=5e-3, pocket_size=4e-3)
-    r = frequency_case(project_model(out, PAPER_CAGE.material), PAPER_CAGE.material, 20, msh_path=out)
+    from flexbearing.verification.cad_test_cage import calculix_modes_check
+    r = calculix_modes_check(step_file, tmp_path / "cage14.msh")
     assert r["max_abs_rel_diff"] < 0.005
     assert r["max_abs_rel_diff_quadrature2"] < 1e-5
 

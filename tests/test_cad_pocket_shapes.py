@@ -19,6 +19,7 @@ import pytest
 
 from flexbearing.common.validation import InputError
 from flexbearing.verification.cad_test_cage import BORE, DC, DP, OD, PITCH, TURN, WIDTH, Z, make_cad_cage
+from test_cad_cage import SCENE     # the 14-pocket CAD cage's scene (cad = "cage14.step")
 
 DW = 22e-3          # the ball (m)
 
@@ -186,37 +187,29 @@ def test_mesh_of_conical_and_elliptical_cages(tmp_path, cages, key):
     bore), checked (its quality sidecar), every node of pocket k on the model's pocket surface
     (CAD precision or the repair's reported shift): the cone of CageGeometry.cone_radius, the
     ellipse of the axial and circumferential diameters."""
-    import gmsh
     from flexbearing.mesh.cad_cage import build_cad_cage_mesh
     from flexbearing.mesh.cage_mesh import mesh_quality_of
+    from flexbearing.verification.cad_test_cage import mesh_groups
     out = tmp_path / f"{key}.msh"
     cad = build_cad_cage_mesh(cages[key], out, Z, PITCH * 1e-3, DW, "inner", size=8e-3, pocket_size=6e-3)
     g = cad.geometry
     shift = mesh_quality_of(out)["repair"]["max_node_shift_m"]
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.merge(str(out))
-        names = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
-        assert names["cage"] == (3, 1) and names["guide"] == (2, 200)
-        for k in range(Z):
-            d, t = names[f"pocket_{k:02d}"]
-            _, X = gmsh.model.mesh.getNodesForPhysicalGroup(d, t)
-            X = X.reshape(-1, 3) - np.array(cad.pockets[k].centre)
-            az = cad.pockets[k].azimuth
-            er = np.array([0.0, math.cos(az), math.sin(az)])
-            tk = np.array([0.0, -math.sin(az), math.cos(az)])
-            if g.pocket_shape == "conical":
-                s = X @ er
-                rho = np.linalg.norm(X - np.outer(s, er), axis=1)
-                dist = np.abs(rho - g.cone_radius(s)) * math.cos(g.pocket_cone_angle)
-            else:
-                A, B = 0.5 * g.pocket_diameter, 0.5 * g.pocket_circumferential_diameter
-                q = np.hypot(X[:, 0] / A, (X @ tk) / B)
-                dist = np.abs(q - 1.0) * B          # first order, within the ratio B/A of the distance
-            assert dist.max() <= shift + 1e-8
-    finally:
-        gmsh.finalize()
+    groups = mesh_groups(out)
+    assert groups["cage"][:2] == (3, 1) and groups["guide"][:2] == (2, 200)
+    for k in range(Z):
+        X = groups[f"pocket_{k:02d}"][2] - np.array(cad.pockets[k].centre)
+        az = cad.pockets[k].azimuth
+        er = np.array([0.0, math.cos(az), math.sin(az)])
+        tk = np.array([0.0, -math.sin(az), math.cos(az)])
+        if g.pocket_shape == "conical":
+            s = X @ er
+            rho = np.linalg.norm(X - np.outer(s, er), axis=1)
+            dist = np.abs(rho - g.cone_radius(s)) * math.cos(g.pocket_cone_angle)
+        else:
+            A, B = 0.5 * g.pocket_diameter, 0.5 * g.pocket_circumferential_diameter
+            q = np.hypot(X[:, 0] / A, (X @ tk) / B)
+            dist = np.abs(q - 1.0) * B          # first order, within the ratio B/A of the distance
+        assert dist.max() <= shift + 1e-8
 
 
 def test_named_conical_pockets(tmp_path, cages):
@@ -242,24 +235,6 @@ def test_named_conical_pockets(tmp_path, cages):
         _read(tmp_path / "wrong.geo")
 
 
-SCENE = """name = "cone14"
-[bearing]
-n_balls = 14
-inner_land_diameter = 157.25e-3
-[cage]
-model = "flexible"
-cad = "cone.step"
-guidance = "inner"
-[operation]
-duration = 0.01
-[operation.speed]
-phases = [{ kind = "uniform", duration = 0.01, rpm = 14000 }]
-[operation.load]
-axial_load = 55e3
-[output]
-sample_interval = 1e-3
-record = ["cage_speed"]
-"""
 
 
 def test_scene_with_a_conical_cad_cage(tmp_path, monkeypatch, cages):
@@ -268,8 +243,8 @@ def test_scene_with_a_conical_cad_cage(tmp_path, monkeypatch, cages):
     import shutil
     from flexbearing.simulation.scene import load_scene
     monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path / "cache"))
-    shutil.copy(cages["cone-5"], tmp_path / "cone.step")
-    (tmp_path / "s.toml").write_text(SCENE)
+    shutil.copy(cages["cone-5"], tmp_path / "cage14.step")
+    (tmp_path / "s.toml").write_text(SCENE.format(extra=""))
     g = load_scene(tmp_path / "s.toml").bearing.cage
     assert (g.n_pockets, g.pocket_shape, g.guidance) == (Z, "conical", "inner")
     assert g.pocket_cone_angle == pytest.approx(math.radians(-5.0), abs=1e-9)
@@ -286,11 +261,7 @@ def test_conical_and_elliptical_cad_cages_modes_against_calculix(tmp_path, cages
     import shutil
     if shutil.which("ccx") is None:
         pytest.skip("CalculiX (ccx) not installed")
-    from flexbearing.mesh.cad_cage import build_cad_cage_mesh
-    from flexbearing.mesh.cage_geometry import PAPER_CAGE
-    from flexbearing.verification.calculix_check import frequency_case, project_model
-    out = tmp_path / f"cage_{key}.msh"
-    build_cad_cage_mesh(cages[key], out, Z, PITCH * 1e-3, 22e-3, "inner", size=5e-3, pocket_size=4e-3)
-    r = frequency_case(project_model(out, PAPER_CAGE.material), PAPER_CAGE.material, 20, msh_path=out)
+    from flexbearing.verification.cad_test_cage import calculix_modes_check
+    r = calculix_modes_check(cages[key], tmp_path / f"cage_{key}.msh")
     assert r["max_abs_rel_diff"] < 0.005
     assert r["max_abs_rel_diff_quadrature2"] < 1e-5

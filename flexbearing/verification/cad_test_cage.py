@@ -150,3 +150,33 @@ def make_named_cad_cage(path, guidance: str = "inner", wrong: str = "", **cage):
     lines.append(f'Physical Surface("guide") = {{{", ".join(map(str, guide))}}};')
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def mesh_groups(msh_path) -> dict:
+    """The physical groups of a cage mesh file, read back with gmsh: {name: (dim, tag, nodes (n, 3)
+    in m)} — what the CAD tests check a mesh's tagging and its pocket nodes with."""
+    import gmsh
+    import numpy as np
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.merge(str(msh_path))
+        out = {}
+        for d, t in gmsh.model.getPhysicalGroups():
+            _, X = gmsh.model.mesh.getNodesForPhysicalGroup(d, t)
+            out[gmsh.model.getPhysicalName(d, t)] = (d, t, np.asarray(X).reshape(-1, 3))
+        return out
+    finally:
+        gmsh.finalize()
+
+
+def calculix_modes_check(step_path, out_msh, n_modes: int = 20) -> dict:
+    """The CAD test cage's free–free modes, the project's P2 against CalculiX C3D10 on the same
+    5 mm curved mesh (flexbearing.verification.calculix_check.frequency_case; steel of the paper
+    cage, inner-land guided, 14 pockets on the 167 mm pitch circle, 22 mm balls)."""
+    from flexbearing.mesh.cad_cage import build_cad_cage_mesh
+    from flexbearing.mesh.cage_geometry import PAPER_CAGE
+    from .calculix_check import frequency_case, project_model
+    build_cad_cage_mesh(step_path, out_msh, Z, PITCH * 1e-3, 22e-3, "inner", size=5e-3, pocket_size=4e-3)
+    return frequency_case(project_model(out_msh, PAPER_CAGE.material), PAPER_CAGE.material, n_modes,
+                          msh_path=out_msh)
