@@ -21,7 +21,6 @@ import tempfile
 from pathlib import Path
 
 RESULTS = Path(__file__).parent / "results" / "eigensolver.json"
-REFERENCE_BLAS = "/usr/lib/x86_64-linux-gnu/blas:/usr/lib/x86_64-linux-gnu/lapack"
 
 _DUMP = r"""
 import sys, numpy as np, scipy.sparse as sp
@@ -73,7 +72,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     env = {k: v for k, v in os.environ.items() if k != "LD_LIBRARY_PATH"}
     env["OPENBLAS_NUM_THREADS"] = "1"
-    blases = {"system": {}, "reference": {"LD_LIBRARY_PATH": REFERENCE_BLAS}}
+    from flexbearing.common.blas import DEBIAN_REFERENCE_BLAS_DIRS
+    blases = {"system": {}, "reference": {"LD_LIBRARY_PATH": ":".join(DEBIAN_REFERENCE_BLAS_DIRS)}}
     runs = {}
     with tempfile.TemporaryDirectory(prefix="fb-eig-") as folder:
         subprocess.run([sys.executable, "-c", _DUMP, folder], env=env, check=True)

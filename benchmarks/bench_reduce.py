@@ -46,9 +46,6 @@ from pathlib import Path
 
 RESULTS = Path(__file__).parent / "results" / "reduce_paper.json"
 LOOP_RESULTS = Path(__file__).parent / "results" / "reduce_design_loop.json"
-# Debian's reference BLAS and LAPACK (libblas3, liblapack3): first on LD_LIBRARY_PATH, they win
-# over the libblas.so.3 alternative (OpenBLAS when installed) for a child process
-REFERENCE_BLAS = "/usr/lib/x86_64-linux-gnu/blas:/usr/lib/x86_64-linux-gnu/lapack"
 
 # one repetition of the design loop, run as `python -c` in a fresh process (its own peak RSS and
 # CPU time) with FLEXBEARING_CACHE an empty folder; prints one JSON line
@@ -245,7 +242,8 @@ def main(argv=None):
             one = {"OPENBLAS_NUM_THREADS": "1"}
             configs = [("other", args.code, one), ("this", None, one)]
             if args.reference_blas:
-                ref = {"LD_LIBRARY_PATH": REFERENCE_BLAS}
+                from flexbearing.common.blas import DEBIAN_REFERENCE_BLAS_DIRS
+                ref = {"LD_LIBRARY_PATH": ":".join(DEBIAN_REFERENCE_BLAS_DIRS)}
                 configs += [("other_refblas", args.code, ref), ("this_refblas", None, ref)]
             if args.openblas:
                 configs += [(f"this_openblas{n}", None, {"LD_LIBRARY_PATH": str(args.openblas),

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-REFERENCE_DIRS = ["/usr/lib/x86_64-linux-gnu/blas", "/usr/lib/x86_64-linux-gnu/lapack"]
+from flexbearing.common.blas import DEBIAN_REFERENCE_BLAS_DIRS as REFERENCE_DIRS
 OPENBLAS = Path("/usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3")
 CHILD = ("import flexbearing, json; from flexbearing.common.blas import blas_info; "
          "i = blas_info(); print(json.dumps([i.name, i.path, i.threads, i.optimised]))")

@@ -18,8 +18,13 @@ import ctypes
 import os
 from typing import NamedTuple
 
-# substrings of a loaded library's file name that mark an optimised BLAS
+# substrings of a loaded library's path that mark an optimised BLAS (Debian's OpenBLAS is loaded as
+# .../openblas-pthread/libblas.so.3, the libblas.so.3 alternative)
 OPTIMISED = {"openblas": "OpenBLAS", "libmkl": "MKL", "libblis": "BLIS", "libflexiblas": "FlexiBLAS"}
+# Debian's reference (netlib) BLAS and LAPACK folders (libblas3, liblapack3): first on
+# LD_LIBRARY_PATH they win over the libblas.so.3 alternative for a child process (how the
+# benchmarks and tests run the reference BLAS beside an installed OpenBLAS)
+DEBIAN_REFERENCE_BLAS_DIRS = ("/usr/lib/x86_64-linux-gnu/blas", "/usr/lib/x86_64-linux-gnu/lapack")
 
 
 class BlasInfo(NamedTuple):
@@ -50,9 +55,8 @@ def blas_info() -> BlasInfo:
     import numpy  # noqa: F401  (loads libblas.so.3)
     libs = loaded_libraries()
     for path in libs:
-        base = os.path.basename(path)
         for key, name in OPTIMISED.items():
-            if key in base or (key == "openblas" and "/openblas" in path and "libblas" in base):
+            if key in path:
                 threads, core = _openblas_threads_core(path) if name == "OpenBLAS" else (None, None)
                 return BlasInfo(name, path, threads, core)
     for path in libs:

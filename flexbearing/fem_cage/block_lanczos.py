@@ -60,6 +60,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 
 DEFAULT_BLOCK = 12        # columns per step: about the fewest operator columns for 30 modes (paper
 #                           cage, to 1e-8: blocks of 10, 12, 15, 20 needed 240, 252, 270, 320; 30 needed 420)
@@ -108,7 +109,6 @@ def m_orthonormalise(W: np.ndarray, MW: np.ndarray, drop: float = 1e-8,
 def constraint_projection(C) -> Callable[[np.ndarray], np.ndarray]:
     """W -> P_C W = W - C^T (C C^T)^-1 C W (L5), the Euclidean projection onto ker C (C: sparse,
     full row rank; C C^T factorised once by Cholesky)."""
-    import scipy.sparse as sp
     C = sp.csr_matrix(C)
     factor = sla.cho_factor((C @ C.T).toarray())
 

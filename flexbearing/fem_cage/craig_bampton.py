@@ -66,6 +66,9 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
+from flexbearing.common.blas import blas_info
+from .block_lanczos import block_lanczos_modes, constraint_projection
+
 
 # ------------------------------------------------------------------ PETSc helpers
 
@@ -256,14 +259,12 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
     when the method has it).
     """
     if method == "auto":
-        from flexbearing.common.blas import blas_info
         method = "block-lanczos" if blas_info().optimised else "slepc"
     if method not in ("block-lanczos", "slepc"):
         raise ValueError(f"reduce.eigensolver = {method!r} is outside the allowed set "
                          "{auto, block-lanczos, slepc}")
     mass_times = mass_times or (lambda X: M @ X)
     if method == "block-lanczos":
-        from .block_lanczos import block_lanczos_modes, constraint_projection
         modes = block_lanczos_modes(lambda F: solver.solve(F, None)[0], mass_times, K.shape[0],
                                     n_fixed, project=constraint_projection(solver.C))
         info = {"eigensolver": "block Lanczos", "operator_applications": modes.operator_columns,

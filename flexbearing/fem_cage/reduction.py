@@ -261,7 +261,8 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
     t0 = time.perf_counter()
     stage("Craig-Bampton modes")
     # the vector mass is Ms ⊗ I3 (RBE3 keeps the physical DOFs); RBE2's T^T M T is not
-    mass_times = kron_mass_times(scalar_mass_matrix(M)) if T is None else None
+    Ms = scalar_mass_matrix(M)                   # also the invariants' (below)
+    mass_times = kron_mass_times(Ms) if T is None else None
     cb = craig_bampton(Kz, Mz, C, n_fixed, body_loads=body, eigensolver=eigensolver,
                        mass_times=mass_times)
     timings["craig_bampton_s"] = time.perf_counter() - t0
@@ -273,7 +274,7 @@ def reduce_model(domain, facet_tags, V, K_petsc, M_petsc, geometry, coupling: st
     log(f"orthonormalised {N.shape[1]} modes; invariants")
     stage("invariants")
     t0 = time.perf_counter()
-    mom = mass_moments(scalar_mass_matrix(M), X, Phi_full)
+    mom = mass_moments(Ms, X, Phi_full)
     rigid = rigid_properties(mom)
     inv = ffrf_invariants(mom)
     timings["invariants_s"] = time.perf_counter() - t0
