@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import dblquad
 from scipy.optimize import minimize_scalar
 
 from flexbearing.common.validation import InputError
@@ -23,6 +22,7 @@ from flexbearing.multibody import model as M
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody.pocket import (conical_pocket_curvature_radii, pocket_axis_point,
                                           pocket_contact_offset, pocket_curvature_radii)
+from test_pocket_shapes import annulus_minus_pockets_mass
 
 OFF = {"traction": False, "drag": False, "damping": False, "rolling_resistance": False}
 R_PITCH = 0.5 * PAPER_BEARING.pitch_diameter
@@ -134,15 +134,13 @@ def test_conical_pocket_volume_in_the_mass():
     """rho·(annulus − Z·V), V the cone's part inside the annulus: dblquad over (r, phi) of the
     chord 2·sqrt(R(s)² − (r·sin(phi))²) along x (s = r·cos(phi) − Rpitch). 2e-3: the model's grid."""
     cage = PAPER_CAGE.with_(pocket_shape="conical", pocket_cone_angle=BETA).validate()
-    ri, ro, rc, w = cage.inner_radius, cage.outer_radius, 0.5 * cage.pocket_centre_diameter, cage.width
+    ri, ro, rc = cage.inner_radius, cage.outer_radius, 0.5 * cage.pocket_centre_diameter
 
     def chord(phi, r):
         rr = cage.cone_radius(r * math.cos(phi) - rc)
         s = rr * rr - (r * math.sin(phi)) ** 2
         return 2.0 * math.sqrt(s) * r if s > 0 else 0.0
-    half = math.asin(cage.cone_radius(ro - rc) / ri) * 1.01
-    v = dblquad(chord, ri, ro, -half, half, epsabs=1e-14, epsrel=1e-10)[0]
-    m_ref = cage.material.density * (math.pi * (ro ** 2 - ri ** 2) * w - cage.n_pockets * v)
+    m_ref = annulus_minus_pockets_mass(cage, chord, math.asin(cage.cone_radius(ro - rc) / ri) * 1.01)
     assert M.cage_mass_properties(cage)[0] == pytest.approx(m_ref, rel=2e-3)
     assert abs(M.cage_mass_properties(PAPER_CAGE)[0] - m_ref) > 5e-3 * m_ref
 
@@ -166,27 +164,20 @@ def test_cone_angle_refusals_and_scene_keys():
 def test_conical_pocket_mesh(tmp_path):
     """Every node of pocket k lies on its cone (curved quadratic mesh at 6 mm: CAD precision or the
     repair's reported shift)."""
-    import gmsh
     from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+    from flexbearing.verification.cad_test_cage import mesh_groups
     g = PAPER_CAGE.with_(pocket_shape="conical", pocket_cone_angle=BETA).validate()
     path = build_cage_mesh(g, 8e-3, 2, tmp_path / "c.msh", pocket_size=6e-3)
     shift = mesh_quality_of(path)["repair"]["max_node_shift_m"]
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.merge(str(path))
-        names = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
-        rc = 0.5 * g.pocket_centre_diameter
-        for k in range(g.n_pockets):
-            th = 2 * math.pi * k / g.n_pockets
-            a = np.array([0.0, math.cos(th), math.sin(th)])
-            _, X = gmsh.model.mesh.getNodesForPhysicalGroup(*names[f"pocket_{k:02d}"])
-            X = X.reshape(-1, 3)
-            s = X @ a
-            dist = np.linalg.norm(X - np.outer(s, a), axis=1) - g.cone_radius(s - rc)
-            assert np.max(np.abs(dist)) <= 1e-9 + 1e-5 * g.outer_radius + shift
-    finally:
-        gmsh.finalize()
+    groups = mesh_groups(path)
+    rc = 0.5 * g.pocket_centre_diameter
+    for k in range(g.n_pockets):
+        th = 2 * math.pi * k / g.n_pockets
+        a = np.array([0.0, math.cos(th), math.sin(th)])
+        X = groups[f"pocket_{k:02d}"][2]
+        s = X @ a
+        dist = np.linalg.norm(X - np.outer(s, a), axis=1) - g.cone_radius(s - rc)
+        assert np.max(np.abs(dist)) <= 1e-9 + 1e-5 * g.outer_radius + shift
 
 
 def test_a_run_with_a_zero_angle_cone_is_the_cylindrical_run(tmp_path):

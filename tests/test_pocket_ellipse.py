@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import dblquad
 from scipy.optimize import minimize_scalar
 
 from flexbearing.common.validation import InputError
@@ -23,6 +22,7 @@ from flexbearing.multibody import model as M
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody.pocket import (ellipse_curvature_radius, ellipse_nearest_point,
                                           elliptical_pocket_curvature_radii, pocket_contact_offset)
+from test_pocket_shapes import annulus_minus_pockets_mass
 
 OFF = {"traction": False, "drag": False, "damping": False, "rolling_resistance": False}
 R_PITCH = 0.5 * PAPER_BEARING.pitch_diameter
@@ -114,14 +114,11 @@ def test_elliptical_pocket_volume_in_the_mass():
     """rho·(annulus − Z·V), V = ∫∫ 2A·sqrt(1 − (r sin(phi)/B)²) r dr dphi over the annulus (the
     ellipse's chord along x; the section does not change along the radial axis). 2e-3: the model's grid."""
     cage = PAPER_CAGE.with_(pocket_shape="elliptical", pocket_circumferential_diameter=DT).validate()
-    ri, ro, w = cage.inner_radius, cage.outer_radius, cage.width
 
     def chord(phi, r):
         s = 1.0 - (r * math.sin(phi) / B) ** 2
         return 2.0 * A * math.sqrt(s) * r if s > 0 else 0.0
-    half = math.asin(B / ri) * 1.01
-    v = dblquad(chord, ri, ro, -half, half, epsabs=1e-14, epsrel=1e-10)[0]
-    m_ref = cage.material.density * (math.pi * (ro ** 2 - ri ** 2) * w - cage.n_pockets * v)
+    m_ref = annulus_minus_pockets_mass(cage, chord, math.asin(B / cage.inner_radius) * 1.01)
     assert M.cage_mass_properties(cage)[0] == pytest.approx(m_ref, rel=2e-3)
     assert abs(M.cage_mass_properties(PAPER_CAGE)[0] - m_ref) > 5e-3 * m_ref
 
@@ -144,25 +141,18 @@ def test_refusals_and_scene_key():
 
 
 def test_elliptical_pocket_mesh(tmp_path):
-    import gmsh
     from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+    from flexbearing.verification.cad_test_cage import mesh_groups
     g = PAPER_CAGE.with_(pocket_shape="elliptical", pocket_circumferential_diameter=DT).validate()
     path = build_cage_mesh(g, 8e-3, 2, tmp_path / "e.msh", pocket_size=6e-3)
     shift = mesh_quality_of(path)["repair"]["max_node_shift_m"]
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.merge(str(path))
-        names = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
-        for k in range(g.n_pockets):
-            th = 2 * math.pi * k / g.n_pockets
-            tang = np.array([0.0, -math.sin(th), math.cos(th)])
-            _, X = gmsh.model.mesh.getNodesForPhysicalGroup(*names[f"pocket_{k:02d}"])
-            X = X.reshape(-1, 3)
-            lev = np.hypot(X[:, 0] / A, (X @ tang) / B)
-            assert np.max(np.abs(lev - 1.0)) * A <= 1e-9 + 1e-5 * g.outer_radius + shift
-    finally:
-        gmsh.finalize()
+    groups = mesh_groups(path)
+    for k in range(g.n_pockets):
+        th = 2 * math.pi * k / g.n_pockets
+        tang = np.array([0.0, -math.sin(th), math.cos(th)])
+        X = groups[f"pocket_{k:02d}"][2]
+        lev = np.hypot(X[:, 0] / A, (X @ tang) / B)
+        assert np.max(np.abs(lev - 1.0)) * A <= 1e-9 + 1e-5 * g.outer_radius + shift
 
 
 def test_a_run_with_elliptical_pockets_loads_them():

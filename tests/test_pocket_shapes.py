@@ -89,21 +89,28 @@ def test_radial_offset_loads_only_the_spherical_pocket():
     assert out[1] == pytest.approx(-11.0 * 0.5, rel=1e-12)
 
 
+def annulus_minus_pockets_mass(cage, chord, half: float) -> float:
+    """rho·(annulus − Z·V), the reference cage mass of the pocket-shape tests: V the volume of one
+    pocket inside the annulus r_i <= r <= r_o, by dblquad of chord(phi, r) (the pocket's chord
+    along x, times r) over r_i..r_o and |phi| <= half."""
+    ri, ro, w = cage.inner_radius, cage.outer_radius, cage.width
+    v = dblquad(chord, ri, ro, -half, half, epsabs=1e-14, epsrel=1e-10)[0]
+    return cage.material.density * (math.pi * (ro ** 2 - ri ** 2) * w - cage.n_pockets * v)
+
+
 def test_spherical_pocket_volume_in_the_mass():
     """Cage mass with spherical pockets = rho·(annulus − Z·V), V the sphere's volume inside the
     annulus r_i <= r <= r_o, by dblquad over (r, phi) of the chord 2·sqrt(Rp² − |p − c|²) along x
     (the sphere, 22.5 mm, fits in the 28.3 mm width). Tolerance 2e-3: the model's midpoint grid
     (its annulus alone is within 1e-3, tests/test_dynamics.py)."""
     cage = PAPER_CAGE.with_(pocket_shape="spherical")
-    ri, ro, rp, rc, w = cage.inner_radius, cage.outer_radius, 0.5 * cage.pocket_diameter, 0.5 * cage.pocket_centre_diameter, cage.width
-    assert rp < 0.5 * w
+    rp, rc = 0.5 * cage.pocket_diameter, 0.5 * cage.pocket_centre_diameter
+    assert rp < 0.5 * cage.width
 
     def chord(phi, r):
         s = rp * rp - (r * r + rc * rc - 2 * r * rc * math.cos(phi))
         return 2.0 * math.sqrt(s) * r if s > 0 else 0.0
-    half = math.asin(rp / rc) * 1.01
-    v, err = dblquad(chord, ri, ro, -half, half, epsabs=1e-14, epsrel=1e-10)
-    m_ref = cage.material.density * (math.pi * (ro ** 2 - ri ** 2) * w - cage.n_pockets * v)
+    m_ref = annulus_minus_pockets_mass(cage, chord, math.asin(rp / rc) * 1.01)
     m, _, _ = M.cage_mass_properties(cage)
     assert m == pytest.approx(m_ref, rel=2e-3)
     # and it differs from the cylindrical pockets' cage by more than that tolerance

@@ -154,7 +154,7 @@ def make_named_cad_cage(path, guidance: str = "inner", wrong: str = "", **cage):
 
 def mesh_groups(msh_path) -> dict:
     """The physical groups of a cage mesh file, read back with gmsh: {name: (dim, tag, nodes (n, 3)
-    in m)} — what the CAD tests check a mesh's tagging and its pocket nodes with."""
+    in m)} — what the CAD and pocket-shape tests check a mesh's tagging and its pocket nodes with."""
     import gmsh
     import numpy as np
     gmsh.initialize()
