@@ -62,17 +62,28 @@ def test_outer_guidance_takes_the_outside(step_file):
 
 def test_units_brep_and_step(tmp_path, step_file):
     """A BREP has no unit: refused without one; with it, the same cage as the STEP (drawn in m
-    here). A STEP file declares its own (mm here): reported, and a different one given is refused;
-    a wrong unit makes a cage of the wrong size, refused by its size against the pitch circle."""
+    here). A STEP file declares its own (mm here): reported; a unit given overrides it, with a
+    printed note (issue 43: a STEP whose declared unit is wrong, metres for numbers in mm, is
+    read right with --cad-unit mm); a wrong unit makes a cage of the wrong size, refused by its
+    size against the pitch circle."""
     brep = make_cad_cage(tmp_path / "cage14.brep", scale=1e-3)
     with pytest.raises(InputError, match="BREP file carries no unit"):
         _read(brep)
     assert _read(brep, unit="m").geometry.outside_diameter == pytest.approx(OD * 1e-3, rel=1e-6)
     with pytest.raises(InputError, match=r"is the unit right"):
         _read(brep, unit="mm")
-    with pytest.raises(InputError, match=r"cad unit = 'in' disagrees with the STEP file's own length unit 'mm'"):
-        _read(step_file, unit="in")
+    with pytest.raises(InputError, match=r"is the unit right"):
+        _read(step_file, unit="in")                 # the mm numbers read as inches: 25.4 times too big
     assert _read(step_file, unit="mm").unit == "mm (from the file)"
+    wrong = tmp_path / "declared_metres.step"
+    wrong.write_bytes(step_file.read_bytes().replace(b"SI_UNIT(.MILLI.,.METRE.)", b"SI_UNIT($,.METRE.)"))
+    with pytest.raises(InputError, match=r"the cage is 176 m across.*is the unit right \(--cad-unit\)"):
+        _read(wrong)
+    cad = _read(wrong, unit="mm")
+    assert cad.geometry.outside_diameter == pytest.approx(OD * 1e-3, rel=1e-6)
+    assert cad.unit == "mm (given, over the file's m unit)"
+    assert ("note: cad unit 'mm' overrides the STEP file's declared length unit m: its numbers are read as mm"
+            in cad.report_lines(PITCH * 1e-3, 22e-3))
 
 
 @pytest.mark.parametrize("case, match", [

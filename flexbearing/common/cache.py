@@ -5,8 +5,8 @@ import hashlib
 import json
 import os
 from pathlib import Path
+from flexbearing.common.safe_files import write_text_atomic as _atomic
 from flexbearing.common.validation import InputError
-import tempfile
 
 
 def cache_dir() -> Path:
@@ -42,13 +42,23 @@ def file_sha256(path) -> str:
 
 
 def write_text_atomic(path, text: str) -> Path:
-    """Write text to path through a temporary file and a rename: a concurrent reader never sees
-    half a file."""
+    """Write text to path through a temporary file and a rename (flexbearing.common.safe_files:
+    created exclusively, fsynced, a link at the name replaced, never followed; permissions those
+    of the umask, as every cache file): a concurrent reader never sees half a file."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=path.parent)
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
-    return path
+    return _atomic(path, text)
+
+
+def msh_is_whole(path) -> bool:
+    """True when a gmsh .msh file ends as gmsh ends one: its last line a section's end
+    ($End...): a file a full disk cut short does not."""
+    try:
+        with open(path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            n = f.tell()
+            f.seek(max(0, n - 256))
+            tail = f.read().rstrip()
+    except OSError:
+        return False
+    return tail.rsplit(b"\n", 1)[-1].startswith(b"$End")

@@ -46,12 +46,17 @@ read, and what was found, which the command line prints.
 """
 from __future__ import annotations
 
+import contextlib
+import hashlib
 import json
 import math
+import os
 import re
-from dataclasses import dataclass, field
+import stat
+import sys
+import tempfile
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from dataclasses import asdict
 
 import numpy as np
 
@@ -59,7 +64,7 @@ from flexbearing.common.validation import InputError
 from .cage_geometry import GUIDANCES, CageGeometry, PAPER_CAGE
 from . import cage_mesh as CM
 from .face_fit import fit_face
-from flexbearing.common.cache import file_sha256, cache_dir, content_hash, write_text_atomic
+from flexbearing.common.cache import cache_dir, content_hash, write_text_atomic
 from flexbearing.common.materials import Material
 
 CAD_SUFFIXES = {".step": "step", ".stp": "step", ".brep": "brep", ".brp": "brep", ".geo": "geo"}
@@ -99,6 +104,7 @@ class CadCage:
     scale: float                      # metres per unit of the gmsh model's numbers
     groups: dict = field(default_factory=dict)   # name -> surface tags
     found_by: dict = field(default_factory=dict)  # "pockets" / "guide" -> how they were found
+    notes: tuple = ()                             # printed under the first line (a unit given over the file's)
 
     def report_lines(self, pitch_diameter: float, ball_diameter: float) -> list[str]:
         g = self.geometry
@@ -106,6 +112,7 @@ class CadCage:
         lines = [f"{self.source}: unit {self.unit}; outside {g.outside_diameter * 1e3:.3f} mm, bore "
                  f"{g.bore_diameter * 1e3:.3f} mm, width {g.width * 1e3:.3f} mm; turned "
                  f"{math.degrees(self.turned_by):.3f}° about x so pocket 0 is at +y",
+                 *self.notes,
                  f"{len(self.pockets)} {g.pocket_shape} pockets of {g.pocket_diameter * 1e3:.3f} mm"
                  + self._shape_words() +
                  f" (clearance {cp * 1e6:.1f} µm on a {ball_diameter * 1e3:.3f} mm ball)"]
@@ -149,72 +156,363 @@ def cad_kind(path) -> str:
     return kind
 
 
-def geo_merged_files(path) -> list[Path]:
-    """The CAD files a gmsh .geo file merges (`Merge "f"` or `ShapeFromFile("f")`), relative to it."""
-    text = Path(path).read_text(errors="replace")
-    names = re.findall(r'(?:Merge\s*|ShapeFromFile\s*\(\s*)"([^"]+)"', text)
-    return [Path(path).parent / n for n in names]
+# ---------------------------------------------------------------- the CAD input, read as data
+# A gmsh .geo is a program (System runs a shell command, Printf > writes a file, Exit, loops,
+# Include ...): it is never given to gmsh. It is parsed here, and only this subset is read:
+#   SetFactory("OpenCASCADE");                    (optional)
+#   Merge "cage.step";                            (exactly one: a STEP or BREP in the .geo's folder)
+#   Physical Surface("pocket_1") = {12, 14:16};   (named face groups; Physical Volume too)
+# with // and /* */ comments. Anything else is refused in one line naming the statement and its
+# line, before gmsh runs; the geometry is then built from these facts (the STEP/BREP imported,
+# the groups applied by their face numbers: gmsh numbers a merged STEP's faces as importShapes does).
+MAX_GEO_BYTES = 1 << 20          # a naming file of ~20,000 groups; larger is not a cage's .geo
+GEO_SUBSET = ('SetFactory("OpenCASCADE");, one Merge "FILE.step"; (a STEP or BREP file in the .geo\'s '
+              'folder) and Physical Surface("name") = {faces};')
+_GEO_TOKEN = re.compile(r'(?P<ws>\s+)|(?P<lc>//[^\n]*)|(?P<bc>/\*.*?\*/)|(?P<str>"[^"\n]*")'
+                        r'|(?P<id>[A-Za-z_][A-Za-z0-9_]*)|(?P<num>[0-9]+)|(?P<p>[(){},;=:])', re.S)
+_SAFE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]*")
+_GROUP_DIMS = {"Surface": 2, "Volume": 3}
+MAX_FACE_RANGE = 100_000
 
 
-def _geo_kind(path: Path) -> str:
-    """A .geo file's unit follows what it merges: a STEP's own, else (drawn or a BREP) none."""
-    for f in geo_merged_files(path):
-        if not f.is_file():
-            raise InputError(f"cage.cad = {str(path)!r}: it merges {str(f)!r}, no such file")
-    kinds = {CAD_SUFFIXES.get(f.suffix.lower()) for f in geo_merged_files(path)}
-    return "step" if "step" in kinds else "brep"
+@dataclass(frozen=True)
+class GeoGroup:
+    """A named physical group of a cage .geo: its name, dimension (2 faces, 3 volumes), entity
+    tags and the line it is on."""
+    name: str
+    dim: int
+    tags: tuple
+    line: int
 
 
-def _import(path: Path, unit: str | None) -> tuple[list, str, float]:
-    """Import into the current gmsh model; return the volumes, the unit used and the factor
-    from the model's numbers to metres."""
-    import gmsh
+@dataclass(frozen=True)
+class CadSource:
+    """A CAD cage input read once, as data: the file the user named (`path`), the STEP or BREP
+    it is or merges (`shape_file`, `kind`, its bytes `data`), the .geo's named groups, and the
+    sha256 of every file the geometry reads (`digests`: the CAD cache's key)."""
+    path: Path
+    kind: str
+    shape_file: Path
+    data: bytes
+    groups: tuple = ()
+    digests: dict = field(default_factory=dict)
+
+
+def _geo_refusal(source: str, line: int, what: str) -> InputError:
+    return InputError(f"cage.cad = {source!r}: line {line}: {what}; a cage .geo may hold only "
+                      f"{GEO_SUBSET} It is read as data, never run")
+
+
+def _statement_text(text: str, start: int, end: int) -> str:
+    """The statement as written (its first line, spaces collapsed, at most 60 characters)."""
+    nl = text.find("\n", start)
+    s = " ".join(text[start:end if nl < 0 else min(end, nl)].split())
+    return s if len(s) <= 60 else s[:57] + "..."
+
+
+def parse_cage_geo(text: str, source: str) -> tuple[str, int, tuple]:
+    """(merged file name, its line, named groups) of a cage .geo (`text`), parsed by the subset
+    above; InputError naming the first statement outside it (and its line) otherwise."""
+    tokens, pos = [], 0                  # (kind, value, line, start offset)
+    while pos < len(text):
+        m = _GEO_TOKEN.match(text, pos)
+        line = text.count("\n", 0, pos) + 1
+        if m is None:
+            if text.startswith('"', pos):
+                raise _geo_refusal(source, line, f"a string not closed on its line "
+                                                 f"({text[pos:pos + 30].splitlines()[0]!r})")
+            if text.startswith("/*", pos):
+                raise _geo_refusal(source, line, "a /* comment never closed")
+            # the statement this character is in, from its first token (after the last ';')
+            last = max((k for k, t in enumerate(tokens) if t[1] == ";"), default=-1)
+            start = tokens[last + 1][3] if last + 1 < len(tokens) else pos
+            raise _geo_refusal(source, text.count("\n", 0, start) + 1,
+                               f"{_statement_text(text, start, len(text))} is not allowed (character {text[pos]!r})")
+        if m.lastgroup not in ("ws", "lc", "bc"):
+            tokens.append((m.lastgroup, m.group(), line, pos))
+        pos = m.end()
+    merge, groups, names = None, [], set()
+    stmt: list = []
+    for tok in tokens:
+        if tok[1] != ";":
+            stmt.append(tok)
+            continue
+        if not stmt:
+            continue
+        line = stmt[0][2]
+        said = _statement_text(text, stmt[0][3], tok[3] + 1)
+        kinds = [k for k, _, _, _ in stmt]
+        vals = [v for _, v, _, _ in stmt]
+        if vals == ["SetFactory", "(", '"OpenCASCADE"', ")"]:
+            pass
+        elif vals[0] == "Merge" and (kinds[1:] == ["str"] or vals[1:] == ["(", vals[2], ")"] and kinds[2] == "str"):
+            if merge is not None:
+                raise _geo_refusal(source, line, f"{said} is a second Merge (the first on line {merge[1]})")
+            merge = (vals[1] if kinds[1] == "str" else vals[2])[1:-1], line
+        elif vals[:2] in (["Physical", "Surface"], ["Physical", "Volume"]):
+            groups.append(_physical_group(stmt, said, source, names))
+        else:
+            raise _geo_refusal(source, line, f"{said} is not allowed")
+        stmt = []
+    if stmt:
+        raise _geo_refusal(source, stmt[0][2], f"{_statement_text(text, stmt[0][3], len(text))} is not "
+                                               f"ended by ';'")
+    if merge is None:
+        raise InputError(f"cage.cad = {source!r}: it merges no STEP or BREP file (Merge \"cage.step\";): "
+                         f"a .geo that draws the cage is not read; export the cage as STEP and name its "
+                         f"faces in a .geo that merges it")
+    return merge[0], merge[1], tuple(groups)
+
+
+def _physical_group(stmt: list, said: str, source: str, names: set) -> GeoGroup:
+    """Physical Surface|Volume("name"[, tag]) = {n, n:m, ...}"""
+    kinds = [k for k, _, _, _ in stmt]
+    vals = [v for _, v, _, _ in stmt]
+    line = stmt[0][2]
+    head = ["id", "id", "p", "str"]
+    if kinds[:4] != head or vals[2] != "(":
+        raise _geo_refusal(source, line, f"{said} is not allowed (a group needs a name: "
+                                         f"Physical Surface(\"pocket_1\") = {{12}};)")
+    i = 4
+    if vals[i:i + 2] and vals[i] == "," and kinds[i + 1:i + 2] == ["num"]:
+        i += 2                                          # an explicit group tag: not needed, ignored
+    if vals[i:i + 3] != [")", "=", "{"] or vals[-1] != "}":
+        raise _geo_refusal(source, line, f"{said} is not allowed (Physical Surface(\"name\") = {{faces}};)")
+    body = stmt[i + 3:-1]
+    tags: list[int] = []
+    j = 0
+    while j < len(body):
+        if body[j][0] != "num":
+            raise _geo_refusal(source, line, f"{said}: {body[j][1]!r} is not a face number")
+        a = int(body[j][1])
+        if j + 2 < len(body) + 1 and body[j + 1:j + 2] and body[j + 1][1] == ":":
+            if j + 2 >= len(body) or body[j + 2][0] != "num":
+                raise _geo_refusal(source, line, f"{said}: a range needs two numbers (12:16)")
+            b = int(body[j + 2][1])
+            if not a <= b <= a + MAX_FACE_RANGE:
+                raise _geo_refusal(source, line, f"{said}: range {a}:{b} (allowed: a <= b <= a + {MAX_FACE_RANGE})")
+            tags.extend(range(a, b + 1))
+            j += 3
+        else:
+            tags.append(a)
+            j += 1
+        if j < len(body):
+            if body[j][1] != ",":
+                raise _geo_refusal(source, line, f"{said}: {body[j][1]!r} where ',' was expected")
+            j += 1
+            if j == len(body):
+                raise _geo_refusal(source, line, f"{said}: a list ending in ','")
+    if not tags:
+        raise _geo_refusal(source, line, f"{said}: an empty group")
+    name = vals[3][1:-1]
+    if not name.strip() or name in names:
+        raise _geo_refusal(source, line, f"{said}: group name {name!r} " + ("empty" if not name.strip() else "given twice"))
+    names.add(name)
+    return GeoGroup(name, _GROUP_DIMS[vals[1]], tuple(tags), line)
+
+
+def _read_regular(path: Path, source: str, what: str, follow: bool, limit: int | None = None) -> bytes:
+    """The bytes of a regular file, opened without blocking (a FIFO never waits for a writer) and,
+    for a file named inside a .geo, without following a link; InputError naming it otherwise."""
+    flags = os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | (0 if follow else os.O_NOFOLLOW)
+    try:
+        if not follow and os.path.islink(path):
+            raise InputError(f"cage.cad = {source!r}: {what} {str(path)!r} is a symbolic link; a cage "
+                             f".geo merges a file of its own folder, not a link")
+        fd = os.open(path, flags)
+    except FileNotFoundError:
+        raise InputError(f"cage.cad = {source!r}: {what} {str(path)!r}: no such file") from None
+    except OSError as exc:
+        raise InputError(f"cage.cad = {source!r}: {what} {str(path)!r} cannot be read ({exc.strerror})") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise InputError(f"cage.cad = {source!r}: {what} {str(path)!r} is not a regular file (a folder, "
+                             f"device or pipe); give the CAD file itself")
+        if limit is not None and st.st_size > limit:
+            raise InputError(f"cage.cad = {source!r}: {what} {str(path)!r} is {st.st_size:,} bytes, more than "
+                             f"a cage .geo's {limit:,}: not a naming file")
+        os.set_blocking(fd, True)
+        chunks = []
+        while True:
+            b = os.read(fd, 1 << 20)
+            if not b:
+                break
+            chunks.append(b)
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+def _check_shape_data(data: bytes, kind: str, path: Path, source: str) -> None:
+    """An empty, truncated or foreign STEP/BREP refused in one line before gmsh reads it."""
+    head = f"cage.cad = {source!r}: " + ("the file" if str(path) == source else f"the merged file {path.name!r}")
+    if not data.strip():
+        raise InputError(f"{head} is empty")
+    if kind == "step":
+        if not data.lstrip().startswith(b"ISO-10303-21;"):
+            raise InputError(f"{head} is not a STEP file (it does not begin with ISO-10303-21;)")
+        if not data.rstrip().endswith(b"END-ISO-10303-21;"):
+            raise InputError(f"{head} is truncated or damaged: a STEP file ends with END-ISO-10303-21; "
+                             f"({len(data):,} bytes read)")
+    elif b"CASCADE Topology" not in data[:512]:
+        raise InputError(f"{head} is not an OpenCASCADE BREP file (no 'CASCADE Topology' header)")
+
+
+def read_cad_source(path) -> CadSource:
+    """Read a CAD cage input as data (module section above): a STEP or BREP file, or a cage .geo
+    and the one STEP/BREP file it merges from its own folder. Every file is read once here; gmsh
+    later imports these bytes, so what is keyed is what is meshed."""
+    path = Path(path)
+    source = str(path)
     kind = cad_kind(path)
-    if not path.is_file():
-        raise InputError(f"cage.cad = {str(path)!r}: no such file")
-    geo = kind == "geo"
-    step_file = path
-    if geo:
-        kind = _geo_kind(path)
-        step_file = next((f for f in geo_merged_files(path) if CAD_SUFFIXES.get(f.suffix.lower()) == "step"), None)
+    if kind != "geo":
+        data = _read_regular(path, source, "the file", follow=True)
+        _check_shape_data(data, kind, path, source)
+        return CadSource(path, kind, path, data, (), {"cad_sha256": hashlib.sha256(data).hexdigest()})
+    raw = _read_regular(path, source, "the .geo", follow=True, limit=MAX_GEO_BYTES)
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"cage.cad = {source!r}: byte 0x{raw[exc.start]:02x} at offset {exc.start} is not "
+                         f"UTF-8 text: not a cage .geo") from None
+    name, line, groups = parse_cage_geo(text, source)
+    shape_kind = CAD_SUFFIXES.get(Path(name).suffix.lower())
+    if not _SAFE_NAME.fullmatch(name) or shape_kind not in ("step", "brep"):
+        raise _geo_refusal(source, line, f"Merge {name!r} is not allowed (a STEP or BREP file name of "
+                                         f"the .geo's own folder: letters, digits, _ . + -, no path)")
+    shape = path.parent / name
+    data = _read_regular(shape, source, "the merged file", follow=False)
+    _check_shape_data(data, shape_kind, shape, source)
+    return CadSource(path, shape_kind, shape, data, groups,
+                     {"cad_sha256": hashlib.sha256(raw).hexdigest(),
+                      "merged_sha256": {name: hashlib.sha256(data).hexdigest()}})
+
+
+def _merged_line(src: CadSource) -> str:
+    return f"the merged file {src.shape_file.name!r}" if src.shape_file != src.path else "the file"
+
+
+@contextlib.contextmanager
+def _captured_output():
+    """OpenCASCADE's own messages (printed by the C++ library to the process's stdout and stderr,
+    whatever gmsh's General.Terminal says) caught in a file while gmsh reads CAD: the refusal
+    quotes them in its one line instead. Yields a function returning what was caught."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    with tempfile.TemporaryFile() as log:
+        saved = [os.dup(1), os.dup(2)]
+        try:
+            os.dup2(log.fileno(), 1)
+            os.dup2(log.fileno(), 2)
+            yield lambda: (log.seek(0), log.read().decode(errors="replace"))[1]
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            for fd in saved:
+                os.close(fd)
+
+
+def _occ_error(log: str) -> str:
+    """The first error line OpenCASCADE printed, without its colour codes and stars."""
+    for line in log.splitlines():
+        s = re.sub(r"\x1b\[[0-9;]*m", "", line).strip(" *")
+        if "ERR" in s or "rror" in s:
+            return " ".join(s.split())[:160]
+    return ""
+
+
+_LENGTH_UNIT_ENTITY = re.compile(rb"(#\d+\s*=\s*)\((?:(?!;).)*?\bLENGTH_UNIT\s*\(\s*\)(?:(?!;).)*?\)\s*;", re.S)
+
+
+def step_in_millimetres(data: bytes) -> tuple[bytes, int]:
+    """A STEP file's text with every length-unit declaration (ISO 10303-41: the complex instance
+    holding LENGTH_UNIT(), an SI_UNIT of any prefix or the inch's CONVERSION_BASED_UNIT) replaced
+    by the millimetre, SI_UNIT(.MILLI.,.METRE.): OCC then takes the file's numbers as they are
+    (its working unit is the mm), so a unit the user gives can override the declared one. Returns
+    (text, number of declarations replaced)."""
+    return _LENGTH_UNIT_ENTITY.subn(rb"\1( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );", data)
+
+
+def _import(src: "CadSource", unit: str | None) -> tuple[list, str, float, list]:
+    """Import the CAD source's STEP/BREP bytes into the current gmsh model and apply the .geo's
+    named groups; return the volumes, the unit used, the factor from the model's numbers to
+    metres and the notes to print (a unit given over the file's)."""
+    import gmsh
+    source = str(src.path)
     if unit is not None and unit not in UNITS:
         raise InputError(f"cad unit = {unit!r} is not known; allowed: {list(UNITS)}")
-    if kind == "brep" and unit is None:
-        raise InputError(f"cage.cad = {str(path)!r}: a {'.geo' if geo else 'BREP'} file carries no unit; give it "
-                         f"(--cad-unit / cage.cad_unit, one of {list(UNITS)})")
-    if kind == "step":
-        declared = step_length_unit(step_file)
-        if unit is not None and declared is not None and unit != declared:
-            raise InputError(f"cad unit = {unit!r} disagrees with the STEP file's own length unit "
-                             f"{declared!r}; give none for a STEP file (its unit is read from it)")
-        used = f"{declared or 'unknown'} (from the file)"
+    data, notes = src.data, []
+    if src.kind == "brep":
+        if unit is None:
+            what = "a BREP file" if src.shape_file == src.path else "a .geo merging a BREP file"
+            raise InputError(f"cage.cad = {source!r}: {what} carries no unit; give it "
+                             f"(--cad-unit / cage.cad_unit, one of {list(UNITS)})")
+        used, scale = unit, UNITS[unit]
     else:
-        used = unit
-    # STEP: OCC converts the file's declared unit to its working unit, millimetres. gmsh's
-    # Geometry.OCCTargetUnit would change that working unit for the rest of the process (STEP
-    # written later included, even after gmsh.finalize()), so it is left alone and the model
-    # scaled from mm here.
+        declared = step_length_unit(data)
+        if unit is None or unit == declared:
+            # OCC converts the file's declared unit to its working unit, millimetres. gmsh's
+            # Geometry.OCCTargetUnit would change that working unit for the rest of the process
+            # (STEP written later included, even after gmsh.finalize()), so it is left alone and
+            # the model scaled from mm here.
+            used, scale = f"{declared or 'unknown'} (from the file)", 1e-3
+        else:
+            data, n = step_in_millimetres(data)
+            used, scale = f"{unit} (given, over the file's {declared or 'unreadable'} unit)", UNITS[unit]
+            notes.append(f"note: cad unit {unit!r} overrides the STEP file's declared length unit "
+                         f"{declared or '(none we read)'}: its numbers are read as {unit}"
+                         + ("" if n else " (the file declares no length unit)"))
     # scale, not dilated: OCC's dilation turns every face into a B-spline (10x slower to sample
     # and mesh); the faces are measured times `scale` and the mesh written scaled
-    if geo:                 # the .geo says SetFactory("OpenCASCADE") (docs/cage.md)
-        gmsh.merge(str(path))
-    else:
-        gmsh.model.occ.importShapes(str(path))
-    gmsh.model.occ.synchronize()
-    scale = 1e-3 if kind == "step" else UNITS[unit]
+    with tempfile.TemporaryDirectory(prefix="flexbearing-cad-") as folder:
+        copy = Path(folder) / ("cage.step" if src.kind == "step" else "cage.brep")
+        copy.write_bytes(data)
+        with _captured_output() as caught:
+            try:
+                gmsh.model.occ.importShapes(str(copy))
+                gmsh.model.occ.synchronize()
+                failed = None
+            except Exception as exc:          # gmsh raises Exception("Could not read file ...")
+                failed = exc
+            log = caught()
+    if failed is not None:
+        why = _occ_error(log) or str(failed).replace(str(copy), src.shape_file.name)
+        raise InputError(f"cage.cad = {source!r}: gmsh cannot read {_merged_line(src)} as "
+                         f"{'STEP' if src.kind == 'step' else 'BREP'} ({why})")
     vols = [t for d, t in gmsh.model.getEntities(3)]
     if len(vols) != 1:
-        raise InputError(f"cage.cad = {str(path)!r}: {len(vols)} solids in the file; a cage is one solid")
-    return vols, used, scale
+        raise InputError(f"cage.cad = {source!r}: {len(vols)} solids in the file; a cage is one solid")
+    _apply_groups(src)
+    return vols, used, scale, notes
+
+
+def _apply_groups(src: "CadSource") -> None:
+    """The .geo's named groups on the imported model, each tag checked to be one of its faces
+    (or volumes)."""
+    import gmsh
+    for g in src.groups:
+        have = sorted(t for _, t in gmsh.model.getEntities(g.dim))
+        missing = [t for t in g.tags if t not in set(have)]
+        what = "face" if g.dim == 2 else "volume"
+        if missing:
+            raise InputError(f"cage.cad = {str(src.path)!r}: line {g.line}: group {g.name!r} names {what} "
+                             f"{missing[0]}, which {src.shape_file.name!r} does not have (its {what}s: "
+                             f"{have[0] if have else '-'} … {have[-1] if have else '-'})")
+        tag = gmsh.model.addPhysicalGroup(g.dim, list(g.tags))
+        gmsh.model.setPhysicalName(g.dim, tag, g.name)
 
 
 _STEP_PREFIX = {"$": "m", ".MILLI.": "mm", ".CENTI.": "cm"}
 
 
-def step_length_unit(path) -> str | None:
+def step_length_unit(data) -> str | None:
     """The length unit a STEP file declares (ISO 10303-41 SI_UNIT or the inch's
-    CONVERSION_BASED_UNIT), as a key of UNITS; None when it declares none we know."""
-    text = Path(path).read_text(errors="replace")
+    CONVERSION_BASED_UNIT), as a key of UNITS; None when it declares none we know. data: the
+    file's bytes (or its path)."""
+    if not isinstance(data, (bytes, bytearray)):
+        data = Path(data).read_bytes()
+    text = data.decode("latin-1")
     m = re.search(r"LENGTH_UNIT\(\)\s*NAMED_UNIT\(\*\)\s*SI_UNIT\((\$|\.\w+\.)\s*,\s*\.METRE\.\)", text)
     if m:
         return _STEP_PREFIX.get(m.group(1))
@@ -471,9 +769,9 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
     import gmsh
     if guidance not in GUIDANCES:
         raise InputError(f"cage.guidance = {guidance!r} is not known; allowed: {list(GUIDANCES)}")
-    path = Path(path)
-    source = str(path)
-    vols, used, scale = _import(path, unit)
+    src = path if isinstance(path, CadSource) else read_cad_source(path)
+    source = str(src.path)
+    vols, used, scale, notes = _import(src, unit)
     named = named_groups()
     # the mesh gets the model's own groups (cage_mesh); gmsh keeps a removed group's name, which
     # would then be refused to a new group of another tag: both go
@@ -606,7 +904,7 @@ def read_cad_cage(path, n_balls: int, pitch_diameter: float, ball_diameter: floa
     _check_shape_fields(geometry, source)
     return CadCage(geometry=geometry, pockets=tuple(pockets_out), ring_cylinders=tuple(cyl),
                    guide_faces=tuple(guide), turned_by=turn, unit=used, source=source, scale=scale,
-                   groups={k: list(v) for k, v in groups.items()}, found_by=found_by)
+                   groups={k: list(v) for k, v in groups.items()}, found_by=found_by, notes=tuple(notes))
 
 
 def _shape_fields(shape: str, found: list, dp: float, source: str) -> dict:
@@ -681,18 +979,21 @@ def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_dia
                         guidance: str = "outer", unit: str | None = None,
                         size: float = CM.DEFAULT_MESH_SIZE, pocket_size: float | None = CM.DEFAULT_POCKET_SIZE,
                         order: int = CM.DEFAULT_ORDER, material=None) -> CadCage:
-    """Read the CAD cage (`read_cad_cage`), mesh it with the parametric cage's groups and sizes
-    (flexbearing.mesh.cage_mesh.tag_and_mesh), check and repair its elements, write `out` (.msh)
-    and its quality sidecar; return what was found."""
+    """Read the CAD cage (`read_cad_cage`; path: a file or a `CadSource` already read), mesh it
+    with the parametric cage's groups and sizes (flexbearing.mesh.cage_mesh.tag_and_mesh), check
+    and repair its elements, write `out` (.msh, whole or not at all) and its quality sidecar (with
+    the mesh's digest: flexbearing.mesh.cage_mesh.write_quality); return what was found."""
     import gmsh
     out = Path(out)
-    if out.resolve() == Path(path).resolve():
-        raise InputError(f"mesh output {str(out)!r} is the CAD input")
+    src = path if isinstance(path, CadSource) else read_cad_source(path)      # before gmsh runs
+    for given in {src.path, src.shape_file}:
+        if out.resolve() == given.resolve():
+            raise InputError(f"mesh output {str(out)!r} is the CAD input {str(given)!r}")
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("cad_cage")
-        cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+        cad = read_cad_cage(src, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
         vols = [t for _, t in gmsh.model.getEntities(3)]
         k = cad.scale
         CM.tag_and_mesh(vols, cad.groups, n_balls, size / k, order, None if pocket_size is None else pocket_size / k)
@@ -706,51 +1007,87 @@ def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_dia
             gmsh.option.setNumber("Mesh.ScalingFactor", previous)
     finally:
         gmsh.finalize()
-    CM.quality_path(out).write_text(json.dumps(report, indent=1))
+    CM.write_quality(out, report)
     return cad
 
 
 
 # ---------------------------------------------------------------- cached: what a scene's cage.cad needs
-def _cad_key(path, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
+CAD_RECORD_VERSION = 2          # 2: the record's own digest; keys by every file the geometry reads
+
+
+def _cad_key(src: CadSource, n_balls: int, pitch_diameter: float, ball_diameter: float, guidance: str,
              unit: str | None, material) -> dict:
-    """Every input of `read_cad_cage`: the file by its content (sha256), not its name."""
-    merged = {str(f.name): file_sha256(f) for f in geo_merged_files(path) if f.is_file()} \
-        if cad_kind(path) == "geo" else {}
-    return {"kind": "cad_cage", "cad_sha256": file_sha256(path), "n_balls": int(n_balls),
-            **({"merged_sha256": merged} if merged else {}),
+    """Every input of `read_cad_cage`: every file the geometry reads by its content (sha256: the
+    .geo, and the STEP/BREP it merges), not its name; the bearing; the unit; the fit tolerance."""
+    return {"kind": "cad_cage", **src.digests, "n_balls": int(n_balls),
             "pitch_diameter": float(pitch_diameter), "ball_diameter": float(ball_diameter),
-            "guidance": guidance, "unit": unit, "material": asdict(material), "fit_tol": FIT_TOL}
+            "guidance": guidance, "unit": unit, "material": asdict(material), "fit_tol": FIT_TOL,
+            "record_version": CAD_RECORD_VERSION}
 
 
-def _geometry_from_dict(d: dict) -> CageGeometry:
+def cad_geometry_from_dict(d: dict) -> CageGeometry:
+    """The CageGeometry of a dict (dataclasses.asdict's, as a CAD record stores it)."""
     d = dict(d)
     d["material"] = Material(**d["material"])
     return CageGeometry(**d)
 
 
+_geometry_from_dict = cad_geometry_from_dict
+
+
+def cad_record_digest(rec: dict) -> str:
+    """sha256 of a CAD cache record's canonical JSON (key, geometry, report), its "sha256" left out."""
+    body = {k: v for k, v in rec.items() if k != "sha256"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+def read_cad_record(store: Path, key: dict | None = None):
+    """(CageGeometry, report lines, key) of a CAD cache record, or None when it is missing,
+    truncated, edited (its digest), not of `key`, or its geometry is not a valid cage: the caller
+    then finds the cage again and writes the record anew."""
+    try:
+        if store.is_symlink() or not store.is_file():
+            return None
+        rec = json.loads(store.read_text(encoding="utf-8"))
+        if not isinstance(rec, dict) or rec.get("sha256") != cad_record_digest(rec):
+            return None
+        if key is not None and rec.get("key") != key:
+            return None
+        geometry = _geometry_from_dict(rec["geometry"])
+        geometry.validate()
+        report = [str(x) for x in rec["report"]]
+        return geometry, report, rec["key"]
+    except (OSError, ValueError, TypeError, KeyError, AttributeError, InputError):
+        return None
+
+
+def cad_record_path(key: dict) -> Path:
+    return cache_dir() / "meshes" / f"{content_hash(key)}.cad.json"
+
+
 def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: float,
                       guidance: str = "outer", unit: str | None = None, material=None):
-    """(equivalent CageGeometry, report lines, key) of a CAD cage, cached by the file's content
-    and the bearing (`_cad_key`): a scene reads it without gmsh once it has been found."""
+    """(equivalent CageGeometry, report lines, key) of a CAD cage, cached by the content of every
+    file it reads and the bearing (`_cad_key`): a scene reads it without gmsh once it has been
+    found. The input is read as data first (`read_cad_source`: a .geo is parsed, never run);
+    a damaged or edited cache record is found again and rewritten."""
     import gmsh
     material = material or PAPER_CAGE.material
-    cad_kind(path)
-    if not Path(path).is_file():
-        raise InputError(f"cage.cad = {str(path)!r}: no such file")
-    key = _cad_key(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
-    store = cache_dir() / "meshes" / f"{content_hash(key)}.cad.json"
-    if store.exists():
-        rec = json.loads(store.read_text())
-        if rec.get("key") == key:                   # checked against its contents, not its name
-            return _geometry_from_dict(rec["geometry"]), rec["report"], key
+    src = path if isinstance(path, CadSource) else read_cad_source(path)
+    key = _cad_key(src, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+    store = cad_record_path(key)
+    cached = read_cad_record(store, key)
+    if cached is not None:
+        return cached
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+        cad = read_cad_cage(src, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
     finally:
         gmsh.finalize()
     rec = {"key": key, "geometry": asdict(cad.geometry), "report": cad.report_lines(pitch_diameter, ball_diameter)}
+    rec["sha256"] = cad_record_digest(rec)
     write_text_atomic(store, json.dumps(rec, indent=1))
     return cad.geometry, rec["report"], key
 
@@ -758,15 +1095,21 @@ def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: 
 def cached_cad_cage_mesh(path, n_balls: int, pitch_diameter: float, ball_diameter: float,
                          guidance: str = "outer", unit: str | None = None, material=None,
                          size: float = CM.DEFAULT_MESH_SIZE, pocket_size: float | None = CM.DEFAULT_POCKET_SIZE,
-                         order: int = CM.DEFAULT_ORDER) -> tuple[Path, dict]:
-    """The CAD cage's mesh from the cache (keyed by the file's content, the bearing and the mesh
-    sizes), built once (`build_cad_cage_mesh`); returns (path, key)."""
+                         order: int = CM.DEFAULT_ORDER, expect_key: dict | None = None) -> tuple[Path, dict]:
+    """The CAD cage's mesh from the cache (keyed by the content of every file it reads, the
+    bearing and the mesh sizes), built once (`build_cad_cage_mesh`) and used only while its digest
+    matches (flexbearing.mesh.cage_mesh.verified_mesh; otherwise built again); returns (path, key).
+    expect_key: the CAD key the scene was validated with; files changed since are refused."""
     material = material or PAPER_CAGE.material
-    key = {**_cad_key(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material),
-           "size": float(size), "pocket_size": None if pocket_size is None else float(pocket_size),
+    src = path if isinstance(path, CadSource) else read_cad_source(path)
+    cad_key = _cad_key(src, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
+    if expect_key is not None and cad_key != expect_key:
+        raise InputError(f"cage.cad = {str(src.path)!r}: the file changed since the scene was read "
+                         f"(its content digest differs): read the scene again")
+    key = {**cad_key, "size": float(size), "pocket_size": None if pocket_size is None else float(pocket_size),
            "order": int(order), "mesh_version": CM.MESH_VERSION}
     out = cache_dir() / "meshes" / f"{content_hash(key)}.msh"
-    if not out.exists():
-        build_cad_cage_mesh(path, out, n_balls, pitch_diameter, ball_diameter, guidance, unit, size,
+    if not CM.verified_mesh(out):
+        build_cad_cage_mesh(src, out, n_balls, pitch_diameter, ball_diameter, guidance, unit, size,
                             pocket_size, order, material)
     return out, key

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+import errno
 import json
 
 import numpy as np
@@ -35,8 +36,8 @@ import numpy as np
 from .cage_geometry import CageGeometry
 from flexbearing.common.validation import InputError, require_range
 from . import quality as Q
-from flexbearing.common.safe_files import atomic_output
-from flexbearing.common.cache import cache_dir, content_hash
+from flexbearing.common.safe_files import atomic_output, write_text_atomic
+from flexbearing.common.cache import cache_dir, content_hash, file_sha256, msh_is_whole
 
 # Converged default: Lagrange P3 on a curved quadratic mesh of uniform 4 mm elements.
 # Stress (benchmarks/results/cage_stress_convergence.md): the maximum von Mises stress of every
@@ -336,8 +337,13 @@ def _write(path: Path):
     path.parent.mkdir(parents=True, exist_ok=True)
     # Written atomically (a unique temporary beside it, renamed; removed on any failure): a
     # concurrent reader of the cache never sees half a file; permissions those of the umask
+    # and only when whole: gmsh does not report a write that a full disk cut short, so the
+    # file's end is checked before the rename (a truncated mesh never reaches the cache)
     with atomic_output(path, suffix=".msh") as tmp:
         gmsh.write(str(tmp))
+        if not msh_is_whole(tmp):
+            raise OSError(errno.EIO, f"the mesh gmsh wrote is incomplete ({tmp.stat().st_size:,} bytes, no "
+                          f"$End line at its end: is the disk full?); nothing was written", str(path))
 
 
 def build_cage_mesh(geometry: CageGeometry, size: float, order: int, path,
@@ -377,8 +383,31 @@ def _mesh_to_file(geometry, size, order, path, pocket_size, with_pockets, verbos
     finally:
         gmsh.finalize()
     if report is not None:
-        quality_path(path).write_text(json.dumps(report, indent=1))
+        write_quality(path, report)
     return path
+
+
+def write_quality(msh_path, report: dict) -> Path:
+    """The quality sidecar of a mesh just written (quality_path), with the mesh's sha256
+    ("msh_sha256": what verified_mesh checks), written by temporary file and rename (a link
+    planted at its name is replaced, never written through)."""
+    return write_text_atomic(quality_path(msh_path), json.dumps({**report, "msh_sha256": file_sha256(msh_path)},
+                                                                indent=1))
+
+
+def verified_mesh(msh_path) -> bool:
+    """True when a cached mesh is whole and the one built for its key: the file exists (not a
+    link) and its sha256 is the one its quality sidecar recorded when it was built. False (the
+    caller builds it again, over it) for a missing, truncated, swapped or edited mesh, or one
+    without a digest (cached before the digest was kept)."""
+    p, side = Path(msh_path), quality_path(msh_path)
+    try:
+        if p.is_symlink() or not p.is_file() or side.is_symlink():
+            return False
+        rec = json.loads(side.read_text(encoding="utf-8"))
+        return isinstance(rec, dict) and rec.get("msh_sha256") == file_sha256(p)
+    except (OSError, ValueError):
+        return False
 
 
 def quality_path(msh_path) -> Path:
@@ -419,7 +448,7 @@ def cached_cage_mesh(geometry: CageGeometry, size: float = DEFAULT_MESH_SIZE,
     geometry.validate()
     _check_sizes(geometry, size, order, pocket_size, local)
     path = cache_path(geometry, size, order, pocket_size, local)
-    if not path.exists():
+    if not verified_mesh(path):
         build_cage_mesh(geometry, size, order, path, pocket_size, local=local)
     return path
 

@@ -197,6 +197,9 @@ class ResultsWriter:
         f.attrs["program_version"] = program_version()
         f.attrs["git_commit"] = git_commit()
         f.create_dataset("scene", data=scene.text or json.dumps(scene.data, default=repr))
+        if scene.cad:             # what `report` rebuilds the CAD cage from (never the file the scene names)
+            from flexbearing.simulation.scene import cad_record
+            f.attrs["cad_cage"] = cad_record(scene)
         f.create_group("outputs")
         cp = f.create_group("checkpoint")
         for s in ("slot0", "slot1"):
@@ -731,19 +734,21 @@ def opened(run):
 def scene_of_run(f):
     """The Scene a run was made from (its stored TOML text; f an open results file), or None if it
     cannot be parsed."""
-    from flexbearing.simulation.scene import loads_scene, parse_scene
+    from flexbearing.simulation.scene import cad_from_record, loads_scene, parse_scene
     if "scene" not in f:
         return None
     raw = f["scene"][()]
     text = raw.decode() if isinstance(raw, bytes) else str(raw)
-    try:
-        return loads_scene(text, str(f.attrs.get("scene_path", "")))
-    except Exception:
-        pass
-    try:   # results.py stores the parsed scene as JSON when it has no TOML text (case sets)
-        return parse_scene(json.loads(text), path=str(f.attrs.get("scene_path", "")))
-    except Exception:
-        return None
+    # a CAD cage from what the run recorded, never by reading the CAD file the stored scene names
+    with cad_from_record(str(f.attrs.get("cad_cage", ""))):
+        try:
+            return loads_scene(text, str(f.attrs.get("scene_path", "")))
+        except Exception:
+            pass
+        try:   # results.py stores the parsed scene as JSON when it has no TOML text (case sets)
+            return parse_scene(json.loads(text), path=str(f.attrs.get("scene_path", "")))
+        except Exception:
+            return None
 
 
 def sample_interval(f, t) -> float:

@@ -94,7 +94,10 @@ range (flexbearing.common.validation.InputError); unknown keys are refused with 
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import dataclasses
+import json
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -112,7 +115,7 @@ from flexbearing.multibody.bearing import ENGINE_OIL, PAPER_BEARING, PAPER_OIL, 
 from flexbearing.multibody.model import DEFAULT_OPTIONS
 from flexbearing.multibody.output_registry import GROUPS
 from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints, load_at
-from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry
+from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry, cad_geometry_from_dict
 
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
@@ -385,9 +388,55 @@ def _cad_cage(cad: dict, changes: dict, given_cage: dict, scene_path: str):
         path = Path(scene_path).resolve().parent / path
     base = dataclasses.replace(PAPER_BEARING, **{k: v for k, v in changes.items() if k != "cage"})
     cage = changes["cage"]
+    recorded = _RECORDED_CAD.get()
+    if recorded is not None:                 # a results file's scene: its CAD file is never read
+        return _recorded_cad_cage(recorded, f)
     geometry, report, key = cad_cage_geometry(path, base.n_balls, base.pitch_diameter, base.ball_diameter,
                                               cage.guidance, unit, cage.material)
-    return geometry, {"file": str(path), "unit": unit, "key": key, "report": report}
+    return geometry, {"file": str(path), "unit": unit, "key": key, "report": report,
+                      "geometry": dataclasses.asdict(geometry)}
+
+
+# The CAD cage of a scene stored in a results file (flexbearing.simulation.results.scene_of_run):
+# the run records it (cad_record) and the scene is rebuilt from that record, never from the file
+# the stored scene names (a results file received from someone else names whatever it likes).
+_RECORDED_CAD: contextvars.ContextVar = contextvars.ContextVar("recorded_cad", default=None)
+
+
+def cad_record(scene) -> str:
+    """JSON of what a run records of its scene's CAD cage: the file as given, the unit, the cache
+    key (every file's content digest), the equivalent geometry and the report lines."""
+    c = scene.cad
+    return json.dumps({"file": c["file"], "unit": c["unit"], "key": c["key"], "report": c["report"],
+                       "geometry": c.get("geometry") or dataclasses.asdict(scene.bearing.cage)})
+
+
+@contextlib.contextmanager
+def cad_from_record(record):
+    """Within: a scene's cage.cad is not read; its geometry is `record`'s (cad_record's JSON, as
+    a results file stores it). A missing record (a run recorded before it was kept) refuses the
+    cage in one line rather than reading the file."""
+    token = _RECORDED_CAD.set(record if record else "")
+    try:
+        yield
+    finally:
+        _RECORDED_CAD.reset(token)
+
+
+def _recorded_cad_cage(record, named: str):
+    if not record:
+        raise InputError(f"cage.cad = {named!r}: the results file records no CAD cage (a run made "
+                         f"before it was recorded); the CAD file it names is not read")
+    try:
+        rec = json.loads(record)
+        geometry = cad_geometry_from_dict(rec["geometry"]).validate()
+        info = {"file": str(rec["file"]), "unit": rec["unit"], "key": dict(rec["key"]),
+                "report": [str(x) for x in rec["report"]], "geometry": dataclasses.asdict(geometry)}
+    except InputError:
+        raise
+    except Exception:
+        raise InputError(f"cage.cad = {named!r}: the results file's CAD cage record is damaged") from None
+    return geometry, info
 
 
 def _oil(d: dict) -> Oil:
