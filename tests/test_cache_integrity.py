@@ -15,8 +15,9 @@ from flexbearing.fem_cage import reduced_cage as rcf
 from test_reduced_cage import _synthetic
 
 
-def _cache_file(folder, key: str, seed: int = 0):
-    return rcf.write(folder / f"{key}.h5", _synthetic(seed=seed), {"content_hash": key, "parameters": {"k": key}})
+def _cache_file(folder, key: str, seed: int = 0, parameters=None):
+    return rcf.write(folder / f"{key}.h5", _synthetic(seed=seed),
+                     {"content_hash": key, "parameters": parameters if parameters is not None else {"k": key}})
 
 
 def _flip_bit(path, dataset: str, byte: int = 3):
@@ -97,7 +98,7 @@ def test_a_cache_entry_without_a_digest_is_rebuilt_not_used(tmp_path, monkeypatc
     key = {"cage": "old"}
     target = rcf.cache_path(key)
     target.parent.mkdir(parents=True)
-    _cache_file(tmp_path, target.stem)
+    _cache_file(tmp_path, target.stem, parameters=key)
     shutil.move(tmp_path / f"{target.stem}.h5", target)
     assert rcf.find_cached(key) == target
     with h5py.File(target, "r+") as f:

@@ -116,7 +116,7 @@ def test_an_older_format_cache_entry_is_rebuilt_not_read(tmp_path, monkeypatch):
     key5 = rcf.cache_key(PAPER_CAGE, 4e-3, 2, 2e-3, "rbe3", 30)
     key4 = dict(key5, schema_version=4)
     old = rcf.cache_path(key4)
-    rcf.write(old, _synthetic(), {"content_hash": old.stem})
+    rcf.write(old, _synthetic(), {"content_hash": old.stem, "parameters": key4})
     assert rcf.cache_path(key5) != old
     assert rcf.find_cached(key5) is None and rcf.find_cached(key4) == old
 
@@ -164,7 +164,7 @@ def test_cli_on_cached_file_never_imports_dolfinx(tmp_path):
     env = dict(os.environ, FLEXBEARING_CACHE=str(cache))
     code = ("import sys; from flexbearing.fem_cage import reduced_cage as r; import os; "
             f"r.write(r.cache_path({key!r}), __import__('tests.test_reduced_cage', fromlist=['x'])"
-            f"._synthetic(m=30), {{'content_hash': r.cache_path({key!r}).stem}}, "
+            f"._synthetic(m=30), {{'content_hash': r.cache_path({key!r}).stem, 'parameters': {key!r}}}, "
             "{'static': {'max_rel_error_full': 1e-10}}); "
             "from flexbearing.cli.main import main; "
             f"rc = main(['reduce', '--quiet', '--json', {str(tmp_path / 's.json')!r}, '--xdmf', "

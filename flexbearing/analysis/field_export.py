@@ -112,17 +112,27 @@ def nodal_field(rc, q_full) -> tuple[np.ndarray, np.ndarray]:
 
 
 def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
-    """(ReducedCage, note on its content hash) of the run's reduced cage file; InputError if it is
-    missing or its basis size differs from the recorded modal coordinates'."""
+    """(ReducedCage, note on its content hash) of the run's reduced cage file; InputError in one
+    line if it is missing, not a reduced cage, another cage's than the run's (its key), not the
+    content the run used (the sha256 the run recorded, reduced_cage_sha256: a file edited, swapped
+    or rebuilt since, or `--reduced-cage OTHER`), or its basis size differs from the recorded
+    modal coordinates'."""
     if rc_path is None or not Path(str(rc_path)).is_file():
         raise InputError(f"reduced cage file {rc_path!r} of {run_path} not found (pass its path: "
                          f"flexbearing report ... --reduced-cage FILE)")
-    rc = read(rc_path)
+    try:
+        rc = read(rc_path)
+    except (ValueError, OSError, KeyError) as exc:
+        raise InputError(f"--reduced-cage {rc_path}: not a reduced cage file ({str(exc).splitlines()[0]}); "
+                         f"give the reduced cage the run used (the run names it)") from None
     hash_note = "not recorded"
     if rc_hash:
         known = {str(rc.attrs.get("content_hash", "")), file_sha256(rc_path)}
-        hash_note = "matches" if any(h and (h == rc_hash or h.startswith(rc_hash) or rc_hash.startswith(h))
-                                     for h in known) else f"MISMATCH (run: {rc_hash})"
+        if not any(h and (h == rc_hash or h.startswith(rc_hash) or rc_hash.startswith(h)) for h in known):
+            raise InputError(f"reduced cage file {rc_path} holds the cage of key "
+                             f"{rc.attrs.get('content_hash', '?')}, the run {run_path} used {rc_hash}: give "
+                             f"the reduced cage the run used (the run names it)")
+        hash_note = "matches"
     # the key alone says which cage the file claims to be; its content is checked against the
     # digest stored in it (a flipped bit, or another cage's arrays under this key)
     if "data_sha256" in rc.attrs:
@@ -131,11 +141,25 @@ def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
             hash_note = "matches (content verified against its digest)"
     elif hash_note == "matches":
         hash_note = "key matches; content not verifiable (file without a digest, written before issue 36)"
+    used = _recorded_content(run_path)
+    if used and str(rc.attrs.get("data_sha256", "")) != used:
+        raise InputError(f"reduced cage file {rc_path} is not the content the run {run_path} used (its "
+                         f"sha256 {str(rc.attrs.get('data_sha256', 'none'))[:16]}, the run recorded "
+                         f"{used[:16]}): edited or rebuilt since the run; give the file the run used")
     if n_modes != rc.stress_modes.shape[2]:
         raise InputError(f"{run_path}: cage_modal_coordinates_full has {n_modes} modes, the reduced "
                          f"cage file {rc_path} has {rc.stress_modes.shape[2]} (allowed: equal); wrong "
                          f"reduced cage file?")
     return rc, hash_note
+
+
+def _recorded_content(run_path) -> str:
+    """The reduced cage content digest a run recorded (reduced_cage_sha256), '' if none."""
+    try:
+        with h5py.File(run_path, "r") as f:
+            return str(f.attrs.get("reduced_cage_sha256", ""))
+    except (OSError, TypeError):
+        return ""
 
 
 def _run_cage_file(f, reduced_cage):

@@ -50,15 +50,21 @@ def write_text_atomic(path, text: str) -> Path:
     return _atomic(path, text)
 
 
+# the sections a gmsh 4.1 .msh file can end with (its last line; the mesh's elements or what
+# follows them): a file cut short ends elsewhere, or mid-line
+_MSH_LAST = (b"$EndElements", b"$EndPeriodic", b"$EndGhostElements", b"$EndParametrizations",
+             b"$EndNodeData", b"$EndElementData", b"$EndElementNodeData", b"$EndInterpolationScheme")
+
+
 def msh_is_whole(path) -> bool:
-    """True when a gmsh .msh file ends as gmsh ends one: its last line a section's end
-    ($End...): a file a full disk cut short does not."""
+    """True when a gmsh .msh file ends as gmsh ends one: a newline after the end of its elements
+    or of a section that follows them (_MSH_LAST): a file a full disk cut short does not."""
     try:
         with open(path, "rb") as f:
             f.seek(0, os.SEEK_END)
             n = f.tell()
             f.seek(max(0, n - 256))
-            tail = f.read().rstrip()
+            tail = f.read()
     except OSError:
         return False
-    return tail.rsplit(b"\n", 1)[-1].startswith(b"$End")
+    return tail.endswith(b"\n") and tail.rstrip().rsplit(b"\n", 1)[-1].strip() in _MSH_LAST

@@ -159,12 +159,24 @@ def reduced_cage_hash(scene) -> str:
     return content_hash(reduced_cage_key(scene))
 
 
+def scene_mesh_path(scene) -> Path:
+    """Where the cache keeps the mesh the scene's reduced cage is built from (the parametric
+    cage's, or the CAD cage's by its files' content): what a cached reduced cage's provenance is
+    checked against (flexbearing.fem_cage.reduced_cage.check_provenance)."""
+    size, pocket, _ = _mesh_inputs(scene)
+    if scene.cad:
+        from flexbearing.mesh.cad_cage import cad_mesh_cache_path
+        return cad_mesh_cache_path(scene.cad["key"], size, pocket, cm.DEFAULT_ORDER)[0]
+    return cm.cache_path(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket)
+
+
 def reduced_cage_path(scene, quiet: bool = False):
     """The reduced cage file for the scene's cage: from the cache, or built once (imports the FE
-    stack only then). Key = every input that changes it (reduced_cage_key)."""
+    stack only then). Key = every input that changes it (reduced_cage_key); a cached file is used
+    only when it was built from that key and the cache's mesh (rcf.find_cached)."""
     size, pocket, degree = _mesh_inputs(scene)
     key = reduced_cage_key(scene)
-    path = rcf.find_cached(key)
+    path = rcf.find_cached(key, scene_mesh_path(scene))
     if path is None:
         from flexbearing.fem_cage.reduction import build      # the FE stack: only to build it
         if not quiet:
@@ -177,7 +189,7 @@ def reduced_cage_path(scene, quiet: bool = False):
             b = scene.bearing
             mesh, _ = cached_cad_cage_mesh(scene.cad["file"], b.n_balls, b.pitch_diameter, b.ball_diameter,
                                            b.cage.guidance, scene.cad["unit"], b.cage.material, size, pocket,
-                                           cm.DEFAULT_ORDER)
+                                           cm.DEFAULT_ORDER, expect_key=scene.cad["key"])
             cad_key = scene.cad["key"]
         path, _, _ = build(scene.bearing.cage, size, cm.DEFAULT_ORDER, pocket, rcf.DEFAULT_COUPLING,
                            rcf.DEFAULT_N_FIXED, quiet=quiet, degree=degree, centrifugal=True,
@@ -333,6 +345,8 @@ def backend(scene, reduced_cage=None):
     if reduced_cage is not None and str(rc.attrs.get("content_hash")) != reduced_cage_hash(scene):
         raise InputError(f"reduced cage file {path} (hash {rc.attrs.get('content_hash')}) is not the "
                          f"cage of scene {scene.name} (hash {reduced_cage_hash(scene)})")
+    if reduced_cage is not None:   # and built from the scene's parameters and the cache's mesh
+        rcf.check_provenance(path, reduced_cage_key(scene), scene_mesh_path(scene))
     n_keep = int(scene.flexible.get("n_modes", DEFAULT_N_KEEP))
     beta = float(scene.flexible.get("damping_beta", DEFAULT_DAMPING_BETA))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
@@ -342,6 +356,8 @@ def backend(scene, reduced_cage=None):
     n = basis.body.n_modes
     file_attrs = {"reduced_cage_file": str(Path(path).resolve()),
                   "reduced_cage_hash": str(rc.attrs.get("content_hash", Path(path).stem)),
+                  # its content digest: `report` uses only the reduced cage of this content
+                  "reduced_cage_sha256": str(rc.attrs.get("data_sha256", "")),
                   "cage_n_modes": n_keep}
 
     def build_model(bearing, oil, options):

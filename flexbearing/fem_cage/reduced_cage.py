@@ -19,7 +19,9 @@ Root attributes
                 quadratic mesh) where stress and displacement are given; tets (Nc, 4) int64:
                 the corner nodes of each cell (a P1 tetrahedron skeleton for any XDMF writer);
                 tets10 (Nc, 10): all nodes in VTK tetra10 order (quadratic mesh only); attrs: source_msh (path at build time),
-                msh_sha256, n_dofs (of the full model), element (e.g. "P3 on curved order-2
+                msh_sha256 (also the root attribute mesh_sha256, which the digest covers:
+                the mesh it was built from, checked against the cache's mesh by
+                check_provenance), n_dofs (of the full model), element (e.g. "P3 on curved order-2
                 tetrahedra"), quality (JSON: the mesh's element quality — inverted cells, worst
                 Jacobian ratio and scaled Jacobian — and what the repair of badly curved cells
                 changed; flexbearing.mesh.cage_mesh.mesh_quality_of).
@@ -129,7 +131,7 @@ import numpy as np
 import h5py
 
 from flexbearing.common.cache import file_sha256   # noqa: F401 (rcf.file_sha256: the mesh file's digest)
-from flexbearing.mesh.cage_mesh import MESH_VERSION
+from flexbearing.mesh.cage_mesh import MESH_VERSION, mesh_digest
 from flexbearing.common.cache import cache_dir, content_hash
 from flexbearing.common.safe_files import atomic_output
 from flexbearing.common.validation import InputError, require_range
@@ -178,18 +180,59 @@ def cache_path(key: dict) -> Path:
     return cache_dir() / "reduced_cage" / f"{content_hash(key)}.h5"
 
 
-def find_cached(key: dict) -> Path | None:
+def find_cached(key: dict, mesh=None) -> Path | None:
     """Path of the cached reduced cage for these inputs, or None (never builds anything); a file
     there is verified first (`verify`: InputError naming it and the fix if it is damaged or another
-    cage's). A whole file written before issue 36 (no digest to check) counts as absent: the
-    caller builds it again, over it."""
+    cage's), then its provenance against what the caller is about to use (`check_provenance`: the
+    parameters it records are `key`, and it was built from `mesh`, the cache's mesh for its key,
+    when that mesh is there and whole). A whole file written before issue 36 (no digest to check)
+    counts as absent: the caller builds it again, over it."""
     p = cache_path(key)
     if not p.exists() and not p.is_symlink():
         return None
     if _undigested(p):
         return None
     verify(p, expect_key=p.stem)
+    check_provenance(p, key, mesh)
     return p
+
+
+def _canonical(obj) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=repr)
+
+
+def recorded_mesh_sha256(f) -> str | None:
+    """The sha256 of the mesh a reduced cage (open file f) was built from: the root attribute
+    mesh_sha256 (covered by its digest), else the /mesh group's msh_sha256 (older files)."""
+    v = f.attrs.get("mesh_sha256")
+    if v is None and "mesh" in f:
+        v = f["mesh"].attrs.get("msh_sha256")
+    return None if v is None else str(v)
+
+
+def check_provenance(path, key: dict, mesh=None) -> None:
+    """InputError naming `path` and the fix unless the reduced cage was built from `key` (its
+    recorded parameters are that key, by content) and, when `mesh` (the mesh the caller would
+    build from: the cache's entry for the key) is there and whole (its own digest,
+    flexbearing.mesh.cage_mesh.mesh_digest), from that mesh (the sha256 the file records)."""
+    path = Path(path)
+    with h5py.File(path, "r") as f:
+        raw = f.attrs.get("parameters")
+        built_from = recorded_mesh_sha256(f)
+    try:
+        params = json.loads(raw) if raw is not None else None
+    except (TypeError, ValueError):
+        params = None
+    if params is None or _canonical(params) != _canonical(json.loads(_canonical(key))):
+        raise InputError(f"reduced cage file {path} records other parameters than the cage it is "
+                         f"asked for (its content_hash names this cage, its parameters another one: "
+                         f"an edited file): {_fix(path)}")
+    if mesh is not None and built_from is not None:
+        have = mesh_digest(mesh)
+        if have is not None and have != built_from:
+            raise InputError(f"reduced cage file {path} was built from mesh sha256 {built_from[:16]}, the "
+                             f"cache's mesh {mesh} for its key is {have[:16]} (a mesh swapped or "
+                             f"rebuilt differently): delete both and run again (flexbearing builds them anew)")
 
 
 def _undigested(path) -> bool:
@@ -384,8 +427,10 @@ def quantisation_bound(scale: np.ndarray, q: np.ndarray) -> float:
                          + 3.0 * (yz ** 2 + xz ** 2 + xy ** 2)))
 
 
-# the root attributes the digest covers: what the file is (its cache key) and its parameters
+# the root attributes the digest covers: what the file is (its cache key) and its parameters; and,
+# when the file has it (written since issue 43), the sha256 of the mesh it was built from
 _DIGEST_ATTRS = ("schema_version", "content_hash", "parameters", "n_modes")
+_DIGEST_ATTRS_IF_PRESENT = ("mesh_sha256",)
 
 
 def data_digest(f) -> str:
@@ -402,6 +447,9 @@ def data_digest(f) -> str:
         h.update(a.tobytes() if a.dtype != object else repr(a.tolist()).encode())
     for k in _DIGEST_ATTRS:
         h.update(f"{k}={f.attrs.get(k)!r};".encode())
+    for k in _DIGEST_ATTRS_IF_PRESENT:
+        if k in f.attrs:
+            h.update(f"{k}={f.attrs.get(k)!r};".encode())
     return h.hexdigest()
 
 

@@ -368,6 +368,7 @@ def build(geometry, size, order, pocket_size, coupling, n_fixed, quiet=True, che
         summary.update(run_checks(red, domain, geometry, degree, n_keep))
     stage("write")
     attrs = {"content_hash": rcf.cache_path(key).stem, "parameters": key, "coupling": coupling,
+             "mesh_sha256": rcf.file_sha256(msh),          # provenance: checked by rcf.check_provenance
              "n_modes": int(len(red["omega"])), "created_by": "flexbearing reduce",
              "centrifugal_vector": bool(centrifugal), "guide_load_vectors": bool(guide_loads),
              "inertia_relief_vectors": bool(inertia_relief)}

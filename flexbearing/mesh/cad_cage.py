@@ -1106,10 +1106,15 @@ def cached_cad_cage_mesh(path, n_balls: int, pitch_diameter: float, ball_diamete
     if expect_key is not None and cad_key != expect_key:
         raise InputError(f"cage.cad = {str(src.path)!r}: the file changed since the scene was read "
                          f"(its content digest differs): read the scene again")
-    key = {**cad_key, "size": float(size), "pocket_size": None if pocket_size is None else float(pocket_size),
-           "order": int(order), "mesh_version": CM.MESH_VERSION}
-    out = cache_dir() / "meshes" / f"{content_hash(key)}.msh"
+    out, key = cad_mesh_cache_path(cad_key, size, pocket_size, order)
     if not CM.verified_mesh(out):
         build_cad_cage_mesh(src, out, n_balls, pitch_diameter, ball_diameter, guidance, unit, size,
                             pocket_size, order, material)
     return out, key
+
+
+def cad_mesh_cache_path(cad_key: dict, size: float, pocket_size: float | None, order: int) -> tuple[Path, dict]:
+    """(path, key) of the cached mesh of a CAD cage of key `cad_key` (`_cad_key`) at these sizes."""
+    key = {**cad_key, "size": float(size), "pocket_size": None if pocket_size is None else float(pocket_size),
+           "order": int(order), "mesh_version": CM.MESH_VERSION}
+    return cache_dir() / "meshes" / f"{content_hash(key)}.msh", key

@@ -395,19 +395,25 @@ def write_quality(msh_path, report: dict) -> Path:
                                                                 indent=1))
 
 
+def mesh_digest(msh_path) -> str | None:
+    """The sha256 of a mesh that verified_mesh accepts, else None."""
+    p, side = Path(msh_path), quality_path(msh_path)
+    try:
+        if p.is_symlink() or not p.is_file() or side.is_symlink():
+            return None
+        rec = json.loads(side.read_text(encoding="utf-8"))
+        have = file_sha256(p)
+        return have if isinstance(rec, dict) and rec.get("msh_sha256") == have else None
+    except (OSError, ValueError):
+        return None
+
+
 def verified_mesh(msh_path) -> bool:
     """True when a cached mesh is whole and the one built for its key: the file exists (not a
     link) and its sha256 is the one its quality sidecar recorded when it was built. False (the
     caller builds it again, over it) for a missing, truncated, swapped or edited mesh, or one
     without a digest (cached before the digest was kept)."""
-    p, side = Path(msh_path), quality_path(msh_path)
-    try:
-        if p.is_symlink() or not p.is_file() or side.is_symlink():
-            return False
-        rec = json.loads(side.read_text(encoding="utf-8"))
-        return isinstance(rec, dict) and rec.get("msh_sha256") == file_sha256(p)
-    except (OSError, ValueError):
-        return False
+    return mesh_digest(msh_path) is not None
 
 
 def quality_path(msh_path) -> Path:
