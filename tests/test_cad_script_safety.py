@@ -160,6 +160,7 @@ def test_report_never_reads_the_cad_file_a_results_file_names(tmp_path, capsys, 
 def test_syntax_errors_and_other_statements_are_one_line(tmp_path):
     cases = {
         'Merge "cage14.step"\n': r"line 1: Merge \"cage14.step\" is not ended by ';'",
+        'Merge "cage14.step"\nPhysical Surface("guide") = {1};\n': r"line 1: Merge \"cage14.step\" is not ended by ';'",
         'Merge "cage14.step;\n': r"line 1: a string not closed on its line",
         'Merge "cage14.step"; /* open\n': r"line 1: a /\* comment never closed",
         'Merge "a.step"; Merge "b.step";': r"line 1: Merge \"b.step\"; is a second Merge \(the first on line 1\)",
@@ -277,3 +278,32 @@ def test_the_cad_record_of_a_results_file_is_data_too(tmp_path):
             with pytest.raises(InputError, match=match):
                 loads_scene(text, str(tmp_path / "s.toml"))
     assert not mark.exists()
+
+
+def test_a_cad_runs_report_uses_the_recorded_cage_not_the_file(tmp_path, monkeypatch):
+    """A run of a CAD scene records its CAD cage (the files' digests, the equivalent geometry);
+    its file then replaced by a hostile .geo-like text and garbage: the results file's scene still
+    has the CAD cage, rebuilt from the record, and nothing was read from the file."""
+    from flexbearing.simulation.results import ResultsWriter, Run
+    from flexbearing.verification.cad_test_cage import BORE, Z, make_cad_cage
+    monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path / "cache"))
+    make_cad_cage(tmp_path / "cage14.step")
+    (tmp_path / "s.toml").write_text(SCENE.replace("evil.geo", "cage14.step"))
+    scene = load_scene(tmp_path / "s.toml")
+    path = tmp_path / "cad_run.h5"
+    w = ResultsWriter.create(path, scene)
+    for k in range(11):
+        w.add_sample(k * 1e-3, {"cage_speed": 450.0 + k})
+    w.write_block()
+    w.set_status("complete")
+    w.close()
+    with h5py.File(path, "r") as f:
+        rec = json.loads(f.attrs["cad_cage"])
+    assert rec["key"] == scene.cad["key"] and rec["file"].endswith("cage14.step")
+    (tmp_path / "cage14.step").write_bytes(b'System "touch MARK";\n')
+    with Run(path) as r:
+        got = r.scene
+    assert got.bearing.cage == scene.bearing.cage and got.bearing.cage.n_pockets == Z
+    assert got.bearing.cage.bore_diameter == pytest.approx(BORE * 1e-3, rel=1e-6)
+    assert got.cad["key"] == scene.cad["key"]
+    assert not (tmp_path / "MARK").exists()

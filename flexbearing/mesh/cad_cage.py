@@ -170,7 +170,7 @@ GEO_SUBSET = ('SetFactory("OpenCASCADE");, one Merge "FILE.step"; (a STEP or BRE
               'folder) and Physical Surface("name") = {faces};')
 _GEO_TOKEN = re.compile(r'(?P<ws>\s+)|(?P<lc>//[^\n]*)|(?P<bc>/\*.*?\*/)|(?P<str>"[^"\n]*")'
                         r'|(?P<id>[A-Za-z_][A-Za-z0-9_]*)|(?P<num>[0-9]+)|(?P<p>[(){},;=:])', re.S)
-_SAFE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]*")
+_SAFE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+ -]*")
 _GROUP_DIMS = {"Surface": 2, "Volume": 3}
 MAX_FACE_RANGE = 100_000
 
@@ -200,7 +200,7 @@ class CadSource:
 
 def _geo_refusal(source: str, line: int, what: str) -> InputError:
     return InputError(f"cage.cad = {source!r}: line {line}: {what}; a cage .geo may hold only "
-                      f"{GEO_SUBSET} It is read as data, never run")
+                      f"{GEO_SUBSET} (it is read as data, never run)")
 
 
 def _statement_text(text: str, start: int, end: int) -> str:
@@ -241,6 +241,10 @@ def parse_cage_geo(text: str, source: str) -> tuple[str, int, tuple]:
             continue
         line = stmt[0][2]
         said = _statement_text(text, stmt[0][3], tok[3] + 1)
+        heads = ("SetFactory", "Merge", "Physical")
+        if stmt[0][1] in heads and any(t[1] in heads and t[2] > stmt[k - 1][2]
+                                       for k, t in enumerate(stmt) if k > 0):   # the ';' is missing
+            raise _geo_refusal(source, line, f"{said} is not ended by ';'")
         kinds = [k for k, _, _, _ in stmt]
         vals = [v for _, v, _, _ in stmt]
         if vals == ["SetFactory", "(", '"OpenCASCADE"', ")"]:
@@ -380,7 +384,7 @@ def read_cad_source(path) -> CadSource:
     shape_kind = CAD_SUFFIXES.get(Path(name).suffix.lower())
     if not _SAFE_NAME.fullmatch(name) or shape_kind not in ("step", "brep"):
         raise _geo_refusal(source, line, f"Merge {name!r} is not allowed (a STEP or BREP file name of "
-                                         f"the .geo's own folder: letters, digits, _ . + -, no path)")
+                                         f"the .geo's own folder: letters, digits, space, _ . + -; no path)")
     shape = path.parent / name
     data = _read_regular(shape, source, "the merged file", follow=False)
     _check_shape_data(data, shape_kind, shape, source)
