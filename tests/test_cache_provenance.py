@@ -209,3 +209,17 @@ def test_a_truncated_or_edited_cad_record_is_found_again_and_written_with_the_um
     assert read_cad_record(store, key) is None
     g2 = cad_cage_geometry(step, Z, PITCH * 1e-3, 22e-3, "inner")[0]
     assert g2.bore_diameter == pytest.approx(BORE * 1e-3, rel=1e-6)
+
+
+def test_report_reduced_cage_other_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
+    """`flexbearing report RUN --reduced-cage OTHER`: one line, exit 2, no output folder."""
+    from flexbearing.cli.main import main
+    key, p, mesh = _entry(tmp_path, monkeypatch)
+    run, h = _run_file(tmp_path / "run.h5", p)
+    other = rcf.write(tmp_path / "other.h5", _synthetic(seed=5), {"content_hash": h})    # its key, other content
+    for given, match in ((other, rf"reduced cage file {other} is not the content the run {run} used"),
+                         (run, rf"--reduced-cage {run}: not a reduced cage file")):
+        code = main(["report", str(run), "-o", str(tmp_path / "rep"), "--reduced-cage", str(given), "--quiet"])
+        err = capsys.readouterr().err.strip().splitlines()
+        assert code == 2 and len(err) == 1 and __import__("re").search(match, err[0]), err
+    assert not (tmp_path / "rep").exists()

@@ -307,3 +307,6 @@ def test_a_cad_runs_report_uses_the_recorded_cage_not_the_file(tmp_path, monkeyp
     assert got.bearing.cage.bore_diameter == pytest.approx(BORE * 1e-3, rel=1e-6)
     assert got.cad["key"] == scene.cad["key"]
     assert not (tmp_path / "MARK").exists()
+    # the scene's hash (what --resume checks) holds the CAD files' content, the same when rebuilt
+    from flexbearing.common.cache import content_hash
+    assert got.content_hash() == scene.content_hash() != content_hash(scene.data)

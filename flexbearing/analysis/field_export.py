@@ -146,11 +146,26 @@ def open_reduced_cage(run_path, rc_path, rc_hash: str, n_modes: int):
         raise InputError(f"reduced cage file {rc_path} is not the content the run {run_path} used (its "
                          f"sha256 {str(rc.attrs.get('data_sha256', 'none'))[:16]}, the run recorded "
                          f"{used[:16]}): edited or rebuilt since the run; give the file the run used")
-    if n_modes != rc.stress_modes.shape[2]:
+    if n_modes is not None and n_modes != rc.stress_modes.shape[2]:
         raise InputError(f"{run_path}: cage_modal_coordinates_full has {n_modes} modes, the reduced "
                          f"cage file {rc_path} has {rc.stress_modes.shape[2]} (allowed: equal); wrong "
                          f"reduced cage file?")
     return rc, hash_note
+
+
+def check_given_reduced_cage(run_path, rc_path) -> None:
+    """`report --reduced-cage FILE`, checked before any work: InputError in one line unless FILE
+    is the reduced cage the run used (open_reduced_cage: a reduced cage file, of the run's key and
+    of the content digest the run recorded). A run that recorded no reduced cage (a rigid cage)
+    is left to the report."""
+    try:
+        with h5py.File(run_path, "r") as f:
+            rc_hash = str(f.attrs.get("reduced_cage_hash", ""))
+            n = f["outputs/cage_modal_coordinates_full"].shape[-1] if "outputs/cage_modal_coordinates_full" in f else None
+    except (OSError, KeyError, TypeError):
+        return                                   # the report names what is wrong with the run file
+    if rc_hash:
+        open_reduced_cage(run_path, rc_path, rc_hash, n)
 
 
 def _recorded_content(run_path) -> str:

@@ -97,6 +97,9 @@ def _fatigue_settings(args):
 def cmd_report(args) -> int:
     run = Path(args.run)
     out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
+    if args.reduced_cage:        # only the reduced cage the run used (its key and content digest)
+        from flexbearing.analysis.field_export import check_given_reduced_cage
+        check_given_reduced_cage(run, args.reduced_cage)
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
                        reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle,
                        series=args.series, displacement_scale=args.displacement_scale, movie=args.movie,

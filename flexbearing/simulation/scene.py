@@ -198,8 +198,10 @@ class Scene:
         return float(out[0]), float(math.hypot(out[1], out[2]))
 
     def content_hash(self) -> str:
-        """Hash of the parsed scene (comments and layout do not count)."""
-        return content_hash(self.data)
+        """Hash of the parsed scene (comments and layout do not count) and, for a CAD cage, of the
+        content of every file its geometry reads (cage.cad's key): a resume after the CAD file
+        changed is another scene."""
+        return content_hash(self.data) if not self.cad else content_hash([self.data, self.cad["key"]])
 
 
 # ---------------------------------------------------------------- small strict readers
