@@ -87,7 +87,8 @@ def run(args) -> int:
     inertia_relief = getattr(args, "inertia_relief", True)
     key = rcf.cache_key(geometry, size, order, pocket, coupling, n_fixed, degree, centrifugal,
                         guide_loads, inertia_relief)
-    path = None if args.force else rcf.find_cached(key)
+    # used only when built from this key and the cache's mesh for it (provenance)
+    path = None if args.force else rcf.find_cached(key, cm.cache_path(geometry, size, order, pocket))
     summary = None
     if path is None or args.check:
         path, red, summary = build(geometry, size, order, pocket, coupling, n_fixed,
