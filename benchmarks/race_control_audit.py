@@ -117,8 +117,8 @@ def main(argv=None) -> None:
                   f"beta {r['beta_deg']:5.1f} deg (outer ctl {r['beta_outer_control_deg']:.1f}, inner "
                   f"{r['beta_inner_control_deg']:.1f})  Jones {r['jones_ratio']:.2f}  converged {r['converged']}",
                   flush=True)
-    if a.out:
-        Path(a.out).write_text(json.dumps(result, indent=1))
+        if a.out:                                   # after every variant: a long one can be stopped
+            Path(a.out).write_text(json.dumps(result, indent=1))
 
 
 if __name__ == "__main__":
