@@ -16,7 +16,8 @@ Variants (VARIANTS): the scene as it is (base); Fr = 0 (ball-pass excitation thr
 load); pocket diameter 23.0 mm instead of 22.5 (pocket impacts); integrator tolerance 1e-6 and the
 Bogacki–Shampine 3(2) method (the integrator); contact damping ratio 0 and 0.2 (the model's normal
 damping); transverse traction off, the EHL law at film strength 1 and 0.5, traction off (the
-traction–spin coupling); inner ring +10 kg (the ring's share in the mode); the clearance the inner
+traction–spin coupling); inner ring +10 kg (the ring's share in the mode) and +1000 kg (the ring in
+effect held); the clearance the inner
 ring's centrifugal growth leaves at 14,000 rpm (32 um).
 """
 from __future__ import annotations
@@ -47,6 +48,7 @@ VARIANTS = {
     "ehl_half": {"model": 'traction_law = "ehl"\ntraction_scale = 0.5'},
     "traction_off": {"model": "traction = false"},
     "ring_plus_10kg": {"model": "inner_ring_added_mass = 10.0"},
+    "ring_plus_1000kg": {"model": "inner_ring_added_mass = 1000.0"},     # the ring in effect held
     # the design clearance less twice the inner ring's centrifugal growth at 14,000 rpm (28.1 um
     # radial by the external code of docs/equilibrium_check.md; the model has no ring growth)
     "clearance_32um": {"bearing": "radial_clearance = 32.2e-6"},
