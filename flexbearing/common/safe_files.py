@@ -351,7 +351,7 @@ class OutputPlan:
         if not path.exists():
             return
         if path.is_dir():
-            self._refuse(option, path, "it is a folder, and this output is a file; give a file name")
+            self._refuse(option, path, "it is a directory, and this output is a file; give a file name")
         if not path.is_file():
             self._refuse(option, path, "it is not a regular file (a device, a pipe or a socket)")
         if path.suffix == ".h5":
