@@ -92,6 +92,16 @@ def test_a_full_disk_at_file_creation_is_one_line_naming_the_file(tmp_path, fake
     assert "o_flags" not in err and not out.exists()
 
 
+def test_hdf5_errors_reach_the_user_as_the_file_and_the_reason():
+    """h5py's OSError text is a paragraph of flags; the command prints the file and the cause."""
+    from flexbearing.cli.main import os_error_line
+    hdf5 = ("Unable to create file (unable to open file: name = '/data/r.h5', errno = {}, error message = "
+            "'{}', flags = 13, o_flags = 242)")
+    line = os_error_line(OSError(hdf5.format(28, "No space left on device")))
+    assert line.startswith("/data/r.h5: disk full") and "flags" not in line
+    assert os_error_line(OSError(hdf5.format(13, "Permission denied"))) == "/data/r.h5: Permission denied"
+
+
 def test_report_with_a_results_file_as_its_reduced_cage_is_one_line(run_file, tmp_path, capsys):
     _one_line(capsys, ["report", run_file, "--reduced-cage", run_file, "-o", tmp_path / "rep"],
               "--reduced-cage", "results file of a run", "not a reduced cage file")
@@ -204,6 +214,7 @@ def test_ctrl_c_on_a_local_dask_cluster_stops_it_without_worker_tracebacks(tmp_p
     (tmp_path / "jobs.py").write_text(JOBS_SCRIPT)
     code, took, err = _stop_after([sys.executable, "jobs.py"], "starting", delay, tmp_path)
     assert code == 130 and "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    print(f"\nDask, Ctrl-C {delay:g} s after the start: exit {code} {took:.1f} s later")
     assert took < 20.0, took
 
 
@@ -217,4 +228,5 @@ def test_ctrl_c_during_modes_stops_within_seconds(tmp_path):
     code, took, err = _stop_after([exe, "modes", "--mesh", str(tmp_path / "c.msh"), "--degree", "2",
                                    "--n-modes", "300", "--no-classify"], "eigensolve", 2.0, tmp_path)
     assert code == 130 and "Traceback" not in err and "interrupted (Ctrl-C)" in err, err[-2000:]
+    print(f"\nmodes --n-modes 300, Ctrl-C 2 s into the eigensolve: exit {code} {took:.1f} s later")
     assert took < 10.0, took

@@ -91,8 +91,25 @@ def cmd_modes(args) -> int:
     return 0
 
 
+def planned_mesh_study_outputs(args) -> OutputPlan:
+    """Every file `flexbearing mesh-study -o DIR` writes (flexbearing.fem_cage.mesh_study:
+    mesh_study.csv, .json, .png), checked before any work (written in place, not staged)."""
+    plan = OutputPlan("flexbearing mesh-study")
+    plan.folder(args.output, "-o", names=("mesh_study.csv", "mesh_study.json", "mesh_study.png"))
+    return plan
+
+
+def planned_calibrate_outputs(args) -> OutputPlan:
+    """Every file `flexbearing calibrate-cage -o DIR` writes (flexbearing.fem_cage.calibrate: the
+    evaluations log, calibration.json, calibration.md), checked before any work (written in place)."""
+    plan = OutputPlan("flexbearing calibrate-cage")
+    plan.folder(args.output, "-o", names=("evaluations.jsonl", "calibration.json", "calibration.md"))
+    return plan
+
+
 def cmd_mesh_study(args) -> int:
     require_range("mesh-study.n_modes", args.n_modes, 7, MAX_N_MODES)
+    planned_mesh_study_outputs(args).check()
     g = geometry_from_args(args)
     levels = DEFAULT_STUDY if not args.levels else [_level(s) for s in args.levels]
     run_mesh_study(g, levels, Path(args.output), n_modes=args.n_modes, quiet=args.quiet)
@@ -114,6 +131,7 @@ def _level(text: str) -> tuple:
 
 
 def cmd_calibrate(args) -> int:
+    planned_calibrate_outputs(args).check()
     run_calibration(Path(args.output), size=args.size, pocket_size=args.pocket_size,
                     order=args.order, degree=args.degree, params=args.params, quiet=args.quiet,
                     max_evals=args.max_evals)
