@@ -114,10 +114,11 @@ def cmd_mesh(args) -> int:
         return cmd_mesh_cad(args, out, t0, plan)
     g = geometry_from_args(args)
     with plan.writing():                          # written beside, renamed into place when whole
+        staged = plan.staged(out)                 # every rank (the staging folder is shared)
         if MPI.COMM_WORLD.rank == 0:
-            build_cage_mesh(g, args.size, args.order, plan.staged(out), pocket_size=args.pocket_size)
+            build_cage_mesh(g, args.size, args.order, staged, pocket_size=args.pocket_size)
         MPI.COMM_WORLD.barrier()
-        write_mesh_xdmf(plan.staged(out))
+        write_mesh_xdmf(staged)
     x = out.with_suffix(".xdmf")
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
         print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} m, "
@@ -155,11 +156,12 @@ def cmd_mesh_cad(args, out: Path, t0: float, plan: OutputPlan) -> int:
     dw = args.ball_diameter_mm * 1e-3 if args.ball_diameter_mm else PAPER_BEARING.ball_diameter
     cad = None
     with plan.writing():                          # written beside, renamed into place when whole
+        staged = plan.staged(out)                 # every rank (the staging folder is shared)
         if MPI.COMM_WORLD.rank == 0:
-            cad = build_cad_cage_mesh(args.cad, plan.staged(out), n_balls, dm, dw, args.guidance,
+            cad = build_cad_cage_mesh(args.cad, staged, n_balls, dm, dw, args.guidance,
                                       args.cad_unit, args.size, args.pocket_size, args.order)
         MPI.COMM_WORLD.barrier()
-        write_mesh_xdmf(plan.staged(out))
+        write_mesh_xdmf(staged)
     x = out.with_suffix(".xdmf")
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
         print("\n".join(cad.report_lines(dm, dw)))
