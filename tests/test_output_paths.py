@@ -138,10 +138,9 @@ def test_reduce_writes_only_what_it_declares(tmp_path):
     names = _enumerate(tmp_path, argv, cli_reduce.planned_outputs(_args(argv)), "reduce")
     assert sorted(names) == ["cage.h5", "cage.json", "shapes.h5", "shapes.xdmf"]
     # -o onto the cache entry it reads: refused (an input)
-    from flexbearing.fem_cage import reduced_cage as rcf
     import json
     cached = Path(json.loads((tmp_path / "cage.json").read_text())["file"])
-    assert main(["reduce", *small, "-o", cached]) == 2
+    assert main(["reduce", *small, "-o", str(cached)]) == 2
 
 
 # ---------------------------------------------------------------- the rule
@@ -278,6 +277,11 @@ def test_the_staged_commit_replaces_an_old_file_whole_and_a_failure_leaves_it(tm
     assert target.read_text() == "new"
 
 
+def test_the_report_declares_the_fatigue_files_by_their_writers_names():
+    from flexbearing.analysis import cage_fatigue, report
+    assert report.FATIGUE_FILES == (cage_fatigue.FATIGUE_H5, cage_fatigue.FATIGUE_XDMF, cage_fatigue.FATIGUE_JSON)
+
+
 # the function that declares each command's outputs (a new command with an output option must add one)
 DECLARED_BY = {
     "mesh": "flexbearing.cli.mesh:planned_outputs", "modes": "flexbearing.cli.modes:planned_outputs",
@@ -323,3 +327,19 @@ def test_every_command_with_an_output_option_declares_its_outputs():
             inspect.getsource(importlib.import_module(module)).count(f"{func}(") >= 2
         assert handler is not None and called, name
     assert not missing, f"commands with an output option and no declared outputs: {missing}"
+
+
+@pytest.mark.slow
+def test_a_flexible_cage_report_with_series_and_fatigue_writes_only_what_it_declares(
+        paper_reduced_cage, short_flexible_impact, tmp_path):
+    """The report's every side file (von Mises frames, the stress picture and its facts, the
+    series, the fatigue files and picture) on a 3 ms flexible-cage run of the paper bearing."""
+    from flexbearing.analysis.report import report_outputs
+    run = tmp_path / "run.h5"
+    record = ["pocket_force", "cage_speed", "von_mises", "kinematics", "cage_orbit"]
+    simulation_run.run_scene(short_flexible_impact("short_flexible_outputs", record), run, quiet=True)
+    out = tmp_path / "rep"
+    names = _enumerate(tmp_path, ["report", run, "-o", out, "--series", "0:0.003", "--fatigue", "--quiet"],
+                       report_outputs(run, out), "report (flexible cage, --series, --fatigue)")
+    assert {"rep/von_mises_peak.json", "rep/von_mises.h5", "rep/series.h5", "rep/series_rings.xdmf",
+            "rep/fatigue.h5", "rep/fatigue_damage.png"} <= set(names)

@@ -16,6 +16,13 @@ cluster").
 
 `refuse_overwriting_inputs(output, inputs)` refuses an output that is one of the command's inputs
 (the same path, or the same file under another name: st_dev and st_ino) or a symlink.
+
+`OutputPlan`: every file one command writes, declared before any work and checked by one rule
+(not an input, not a link or through one, not over something of another kind, no two outputs at
+one name), then written into staging folders and renamed into place (see the section below).
+Each command declares its plan in one function (`planned_outputs` of its command module,
+flexbearing.analysis.report.report_outputs, flexbearing.studies.study.study_outputs);
+tests/test_output_paths.py checks what each command writes against it.
 """
 from __future__ import annotations
 
