@@ -126,6 +126,15 @@ def test_max_wall_time_must_be_a_finite_positive_number(tmp_path, capsys, value)
     assert list(tmp_path.iterdir()) == [scene]
 
 
+@pytest.mark.parametrize("value", [float("nan"), -5.0, 0.0, float("inf")])
+def test_run_scene_refuses_a_wall_time_limit_that_would_be_ignored(tmp_path, value):
+    from flexbearing.common.validation import InputError
+    with pytest.raises(InputError, match="max-wall-time"):
+        simulation_run.run_scene(fake_scene(), tmp_path / "r.h5", quiet=True, backend=fake_backend(),
+                                 max_wall_time=value)
+    assert list(tmp_path.iterdir()) == []
+
+
 # ---------------------------------------------------------------- Ctrl-C
 
 def _petsc(A):
