@@ -107,6 +107,13 @@ def test_run_report_export_write_only_what_they_declare(tmp_path, fake_runs):
     assert "r.nc" in names and "csv/cage_speed.csv" in names
 
 
+def test_quasi_static_writes_only_what_it_declares(tmp_path):
+    from flexbearing.cli import quasi_static as cli_qs
+    scene = Path(__file__).resolve().parents[1] / "scenes" / "paper_steady_rigid.toml"
+    argv = ["quasi-static", scene, "--json", tmp_path / "qs" / "q.json"]
+    assert _enumerate(tmp_path, argv, cli_qs.planned_outputs(_args(argv)), "quasi-static") == ["qs/q.json"]
+
+
 def test_study_writes_only_what_it_declares(tmp_path, monkeypatch):
     import flexbearing.studies.study as S
     real = S._run_one
