@@ -85,7 +85,8 @@ SERIES_H5 = "series.h5"
 SERIES_JSON = "series.json"
 PEAKS_XDMF = "von_mises.xdmf"
 # every file this module writes into an output folder (checked before: flexbearing.common.safe_files)
-FIELD_FILES = (SERIES_CAGE, SERIES_POINTS, SERIES_H5, SERIES_JSON, PEAKS_XDMF, "von_mises.h5", "von_mises.json")
+FIELD_FILES = (SERIES_CAGE, SERIES_POINTS, SERIES_RINGS, SERIES_H5, SERIES_JSON, PEAKS_XDMF, "von_mises.h5",
+               "von_mises.json")
 # A series beyond this size is refused with the every-N-th hint: a whole demo run at every sample
 # (6,000 frames of the 10,727-node cage) would be ~5 GB, more than ParaView plays comfortably.
 SERIES_MAX_BYTES = 2e9

@@ -39,21 +39,25 @@ def pvpython_command() -> list[str] | None:
 
 
 def write_paraview_scene(folder, movie: bool = False, png=None, time: float | None = None,
-                         size=(1600, 1000), timeout: float = 3600.0) -> dict:
-    """<folder>/bearing.pvsm (and bearing.avi with `movie`, a screenshot `png`) of the series in
-    `folder` (flexbearing.analysis.field_export.write_series). Returns the scene's facts: "time"
-    shown (s), "colour_range_mpa", "recorded_max_mpa", "state", "png", "movie" (paths)."""
+                         size=(1600, 1000), timeout: float = 3600.0, out=None) -> dict:
+    """<out>/bearing.pvsm (and bearing.avi with `movie`, a screenshot `png`) of the series in
+    `folder` (flexbearing.analysis.field_export.write_series); out: where the state, the movie and
+    their settings (paraview_scene.json) are written, default `folder` (the report writes them in
+    its staging folder, flexbearing.common.safe_files.OutputPlan, the state naming the series
+    files where they stay). Returns the scene's facts: "time" shown (s), "colour_range_mpa",
+    "recorded_max_mpa", "state", "png", "movie" (paths)."""
     cmd = pvpython_command()
     if cmd is None:
         raise InputError(f"the ParaView state and movie need {NEEDS}; the series files are written "
                          f"and open in ParaView without it")
     folder = Path(folder).resolve()
-    settings = {"folder": str(folder), "state": str(folder / STATE),
+    dest = folder if out is None else Path(out).resolve()
+    settings = {"folder": str(folder), "state": str(dest / STATE),
                 "png": None if png is None else str(Path(png).resolve()),
-                "movie": str(folder / MOVIE) if movie else None, "time": time, "size": list(size)}
-    (folder / SETTINGS).write_text(json.dumps(settings, indent=1) + "\n")
+                "movie": str(dest / MOVIE) if movie else None, "time": time, "size": list(size)}
+    (dest / SETTINGS).write_text(json.dumps(settings, indent=1) + "\n")
     for attempt in range(ATTEMPTS):
-        out = subprocess.run(cmd + [str(SCENE_SCRIPT), str(folder / SETTINGS)], capture_output=True,
+        out = subprocess.run(cmd + [str(SCENE_SCRIPT), str(dest / SETTINGS)], capture_output=True,
                              text=True, timeout=timeout)
         line = next((l for l in out.stdout.splitlines() if l.startswith("FLEXBEARING_PARAVIEW ")), None)
         if line is not None:

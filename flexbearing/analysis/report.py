@@ -37,8 +37,9 @@ from flexbearing.analysis.windows import (MOTION_ROWS, QUANTITIES, QUANTITY, Qua
 from flexbearing.analysis import field_export
 from flexbearing.analysis.summary import summary_rows, input_rows
 from flexbearing.analysis.paraview_state import NEEDS, pvpython_command, write_paraview_scene
+from flexbearing.analysis import paraview_state
 from flexbearing.common.progress import Stages
-from flexbearing.common.safe_files import check_output_folder
+from flexbearing.common.safe_files import OutputPlan
 from flexbearing.analysis.html_page import write_html
 
 
@@ -355,6 +356,46 @@ def cage_fatigue_section(r: Report) -> list[str]:
 
 # the files a report writes by these names (plots: *.png; the field export's: field_export.FIELD_FILES)
 REPORT_FILES = ("report.md", "report.html", "report.json")
+PDF_FILE = "report.pdf"          # flexbearing.analysis.pdf.print_pdf: the page's name, .pdf
+PLOT_PATTERNS = ("*.png",)       # flexbearing.analysis.plots: one per quantity the run recorded
+# flexbearing.analysis.cage_fatigue's FATIGUE_H5, FATIGUE_XDMF, FATIGUE_JSON (that module compiles
+# numba kernels on import; tests/test_output_paths.py checks that these are its names)
+FATIGUE_FILES = ("fatigue.h5", "fatigue.xdmf", "fatigue.json")
+
+
+def report_outputs(run_h5, out_dir, compare=None, reduced_cage=None, command: str = "flexbearing report",
+                   option: str = "-o") -> OutputPlan:
+    """Every file write_report can write into out_dir (flexbearing.common.safe_files.OutputPlan),
+    whatever the run and the options (a folder used for reports holds no input and no link at any
+    of these names): the page (md, html, json, pdf), the plots (*.png), a flexible cage's von Mises
+    frames and stress picture with its facts, a series' files and ParaView scene (its settings,
+    state and movie), the fatigue files and picture. The inputs: the run, the run compared with
+    and the reduced cage given. write_report writes through this plan: a file it did not declare
+    is refused when the staged files are renamed into place."""
+    from flexbearing.analysis import stress_picture, fatigue_picture
+    plan = OutputPlan(command, inputs=[run_h5, compare, reduced_cage])
+    names = list(REPORT_FILES) + [PDF_FILE]
+    names += [field_export.PEAKS_XDMF, "von_mises.h5", "von_mises.json", stress_picture.PICTURE,
+              Path(stress_picture.PICTURE).with_suffix(".json").name]
+    names += [field_export.SERIES_CAGE, field_export.SERIES_POINTS, field_export.SERIES_RINGS,
+              field_export.SERIES_H5, field_export.SERIES_JSON,
+              paraview_state.SETTINGS, paraview_state.STATE, paraview_state.MOVIE]
+    names += list(FATIGUE_FILES) + [fatigue_picture.PICTURE]
+    plan.folder(out_dir, option, names=names, patterns=PLOT_PATTERNS)
+    return plan
+
+
+def _final_paths(obj, stage: Path, out_dir: Path):
+    """obj with every path (Path or str) inside the staging folder `stage` moved to out_dir."""
+    if isinstance(obj, dict):
+        return {k: _final_paths(v, stage, out_dir) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(_final_paths(v, stage, out_dir) for v in obj)
+    if isinstance(obj, (str, Path)):
+        p = Path(obj)
+        if p.parent == stage:
+            return out_dir / p.name if isinstance(obj, Path) else str(out_dir / p.name)
+    return obj
 
 # The report, in page order: a section is a function Report -> Markdown lines ([] leaves it out).
 SECTIONS = [title_section, summary_section, notes_section, comparison_section, phases_section,
@@ -392,11 +433,13 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         run = stack.enter_context(Run(run_h5))
         cmp = stack.enter_context(Run(compare)) if compare is not None else None
         _check_frames(run, frames)                  # a bad --frames stops the report before any file
-        out_dir = Path(out_dir)
-        # nothing the report writes may replace an input or go through a link planted in its folder
-        check_output_folder(out_dir, REPORT_FILES + field_export.FIELD_FILES,
-                            [run.path, cmp.path if cmp is not None else None, reduced_cage], patterns=("*.png",))
-        out_dir.mkdir(parents=True, exist_ok=True)
+        final_dir = Path(out_dir)
+        # every file the report writes, checked before any work (the one output rule), then
+        # written into a staging folder beside them and renamed into place when whole
+        plan = report_outputs(run.path, final_dir, cmp.path if cmp is not None else None,
+                              reduced_cage).check()
+        stack.callback(plan.discard)                # an exception: nothing half-written lands
+        out_dir = plan.staging(final_dir)
         say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
         todo = {k: w for k, w in REPORT_STAGES.items()
                 if (k not in SERIES_STAGES or series is not None) and (run.flexible or k not in FLEXIBLE_STAGES)
@@ -408,11 +451,15 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
             series_out = field_export.write_series(run, out_dir, series, reduced_cage=reduced_cage,
                                                    displacement_scale=displacement_scale)
             step("ParaView scene")
+            if pvpython_command() is not None:
+                plan.commit()               # the state names the series files where they stay
+                series_out = _final_paths(series_out, out_dir, final_dir)
+                out_dir = plan.staging(final_dir)
             series_out["paraview"] = paraview = {"note": None}
             if pvpython_command() is None:
                 paraview["note"] = f"bearing.pvsm not written: it needs {NEEDS}"
             else:
-                paraview.update(write_paraview_scene(out_dir, movie=movie))
+                paraview.update(write_paraview_scene(final_dir, movie=movie, out=out_dir))
         step("tables")
         data = read_run(run)
         rows = phase_rows(*data, True, settle)
@@ -473,11 +520,12 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
             step("pdf")
             from flexbearing.analysis.pdf import print_pdf
             pdf_path = print_pdf(page)
+        plan.commit()
         step(None)
-    return {"report": report, "html": page, "json": js, "plots": r.plots, "xdmf": r.xdmf,
-            "stress_picture": r.picture, "series": series_out,
-            "paraview": None if series_out is None else series_out["paraview"], "pdf": pdf_path,
-            "fatigue": fatigue_files or None}
+    return _final_paths({"report": report, "html": page, "json": js, "plots": r.plots, "xdmf": r.xdmf,
+                         "stress_picture": r.picture, "series": series_out,
+                         "paraview": None if series_out is None else series_out["paraview"], "pdf": pdf_path,
+                         "fatigue": fatigue_files or None}, out_dir, final_dir)
 
 
 def _impact_amplification(t, arrays, scene, dt) -> list[dict]:

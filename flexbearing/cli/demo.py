@@ -15,7 +15,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 from importlib.resources import files
-from flexbearing.analysis.report import write_report
+from flexbearing.analysis.report import report_outputs, write_report
+from flexbearing.common.safe_files import OutputPlan
 
 SETTLE_S = 0.05
 # the ParaView series of the report: the unsteady run's second impact (50 kN half-sine centred at
@@ -40,16 +41,37 @@ def _scene_path(name: str, rigid: bool) -> Path:
     return _scenes_folder() / (f"{name}_rigid.toml" if rigid else f"{name}.toml")
 
 
+NAMES = ("paper_steady", "paper_unsteady")
+
+
+def planned_outputs(args) -> OutputPlan:
+    """Every file `flexbearing demo -o DIR` writes: DIR/<scene>.h5 and its summary for each scene
+    (flexbearing.simulation.run; a results file there is continued) and the report in DIR/report
+    (flexbearing.analysis.report.report_outputs)."""
+    from flexbearing.simulation.results import summary_path
+    out = Path(args.output)
+    scene_names = [f"{n}_rigid" if args.rigid else n for n in NAMES]    # the scenes' own names
+    plan = OutputPlan("flexbearing demo", inputs=[_scene_path(n, bool(args.rigid)) for n in NAMES])
+    plan.folder(out, "-o")
+    for name in scene_names:
+        plan.file(out / f"{name}.h5", "-o", h5_kind="results file of a run")
+        plan.file(summary_path(out / f"{name}.h5"), "-o")
+    rep = report_outputs(out / f"{scene_names[-1]}.h5", out / "report", out / f"{scene_names[0]}.h5")
+    rep.inputs = []          # the runs are this command's own outputs, continued
+    return plan.include(rep)
+
+
 def run(args) -> int:
     from flexbearing.simulation.run import RunInterrupted, run_scene
     from flexbearing.simulation.scene import load_scene
 
+    planned_outputs(args).check()                      # before any work: the one output rule
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     rigid = bool(args.rigid)
     t0 = time.perf_counter()
     results = {}
-    for name in ("paper_steady", "paper_unsteady"):
+    for name in NAMES:
         scene = load_scene(_scene_path(name, rigid))
         path = out / f"{scene.name}.h5"
         print(f"== {scene.name}: {scene.duration:g} s simulated -> {path}", flush=True)

@@ -9,6 +9,7 @@ xarray.open_dataset(RUN.h5, group="outputs").
 from __future__ import annotations
 
 from flexbearing.common.validation import InputError
+from flexbearing.common.safe_files import OutputPlan
 from flexbearing.analysis.export import write_csv, write_netcdf
 
 
@@ -22,9 +23,22 @@ def register(subparsers) -> None:
     p.set_defaults(func=cmd_export)
 
 
+def planned_outputs(args) -> OutputPlan:
+    """Every file `flexbearing export` writes: --netcdf FILE, --csv DIR/<output>.csv (one per
+    output of the run: flexbearing.analysis.export.write_csv). Each is written by a temporary
+    beside it, renamed (flexbearing.common.safe_files.atomic_output)."""
+    plan = OutputPlan("flexbearing export", inputs=[args.run])
+    if args.netcdf:
+        plan.file(args.netcdf, "--netcdf")
+    if args.csv:
+        plan.folder(args.csv, "--csv", patterns=("*.csv",))
+    return plan
+
+
 def cmd_export(args) -> int:
     if not args.netcdf and not args.csv:
         raise InputError("give --netcdf FILE and/or --csv DIR (what to write)")
+    planned_outputs(args).check()                   # both outputs, before either is written
     if args.netcdf:
         print(f"netCDF: {write_netcdf(args.run, args.netcdf, quiet=args.quiet)}")
     if args.csv:

@@ -84,9 +84,27 @@ def main(argv: list[str] | None = None) -> int:
         print(f"flexbearing {args.command}: interrupted (Ctrl-C)", file=sys.stderr)
         return 130
     except OSError as exc:             # a file the command could not read or write: one line, no traceback
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"flexbearing {args.command}: {where}{exc.strerror or exc}", file=sys.stderr)
+        print(f"flexbearing {args.command}: {os_error_line(exc)}", file=sys.stderr)
         return 1
+
+
+def os_error_line(exc: OSError) -> str:
+    """One line for an OSError: the file and the system's reason. HDF5's own errors (h5py) come
+    as a paragraph of flags with the file in "name = '...'" and the cause in "errno = N": the
+    file and the reason are taken from it; a full disk says so."""
+    import errno
+    import re
+    text = str(exc)
+    name = exc.filename or (m.group(1) if (m := re.search(r"name = '([^']*)'", text)) else None)
+    code = exc.errno or (int(m.group(1)) if (m := re.search(r"errno = (\d+)", text)) else None)
+    if code in (errno.ENOSPC, errno.EDQUOT):
+        reason = exc.strerror or "disk full (no space left on the device): free space and run again"
+    elif exc.strerror:
+        reason = exc.strerror
+    else:
+        reason = (m.group(1) if (m := re.search(r"error message = '([^']*)'", text)) else
+                  text.splitlines()[0] if text else type(exc).__name__)
+    return f"{name}: {reason}" if name else reason
 
 
 if __name__ == "__main__":

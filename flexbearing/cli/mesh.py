@@ -10,11 +10,12 @@ import time
 from pathlib import Path
 
 from flexbearing.common.validation import InputError
+from flexbearing.common.safe_files import OutputPlan
 from flexbearing.mesh.cage_geometry import CAGE_PRESETS
 from flexbearing.mesh.cage_mesh import DEFAULT_MESH_SIZE, DEFAULT_ORDER, DEFAULT_POCKET_SIZE
 from flexbearing.mesh.quality import mesh_file_quality, require_valid, MIN_JACOBIAN_RATIO
 from flexbearing.fem_cage.xdmf import write_mesh_xdmf
-from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of
+from flexbearing.mesh.cage_mesh import build_cage_mesh, mesh_quality_of, quality_path
 from flexbearing.mesh.cad_cage import build_cad_cage_mesh
 
 
@@ -106,17 +107,19 @@ def cmd_mesh(args) -> int:
         return cmd_check(Path(args.check))
     if not args.output:
         raise InputError("flexbearing mesh: give -o/--output FILE.msh (or --check FILE to check a mesh)")
-    out = Path(args.output)
-    if out.suffix != ".msh":
-        out = out.with_suffix(".msh")
+    plan = planned_outputs(args).check()          # before any work: the one output rule
+    out = mesh_output(args)
     t0 = time.perf_counter()
     if args.cad:
-        return cmd_mesh_cad(args, out, t0)
+        return cmd_mesh_cad(args, out, t0, plan)
     g = geometry_from_args(args)
-    if MPI.COMM_WORLD.rank == 0:
-        build_cage_mesh(g, args.size, args.order, out, pocket_size=args.pocket_size)
-    MPI.COMM_WORLD.barrier()
-    x = write_mesh_xdmf(out)
+    with plan.writing():                          # written beside, renamed into place when whole
+        staged = plan.staged(out)                 # every rank (the staging folder is shared)
+        if MPI.COMM_WORLD.rank == 0:
+            build_cage_mesh(g, args.size, args.order, staged, pocket_size=args.pocket_size)
+        MPI.COMM_WORLD.barrier()
+        write_mesh_xdmf(staged)
+    x = out.with_suffix(".xdmf")
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
         print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} m, "
               f"pocket size {args.pocket_size:g} m, order {args.order})")
@@ -125,7 +128,24 @@ def cmd_mesh(args) -> int:
     return 0
 
 
-def cmd_mesh_cad(args, out: Path, t0: float) -> int:
+def mesh_output(args) -> Path:
+    """The .msh that `mesh -o` names (a name without .msh gets it)."""
+    out = Path(args.output)
+    return out if out.suffix == ".msh" else out.with_suffix(".msh")
+
+
+def planned_outputs(args) -> OutputPlan:
+    """Every file `flexbearing mesh -o X.msh` writes: X.msh, its quality sidecar and the XDMF
+    pair X.xdmf + X.h5 (flexbearing.fem_cage.xdmf.write_mesh_xdmf: the .msh's stem)."""
+    from mpi4py import MPI
+    out = mesh_output(args)
+    plan = OutputPlan("flexbearing mesh", inputs=[args.cad], comm=MPI.COMM_WORLD)
+    for path in (out, quality_path(out), out.with_suffix(".xdmf"), out.with_suffix(".h5")):
+        plan.file(path, "-o")
+    return plan
+
+
+def cmd_mesh_cad(args, out: Path, t0: float, plan: OutputPlan) -> int:
     """`flexbearing mesh --cad CAGE.step -o cage.msh`: find the pockets and the land, match them
     to the bearing (the paper's, with --n-balls/--pitch-diameter-mm/--ball-diameter-mm changes),
     mesh and check; print what was found."""
@@ -135,11 +155,14 @@ def cmd_mesh_cad(args, out: Path, t0: float) -> int:
     dm = args.pitch_diameter_mm * 1e-3 if args.pitch_diameter_mm else PAPER_BEARING.pitch_diameter
     dw = args.ball_diameter_mm * 1e-3 if args.ball_diameter_mm else PAPER_BEARING.ball_diameter
     cad = None
-    if MPI.COMM_WORLD.rank == 0:
-        cad = build_cad_cage_mesh(args.cad, out, n_balls, dm, dw, args.guidance, args.cad_unit,
-                                  args.size, args.pocket_size, args.order)
-    MPI.COMM_WORLD.barrier()
-    x = write_mesh_xdmf(out)
+    with plan.writing():                          # written beside, renamed into place when whole
+        staged = plan.staged(out)                 # every rank (the staging folder is shared)
+        if MPI.COMM_WORLD.rank == 0:
+            cad = build_cad_cage_mesh(args.cad, staged, n_balls, dm, dw, args.guidance,
+                                      args.cad_unit, args.size, args.pocket_size, args.order)
+        MPI.COMM_WORLD.barrier()
+        write_mesh_xdmf(staged)
+    x = out.with_suffix(".xdmf")
     if not args.quiet and MPI.COMM_WORLD.rank == 0:
         print("\n".join(cad.report_lines(dm, dw)))
         print(f"wrote {out} and {x} ({time.perf_counter() - t0:.1f} s; size {args.size:g} m, "

@@ -13,6 +13,7 @@ from flexbearing.mesh.cage_geometry import CAGE_PRESETS
 from flexbearing.mesh.cage_mesh import DEFAULT_DEGREE
 from flexbearing.mesh.cage_mesh import cached_cage_mesh, cache_path
 from flexbearing.common.validation import require_range, InputError
+from flexbearing.common.safe_files import OutputPlan, write_text_atomic
 from flexbearing.fem_cage.modes import MAX_N_MODES, mode_table, run_modes
 from flexbearing.fem_cage.mesh_study import run_mesh_study, DEFAULT_STUDY
 from flexbearing.fem_cage.calibrate import run_calibration
@@ -35,8 +36,26 @@ def mesh_for(args, g) -> Path:
     return cache_path(g, size, args.order, ps)
 
 
+def modes_xdmf_files(xdmf) -> list[Path]:
+    """The files of `modes --xdmf X`: X.xdmf, its heavy data X.h5 and the frequencies X.json
+    (flexbearing.fem_cage.xdmf.write_modes_xdmf)."""
+    x = Path(xdmf).with_suffix(".xdmf")
+    return [x, x.with_suffix(".h5"), x.with_suffix(".json")]
+
+
+def planned_outputs(args) -> OutputPlan:
+    """Every file `flexbearing modes` writes: --json, and --xdmf's three (modes_xdmf_files)."""
+    plan = OutputPlan("flexbearing modes", inputs=[getattr(args, "mesh", None)], comm=_comm())
+    if args.json:
+        plan.file(args.json, "--json")
+    for path in modes_xdmf_files(args.xdmf) if args.xdmf else ():
+        plan.file(path, "--xdmf")
+    return plan
+
+
 def cmd_modes(args) -> int:
     require_range("modes.n_modes", args.n_modes, 7, MAX_N_MODES)       # before any mesh or FE work
+    plan = planned_outputs(args).check()
     comm = _comm()
     t0 = time.perf_counter()
     g = geometry_from_args(args)
@@ -51,7 +70,9 @@ def cmd_modes(args) -> int:
     labels = [m["label"] for m in res["modes"]] if "modes" in res else None
     if args.xdmf:
         from flexbearing.fem_cage.xdmf import write_modes_xdmf
-        x = write_modes_xdmf(args.xdmf, V, vecs, res["frequencies_hz"], g.material, labels)
+        x = modes_xdmf_files(args.xdmf)[0]
+        with plan.writing():
+            write_modes_xdmf(plan.staged(x), V, vecs, res["frequencies_hz"], g.material, labels)
         res["xdmf"] = str(x)
     if comm.rank == 0:
         if not args.quiet:
@@ -66,13 +87,29 @@ def cmd_modes(args) -> int:
             if args.xdmf:
                 print(f"mode shapes: {res['xdmf']}")
         if args.json:
-            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-            Path(args.json).write_text(json.dumps(res, indent=1, default=float))
+            write_text_atomic(args.json, json.dumps(res, indent=1, default=float))
     return 0
+
+
+def planned_mesh_study_outputs(args) -> OutputPlan:
+    """Every file `flexbearing mesh-study -o DIR` writes (flexbearing.fem_cage.mesh_study:
+    mesh_study.csv, .json, .png), checked before any work (written in place, not staged)."""
+    plan = OutputPlan("flexbearing mesh-study")
+    plan.folder(args.output, "-o", names=("mesh_study.csv", "mesh_study.json", "mesh_study.png"))
+    return plan
+
+
+def planned_calibrate_outputs(args) -> OutputPlan:
+    """Every file `flexbearing calibrate-cage -o DIR` writes (flexbearing.fem_cage.calibrate: the
+    evaluations log, calibration.json, calibration.md), checked before any work (written in place)."""
+    plan = OutputPlan("flexbearing calibrate-cage")
+    plan.folder(args.output, "-o", names=("evaluations.jsonl", "calibration.json", "calibration.md"))
+    return plan
 
 
 def cmd_mesh_study(args) -> int:
     require_range("mesh-study.n_modes", args.n_modes, 7, MAX_N_MODES)
+    planned_mesh_study_outputs(args).check()
     g = geometry_from_args(args)
     levels = DEFAULT_STUDY if not args.levels else [_level(s) for s in args.levels]
     run_mesh_study(g, levels, Path(args.output), n_modes=args.n_modes, quiet=args.quiet)
@@ -94,6 +131,7 @@ def _level(text: str) -> tuple:
 
 
 def cmd_calibrate(args) -> int:
+    planned_calibrate_outputs(args).check()
     run_calibration(Path(args.output), size=args.size, pocket_size=args.pocket_size,
                     order=args.order, degree=args.degree, params=args.params, quiet=args.quiet,
                     max_evals=args.max_evals)

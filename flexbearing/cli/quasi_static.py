@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from flexbearing.common.safe_files import OutputPlan, write_text_atomic
 from flexbearing.common.validation import InputError, require_range
 from flexbearing.multibody import state_layout as SL
 
@@ -148,9 +149,16 @@ def _json_ready(value):
 def write_json(path, data) -> None:
     """`data` as strict JSON (SI; non-finite values as null, `_json_ready`), folders created."""
     out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(_json_ready(data), indent=1, allow_nan=False))
+    write_text_atomic(out, json.dumps(_json_ready(data), indent=1, allow_nan=False))
     print(f"json: {out}")
+
+
+def planned_outputs(args) -> OutputPlan:
+    """Every file `flexbearing quasi-static` writes: --json FILE (write_json)."""
+    plan = OutputPlan("flexbearing quasi-static", inputs=[args.scene])
+    if args.json:
+        plan.file(args.json, "--json")
+    return plan
 
 
 def cmd_quasi_static(args) -> int:
@@ -159,6 +167,7 @@ def cmd_quasi_static(args) -> int:
     from flexbearing.simulation.quasi_static_scene import check_modes_instant, scene_modes, solve_scene
     from flexbearing.simulation.scene import load_scene
 
+    planned_outputs(args).check()                       # the one output rule, before any work
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
     if args.times is not None:
         for flag, given in (("--control friction", args.control == "friction"), ("--balls", args.balls),

@@ -17,6 +17,7 @@ from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP
 from flexbearing.fem_cage import reduced_cage as rcf
 from flexbearing.mesh.cage_geometry import PAPER_CAGE
 from flexbearing.common.validation import require_range, InputError
+from flexbearing.common.safe_files import OutputPlan
 from flexbearing.fem_cage.reduction import build
 import flexbearing.mesh.cage_mesh as cm
 
@@ -71,8 +72,32 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
+def reduced_xdmf_files(xdmf) -> list[Path]:
+    """The files of `reduce --xdmf X.xdmf`: X.xdmf and its heavy data X.h5 (meshio's XDMF writer,
+    flexbearing.fem_cage.xdmf.write_reduced_cage_xdmf)."""
+    x = Path(xdmf)
+    return [x, x.with_suffix(".h5")]
+
+
+def planned_outputs(args, cached: Path | None = None) -> OutputPlan:
+    """Every file `flexbearing reduce` writes besides the cache: -o (a copy of the reduced cage
+    file), --json, --xdmf's two. cached: the cache entry the run reads (an input: -o onto it, or a
+    hard link to it, is refused). With --scene none of them is written."""
+    plan = OutputPlan("flexbearing reduce", inputs=[cached, getattr(args, "scene", None)])
+    if getattr(args, "scene", None):
+        return plan
+    if args.output:
+        plan.file(args.output, "-o", h5_kind="reduced cage file")
+    if args.json:
+        plan.file(args.json, "--json")
+    for path in reduced_xdmf_files(args.xdmf) if args.xdmf else ():
+        plan.file(path, "--xdmf")
+    return plan
+
+
 def run(args) -> int:
     if getattr(args, "scene", None):
+        planned_outputs(args).check()
         return run_scene(args)
     size = cm.DEFAULT_MESH_SIZE if args.size is None else args.size
     pocket = cm.DEFAULT_POCKET_SIZE if args.pocket_size is None else args.pocket_size
@@ -87,6 +112,7 @@ def run(args) -> int:
     inertia_relief = getattr(args, "inertia_relief", True)
     key = rcf.cache_key(geometry, size, order, pocket, coupling, n_fixed, degree, centrifugal,
                         guide_loads, inertia_relief)
+    plan = planned_outputs(args, rcf.cache_path(key)).check()       # before any work
     # used only when built from this key and the cache's mesh for it (provenance)
     path = None if args.force else rcf.find_cached(key, cm.cache_path(geometry, size, order, pocket))
     summary = None
@@ -105,18 +131,23 @@ def run(args) -> int:
               f"{', land-load vectors' if guide_loads else ''}"
               f"{', inertia-relief vectors' if inertia_relief else ''}); "
               f"kept {args.n_keep}: elastic {np.round(rc.frequency_hz[6:args.n_keep], 1).tolist()} Hz")
-    if args.output:
-        shutil.copyfile(path, args.output)
-    if args.json:
-        out = summary if summary is not None else dict(rc.checks)
-        out = dict(out)
-        out["file"] = str(path)
-        out["content_hash"] = str(rc.attrs.get("content_hash"))
-        out["n_keep"] = args.n_keep
-        out["kept_frequencies_hz"] = rc.frequency_hz[:args.n_keep].tolist()
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps(out, indent=1, default=rcf._jsonable))
-    if args.xdmf:
-        from flexbearing.fem_cage.xdmf import write_reduced_cage_xdmf
-        write_reduced_cage_xdmf(rc, args.xdmf, args.n_keep)
+    with plan.writing():            # each written beside its name, renamed into place when whole
+        if args.output:
+            shutil.copyfile(path, plan.staged(args.output))
+        if args.json:
+            _write_json(args, rc, path, summary, plan.staged(args.json))
+        if args.xdmf:
+            from flexbearing.fem_cage.xdmf import write_reduced_cage_xdmf
+            write_reduced_cage_xdmf(rc, plan.staged(args.xdmf), args.n_keep)
     return 0
+
+
+def _write_json(args, rc, path, summary, target) -> None:
+    """The --json summary (checks, frequencies, costs) of the reduced cage `path`, to `target`."""
+    out = summary if summary is not None else dict(rc.checks)
+    out = dict(out)
+    out["file"] = str(path)
+    out["content_hash"] = str(rc.attrs.get("content_hash"))
+    out["n_keep"] = args.n_keep
+    out["kept_frequencies_hz"] = rc.frequency_hz[:args.n_keep].tolist()
+    Path(target).write_text(json.dumps(out, indent=1, default=rcf._jsonable))

@@ -94,7 +94,22 @@ def _fatigue_settings(args):
                            **{k: v for k, v in given.items() if v is not None}).validate()
 
 
+def _check_reduced_cage(path) -> None:
+    """InputError unless --reduced-cage names a readable reduced cage file (not, e.g., a run's
+    results file)."""
+    from flexbearing.common.safe_files import h5_file_kind
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"--reduced-cage {path}: no such file (give a reduced cage file of `flexbearing reduce`)")
+    kind = h5_file_kind(p)
+    if kind != "reduced cage file":
+        raise InputError(f"--reduced-cage {path}: it is {'a ' + kind if kind else 'not a reduced cage file'}, "
+                         f"not a reduced cage file (`flexbearing reduce` writes them; default: the one the run names)")
+
+
 def cmd_report(args) -> int:
+    if args.reduced_cage:
+        _check_reduced_cage(args.reduced_cage)
     run = Path(args.run)
     out_dir = Path(args.output) if args.output else run.with_name(run.stem + "_report")
     if args.reduced_cage:        # only the reduced cage the run used (its key and content digest)

@@ -21,6 +21,7 @@ import sys
 from pathlib import Path
 
 from flexbearing.common.validation import InputError
+from flexbearing.common.safe_files import OutputPlan, write_text_atomic
 from flexbearing.cli import validate_series as cli_validate_series
 from flexbearing.simulation.results import summary_path
 from flexbearing.simulation.stopped import CasesIncomplete, RunInterrupted
@@ -28,6 +29,42 @@ from flexbearing.simulation.stopped import CasesIncomplete, RunInterrupted
 # printed tables only: SI -> engineer's units (the files stay SI)
 _PRINT_UNITS = {"Pa": (1e-6, "MPa"), "m": (1e6, "um"), "rad/s": (60.0 / (2 * 3.141592653589793), "rpm"),
                 "1": (100.0, "%")}
+
+
+def _positive(text: str, what: str) -> float:
+    """argparse type: a finite number > 0 (nan, inf, 0 and negative numbers refused in one line)."""
+    import argparse
+    import math
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number ({what})") from None
+    if not (math.isfinite(v) and v > 0.0):
+        raise argparse.ArgumentTypeError(f"{text} is outside the allowed range: a finite number > 0 ({what})")
+    return v
+
+
+def positive_seconds(text: str) -> float:
+    return _positive(text, "seconds of wall time")
+
+
+def positive_bytes(text: str) -> float:
+    return _positive(text, "bytes")
+
+
+def run_output(args, scene_name: str | None) -> Path:
+    """The results file of `run`: -o, else out/<scene name>.h5."""
+    return Path(args.output) if args.output else Path("out") / f"{scene_name}.h5"
+
+
+def planned_outputs(args, scene_name: str | None = None) -> OutputPlan:
+    """Every file `flexbearing run` writes: the results file (streamed, resumable; a results file
+    there is continued or, with --force, replaced) and its summary (summary_path)."""
+    out = run_output(args, scene_name)
+    plan = OutputPlan("flexbearing run", inputs=[args.scene])
+    plan.file(out, "-o", h5_kind="results file of a run")
+    plan.file(summary_path(out), "-o")
+    return plan
 
 
 def register(subparsers) -> None:
@@ -39,11 +76,11 @@ def register(subparsers) -> None:
     p.add_argument("--resume", action="store_true",
                    help="continue the run in the results file from its last checkpoint")
     p.add_argument("--force", action="store_true", help="overwrite an existing results file")
-    p.add_argument("--max-wall-time", type=float, default=None, metavar="S",
+    p.add_argument("--max-wall-time", type=positive_seconds, default=None, metavar="S",
                    help="stop (at a checkpoint, resumable) a run whose step rate predicts more than S "
                         "seconds of wall time; without it such a run only warns when it predicts more "
                         "than an hour")
-    p.add_argument("--max-output-size", type=float, default=None, metavar="BYTES",
+    p.add_argument("--max-output-size", type=positive_bytes, default=None, metavar="BYTES",
                    help="largest results file the run may write, estimated from its first block before "
                         "anything is written (default 50e9 = 50 GB; the free space is checked as well)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -127,8 +164,11 @@ def cmd_run(args) -> int:
     from flexbearing.simulation.run import RunInterrupted, run_scene
     from flexbearing.simulation.scene import load_scene
 
+    if args.output:
+        planned_outputs(args).check()                   # before the scene is read
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
-    out = Path(args.output) if args.output else Path("out") / f"{scene.name}.h5"
+    planned_outputs(args, scene.name).check()
+    out = run_output(args, scene.name)
     try:
         summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet,
                             max_wall_time=args.max_wall_time, max_output_bytes=args.max_output_size)
@@ -171,6 +211,10 @@ def cmd_validate_slip_rate(args) -> int:
     from flexbearing.studies.case_sets import run_case_set_slip_rate
     from flexbearing.simulation.scene import load_case_set
 
+    plan = OutputPlan("flexbearing validate slip-rate", inputs=[args.case_set])
+    if args.json:
+        plan.file(args.json, "--json")
+    plan.check()                                        # before any case runs
     if args.case_set is None:
         return _validate_procedure(args)
     # these shape flexbearing.studies.validate's procedure; a case set's scenes carry their own [bearing],
@@ -245,11 +289,7 @@ def _validate_procedure(args) -> int:
 
 def _write_json(table: dict, path, quiet: bool = False) -> int:
     if path:
-        out = Path(path)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = out.with_name(out.name + ".part")
-        tmp.write_text(json.dumps(table, indent=2, default=float) + "\n")
-        os.replace(tmp, out)                     # a reader never sees half a file
+        write_text_atomic(path, json.dumps(table, indent=2, default=float) + "\n")   # never half a file
         if not quiet:
             print(f"written: {path}")
     return 0

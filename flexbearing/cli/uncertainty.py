@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from flexbearing.common.safe_files import OutputPlan
 from flexbearing.common.validation import InputError
 from flexbearing.simulation.stopped import UncertaintyInterrupted
 
@@ -32,6 +33,21 @@ def register(subparsers) -> None:
     p.set_defaults(func=cmd_uncertainty)
 
 
+def planned_outputs(args, name: str) -> OutputPlan:
+    """Every file `flexbearing uncertainty` writes: OUT/<name>/ points.json and rows.jsonl
+    (flexbearing.studies.uncertainty; appended, resumable) and in --report-dir the report
+    (flexbearing.studies.uncertainty_report: REPORT_STEM .md, .json, .png, _check.json); checked
+    before any work (written in place, not staged)."""
+    from flexbearing.studies.uncertainty_report import REPORT_STEM
+    plan = OutputPlan("flexbearing uncertainty", inputs=[args.unknowns])
+    plan.folder(args.output, "-o")
+    plan.folder(Path(args.output) / name, "-o", names=("points.json", "rows.jsonl"))
+    if args.report_dir:
+        plan.folder(args.report_dir, "--report-dir", names=tuple(
+            f"{REPORT_STEM}{ext}" for ext in (".md", ".json", ".png", "_check.json")))
+    return plan
+
+
 def cmd_uncertainty(args) -> int:
     from flexbearing.studies import uncertainty as U, uncertainty_report as UR
     study = U.load_unknowns(args.unknowns)
@@ -42,6 +58,7 @@ def cmd_uncertainty(args) -> int:
         except ValueError:
             raise InputError(f"--cases = {args.cases!r}; allowed: comma-separated case numbers 1-15") from None
     out = Path(args.output)
+    planned_outputs(args, study.name).check()          # before any run
     if not args.quiet:
         print(f"== uncertainty {study.name}: {study.points} points x "
               f"{len(cases) if cases else 15} cases -> {out / study.name}", flush=True)

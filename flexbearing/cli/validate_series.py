@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import shlex
 import sys
+from flexbearing.common.safe_files import OutputPlan
 from flexbearing.studies import race_control as RC, validate_series as VS
 
 
@@ -34,7 +35,17 @@ def register(validate_subparsers) -> None:
     s.set_defaults(func=cmd_validate_series)
 
 
+def planned_outputs(args) -> OutputPlan:
+    """Every file `flexbearing validate series` writes: OUT/rows.jsonl (appended, resumable) and
+    the page (--page, written whole and renamed); checked before any work."""
+    plan = OutputPlan("flexbearing validate series")
+    plan.folder(args.out, "--out", names=("rows.jsonl",))
+    plan.file(args.page, "--page")
+    return plan
+
+
 def cmd_validate_series(args) -> int:
+    planned_outputs(args).check()
     directory = args.directory or RC.VALIDATION_DIR
     res = VS.run_series(args.out, directory, args.samples, args.series, args.workers or os.cpu_count() or 1,
                         args.scheduler, progress=not args.quiet)

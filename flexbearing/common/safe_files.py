@@ -16,6 +16,13 @@ cluster").
 
 `refuse_overwriting_inputs(output, inputs)` refuses an output that is one of the command's inputs
 (the same path, or the same file under another name: st_dev and st_ino) or a symlink.
+
+`OutputPlan`: every file one command writes, declared before any work and checked by one rule
+(not an input, not a link or through one, not over something of another kind, no two outputs at
+one name), then written into staging folders and renamed into place (see the section below).
+Each command declares its plan in one function (`planned_outputs` of its command module,
+flexbearing.analysis.report.report_outputs, flexbearing.studies.study.study_outputs);
+tests/test_output_paths.py checks what each command writes against it.
 """
 from __future__ import annotations
 
@@ -106,6 +113,7 @@ def atomic_output(target, suffix: str = ".tmp", reserve: int = 0):
     exception goes on; `target` is then untouched. reserve: bytes to reserve for the temporary
     before the body writes it (reserve_space: ENOSPC then, before anything is written)."""
     target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
     try:
         if reserve:
@@ -215,3 +223,251 @@ def check_output_folder(folder, names, inputs, option: str = "-o", patterns=()) 
             if inp is not None and Path(inp).exists() and same_file(entry, inp):
                 raise InputError(f"{option} {folder}: {entry} is the input {inp}, and the output "
                                  f"{entry.name} would replace it: choose another folder")
+
+
+# ---------------------------------------------------------------- every output of a command, one rule
+#
+# A command declares every file it will write before it starts any work (an OutputPlan: the files by
+# name, and the folders it writes into with the names and glob patterns of what goes there), and
+# `OutputPlan.check()` applies one rule to each: not an input of the run (the same path, or the
+# same file under another name: st_dev/st_ino, so a hard link counts), not a symbolic link and not
+# reached through one (the file itself, a declared folder, or a missing parent the command would
+# create), not over something of another kind (a folder where a file goes, a file where a folder
+# goes, a flexbearing results or reduced-cage HDF5 file where another file goes), and no two
+# outputs at the same name. The command then writes into a staging folder (OutputPlan.staging:
+# a new folder of unique name beside each destination, mode 0700) under the final names (an XDMF
+# names its .h5 by its final name), and OutputPlan.commit() renames each staged file over its
+# destination (atomic per file; fsynced) after checking that it was declared: a file that was not
+# declared is a program error, raised, and nothing of it lands. On any exception the staging
+# folders are removed and the destinations are untouched.
+
+_STAGE_PREFIX = ".flexbearing-staging-"
+
+# HDF5 files of flexbearing whose kind is recognised by their root attributes: writing another
+# kind of file over one would destroy a run or a cache entry
+_H5_KINDS = (("format", "results file of a run"), ("schema", "reduced cage file"))
+
+
+def h5_file_kind(path) -> str | None:
+    """'results file of a run' / 'reduced cage file' for such a flexbearing HDF5 file, else None."""
+    try:
+        with open(path, "rb") as fh:
+            if fh.read(8) != b"\x89HDF\r\n\x1a\n":
+                return None
+        import h5py
+        with h5py.File(path, "r") as f:
+            for attr, kind in _H5_KINDS:
+                if attr in f.attrs:
+                    return kind
+    except (OSError, ValueError):
+        return None
+    return None
+
+
+class OutputPlan:
+    """The files one command run will write, declared before any work; see the comment above.
+
+        plan = OutputPlan("flexbearing mesh", inputs=[cad_file])
+        plan.file(out, "-o", kind="mesh")                 # X.msh
+        plan.file(out.with_suffix(".h5"), "-o", kind="XDMF heavy data")
+        plan.check()                                       # InputError, nothing written
+        with plan.writing():                               # staging; commit on success
+            build(plan.staged(out))
+    """
+
+    def __init__(self, command: str, inputs=(), comm=None):
+        self.command = command
+        # an MPI communicator when every rank writes a part (dolfinx's XDMF): the staging folders
+        # are made on rank 0 and shared, commit and discard run on rank 0 after a barrier
+        self.comm = comm if comm is not None and comm.size > 1 else None
+        self.inputs = [Path(p) for p in inputs if p is not None]
+        self.files: dict[Path, tuple[str, str | None]] = {}        # path -> (option, kind of h5)
+        self.folders: dict[Path, tuple[str, tuple[str, ...]]] = {}  # folder -> (option, patterns)
+        self._stages: dict[Path, Path] = {}
+
+    # -- declaring
+    def file(self, path, option: str, h5_kind: str | None = None) -> Path:
+        """Declare the file `path` (named by `option`); h5_kind: what an HDF5 file of this output
+        is, when it is one of _H5_KINDS (it may then replace a file of that kind)."""
+        path = Path(path)
+        key = Path(os.path.abspath(path))
+        if key in self.files:
+            raise InputError(f"{option} {path}: {self.command} would write two of its outputs to this "
+                             f"one name (also {self.files[key][0]}); give them different names")
+        self.files[key] = (option, h5_kind)
+        return path
+
+    def folder(self, path, option: str, names=(), patterns=()) -> Path:
+        """Declare the folder `path` and the files it will hold: `names` exactly, and files of
+        data-dependent names matching the glob `patterns`."""
+        path = Path(path)
+        key = Path(os.path.abspath(path))
+        old = self.folders.get(key, (option, ()))
+        self.folders[key] = (old[0], tuple(old[1]) + tuple(patterns))
+        for n in names:
+            self.file(path / n, option)
+        return path
+
+    def include(self, other: "OutputPlan") -> "OutputPlan":
+        """Add the outputs and inputs of another plan (a command that runs another's work)."""
+        self.inputs += [p for p in other.inputs if p not in self.inputs]
+        for path, (option, kind) in other.files.items():
+            self.file(path, option, kind)
+        for folder, (option, patterns) in other.folders.items():
+            self.folder(folder, option, patterns=patterns)
+        return self
+
+    def names(self) -> list[str]:
+        """Every declared file (absolute) and pattern (folder/glob), sorted: what the command writes."""
+        return sorted([str(p) for p in self.files]
+                      + [str(f / pat) for f, (_, pats) in self.folders.items() for pat in pats])
+
+    def covers(self, path) -> bool:
+        """True if `path` is a declared file or matches a declared folder's pattern."""
+        key = Path(os.path.abspath(path))
+        if key in self.files:
+            return True
+        opt_pats = self.folders.get(key.parent)
+        return bool(opt_pats) and any(fnmatch(key.name, p) for p in opt_pats[1])
+
+    # -- the rule
+    def _refuse(self, option: str, path, why: str):
+        raise InputError(f"{option} {path}: {why}; nothing was written")
+
+    def _check_parents(self, option: str, path: Path) -> None:
+        """The parents the command would create (missing ones) must not be dangling links; a
+        declared folder must not be a link nor a file."""
+        for parent in path.parents:
+            if parent.exists():
+                if not parent.is_dir():
+                    self._refuse(option, path, f"{parent} is a file, not a folder")
+                break
+            if parent.is_symlink():
+                self._refuse(option, path, f"{parent} is a symbolic link (to {os.readlink(parent)}) "
+                                           f"to a missing folder: flexbearing does not write through links")
+
+    def _check_file(self, option: str, path: Path, h5_kind: str | None) -> None:
+        if path.is_symlink():
+            self._refuse(option, path, f"it is a symbolic link (to {os.readlink(path)}): flexbearing "
+                                       f"does not write through links; give the real path or remove the link")
+        for inp in self.inputs:
+            if os.path.abspath(inp) == os.path.abspath(path) or (
+                    path.exists() and inp.exists() and same_file(path, inp)):
+                self._refuse(option, path, f"it is the input file {inp} of this run: writing "
+                                           f"there would replace it; choose another output name")
+        if not path.exists():
+            return
+        if path.is_dir():
+            self._refuse(option, path, "it is a directory, and this output is a file; give a file name")
+        if not path.is_file():
+            self._refuse(option, path, "it is not a regular file (a device, a pipe or a socket)")
+        if path.suffix == ".h5":
+            kind = h5_file_kind(path)
+            if kind is not None and kind != h5_kind:
+                self._refuse(option, path, f"it is a {kind}, which this output ("
+                                           f"{h5_kind or 'another kind of file'}) would replace; "
+                                           f"choose another name")
+
+    def check(self) -> "OutputPlan":
+        """InputError (one line naming the option and the path) if an output breaks the rule;
+        nothing is written or changed."""
+        for folder, (option, patterns) in self.folders.items():
+            if folder.is_symlink():
+                self._refuse(option, folder, f"it is a symbolic link (to {os.readlink(folder)}): give "
+                                             f"the real folder")
+            if folder.exists() and not folder.is_dir():
+                self._refuse(option, folder, "it is a file, and this output is a folder; give a folder name")
+            self._check_parents(option, folder / "x")
+            if folder.is_dir() and patterns:
+                for entry in folder.iterdir():
+                    if any(fnmatch(entry.name, p) for p in patterns) and entry not in self.files:
+                        self._check_file(option, entry, None)
+        for path, (option, h5_kind) in self.files.items():
+            if path.parent not in self.folders:
+                self._check_parents(option, path)
+            self._check_file(option, path, h5_kind)
+        return self
+
+    # -- writing
+    def staged(self, path) -> Path:
+        """Where to write the declared `path` now: the same name in the staging folder beside it."""
+        key = Path(os.path.abspath(path))
+        if not self.covers(key):
+            raise RuntimeError(f"{self.command}: output {path} was not declared in its OutputPlan")
+        return self._stage_of(key.parent) / key.name
+
+    def _stage_of(self, dest: Path) -> Path:
+        stage = self._stages.get(dest)
+        if stage is None:
+            if self.comm is None or self.comm.rank == 0:
+                dest.mkdir(parents=True, exist_ok=True)
+                stage = tempfile.mkdtemp(prefix=_STAGE_PREFIX, dir=dest)
+            if self.comm is not None:
+                stage = self.comm.bcast(stage, root=0)
+            stage = self._stages[dest] = Path(stage)
+        return stage
+
+    def staging(self, folder) -> Path:
+        """The staging folder of the declared output folder `folder` (created now): write there
+        the files of the names and patterns declared for `folder`."""
+        key = Path(os.path.abspath(folder))
+        if key not in self.folders:
+            raise RuntimeError(f"{self.command}: output folder {folder} was not declared in its OutputPlan")
+        return self._stage_of(key)
+
+    def final(self, staged_path) -> Path:
+        """The destination of a staged path (the inverse of staged)."""
+        staged_path = Path(os.path.abspath(staged_path))
+        for dest, stage in self._stages.items():
+            if staged_path.parent == stage:
+                return dest / staged_path.name
+        return staged_path
+
+    def commit(self) -> list[Path]:
+        """Rename every staged file over its destination; RuntimeError (nothing of it renamed) for
+        one that was not declared. Returns the destinations written."""
+        if self.comm is not None:
+            self.comm.barrier()
+            if self.comm.rank != 0:
+                self._stages.clear()
+                self.comm.barrier()
+                return []
+        moves = []
+        for dest, stage in self._stages.items():
+            for entry in sorted(stage.iterdir()):
+                target = dest / entry.name
+                if entry.is_dir() or not self.covers(target):
+                    raise RuntimeError(f"{self.command} wrote {target}, which it did not declare in its "
+                                       f"OutputPlan (a program error: declare every output)")
+                moves.append((entry, target))
+        for entry, target in moves:
+            fd = os.open(entry, os.O_RDONLY | os.O_NOFOLLOW)
+            try:
+                os.fsync(fd)
+                os.fchmod(fd, 0o666 & ~_umask())
+            finally:
+                os.close(fd)
+            os.replace(entry, target)
+        for dest, stage in list(self._stages.items()):
+            shutil.rmtree(stage, ignore_errors=True)
+            fsync_folder(dest)
+        self._stages.clear()
+        if self.comm is not None:
+            self.comm.barrier()
+        return [t for _, t in moves]
+
+    def discard(self) -> None:
+        """Remove the staging folders and what is in them (the destinations are untouched)."""
+        for stage in self._stages.values():
+            shutil.rmtree(stage, ignore_errors=True)
+        self._stages.clear()
+
+    @contextlib.contextmanager
+    def writing(self):
+        """Stage the outputs in the body; commit when it returns, discard on any exception."""
+        try:
+            yield self
+            self.commit()
+        except BaseException:
+            self.discard()
+            raise

@@ -28,8 +28,16 @@ workers > 1 needs the usual `if __name__ == "__main__":` guard.
 """
 from __future__ import annotations
 
+import atexit
+import contextlib
 import logging
 import os
+import shlex
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
 import uuid
 from dataclasses import dataclass
 
@@ -152,6 +160,63 @@ def _local_cluster(n_workers: int):
                             memory_limit=0, silence_logs=logging.ERROR)
 
 
+_PYTHON_IGNORING_SIGINT: str | None = None
+
+
+def _python_ignoring_sigint() -> str | None:
+    """An executable that starts this Python with SIGINT ignored (a two-line shell script: trap
+    '' INT, exec), made once per process in a private temporary folder and tried once; None where
+    it cannot run (a file system mounted noexec). A Python started with SIGINT ignored keeps it
+    ignored: no KeyboardInterrupt, no traceback, when a terminal's Ctrl-C reaches it."""
+    global _PYTHON_IGNORING_SIGINT
+    if _PYTHON_IGNORING_SIGINT is None:
+        folder = tempfile.mkdtemp(prefix="flexbearing-python-")
+        atexit.register(shutil.rmtree, folder, True)
+        path = os.path.join(folder, "python")
+        with open(path, "w") as fh:
+            fh.write(f"#!/bin/sh\ntrap '' INT\nexec {shlex.quote(sys.executable)} \"$@\"\n")
+        os.chmod(path, 0o700)
+        probe = "import signal, sys; sys.exit(signal.getsignal(signal.SIGINT) is not signal.SIG_IGN)"
+        try:
+            ok = subprocess.run([path, "-c", probe], timeout=60).returncode == 0
+        except (OSError, subprocess.SubprocessError):
+            ok = False
+        _PYTHON_IGNORING_SIGINT = path if ok else ""
+    return _PYTHON_IGNORING_SIGINT or None
+
+
+@contextlib.contextmanager
+def _children_ignore_sigint():
+    """Processes that multiprocessing spawns in the body (the LocalCluster's workers, and those
+    its nannies restart) start with SIGINT ignored (_python_ignoring_sigint); this process keeps
+    its own handler."""
+    import multiprocessing.spawn as spawn
+    exe = _python_ignoring_sigint()
+    old = spawn.get_executable()
+    if exe:
+        spawn.set_executable(exe)
+    try:
+        yield
+    finally:
+        spawn.set_executable(old)
+
+
+@contextlib.contextmanager
+def _sigint_held():
+    """A Ctrl-C in the body is noted (in the list yielded), not raised: the caller raises it
+    after the body. Main thread only (signal.signal's rule; elsewhere nothing changes)."""
+    import threading
+    pressed: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield pressed
+        return
+    old = signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
+    try:
+        yield pressed
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
 def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,
                  scheduler) -> list[JobFailure]:
     from distributed import Client, as_completed
@@ -161,10 +226,20 @@ def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,
     futures = []
     failures = []
     bar = _bar(len(jobs), description, progress)
+    stack = contextlib.ExitStack()
     try:
         if scheduler is None:
-            cluster = _local_cluster(n_workers)
-            client = Client(cluster, set_as_default=False)
+            # The cluster's worker processes start with SIGINT ignored: a Ctrl-C at the terminal,
+            # sent to the whole process group, reaches this process alone, which cancels the jobs
+            # and closes the cluster (no traceback of every worker, no half-started cluster)
+            # and a Ctrl-C while it starts is held until it has (then raised, with the cluster
+            # and the client assigned for the `finally` below to close)
+            stack.enter_context(_children_ignore_sigint())
+            with _sigint_held() as pressed:
+                cluster = _local_cluster(n_workers)
+                client = Client(cluster, set_as_default=False)
+            if pressed:
+                raise KeyboardInterrupt
         else:
             try:
                 client = Client(scheduler, set_as_default=False, timeout=CONNECT_TIMEOUT)
@@ -217,4 +292,5 @@ def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,
                 cluster.close(timeout=10)
             except Exception:
                 pass
+        stack.close()
     return sorted(failures, key=lambda f: f.index)

@@ -118,6 +118,23 @@ def unit_for(name: str, known: dict | None = None) -> str:
     return "unknown"
 
 
+def printable_path(path) -> str:
+    """`path` as UTF-8 text HDF5 can store: a byte of the file name that is not UTF-8 (Python's
+    surrogate escape) written as \\xNN."""
+    return os.fsencode(str(path)).decode("utf-8", "backslashreplace") if path else (path or "")
+
+
+def creation_error(path, exc: OSError) -> OSError:
+    """The one-line error of a results file that could not be created: a full disk named as
+    such (HDF5's own text is a paragraph of flags), else the system's reason."""
+    text = str(exc)
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT) or "errno = 28" in text or "No space left" in text:
+        return OSError(errno.ENOSPC, "disk full: the results file cannot be created; free space and run "
+                       "again", str(path))
+    reason = exc.strerror or text.split("(")[-1].rstrip(")") or text
+    return OSError(exc.errno or errno.EIO, f"the results file cannot be created: {reason}", str(path))
+
+
 def summary_path(results_path) -> Path:
     """run.h5 -> run.summary.json (beside the results; one per run, so runs in one folder coexist)."""
     p = Path(results_path)
@@ -182,12 +199,28 @@ class ResultsWriter:
     # ---- opening
     @classmethod
     def create(cls, path, scene, units: dict | None = None) -> "ResultsWriter":
-        f = h5py.File(path, "w")
+        """A new results file of `scene` at `path`. A failure while it is created (ENOSPC, ...)
+        leaves no file: it is removed, and a full disk is one line naming the file."""
+        try:
+            f = h5py.File(path, "w")
+        except OSError as exc:
+            raise creation_error(path, exc) from None
+        try:
+            return cls._created(f, scene, units)
+        except BaseException as exc:
+            f.close()
+            Path(path).unlink(missing_ok=True)
+            if isinstance(exc, OSError):
+                raise creation_error(path, exc) from None
+            raise
+
+    @classmethod
+    def _created(cls, f, scene, units):
         f.attrs["format"] = FORMAT
         f.attrs["format_version"] = FORMAT_VERSION
         f.attrs["scene_name"] = scene.name
         f.attrs["scene_hash"] = scene.content_hash()
-        f.attrs["scene_path"] = scene.path
+        f.attrs["scene_path"] = printable_path(scene.path)
         f.attrs["cage_model"] = scene.cage_model
         f.attrs["duration"] = scene.duration
         f.attrs["sample_interval"] = scene.sample_interval

@@ -101,6 +101,8 @@ def run_scene(scene, out_path, resume: bool = False, force: bool = False, quiet:
     """
     if max_output_bytes is not None:
         require_range("--max-output-size", max_output_bytes, 1.0, 1e15, unit="bytes")
+    if max_wall_time is not None:              # nan or <= 0 would be ignored without a word
+        require_range("--max-wall-time", max_wall_time, 0.0, None, lo_open=True, unit="s")
     out_path = Path(out_path)
     refuse_overwriting_inputs(out_path, [scene.path or None])      # a link, or the scene itself
     mode = _prepare_output(out_path, resume, force)

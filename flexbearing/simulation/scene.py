@@ -730,9 +730,17 @@ def _read_text(path: Path, what: str) -> str:
 def loads_scene(text: str, path: str = "") -> Scene:
     try:
         data = tomllib.loads(text)
+        return parse_scene(data, text=text, path=path)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"scene {path or '<text>'} is not valid TOML: {exc}") from None
-    return parse_scene(data, text=text, path=path)
+    except RecursionError:
+        raise _too_deep("scene", path or "<text>") from None
+
+
+def _too_deep(what: str, path) -> InputError:
+    """The one line for TOML nested deeper than Python's parser recurses (arrays in arrays ...)."""
+    return InputError(f"{what} {path} is nested too deeply (arrays or tables inside one another, more "
+                      f"levels than a {what} has): not a {what} flexbearing reads")
 
 
 def merge(base: dict, override: dict) -> dict:
@@ -774,6 +782,8 @@ def read_toml(path, what: str) -> dict:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{what} {path} is not valid TOML: {exc}") from None
+    except RecursionError:
+        raise _too_deep(what, path) from None
 
 
 def load_case_set(path) -> CaseSet:

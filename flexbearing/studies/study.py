@@ -312,6 +312,27 @@ def _prepare_reduced_cages(study: Study, todo: list[int], quiet: bool, workers, 
     return paths
 
 
+STUDY_FILES = ("study.json", "study.md", "study.html")
+STUDY_PLOT_PATTERNS = ("*.png",)     # write_study_plots: one per quantity
+
+
+def study_outputs(study: Study, out_dir, option: str = "-o"):
+    """Every file `run_study` writes (flexbearing.common.safe_files.OutputPlan): in out_dir/<name>
+    each run's results file and summary (run_path; a results file there is continued), the study's
+    page (STUDY_FILES) and its plots. The inputs: the study file and its base scene. Both folders
+    are declared: neither may be a link or a file."""
+    from flexbearing.common.safe_files import OutputPlan
+    from flexbearing.simulation.results import summary_path
+    plan = OutputPlan("flexbearing study", inputs=[study.path or None, study.scene_path or None]
+                      + [sc.path or None for sc in study.scenes])
+    plan.folder(out_dir, option)
+    plan.folder(Path(out_dir) / study.name, option, names=STUDY_FILES, patterns=STUDY_PLOT_PATTERNS)
+    for i in range(len(study.scenes)):
+        plan.file(run_path(out_dir, study, i), option, h5_kind="results file of a run")
+        plan.file(summary_path(run_path(out_dir, study, i)), option)
+    return plan
+
+
 def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = False,
               scheduler: str | None = None) -> dict:
     """Run (or resume) every run of the study and write study.json, study.md and the plots.
@@ -323,6 +344,7 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
     fails does not stop the others: StudyIncomplete is raised once they are done."""
     workers = require_workers((os.cpu_count() or 1) if workers is None else workers)
     require_scheduler(scheduler)
+    plan = study_outputs(study, out_dir).check()        # before any run: the one output rule
     folder = Path(out_dir) / study.name
     folder.mkdir(parents=True, exist_ok=True)
     n = len(study.scenes)
@@ -364,11 +386,14 @@ def run_study(study: Study, out_dir, workers: int | None = None, quiet: bool = F
                               f"the failed ones", failures=failures)
     result = collect(study, out_dir, summaries, _variant_cage_modes(study, cages))
     result["wall_time_s"] = time.perf_counter() - t0
-    (folder / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
-    plots = write_study_plots(study, result, folder)
-    (folder / "study.md").write_text(study_markdown(study, result) + "\n## Plots\n\n"
-                                     + "\n".join(f"![{p.stem}]({p.name})" for p in plots) + "\n")
-    write_html(folder / "study.md")      # the tables and the plots in one self-contained page
+    plan.check()                         # again: the runs took a while; then staged, renamed when whole
+    with plan.writing():
+        stage = plan.staging(folder)
+        (stage / "study.json").write_text(json.dumps(result, indent=1, allow_nan=False, default=_json_default))
+        plots = write_study_plots(study, result, stage)
+        (stage / "study.md").write_text(study_markdown(study, result) + "\n## Plots\n\n"
+                                        + "\n".join(f"![{p.stem}]({p.name})" for p in plots) + "\n")
+        write_html(stage / "study.md")   # the tables and the plots in one self-contained page
     return result
 
 
