@@ -172,7 +172,7 @@ def test_report_says_a_climbing_slip_has_not_settled(tmp_path):
     from flexbearing.analysis import report, summary
     rows = _report_rows(_slip_run(tmp_path / "climb.h5", True))
     assert [r["settling"]["settled"] for r in rows] == [False, False]       # whole run = its one phase
-    (label, text), = summary.settled_rows(rows)
+    (_, start), (label, text) = summary.settled_rows(rows)
     assert "**NOT settled**" in text and "slip rate" in text
     marked = summary.mark_unsettled(summary.headline_rows(rows[0], None, None), rows[0])
     slip = [v for k, v in marked if k.startswith("Cage slip rate, mean")][0]
@@ -187,6 +187,6 @@ def test_report_says_a_flat_slip_has_settled(tmp_path):
     from flexbearing.analysis import report, summary
     rows = _report_rows(_slip_run(tmp_path / "flat.h5", False))
     assert rows[1]["settling"]["settled"] is True
-    (label, text), = summary.settled_rows(rows)
+    (_, start), (label, text) = summary.settled_rows(rows)
     assert "**settled**" in text
     assert S.MARK not in report._markdown_table([("whole run", rows[0])], ["slip_rate"])
