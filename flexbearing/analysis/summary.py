@@ -186,14 +186,14 @@ def settled_rows(rows: list[dict], attrs=None) -> list[tuple[str, str]]:
 def mark_unsettled(headlines: list[tuple[str, str]], whole: dict) -> list[tuple[str, str]]:
     """The headline means (the slip) of a whole-run window that did not settle, marked: a mean of a
     signal that still drifts is not its running value."""
-    from flexbearing.analysis.settling import MARK, unsettled
+    from flexbearing.analysis.settling import MARK, SIGNALS, unsettled
     if not unsettled(whole):
         return headlines
-    drifting = [v["signal"] for v in whole["settling"]["signals"].values() if v["settled"] is False]
+    drifting = [SIGNALS[v["signal"]][0] for v in whole["settling"]["signals"].values() if v["settled"] is False]
     out = []
     for label, value in headlines:
         if ", mean" in label:
-            value += (f" {MARK} not settled ({', '.join(d.replace('_', ' ') for d in drifting)} still drifting "
+            value += (f" {MARK} not settled ({', '.join(drifting)} still drifting "
                       f"or in its start-up): not the running value")
         out.append((label, value))
     return out
