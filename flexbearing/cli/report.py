@@ -22,9 +22,12 @@ def print_table(rows: list[dict], file=None) -> None:
     keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
     w = max(len(lab) for lab, _, _ in _stat_rows(keys)) if keys else 10
     for r in rows:
-        print(f"{window_title(r)}  ({r['n_samples']} samples)", file=file)
+        st = r.get("settling")
+        verdict = "" if not st else f"; {st['verdict']}" + (f": {st['reason']}" if st["settled"] is False else "")
+        print(f"{window_title(r)}  ({r['n_samples']} samples{verdict})", file=file)
         for lab, field, qd in _stat_rows(keys):
-            print(f"  {lab:<{w}}  {_fmt(r.get(field), qd.scale):>10}", file=file)
+            mark = " †" if st and st["settled"] is False and not field.endswith(f"_{qd.extreme_stat}") else ""
+            print(f"  {lab:<{w}}  {_fmt(r.get(field), qd.scale):>10}{mark}", file=file)
 
 
 def register(subparsers) -> None:
