@@ -336,3 +336,26 @@ def test_duty_cycle_without_a_settled_part_is_refused_or_flagged(tmp_path):
     assert md[2].startswith("Not computed: fatigue: run.h5 has no settled part") and files == {}
     res = cage_fatigue(run, FatigueSettings(settle=0.0))
     assert res.startup["rule"] == "given" and res.startup["settled"] is False
+
+
+def test_duty_cycle_leaves_out_the_detected_start_up(tmp_path):
+    """The synthetic run with a cage speed that approaches its level as 450·(1 + 0.05·exp(−t/10 ms))
+    on noise of 0.1 rad/s: MSER-5 puts the transient's end near tau·ln(A·sqrt5/sigma) = 62 ms
+    (tests/test_settling.py), within tau·ln 2 plus a batch; the block (its times: the peak-search steps,
+    within a sample interval before each sample) starts there (or later, where
+    another signal's start-up ends later), and the section names the window left out."""
+    from flexbearing.analysis.fatigue_report import fatigue_markdown
+    run, S, n = _synthetic_run(tmp_path)
+    rng = np.random.default_rng(4)
+    with h5py.File(run, "r+") as f:
+        t = f["outputs/time"][...]
+        f["outputs/cage_speed"][...] = 450.0 * (1 + 0.05 * np.exp(-t / 0.01)) + 0.1 * rng.standard_normal(len(t))
+    res = cage_fatigue(run, FatigueSettings())
+    expected = 0.01 * math.log(22.5 * math.sqrt(5) / 0.1)
+    settle = res.startup["settle"]
+    assert res.startup["rule"].startswith("MSER-5")
+    assert settle >= expected - (0.01 * math.log(2) + 5e-3)
+    assert res.times[0] >= settle - 1e-3 and res.block_duration == pytest.approx(t[-1] - settle + 1e-3, rel=1e-9)
+    md = "\n".join(fatigue_markdown(res, {"xdmf": tmp_path / "fatigue.xdmf", "h5": tmp_path / "fatigue.h5",
+                                          "json": tmp_path / "fatigue.json"}))
+    assert f"Start-up: 0–{settle:.4g} s left out of the duty cycle" in md
