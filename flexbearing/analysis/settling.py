@@ -22,7 +22,8 @@ biased. Two tests decide it, per uniform-speed phase and per signal:
    minimum lies where A·exp(−t/tau) ≈ sigma_b (dMSER/dd = 0 with the remaining bias's sum small
    against the variance): t* ≈ tau·ln(A/sigma_b) (tests/test_settling.py checks it).
 
-2. Drift after the transient: a linear trend test on batch means (the batch-means method: Law,
+2. Drift after the transient (from the latest transient end over the window's signals: the
+   bearing is one system): a linear trend test on batch means (the batch-means method: Law,
    *Simulation Modeling and Analysis*, 5th ed., 2015, §9.5.3; Schmeiser, "Batch size effects in
    the analysis of simulation output", Operations Research 30(3):556–568, 1982, 10–30 batches).
    The samples after the truncation are cut into b = min(20, n/5) batches (at least 8, each of
@@ -149,11 +150,12 @@ def drift_floor(name: str, x) -> float:
     return value * abs(float(np.mean(x))) if kind == "relative" else value
 
 
-def signal_settling(name: str, t, x, n_signals: int = 1, alpha: float = ALPHA) -> dict:
+def signal_settling(name: str, t, x, n_signals: int = 1, alpha: float = ALPHA, t_from: float | None = None) -> dict:
     """The verdict on one signal over a window (module docstring): {signal, settled (True/False/
     None: too short to decide), transient_end (s: the first sample after the MSER-5
     truncation), transient_past_half, slope (SI/s), standard_error, t, t_limit, drift (slope ×
-    tested duration, SI), floor, scatter (SI), n_batches, reason}."""
+    tested duration, SI), floor, scatter (SI), n_batches, reason}. The drift is tested from the
+    signal's own transient end, or from t_from where that is later (the window's common one)."""
     t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
     ok = np.isfinite(x)
     t, x = t[ok], x[ok]
@@ -166,7 +168,10 @@ def signal_settling(name: str, t, x, n_signals: int = 1, alpha: float = ALPHA) -
     ms = mser(x)
     out["transient_end"] = float(t[ms.truncation])
     out["transient_past_half"] = not ms.in_first_half
-    tt, xx = t[ms.truncation:], x[ms.truncation:]
+    cut = ms.truncation
+    if t_from is not None:
+        cut = max(cut, int(np.searchsorted(t, t_from - 1e-9 * max(abs(t_from), 1.0))))
+    tt, xx = t[cut:], x[cut:]
     half = len(xx) // 2
     tests = [("", trend(tt, xx)), (" in its second half", trend(tt[half:], xx[half:]))]
     tests = [(w, tr) for w, tr in tests if tr is not None]
@@ -191,7 +196,7 @@ def signal_settling(name: str, t, x, n_signals: int = 1, alpha: float = ALPHA) -
     elif drifts:
         out["settled"] = False
         out["reason"] = (f"{label} drifts {drift * scale:+.3g} {unit} over {tr.duration:.3g} s{where} "
-                         f"(|t| = {abs(tr.t):.1f} > {lim:.2f})")
+                         f"(|t| = {abs(tr.t):.2f} > {lim:.2f})")
     else:
         out["settled"] = True
         out["reason"] = f"{label} settled (|t| <= {lim:.2f} or drift below {floor * scale:.2g} {unit})"
@@ -232,7 +237,18 @@ def window_settling(t, signals: dict, mask, alpha: float = ALPHA) -> dict:
     idx = np.flatnonzero(mask)
     tw = np.asarray(t)[idx]
     names = [n for n in SIGNALS if n in signals]
-    per = {n: signal_settling(n, tw, np.asarray(signals[n])[idx], len(names), alpha) for n in names}
+    # the bearing is one system: its running state starts where the last signal's start-up ends
+    # (MSER-5 of each signal in its first half); every signal's drift is tested from there
+    ends = []
+    for n in names:
+        x = np.asarray(signals[n])[idx]
+        ok = np.isfinite(x)
+        if ok.sum() >= MIN_BATCHES * MSER_BATCH:
+            ms = mser(x[ok])
+            if ms.in_first_half:
+                ends.append(float(tw[ok][ms.truncation]))
+    t_from = max(ends) if ends else None
+    per = {n: signal_settling(n, tw, np.asarray(signals[n])[idx], len(names), alpha, t_from) for n in names}
     verdicts = [v["settled"] for v in per.values()]
     if not per:
         settled, reason = None, "no cage speed, slip or cage force recorded"
