@@ -154,14 +154,15 @@ def signal_settling(name: str, t, x, n_signals: int = 1, alpha: float = ALPHA, t
     """The verdict on one signal over a window (module docstring): {signal, settled (True/False/
     None: too short to decide), transient_end (s: the first sample after the MSER-5
     truncation), transient_past_half, slope (SI/s), standard_error, t, t_limit, drift (slope ×
-    tested duration, SI), floor, scatter (SI), n_batches, reason}. The drift is tested from the
+    tested duration, SI), floor, scatter (SI), n_batches, mean_after (SI: the mean over the tested
+    part, after the start-up), reason}. The drift is tested from the
     signal's own transient end, or from t_from where that is later (the window's common one)."""
     t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
     ok = np.isfinite(x)
     t, x = t[ok], x[ok]
     out = {"signal": name, "settled": None, "transient_end": None, "transient_past_half": None,
            "slope": None, "standard_error": None, "t": None, "t_limit": None, "drift": None,
-           "floor": None, "scatter": None, "n_batches": 0, "reason": ""}
+           "floor": None, "scatter": None, "n_batches": 0, "mean_after": None, "reason": ""}
     if len(x) < MIN_BATCHES * MSER_BATCH:
         out["reason"] = f"{len(x)} samples: too few to decide (at least {MIN_BATCHES * MSER_BATCH})"
         return out
@@ -189,7 +190,8 @@ def signal_settling(name: str, t, x, n_signals: int = 1, alpha: float = ALPHA, t
     drifts, _, where, tr, lim, drift = max(verdicts, key=lambda v: (v[0], v[1])) if any(v[0] for v in verdicts) \
         else verdicts[0]
     out.update(slope=tr.slope, standard_error=tr.standard_error, t=tr.t if math.isfinite(tr.t) else None,
-               t_limit=lim, drift=drift, floor=floor, scatter=tr.scatter, n_batches=tr.n_batches)
+               t_limit=lim, drift=drift, floor=floor, scatter=tr.scatter, n_batches=tr.n_batches,
+               mean_after=float(np.mean(xx)))
     if not ms.in_first_half:
         out["settled"] = False
         out["reason"] = f"{label}: start-up transient past half of the window (MSER-5)"

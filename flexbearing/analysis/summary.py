@@ -184,17 +184,25 @@ def settled_rows(rows: list[dict], attrs=None) -> list[tuple[str, str]]:
 
 
 def mark_unsettled(headlines: list[tuple[str, str]], whole: dict) -> list[tuple[str, str]]:
-    """The headline means (the slip) of a whole-run window that did not settle, marked: a mean of a
-    signal that still drifts is not its running value."""
+    """The headline mean (the slip) of a whole-run window that did not settle, marked: a mean of a
+    signal that still drifts is not its running value. Of a settled window whose start-up transient
+    lies inside it (no --settle past it), the mean after the transient beside it."""
     from flexbearing.analysis.settling import MARK, SIGNALS, unsettled
-    if not unsettled(whole):
+    st = whole.get("settling")
+    if not st:
         return headlines
-    drifting = [SIGNALS[v["signal"]][0] for v in whole["settling"]["signals"].values() if v["settled"] is False]
+    slip = st["signals"].get("slip_rate")
     out = []
     for label, value in headlines:
-        if ", mean" in label:
-            value += (f" {MARK} not settled ({', '.join(drifting)} still drifting "
-                      f"or in its start-up): not the running value")
+        if label.startswith(QUANTITY["slip_rate"].label) and ", mean" in label:
+            if unsettled(whole):
+                drifting = [SIGNALS[v["signal"]][0] for v in st["signals"].values() if v["settled"] is False]
+                value += (f" {MARK} not settled ({', '.join(drifting)} still drifting or in its start-up): "
+                          "not the running value")
+            elif slip and slip.get("mean_after") is not None and st.get("transient_end") is not None \
+                    and st["transient_end"] > whole["t_start"] + 1e-9:
+                value += (f"; it includes the start-up transient to t = {st['transient_end']:.4g} s: "
+                          f"{100 * slip['mean_after']:.3g} % after it")
         out.append((label, value))
     return out
 

@@ -412,4 +412,3 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
     y[c0 + SL.CAGE_OMEGA] = om
     y[c0 + SL.CAGE_X] = float(np.mean(qs["ball_x"]))  # cage follows the balls axially
     return y
-
