@@ -211,7 +211,7 @@ def test_damage_field_of_a_proportional_history(tmp_path):
     """At every node the signed von Mises is s_n q_0(t), s_n = signed von Mises of S_n0: n cycles of
     amplitude |s_n|/2 at mean s_n a block; the block (n samples of 1 ms) repeated back to back."""
     run, S, n = _synthetic_run(tmp_path)
-    res = cage_fatigue(run, FatigueSettings(correction="goodman", design_life=3600.0))
+    res = cage_fatigue(run, FatigueSettings(correction="goodman", design_life=3600.0, settle=0.0))
     s_n = np.array([eq.signed_von_mises(S[i, :, 0]) for i in range(len(S))])
     s_ar = 0.5 * np.abs(s_n) / (1 - np.maximum(s_n, 0) / SU)
     block = n * 1e-3
@@ -252,7 +252,7 @@ def test_screening_bounds_hold_on_random_histories():
 def test_fatigue_files_and_bad_settings(tmp_path):
     import meshio
     run, S, n = _synthetic_run(tmp_path)
-    res = cage_fatigue(run, FatigueSettings(nodes=(3,)))
+    res = cage_fatigue(run, FatigueSettings(nodes=(3,), settle=0.0))
     assert any(cand["node"] == 3 and cand["user_node"] for cand in res.candidates)
     paths = write_fatigue_files(res, res.reduced_cage, tmp_path / "out")
     with meshio.xdmf.TimeSeriesReader(paths["xdmf"]) as r:
@@ -265,7 +265,7 @@ def test_fatigue_files_and_bad_settings(tmp_path):
         np.testing.assert_allclose(f["candidates/3/stress"][:, 0],
                                    S[3, 0, 0] * (1 + 0.5 * np.sin(2 * np.pi * np.arange(n) / 40)), rtol=1e-12)
     with pytest.raises(InputError, match=r"fatigue node = 99 is outside the allowed range \[0, 26\]"):
-        cage_fatigue(run, FatigueSettings(nodes=(99,)))
+        cage_fatigue(run, FatigueSettings(nodes=(99,), settle=0.0))
     with pytest.raises(InputError, match="blocks_per_hour"):
         FatigueSettings(blocks_per_hour=0.0).validate()
     with pytest.raises(InputError, match="allowed: 40CrNiMoA"):
@@ -289,7 +289,7 @@ def test_report_fatigue_section_and_cli_errors(tmp_path, capsys):
     run, S, n = _synthetic_run(tmp_path)
     out = tmp_path / "rep"
     assert main(["report", str(run), "-o", str(out), "--quiet", "--fatigue", "--fatigue-nodes", "4",
-                 "--fatigue-blocks-per-hour", "20"]) == 0
+                 "--fatigue-blocks-per-hour", "20", "--settle", "0"]) == 0
     md = (out / "report.md").read_text()
     assert "## Cage fatigue at this duty cycle" in md and "fatigue_damage.png" in md and "fatigue.xdmf" in md
     assert "4 (yours)" in md and "20 blocks per hour" in md
@@ -319,3 +319,43 @@ def test_signed_von_mises_overreads_out_of_phase_tension_torsion():
     r = cyc.range.max()
     assert 2 * sa * math.sqrt(3 - 2 * math.sin(2 * math.pi / P) ** 2) <= r <= 2 * math.sqrt(3) * sa * (1 + 1e-12)
     assert cyc.range.max() / 2 > 1.49 * (2 * sa / math.sqrt(3))
+
+
+def test_duty_cycle_without_a_settled_part_is_refused_or_flagged(tmp_path):
+    """The synthetic run's cage speed ramps over the whole run (test_report's scene): by default the
+    duty cycle leaves out the start-up transient, and here the transient never ends (MSER-5's
+    minimum past half of the phase): cage_fatigue refuses in one line, the report's section says
+    so and is written; with --settle given the block is counted and flagged as not settled."""
+    from flexbearing.analysis.fatigue_report import fatigue_section
+    run, S, n = _synthetic_run(tmp_path)
+    with pytest.raises(InputError, match=r"has no settled part to repeat as a duty cycle: the start-up transient "
+                                         r"of its cage speed runs past half") as exc:
+        cage_fatigue(run, FatigueSettings())
+    assert "\n" not in str(exc.value)
+    md, facts, files = fatigue_section(run, tmp_path / "out", FatigueSettings())
+    assert md[2].startswith("Not computed: fatigue: run.h5 has no settled part") and files == {}
+    res = cage_fatigue(run, FatigueSettings(settle=0.0))
+    assert res.startup["rule"] == "given" and res.startup["settled"] is False
+
+
+def test_duty_cycle_leaves_out_the_detected_start_up(tmp_path):
+    """The synthetic run with a cage speed that approaches its level as 450·(1 + 0.05·exp(−t/10 ms))
+    on noise of 0.1 rad/s: MSER-5 puts the transient's end near tau·ln(A·sqrt5/sigma) = 62 ms
+    (tests/test_settling.py), within tau·ln 2 plus a batch; the block (its times: the peak-search steps,
+    within a sample interval before each sample) starts there (or later, where
+    another signal's start-up ends later), and the section names the window left out."""
+    from flexbearing.analysis.fatigue_report import fatigue_markdown
+    run, S, n = _synthetic_run(tmp_path)
+    rng = np.random.default_rng(4)
+    with h5py.File(run, "r+") as f:
+        t = f["outputs/time"][...]
+        f["outputs/cage_speed"][...] = 450.0 * (1 + 0.05 * np.exp(-t / 0.01)) + 0.1 * rng.standard_normal(len(t))
+    res = cage_fatigue(run, FatigueSettings())
+    expected = 0.01 * math.log(22.5 * math.sqrt(5) / 0.1)
+    settle = res.startup["settle"]
+    assert res.startup["rule"].startswith("MSER-5")
+    assert settle >= expected - (0.01 * math.log(2) + 5e-3)
+    assert res.times[0] >= settle - 1e-3 and res.block_duration == pytest.approx(t[-1] - settle + 1e-3, rel=1e-9)
+    md = "\n".join(fatigue_markdown(res, {"xdmf": tmp_path / "fatigue.xdmf", "h5": tmp_path / "fatigue.h5",
+                                          "json": tmp_path / "fatigue.json"}))
+    assert f"Start-up: 0–{settle:.4g} s left out of the duty cycle" in md

@@ -16,9 +16,19 @@ under-read by the stress change within one interval.
 Damage field. At every node: the signed von Mises history (flexbearing.analysis.stress_equivalent),
 rainflow counted as one block of the repeated duty cycle, mean-stress corrected, Miner-summed on
 the material's S–N curve (flexbearing.analysis.fatigue, flexbearing.analysis.sn_curves). The duty
-cycle: the run's block (the samples at t >= settle) repeated back to back (3600 s / block length
-blocks an hour), or `blocks_per_hour` given by the user. Per node: damage rate (1/s), life (s)
-and the safety factor on the stress history for the design life.
+cycle: the run's block (the samples at settle <= t <= until) repeated back to back (3600 s / block
+length blocks an hour), or `blocks_per_hour` given by the user. Per node: damage rate (1/s), life
+(s) and the safety factor on the stress history for the design life.
+
+Start-up left out. A run starts from a quasi-static (or steady) state, not from the state its
+dynamics settle to; repeating its start-up transient as the duty cycle counts a transient the
+bearing meets once per start as if it ran it continuously. By default (settle None) the block
+starts where the run's start-up transient ends: MSER-5 (White 1997) on the cage speed, slip, cage
+forces and von Mises stress of the first speed phase, the latest truncation over them
+(flexbearing.analysis.settling.run_startup). A run whose transient runs past half of that phase
+has no settled part: refused in one line (give `settle` to count from a time anyway). The block
+is then tested for drift (the same module's trend test); a block that still drifts is counted
+and flagged (`CageFatigue.startup["settled"]` False, named in the report).
 
 Candidate nodes, with the full tensor history and the critical-plane check: the hot spots of the
 run's peak search (every node that held the cage's maximum von Mises in some sample interval,
@@ -80,7 +90,8 @@ class FatigueSettings:
     design_life: float = DEFAULT_DESIGN_LIFE
     nodes: tuple[int, ...] = ()
     n_worst: int = 10
-    settle: float = 0.0
+    settle: float | None = None       # s; None: after the run's start-up transient (module doc)
+    until: float | None = None        # s; None: to the run's end
 
     def validate(self, n_nodes: int | None = None) -> "FatigueSettings":
         sn_curve(self.material)
@@ -89,6 +100,10 @@ class FatigueSettings:
             require_range("fatigue blocks_per_hour", self.blocks_per_hour, 0.0, None, lo_open=True, unit="1/h")
         require_range("fatigue design_life", self.design_life, 0.0, None, lo_open=True, unit="s")
         require_range("fatigue n_worst", self.n_worst, 0, 1000)
+        if self.settle is not None:
+            require_range("fatigue settle", self.settle, 0.0, None, unit="s")
+        if self.until is not None:
+            require_range("fatigue until", self.until, 0.0, None, lo_open=True, unit="s")
         for n in self.nodes:
             if n_nodes is not None and not 0 <= int(n) < n_nodes:
                 raise InputError(f"fatigue node = {n} is outside the allowed range [0, {n_nodes - 1}] "
@@ -118,11 +133,41 @@ class CageFatigue:
     times: np.ndarray | None = None
     timing: dict = field(default_factory=dict)
     reduced_cage: object = None     # the ReducedCage the field lives on
+    startup: dict = field(default_factory=dict)        # the start-up left out (start_of_block)
 
 
-def read_history(run_h5, settle: float, reduced_cage=None):
+def start_of_block(run_h5, settings: FatigueSettings) -> dict:
+    """The block's start (module doc, "Start-up left out"): {settle (s), rule ("MSER-5 start-up
+    transient" | "given"), settled (the block's drift verdict: True, False or None), reason,
+    method}. InputError (one line) where the rule finds no settled part."""
+    from flexbearing.analysis.settling import run_startup, window_settling, settling_signals
+    from flexbearing.simulation.results import opened
+    if settings.settle is None:
+        st = run_startup(run_h5, settings.until)
+        past = [v["signal"].replace("_", " ") for v in st["signals"].values() if v["transient_past_half"]]
+        if past:
+            raise InputError(f"fatigue: {Path(str(run_h5)).name} has no settled part to repeat as a duty cycle: "
+                             f"the start-up transient of its {', '.join(past)} runs past half of its first phase "
+                             f"({st['t_first']:g}–{st['t_last']:g} s; MSER-5); run it longer, or give --settle S "
+                             f"to count from t = S anyway")
+        settle = st["transient_end"] if st["transient_end"] is not None else 0.0
+        rule = "MSER-5 start-up transient" if st["transient_end"] is not None else \
+            "none left out (no cage speed, slip, force or stress recorded to find the start-up by)"
+        return {"settle": float(settle), "rule": rule, "settled": st["settled"], "reason": st["reason"],
+                "method": st["method"]}
+    with opened(run_h5) as r:
+        t = np.asarray(r.t, dtype=float)
+        mask = t >= settings.settle - 1e-12 * max(1.0, settings.settle)
+        if settings.until is not None:
+            mask &= t <= settings.until + 1e-12 * max(1.0, settings.until)
+        st = window_settling(t, settling_signals(r.outputs), mask)
+    return {"settle": float(settings.settle), "rule": "given", "settled": st["settled"], "reason": st["reason"],
+            "method": st["method"]}
+
+
+def read_history(run_h5, settle: float, reduced_cage=None, until: float | None = None):
     """(times (T,) s, q (T, M), peak-search hot-spot nodes (T,), ReducedCage, block duration s) of
-    a flexible-cage run at t >= settle (module doc)."""
+    a flexible-cage run at settle <= t (<= until) (module doc)."""
 
     path = check_run(run_h5)
     with h5py.File(path, "r") as f:
@@ -134,6 +179,8 @@ def read_history(run_h5, settle: float, reduced_cage=None):
         t = out["time"][...]
         dt = sample_interval(f, t)
         keep = t >= settle - 1e-12 * max(1.0, abs(settle))
+        if until is not None:
+            keep &= t <= until + 1e-12 * max(1.0, abs(until))
         q = out["cage_modal_coordinates_full"][...]
         keep &= np.all(np.isfinite(q), axis=1)
         tp = out["von_mises_max_time"][...] if "von_mises_max_time" in out else t
@@ -260,7 +307,8 @@ def cage_fatigue(run_h5, settings: FatigueSettings = FatigueSettings(), reduced_
                  quiet: bool = True) -> CageFatigue:
     """The damage field and the candidate nodes of a flexible-cage run (module doc)."""
     t0 = time.perf_counter()
-    times, q, hot, rc, block = read_history(run_h5, settings.settle, reduced_cage)
+    startup = start_of_block(run_h5, settings)
+    times, q, hot, rc, block = read_history(run_h5, startup["settle"], reduced_cage, settings.until)
     n_nodes = rc.stress_modes.shape[0]
     settings.validate(n_nodes)
     curve = sn_curve(settings.material)
@@ -323,7 +371,7 @@ def cage_fatigue(run_h5, settings: FatigueSettings = FatigueSettings(), reduced_
                               + [int(n) for n in settings.nodes]))
     where = _locations(rc, cand)
     result = CageFatigue(settings, curve.source, block, per_hour, T, rate, life, sf, peak, counted, times=times,
-                         reduced_cage=rc)
+                         reduced_cage=rc, startup=startup)
     for n in cand:
         sigma = node_history(rc, q, n)
         cyc = rainflow_cycles(eq.signed_von_mises(sigma), repeated=True)
@@ -389,7 +437,9 @@ def facts(result: CageFatigue) -> dict:
             "block_duration": result.block_duration, "blocks_per_hour": result.blocks_per_hour,
             "duty_cycle": ("the run's block repeated back to back" if s.blocks_per_hour is None
                            else "user-given blocks per hour"),
-            "design_life": s.design_life, "settle": s.settle, "samples": result.n_samples,
+            "design_life": s.design_life, "settle": result.startup.get("settle", s.settle),
+            "startup_rule": result.startup.get("rule"), "block_settled": result.startup.get("settled"),
+            "block_settled_reason": result.startup.get("reason"), "until": s.until, "samples": result.n_samples,
             "nodes": len(result.damage_rate), "nodes_counted": int(result.counted.sum()), "screen": SCREEN,
             "worst_node": worst, "worst_damage_rate": num(result.damage_rate[worst]),
             "worst_life": num(result.life[worst]), "min_safety_factor": num(np.nanmin(result.safety_factor)),

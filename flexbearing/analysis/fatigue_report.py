@@ -45,10 +45,13 @@ def fatigue_markdown(result, files: dict) -> list[str]:
                f"r = {w['radius'] * 1e3:.2f} mm): life **{_h(w['governing_life'])} h**, safety factor "
                f"**{w['governing_safety_factor']:.3g}** on the stress history for a design life of "
                f"{s.design_life / HOUR:,.0f} h.", ""]
+    md += startup_lines(result)
     md += rows + ["",
                   f"Duty cycle: {'the run' if s.blocks_per_hour is None else 'a block of the run'} "
                   f"({result.block_duration:.4g} s, {result.n_samples} samples"
-                  + (f", from t = {s.settle:g} s" if s.settle else "") + ") "
+                  + (f", from t = {result.startup.get('settle', s.settle or 0.0):g} s"
+                     if result.startup.get("settle", s.settle) else "")
+                  + (f" to t = {s.until:g} s" if s.until is not None else "") + ") "
                   + ("repeated back to back" if s.blocks_per_hour is None else "given by the user")
                   + f": {result.blocks_per_hour:,.4g} blocks per hour. Material {s.material}: "
                   f"{result.curve_source}; Basquin's line continued without an endurance limit "
@@ -75,6 +78,28 @@ def fatigue_markdown(result, files: dict) -> list[str]:
     return md
 
 
+def startup_lines(result) -> list[str]:
+    """What the duty cycle leaves out at the start and whether the rest settled (cage_fatigue's
+    module doc, "Start-up left out")."""
+    st = result.startup or {}
+    if not st:
+        return []
+    t0 = st["settle"]
+    if st["rule"] == "given":
+        text = (f"Start-up: the block starts at t = {t0:g} s (given: `--settle`)." if t0 > 0 else
+                "Start-up: **included** (`--settle 0`): the block repeats the run's start from its initial state.")
+    elif st["rule"].startswith("MSER-5"):
+        text = (f"Start-up: 0–{t0:.4g} s left out of the duty cycle (the start-up transient from the run's initial "
+                f"state, found by MSER-5 on the cage speed, slip, cage forces and stress; `--settle S` sets it).")
+    else:
+        text = f"Start-up: {st['rule']}."
+    if st.get("settled") is False:
+        text += f" **The block has not settled** ({st['reason']}): the life is that of a transient; run longer."
+    elif st.get("settled") is None:
+        text += f" Whether the block settled is undecided ({st['reason']})."
+    return [text, ""]
+
+
 def fatigue_section(run_h5, out_dir, settings, reduced_cage=None, quiet: bool = True):
     """(markdown lines, facts for report.json, files) of the fatigue section; for a run without a
     flexible cage the lines say why there is none (facts None). Bad settings raise InputError."""
@@ -85,6 +110,14 @@ def fatigue_section(run_h5, out_dir, settings, reduced_cage=None, quiet: bool = 
         if "cage_modal_coordinates_full" not in f["outputs"]:
             return ["## Cage fatigue at this duty cycle", "", "Not computed: the run has no flexible-cage "
                     "stress history (a flexible-cage run recording \"von_mises\" has it).", ""], None, {}
+    if settings.settle is None:
+        from flexbearing.analysis.cage_fatigue import start_of_block
+        from flexbearing.common.validation import InputError
+        try:
+            start_of_block(run_h5, settings)
+        except InputError as exc:            # no settled part: flagged here, the rest of the report written
+            return ["## Cage fatigue at this duty cycle", "", f"Not computed: {exc}.", ""], \
+                {"refused": str(exc)}, {}
     result = cage_fatigue(run_h5, settings, reduced_cage=reduced_cage, quiet=quiet)
     files = write_fatigue_files(result, result.reduced_cage, out_dir)
     files["picture"] = write_damage_picture(result, result.reduced_cage, out_dir)

@@ -33,9 +33,10 @@ from flexbearing.analysis.plots import caption, write_orbit_plot, write_plots
 from flexbearing.simulation.results import Run
 from flexbearing.analysis.windows import (MOTION_ROWS, QUANTITIES, QUANTITY, Quantity, cage_motion_rows, cage_strength_rows,
                               phase_rows, phase_table, power_loss_rows, read_motion, read_power, read_run,
-                              window_title)
+                              report_windows, speed_phases, window_title)
 from flexbearing.analysis import field_export
 from flexbearing.analysis.summary import summary_rows, input_rows
+from flexbearing.analysis.settling import MARK, MARK_NOTE, attach_settling, settling_signals, unsettled
 from flexbearing.analysis.paraview_state import NEEDS, pvpython_command, write_paraview_scene
 from flexbearing.analysis import paraview_state
 from flexbearing.common.progress import Stages
@@ -117,7 +118,9 @@ def _markdown_table(columns: list[tuple[str, dict]], keys, increase_from: int | 
         head.append(f"change vs {columns[increase_from][0]}")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" + "---:|" * (len(head) - 1)]
     for label, field, qd in _stat_rows(keys):
-        cells = [label] + [_fmt(row.get(field), qd.scale) for _, row in columns]
+        mark = f" {MARK}" if not field.endswith(f"_{qd.extreme_stat}") else ""
+        cells = [label] + [_fmt(row.get(field), qd.scale) + (mark if unsettled(row) and row.get(field) is not None
+                                                              else "") for _, row in columns]
         if increase_from is not None:
             a, b = columns[increase_from][1].get(field), columns[-1][1].get(field)
             if a is None or b is None:
@@ -218,7 +221,8 @@ def comparison_section(r: Report) -> list[str]:
         return []
     a, b = r.compare.name, r.run.name
     return [f"## {a} vs {b} (whole runs)", "",
-            _markdown_table([(a, r.cmp_rows[0]), (b, r.rows[0])], r.keys, increase_from=0), ""]
+            _markdown_table([(a, r.cmp_rows[0]), (b, r.rows[0])], r.keys, increase_from=0), ""] + (
+        [MARK_NOTE, ""] if unsettled(r.rows[0]) else [])
 
 
 def phases_section(r: Report) -> list[str]:
@@ -226,6 +230,8 @@ def phases_section(r: Report) -> list[str]:
         return []
     md = [f"## {r.run.name}: per phase of the speed profile and per impact", "",
           _markdown_table([(window_title(w), w) for w in r.rows], r.keys), ""]
+    if any(unsettled(w) for w in r.rows):
+        md += [MARK_NOTE, ""]
     peaks = [(w["label"], w.get("von_mises_max_t_peak")) for w in r.rows[1:]
              if w.get("von_mises_max_t_peak") is not None]
     if peaks:
@@ -463,6 +469,10 @@ def write_report(run_h5, out_dir, compare=None, frames="auto", reduced_cage=None
         step("tables")
         data = read_run(run)
         rows = phase_rows(*data, True, settle)
+        # settled before statistics: each uniform-speed phase tested (flexbearing.analysis.settling)
+        t_run, _, scene_run, dt_run = data
+        attach_settling(rows, [m for _, m in report_windows(t_run, scene_run, dt_run, True, settle)], t_run,
+                        settling_signals(run.outputs), len(speed_phases(scene_run)) if scene_run is not None else 1)
         strength_rows = cage_strength_rows(*data, True, settle)
         r = Report(run=run, compare=cmp, out_dir=out_dir, settle=settle, series_spec=series, rows=rows,
                    cmp_rows=phase_table(cmp, settle=settle) if cmp is not None else None,

@@ -162,8 +162,48 @@ def summary_rows(run, rows: list[dict], strength_rows: list[dict], power_rows: l
                            f"git {attrs.get('git_commit', 'unknown (not recorded)')}; report by "
                            f"flexbearing {program_version()}, git {git_commit()}"))
     if rows:
-        out += headline_rows(rows[0], strength_rows[0] if strength_rows else None,
-                             power_rows[0] if power_rows else None)
+        out += settled_rows(rows, attrs)
+        out += mark_unsettled(headline_rows(rows[0], strength_rows[0] if strength_rows else None,
+                                            power_rows[0] if power_rows else None), rows[0])
+    return out
+
+
+# ---------------------------------------------------------------- settled before statistics
+def settled_rows(rows: list[dict], attrs=None) -> list[tuple[str, str]]:
+    """The summary's lines on the run's initial state (the results file's attribute initial_state,
+    written by a run with [integrator] start = "steady"; without it the quasi-static start) and on
+    whether each uniform-speed phase settled (flexbearing.analysis.settling; rows carry "settling"
+    where the report tested them)."""
+    from flexbearing.analysis.settling import summary_text
+    start = None if attrs is None else attrs.get("initial_state")
+    out = [("Initial state", str(start) if start else
+            "quasi-static equilibrium without friction, balls rolling (`[integrator] start = \"steady\"` starts "
+            "from the steady running state)")]
+    text = summary_text(rows)
+    return out + ([] if text is None else [("Settled? (per uniform-speed phase)", text)])
+
+
+def mark_unsettled(headlines: list[tuple[str, str]], whole: dict) -> list[tuple[str, str]]:
+    """The headline mean (the slip) of a whole-run window that did not settle, marked: a mean of a
+    signal that still drifts is not its running value. Of a settled window whose start-up transient
+    lies inside it (no --settle past it), the mean after the transient beside it."""
+    from flexbearing.analysis.settling import MARK, SIGNALS, unsettled
+    st = whole.get("settling")
+    if not st:
+        return headlines
+    slip = st["signals"].get("slip_rate")
+    out = []
+    for label, value in headlines:
+        if label.startswith(QUANTITY["slip_rate"].label) and ", mean" in label:
+            if unsettled(whole):
+                drifting = [SIGNALS[v["signal"]][0] for v in st["signals"].values() if v["settled"] is False]
+                value += (f" {MARK} not settled ({', '.join(drifting)} still drifting or in its start-up): "
+                          "not the running value")
+            elif slip and slip.get("mean_after") is not None and st.get("transient_end") is not None \
+                    and st["transient_end"] > whole["t_start"] + 1e-9:
+                value += (f"; it includes the start-up transient to t = {st['transient_end']:.4g} s: "
+                          f"{100 * slip['mean_after']:.3g} % after it")
+        out.append((label, value))
     return out
 
 

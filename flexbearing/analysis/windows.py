@@ -52,6 +52,12 @@ worst ball. Bearing-level quantities (guiding force, von Mises, slip) have one c
 windows are [t_start, t_end) (the last one closed); impact windows are [t_start, t_start + T] of
 the load pulse.
 
+Settled or not: the report gives each uniform-speed phase's row (and the whole run's, when it is
+one phase) a "settling" verdict (flexbearing.analysis.settling: MSER-5 start-up truncation and a
+batch-means trend test of the cage speed, slip, cage forces and stress); the mean and p99 of a
+window that has not settled are marked in the report's tables, since they are those of a
+transient. The statistics themselves are computed the same way either way.
+
 Cage motion (runs that record "cage_orbit" and "cage_speed"; flexbearing.analysis.cage_motion): per window
 the eccentricity ratio e/Cg (mean, max), the share of samples on the guide rim, the whirl ratio
 (the cage centre's net whirl angle over the cage's rotation angle) and the velocity dispersion

@@ -22,9 +22,12 @@ def print_table(rows: list[dict], file=None) -> None:
     keys = [q.key for q in QUANTITIES if rows and f"{q.key}_mean" in rows[0]]
     w = max(len(lab) for lab, _, _ in _stat_rows(keys)) if keys else 10
     for r in rows:
-        print(f"{window_title(r)}  ({r['n_samples']} samples)", file=file)
+        st = r.get("settling")
+        verdict = "" if not st else f"; {st['verdict']}" + (f": {st['reason']}" if st["settled"] is False else "")
+        print(f"{window_title(r)}  ({r['n_samples']} samples{verdict})", file=file)
         for lab, field, qd in _stat_rows(keys):
-            print(f"  {lab:<{w}}  {_fmt(r.get(field), qd.scale):>10}", file=file)
+            mark = " †" if st and st["settled"] is False and not field.endswith(f"_{qd.extreme_stat}") else ""
+            print(f"  {lab:<{w}}  {_fmt(r.get(field), qd.scale):>10}{mark}", file=file)
 
 
 def register(subparsers) -> None:
@@ -58,8 +61,10 @@ def register(subparsers) -> None:
                    help="magnification of the series' displacement_scaled field (Warp By Vector at scale "
                         "1 then draws the cage S times deformed; default: the largest displacement drawn "
                         "as about 1%% of the cage's outside diameter)")
-    p.add_argument("--settle", type=float, default=0.0, metavar="S",
-                   help="leave samples before t = S seconds (start-up transient) out of the tables")
+    p.add_argument("--settle", type=float, default=None, metavar="S",
+                   help="leave samples before t = S seconds (start-up transient) out of the tables and the "
+                        "fatigue duty cycle (default: tables from t = 0, marked where a phase has not "
+                        "settled; fatigue from the end of the start-up transient the report finds)")
     p.add_argument("--reduced-cage", metavar="FILE", help="reduced cage file (default: the one the run names)")
     p.add_argument("--fatigue", action="store_true",
                    help="add the cage's fatigue (flexible cage): damage, life and safety factor per node from "
@@ -90,7 +95,7 @@ def _fatigue_settings(args):
                          f"e.g. 13598,12597") from None
     given = {"material": args.fatigue_material, "correction": args.fatigue_correction,
              "design_life": None if args.fatigue_design_life_h is None else args.fatigue_design_life_h * HOUR}
-    return FatigueSettings(blocks_per_hour=args.fatigue_blocks_per_hour, nodes=nodes, settle=args.settle,
+    return FatigueSettings(blocks_per_hour=args.fatigue_blocks_per_hour, nodes=nodes, settle=args.settle,   # None: auto
                            **{k: v for k, v in given.items() if v is not None}).validate()
 
 
@@ -116,7 +121,8 @@ def cmd_report(args) -> int:
         from flexbearing.analysis.field_export import check_given_reduced_cage
         check_given_reduced_cage(run, args.reduced_cage)
     res = write_report(run, out_dir, compare=args.compare, frames=args.frames,
-                       reduced_cage=args.reduced_cage, quiet=args.quiet, settle=args.settle,
+                       reduced_cage=args.reduced_cage, quiet=args.quiet,
+                       settle=args.settle if args.settle is not None else 0.0,
                        series=args.series, displacement_scale=args.displacement_scale, movie=args.movie,
                        pdf=args.pdf, fatigue=_fatigue_settings(args))
     if not args.quiet:

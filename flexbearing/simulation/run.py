@@ -307,6 +307,8 @@ class RunLoop:
             load_at(0.0, scene.load_table, scene.impacts, f0)      # the full load vector
             self.y = np.array(self.backend.initial_state(self.model, speed_at(0.0, scene.speed_table),
                                                          Fa, Fr, f0), dtype=np.float64)
+            if scene.start == "steady":
+                self._steady_start(f0)
             self.t, self.h, self.n_steps, self.n_rejected, self.wall_before, self.k = (
                 0.0, scene.initial_step, 0, 0, 0.0, 0)
             return
@@ -317,6 +319,20 @@ class RunLoop:
             ws.fsal_t, ws.fsal_y = self.t, self.y.copy()
         self.n_steps, self.n_rejected = cp["n_steps"], cp["n_rejected"]
         self.wall_before, self.k = cp["wall_time"], cp["n_samples"]
+
+    def _steady_start(self, load0) -> None:
+        """[integrator] start = "steady": the steady running state at the speed and load of t = 0
+        replaces the quasi-static start, solved on the rigid cage of the same bearing; where it is
+        not found, the quasi-static start stays and the run says why
+        (flexbearing.multibody.steady_start.steady_start). The choice is printed and kept in the
+        results file (attribute initial_state)."""
+        from flexbearing.multibody.steady_start import start_line, steady_start
+        scene = self.scene
+        rigid = rigid_backend().build_model(scene.bearing, scene.oil, dict(scene.model_options))
+        self.y, info = steady_start(rigid, speed_at(0.0, scene.speed_table), load0, self.y)
+        line = start_line(info)
+        print(line, file=sys.stderr)           # the fallback is said even with --quiet
+        self.writer.f.attrs["initial_state"] = line[len("start: "):]
 
     def _integrate(self) -> float:
         """The loop from the start state to the end; returns the run's wall time. A call ends at the

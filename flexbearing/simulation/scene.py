@@ -82,6 +82,10 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     method = "dopri5"         # "dopri5" (Dormand–Prince 5(4)) | "bs32" (Bogacki–Shampine 3(2))
     initial_step = 1e-7       # s
     max_step = 1e-5           # s
+    start = "quasi_static"    # the initial state: "quasi_static" (default: the equilibrium without
+                              #   friction, pure rolling) | "steady" (the steady running state at the
+                              #   speed and load of t = 0, quasi-static where none is found:
+                              #   flexbearing.multibody.steady_start.steady_start)
 
     [output]
     sample_interval = 1e-4    # s: outputs are recorded at t = 0, dt, 2 dt, ...
@@ -120,6 +124,9 @@ from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry, cad_geometry_fro
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
 CAGE_MODELS = ("rigid", "flexible")
+# the run's initial states ([integrator] start; flexbearing.multibody.steady_start.START_KINDS, kept here
+# so that reading a scene does not import the solvers; tests/test_steady_start.py checks they agree)
+START_KINDS = ("quasi_static", "steady")
 OIL_PRESETS = {"paper": PAPER_OIL, "engine": ENGINE_OIL}
 IMPACT_SHAPES = {"half-sine": HALF_SINE, "rectangular": RECTANGULAR}
 DEFAULT_RADIAL_DIRECTION = (0.0, 0.0, -1.0)   # radial load on the inner ring: vertical, downwards
@@ -173,6 +180,7 @@ class Scene:
     outputs: tuple                    # scene outputs (flexbearing.multibody.output_registry.GROUPS), in the scene's order
     checkpoint_every: int             # samples
     method: str = "dopri5"            # integrator method (flexbearing.multibody.integrator.METHODS)
+    start: str = "quasi_static"       # initial state ([integrator] start; flexbearing.multibody.steady_start.START_KINDS)
     text: str = ""                    # the TOML text as loaded (stored in the results file)
     data: dict = field(default_factory=dict, repr=False)   # the parsed TOML
     path: str = ""
@@ -674,7 +682,9 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                          "points = [...] or table = [...]")
     load_table, impacts = _load(op["load"], duration)
 
-    integ = require_table("integrator", d.get("integrator", {}), ("tolerance", "method", "initial_step", "max_step"))
+    integ = require_table("integrator", d.get("integrator", {}), ("tolerance", "method", "initial_step", "max_step",
+                                                                  "start"))
+    start = _string("integrator.start", integ.get("start", "quasi_static"), START_KINDS)
     tolerance = _number("integrator.tolerance", integ.get("tolerance", 1e-6), MIN_TOLERANCE, 1e-1)
     method = _string("integrator.method", integ.get("method", "dopri5"), INTEGRATOR_METHODS)
     max_step = None
@@ -706,7 +716,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                  speed_table=speed_table, load_table=load_table, impacts=impacts,
                  tolerance=tolerance, initial_step=initial_step, max_step=max_step,
                  sample_interval=dt, outputs=tuple(record), checkpoint_every=checkpoint_every,
-                 method=method, text=text, data=data, path=str(path), cad=cad)
+                 method=method, start=start, text=text, data=data, path=str(path), cad=cad)
 
 
 def load_scene(path) -> Scene:
