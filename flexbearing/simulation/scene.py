@@ -113,6 +113,7 @@ from flexbearing.multibody.model import DEFAULT_OPTIONS
 from flexbearing.multibody.output_registry import GROUPS
 from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints, load_at
 from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry
+from flexbearing.simulation import derived as DV
 
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
@@ -174,6 +175,10 @@ class Scene:
     data: dict = field(default_factory=dict, repr=False)   # the parsed TOML
     path: str = ""
     cad: dict = field(default_factory=dict)   # cage.cad: {"file", "unit", "key"} (flexbearing.mesh.cad_cage)
+    # what the scene did not give (flexbearing.simulation.derived.Derived: derived, measured or default),
+    # printed at run start and in the report's summary
+    derived: tuple = ()
+    warnings: tuple = ()                      # one line each, printed at run start and in the report
 
     @property
     def n_samples(self) -> int:
@@ -260,7 +265,10 @@ def _material(base: Material, d, where: str) -> Material:
     return dataclasses.replace(base, **{k: _number(f"{where}.{k}", v) for k, v in d.items()})
 
 
-def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, str, dict, dict]:
+def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, str, dict, dict, tuple]:
+    """The bearing with its cage, the cage model, the flexible cage's parameters, the CAD cage's
+    record and the derived values (flexbearing.simulation.derived: what the scene does not give is
+    derived by a stated rule from the bearing's own geometry, or refused)."""
     b = require_table("bearing", b, _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring",
                                                          "free_contact_angle"))
     if isinstance(c, dict) and "ball_diameter" in c:
@@ -287,6 +295,10 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
             inner[k] = _number(f"bearing.{k}", v)
         else:
             changes[k] = _number(f"bearing.{k}", v)
+    # the ring sizes: a bearing given by its rings derives its pitch diameter, or is refused
+    sized, derived = DV.ring_sizes({k: changes[k] for k in DV.RING_SIZE_KEYS if k in changes})
+    changes.update(sized)
+    DV.needs_contact_angle(changes, inner)
     # free contact angle, shim angle and clearance: what is not given is derived (a split ring given
     # nothing keeps the preset's shim angle and clearance)
     # (a split ring's clearance follows its fe and Dw by the design rule unless given)
@@ -301,6 +313,20 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
         changes["radial_clearance"] = layout.diametral_clearance
         if ring == "split":
             changes["shim_angle"] = layout.shim_angle
+        if "radial_clearance" not in inner:
+            derived.append(DV.Derived("bearing.radial_clearance", layout.diametral_clearance, "m",
+                                      f"the {ring} inner ring's layout (flexbearing.multibody.clearance)"))
+        if ring == "split" and "shim_angle" not in inner:
+            derived.append(DV.Derived("bearing.shim_angle", layout.shim_angle, "rad",
+                                      "the split inner ring's layout (flexbearing.multibody.clearance)"
+                                      if inner.keys() - {"shim_angle"} else "the paper's assumed 30° (default)",
+                                      "derived" if inner.keys() - {"shim_angle"} else "default"))
+    if not DV.is_paper_size(changes):
+        for k in ("fe", "fi"):
+            if k not in changes:
+                derived.append(DV.Derived(f"bearing.{k}", getattr(PAPER_BEARING, k), "",
+                                          "the paper's groove radius ratio (× D_w; give it if yours differs)",
+                                          "default"))
     cage_model = _string("cage.model", c.get("model", "rigid"), CAGE_MODELS)
     cage_changes = {}
     for k, v in c.items():
@@ -316,18 +342,40 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
             cage_changes[k] = _string("cage.pocket_shape", v, POCKET_SHAPES)
         else:
             cage_changes[k] = _number(f"cage.{k}", v)
+    given_cage = set(cage_changes)
     # the cage has one pocket per ball unless the scene says otherwise
     if "n_balls" in changes and "n_pockets" not in cage_changes:
         cage_changes["n_pockets"] = changes["n_balls"]
+        derived.append(DV.Derived("cage.n_pockets", changes["n_balls"], "", "bearing.n_balls (one pocket per ball)"))
     cage_changes["ball_diameter"] = changes.get("ball_diameter", PAPER_BEARING.ball_diameter)
     # and its spherical pockets are centred on the bearing's pitch circle unless it says otherwise
     if "pitch_diameter" in changes and "pocket_centre_diameter" not in cage_changes:
         cage_changes["pocket_centre_diameter"] = changes["pitch_diameter"]
-    changes["cage"] = dataclasses.replace(PAPER_BEARING.cage, **cage_changes)
+        if cage_changes.get("pocket_shape", PAPER_BEARING.cage.pocket_shape) != "cylindrical":
+            derived.append(DV.Derived("cage.pocket_centre_diameter", changes["pitch_diameter"], "m",
+                                      "bearing.pitch_diameter (pockets centred on the pitch circle)"))
     cad_info = {}
+    if not cad:
+        # the parametric cage's dimensions not given: the paper cage's proportions to the bearing's own
+        dims, rec = DV.cage_dimensions(changes, cage_changes)
+        cage_changes.update(dims)
+        derived += rec
+    if "material" not in cage_changes:
+        derived.append(DV.Derived("cage.material", "40CrNiMoA (7870 kg/m³, 209 GPa, ν 0.295)", "",
+                                  "the paper's cage steel (default; give [cage.material] for another)", "default"))
+    changes["cage"] = dataclasses.replace(PAPER_BEARING.cage, **cage_changes)
     if cad:
-        changes["cage"], cad_info = _cad_cage(cad, changes, {k: c[k] for k in c if k in cage_changes},
+        changes["cage"], cad_info = _cad_cage(cad, changes, {k: c[k] for k in c if k in given_cage},
                                               scene_path)
+        g = changes["cage"]
+        for k in ("outside_diameter", "bore_diameter", "width", "pocket_diameter", "land_width"):
+            derived.append(DV.Derived(f"cage.{k}", getattr(g, k), "m", f"the faces of cage.cad = {cad['cad']!r}",
+                                      "measured"))
+    # the ring lands the scene does not give: from the cage's own diameters
+    g = changes["cage"]
+    lands, rec = DV.land_diameters(g.guidance, g.outside_diameter, g.bore_diameter, changes)
+    changes.update(lands)
+    derived += rec
     bearing = dataclasses.replace(PAPER_BEARING, **changes).validate()
 
     flexible = {}
@@ -358,7 +406,7 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
         flexible.setdefault("n_modes", DEFAULT_N_KEEP)
         if "material" not in c:              # the paper's 40CrNiMoA; another material names its own
             flexible.setdefault("yield_strength", YIELD_STRENGTH_40CrNiMoA)
-    return bearing, cage_model, flexible, cad_info
+    return bearing, cage_model, flexible, cad_info, tuple(derived)
 
 
 _CAD_KEYS = ("cad", "cad_unit")
@@ -602,9 +650,12 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     description = d.get("description", "")
     if not isinstance(description, str):
         raise InputError(f"description = {description!r} must be a string")
-    bearing, cage_model, flexible, cad = _bearing_and_cage(d.get("bearing", {}), d.get("cage", {}), path)
+    bearing, cage_model, flexible, cad, derived = _bearing_and_cage(d.get("bearing", {}), d.get("cage", {}), path)
     oil = _oil(d.get("oil", {}))
     model_options = _model_options(d.get("model", {}))
+    # the traction law follows the oil (flexbearing.simulation.derived.traction_law)
+    model_options, rec, warnings = DV.traction_law(model_options, oil)
+    derived = derived + tuple(rec)
 
     if "operation" not in d:
         raise InputError("[operation] is missing (duration, [operation.speed], [operation.load])")
@@ -655,7 +706,8 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                  speed_table=speed_table, load_table=load_table, impacts=impacts,
                  tolerance=tolerance, initial_step=initial_step, max_step=max_step,
                  sample_interval=dt, outputs=tuple(record), checkpoint_every=checkpoint_every,
-                 method=method, text=text, data=data, path=str(path), cad=cad)
+                 method=method, text=text, data=data, path=str(path), cad=cad, derived=derived,
+                 warnings=tuple(warnings))
 
 
 def load_scene(path) -> Scene:
