@@ -51,9 +51,11 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     [cage.material]           # density, youngs_modulus, poisson_ratio
 
     [model]                   # multibody options passed to flexbearing.multibody.model.build_model
-    traction_law = "fit"      # "fit" (paper's 4106 fit, default) | "ehl" (EHL film-shear law, no
-                              #   dead zone at light load; flexbearing.multibody.traction), with "ehl":
-                              #   traction_scale = 1.0, contact_temperature_rise = 0.0 (K)
+    traction_law = "fit"      # "fit" (paper's 4106 fit) | "ehl" (EHL film-shear law, no dead zone at
+                              #   light load; flexbearing.multibody.traction), with "ehl":
+                              #   traction_scale = 1.0, contact_temperature_rise = 0.0 (K); default:
+                              #   "fit" for the 4106 oil at 15–25 °C, "ehl" otherwise (a warning when
+                              #   "fit" is given outside; flexbearing.simulation.derived.traction_law)
 
     [operation]
     duration = 0.6            # s
@@ -87,6 +89,10 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     sample_interval = 1e-4    # s: outputs are recorded at t = 0, dt, 2 dt, ...
     record = ["contact_stress", "pocket_force", "guiding_force", "cage_speed"]
     checkpoint_every = 100    # samples between checkpoints (resume points)
+
+Every key with its unit, default or derivation rule and allowed range: docs/scene.md (generated from
+SCENE_TABLES and flexbearing.simulation.scene_keys). What a scene does not give is derived by a stated
+rule from the bearing's own geometry, or refused (flexbearing.simulation.derived; Scene.derived).
 
 Loading converts the spectra to the arrays of `flexbearing.multibody.profiles`: speed_table (n, 2) in rad/s,
 load_table (n, 4) in N, impacts (m, 6). Every refusal names the field, the value and the allowed
@@ -147,6 +153,30 @@ _CAGE_SCALARS = tuple(f.name for f in dataclasses.fields(CageGeometry) if f.name
 _FLEXIBLE_KEYS = ("n_modes", "mesh_size", "element_order", "damping_beta", "yield_strength",
                   "stress_monitor_interval")
 _OIL_KEYS = tuple(f.name for f in dataclasses.fields(Oil))
+_CAD_KEYS = ("cad", "cad_unit")
+_RAMP_KEYS = ("kind", "t_start", "duration", "start_rpm", "end_rpm")
+_UNIFORM_KEYS = ("kind", "t_start", "duration", "rpm")
+
+# The keys each scene table accepts: what the validation below checks against (require_table), and
+# what docs/scene.md lists (flexbearing.simulation.scene_keys has one line per key; a key added here
+# without its line fails tests/test_scene_docs.py).
+SCENE_TABLES = {
+    "scene": ("name", "description", "bearing", "oil", "cage", "model", "operation", "integrator", "output"),
+    "bearing": _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring", "free_contact_angle"),
+    "material": _MATERIAL_KEYS,
+    "oil": ("preset",) + _OIL_KEYS,
+    "cage": ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",) + _CAD_KEYS,
+    "model": tuple(DEFAULT_OPTIONS),
+    "operation": ("duration", "speed", "load"),
+    "operation.speed": ("phases", "table_rpm"),
+    "operation.speed.phases[]": tuple(dict.fromkeys(_RAMP_KEYS + _UNIFORM_KEYS)),
+    "operation.load": ("axial_load", "radial_load", "radial_direction", "radial_azimuth", "points", "table",
+                       "impacts"),
+    "operation.load.points[]": ("t", "axial_load", "radial_load"),
+    "operation.load.impacts[]": ("t_start", "t_center", "duration", "magnitude", "direction", "azimuth", "shape"),
+    "integrator": ("tolerance", "method", "initial_step", "max_step"),
+    "output": ("sample_interval", "record", "checkpoint_every"),
+}
 
 
 @dataclass(frozen=True)
@@ -261,7 +291,7 @@ def _one_of(d: dict, where: str, keys) -> str | None:
 # ---------------------------------------------------------------- sections
 
 def _material(base: Material, d, where: str) -> Material:
-    d = require_table(where, d, _MATERIAL_KEYS)
+    d = require_table(where, d, SCENE_TABLES["material"])
     return dataclasses.replace(base, **{k: _number(f"{where}.{k}", v) for k, v in d.items()})
 
 
@@ -269,12 +299,11 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
     """The bearing with its cage, the cage model, the flexible cage's parameters, the CAD cage's
     record and the derived values (flexbearing.simulation.derived: what the scene does not give is
     derived by a stated rule from the bearing's own geometry, or refused)."""
-    b = require_table("bearing", b, _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring",
-                                                         "free_contact_angle"))
+    b = require_table("bearing", b, SCENE_TABLES["bearing"])
     if isinstance(c, dict) and "ball_diameter" in c:
         raise InputError("cage.ball_diameter: give the ball diameter once, as bearing.ball_diameter "
                          "(the cage's pockets take it from the bearing)")
-    c = require_table("cage", c, ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",) + _CAD_KEYS)
+    c = require_table("cage", c, SCENE_TABLES["cage"])
     c, cad = dict(c), {}
     for k in _CAD_KEYS:
         if k in c:
@@ -409,7 +438,6 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
     return bearing, cage_model, flexible, cad_info, tuple(derived)
 
 
-_CAD_KEYS = ("cad", "cad_unit")
 # what a CAD cage's file decides; the scene gives only what the file cannot say
 _CAD_OWN = tuple(k for k in _CAGE_SCALARS if k not in ("guidance", "material"))
 
@@ -439,7 +467,7 @@ def _cad_cage(cad: dict, changes: dict, given_cage: dict, scene_path: str):
 
 
 def _oil(d: dict) -> Oil:
-    d = require_table("oil", d, ("preset",) + _OIL_KEYS)
+    d = require_table("oil", d, SCENE_TABLES["oil"])
     preset = _string("oil.preset", d.get("preset", "paper"), tuple(OIL_PRESETS))
     changes = {k: _number(f"oil.{k}", v) for k, v in d.items() if k not in ("preset", "supply")}
     if "supply" in d:
@@ -448,7 +476,7 @@ def _oil(d: dict) -> Oil:
 
 
 def _speed_table(d: dict, duration: float | None) -> tuple[np.ndarray, float]:
-    d = require_table("operation.speed", d, ("phases", "table_rpm"))
+    d = require_table("operation.speed", d, SCENE_TABLES["operation.speed"])
     form = _one_of(d, "operation.speed", ("phases", "table_rpm"))
     if form is None:
         raise InputError("operation.speed needs either phases = [...] or table_rpm = [[t, rpm], ...]")
@@ -487,8 +515,7 @@ def _speed_table(d: dict, duration: float | None) -> tuple[np.ndarray, float]:
         where = f"operation.speed.phases[{i}]"
         kind = _string(f"{where}.kind", (ph or {}).get("kind") if isinstance(ph, dict) else None,
                        ("ramp", "uniform"))
-        keys = (("kind", "t_start", "duration", "start_rpm", "end_rpm") if kind == "ramp"
-                else ("kind", "t_start", "duration", "rpm"))
+        keys = _RAMP_KEYS if kind == "ramp" else _UNIFORM_KEYS
         ph = require_table(where, ph, keys)
         if "t_start" in ph:
             t0 = _number(f"{where}.t_start", ph["t_start"], 0.0, MAX_DURATION, unit="s")
@@ -542,8 +569,7 @@ def _radial_direction(d: dict, where: str, prefix: str) -> np.ndarray:
 
 
 def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
-    d = require_table("operation.load", d, ("axial_load", "radial_load", "radial_direction", "radial_azimuth",
-                                     "points", "table", "impacts"))
+    d = require_table("operation.load", d, SCENE_TABLES["operation.load"])
     load = lambda f, v: _number(f, v, 0.0, MAX_LOAD, unit="N")  # noqa: E731
     const = [k for k in ("axial_load", "radial_load") if k in d]
     form = _one_of(d, "operation.load", ("points", "table"))
@@ -568,7 +594,7 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
         for i, row in enumerate(rows):
             f = f"operation.load.{form}[{i}]"
             if form == "points":
-                row = require_table(f, row, ("t", "axial_load", "radial_load"))
+                row = require_table(f, row, SCENE_TABLES["operation.load.points[]"])
                 if "t" not in row:
                     raise InputError(f"{f}.t is missing (s)")
                 t = _number(f"{f}.t", row["t"], 0.0, MAX_DURATION, unit="s")
@@ -592,8 +618,7 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(f"operation.load.impacts = {rows!r} must be a list of tables ([[operation.load.impacts]])")
     for i, imp in enumerate(rows):
         where = f"operation.load.impacts[{i}]"
-        imp = require_table(where, imp, ("t_start", "t_center", "duration", "magnitude", "direction",
-                                  "azimuth", "shape"))
+        imp = require_table(where, imp, SCENE_TABLES["operation.load.impacts[]"])
         for k in ("duration", "magnitude"):
             if k not in imp:
                 raise InputError(f"{where}.{k} is missing")
@@ -621,7 +646,7 @@ def _model_options(d: dict) -> dict:
     """[model] keys are checked against flexbearing.multibody.model.DEFAULT_OPTIONS."""
     if not isinstance(d, dict):
         raise InputError(f"model = {d!r} must be a table")
-    require_table("model", d, tuple(DEFAULT_OPTIONS))
+    require_table("model", d, SCENE_TABLES["model"])
     out = {}
     for k, v in d.items():
         if isinstance(v, (bool, str)):
@@ -644,8 +669,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     if isinstance(data, dict) and "study" in data:
         raise InputError(f"{path or 'scene'} is a study ([study] with a base scene and values), not a "
                          f"scene: it is run by `flexbearing study`")
-    d = require_table("scene", data, ("name", "description", "bearing", "oil", "cage", "model", "operation",
-                               "integrator", "output"))
+    d = require_table("scene", data, SCENE_TABLES["scene"])
     name = _file_name("name", d.get("name", Path(path).stem if path else "scene"))
     description = d.get("description", "")
     if not isinstance(description, str):
@@ -659,7 +683,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
 
     if "operation" not in d:
         raise InputError("[operation] is missing (duration, [operation.speed], [operation.load])")
-    op = require_table("operation", d["operation"], ("duration", "speed", "load"))
+    op = require_table("operation", d["operation"], SCENE_TABLES["operation"])
     duration = None
     if "duration" in op:
         duration = _number("operation.duration", op["duration"], 0.0, MAX_DURATION, lo_open=True, unit="s")
@@ -674,7 +698,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                          "points = [...] or table = [...]")
     load_table, impacts = _load(op["load"], duration)
 
-    integ = require_table("integrator", d.get("integrator", {}), ("tolerance", "method", "initial_step", "max_step"))
+    integ = require_table("integrator", d.get("integrator", {}), SCENE_TABLES["integrator"])
     tolerance = _number("integrator.tolerance", integ.get("tolerance", 1e-6), MIN_TOLERANCE, 1e-1)
     method = _string("integrator.method", integ.get("method", "dopri5"), INTEGRATOR_METHODS)
     max_step = None
@@ -683,7 +707,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     initial_step = _number("integrator.initial_step", integ.get("initial_step", min(1e-7, max_step or 1e-7)),
                            0.0, max_step or duration, lo_open=True, unit="s")
 
-    out = require_table("output", d.get("output", {}), ("sample_interval", "record", "checkpoint_every"))
+    out = require_table("output", d.get("output", {}), SCENE_TABLES["output"])
     if "sample_interval" not in out:
         raise InputError("output.sample_interval is missing (s, in (0, operation.duration])")
     dt = _number("output.sample_interval", out["sample_interval"],
