@@ -193,3 +193,37 @@ def test_catalogue_bearing_runs(tmp_path):
     s = parse_scene(data, path=str(CATALOGUE))
     summary = run_scene(s, tmp_path / "c.h5", quiet=True)
     assert summary["n_samples"] == 11
+
+
+def test_inner_land_guided_cad_cage(tmp_path, monkeypatch):
+    """A 20-pocket inner-land-guided CAD cage (176 × 158 × 26 mm, flexbearing.verification.cad_test_cage)
+    in the paper bearing with no land given: its diameters are measured, the inner land follows the
+    measured bore, and an outer land far outside the 2 % band of the cage's outside (185 mm on 176 mm)
+    is not checked against a cage that does not ride on it."""
+    from flexbearing.verification.cad_test_cage import make_cad_cage
+    monkeypatch.setenv("FLEXBEARING_CACHE", str(tmp_path / "cache"))
+    make_cad_cage(tmp_path / "cage20.step", z=20)
+    for land in ("", "[bearing]\nguide_land_diameter = 185e-3\n"):
+        (tmp_path / "s.toml").write_text(f'name = "cad20"\n{land}[cage]\ncad = "cage20.step"\nguidance = "inner"\n'
+                                         + TAIL)
+        s = load_scene(tmp_path / "s.toml")
+        d = _derived(s)
+        assert d["cage.bore_diameter"].kind == "measured"
+        assert s.bearing.cage.bore_diameter == pytest.approx(158e-3, abs=1e-7)
+        assert s.bearing.inner_land_diameter == pytest.approx(158e-3 * (1 - K_LAND), abs=1e-7)
+        assert guidance_words(s.bearing).startswith("inner-land guided: inner-ring land Ø 157.34 mm")
+
+
+def test_report_summary_rows_name_what_was_derived():
+    """The report's summary: the traction law and oil, every derived value, and the one warning."""
+    from types import SimpleNamespace
+    from flexbearing.analysis.summary import summary_rows
+    text = CATALOGUE.read_text().replace("[integrator]", '[model]\ntraction_law = "fit"\n\n[integrator]')
+    s = loads_scene(text, str(CATALOGUE))
+    run = SimpleNamespace(scene=s, attrs={}, path=Path("c.h5"), name=s.name, status="complete")
+    rows = dict(summary_rows(run, [], [], []))
+    assert rows["Traction law"].startswith("the paper's 4106 traction fit") and "4106 oil at 100 °C" in rows["Traction law"]
+    assert "derived: bearing.guide_land_diameter = 97.0158 mm from cage.outside_diameter" in rows["Not given in the scene"]
+    assert "derived: cage mass = " in rows["Not given in the scene"]
+    assert rows["Warnings"].startswith("warning: model.traction_law = 'fit'")
+    assert "outer-land guided: outer-ring land Ø 97.016 mm" in rows["Cage"]

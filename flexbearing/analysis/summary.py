@@ -18,7 +18,7 @@ from flexbearing.analysis.windows import QUANTITY, impact_windows, speed_phases
 import flexbearing.mesh.cage_mesh as cm
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
 from flexbearing.common.provenance import git_commit, program_version
-from flexbearing.simulation.derived import guidance_words, traction_words
+from flexbearing.simulation.derived import cage_mass_line, guidance_words, traction_words
 
 INTEGRATORS = {"dopri5": "Dormand–Prince 5(4)", "bs32": "Bogacki–Shampine 3(2)"}
 
@@ -159,7 +159,8 @@ def summary_rows(run, rows: list[dict], strength_rows: list[dict], power_rows: l
                 ("Traction law", traction_words(scene)),
                 ("Cage", cage_line(scene, attrs)), ("Integrator", integrator_line(scene, rs))]
         if getattr(scene, "derived", ()):
-            out.append(("Not given in the scene", "; ".join(d.line() for d in scene.derived)))
+            out.append(("Not given in the scene", "; ".join([d.line() for d in scene.derived]
+                                                            + [cage_mass_line(scene.bearing)])))
         if getattr(scene, "warnings", ()):
             out.append(("Warnings", "; ".join(scene.warnings)))
     n = rows[0]["n_samples"] if rows else 0

@@ -68,7 +68,19 @@ the EHL film-shear law otherwise; choosing the fit elsewhere gives one warning (
 
 A bearing other than the paper's gives at least `bore_diameter`, `outside_diameter`, `width`,
 `ball_diameter`, `n_balls` and its contact angle (`free_contact_angle`, or the clearance); see
-`scenes/catalogue_7014_rigid.toml`.
+`scenes/catalogue_7014_rigid.toml`. What it did not give, as `flexbearing run` prints it:
+
+```python
+from flexbearing.simulation.scene import load_scene
+from flexbearing.simulation.derived import run_start_lines
+
+scene = load_scene("scenes/catalogue_7014_rigid.toml")
+print("\\n".join(run_start_lines(scene)))
+c = scene.bearing.cage
+assert abs(c.land_width - c.width / 2) < 1e-15          # the cage's own land width, not the paper's 14.15 mm
+assert abs(scene.bearing.pitch_diameter - 0.5 * (70e-3 + 110e-3)) < 1e-15
+assert scene.model_options["traction_law"] == "ehl"      # the 4106 oil at 100 °C: outside the fit's 15–25 °C
+```
 """
 
 
