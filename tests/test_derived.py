@@ -115,10 +115,15 @@ def test_paper_rules_give_the_paper_values():
      'n_balls = 20\n', "bearing.free_contact_angle is missing"),
     # 24 balls of 22 mm on 167 mm: sin(pi/24)·167 = 21.8 mm < 22 mm
     ('[bearing]\nn_balls = 24\n', r"bearing.n_balls = 24: the balls do not fit on the pitch circle"),
-    # 23 balls fit on the pitch circle (23.8 at most) but not through the paper cage's bore:
-    # 2·80.575·sin(pi/23) = 21.95 mm < 22 mm
+    # 23 balls fit on the pitch circle (23.8 at most) but not their 22.5 mm pockets through the paper
+    # cage's bore: 161.15·sin(pi/23) = 21.95 mm < 22.5 mm; 22 pockets: 22.94 mm, they fit
     ('[bearing]\nn_balls = 23\n[cage]\nbore_diameter = 161.15e-3\n',
-     r"cage.n_pockets = 23: the balls do not fit in this cage.*allowed range \[3, 22\]"),
+     r"bearing.n_balls = 23: the balls do not fit in the cage.*allowed range \[3, 22\]"),
+    # the 7014-class bearing with 22 balls: 22 × 12.7 mm fit on the 90 mm pitch circle
+    # (90·sin(pi/22) = 12.81 mm) but not their 12.99 mm pockets at the derived 86.62 mm cage bore
+    (CATALOGUE.read_text().split("[oil]")[0].replace("n_balls = 20", "n_balls = 22"),
+     r"bearing.n_balls = 22: the balls do not fit in the cage \(22 pockets of Ø12.99 mm around the cage "
+     r"bore Ø86.62 mm: neighbouring pocket axes 12.33 mm apart there\); allowed range \[3, 20\]"),
 ])
 def test_no_rule_is_refused_in_one_line(head, match):
     with pytest.raises(InputError, match=match) as exc:

@@ -216,6 +216,17 @@ class Bearing:
             th = getattr(self, name)
             require_positive(f"bearing.{name}.conductivity", th.conductivity, "W/(m·K)")
             require_positive(f"bearing.{name}.diffusivity", th.diffusivity, "m²/s")
+        c = self.cage
+        if c.n_pockets == self.n_balls and 0.0 < c.bore_diameter and c.pocket_diameter > 0.0:
+            # the pockets' radial axes converge: at the cage bore neighbouring ones are
+            # bore·sin(pi/Z) apart, and Z pockets wider than that cannot be cut (Z·Dp against pi·bore)
+            chord = c.bore_diameter * math.sin(math.pi / self.n_balls)
+            if chord <= c.pocket_diameter:
+                z_max = math.ceil(math.pi / math.asin(min(1.0, c.pocket_diameter / c.bore_diameter))) - 1
+                raise InputError(f"bearing.n_balls = {self.n_balls}: the balls do not fit in the cage "
+                                 f"({self.n_balls} pockets of Ø{c.pocket_diameter * 1e3:.4g} mm around the cage "
+                                 f"bore Ø{c.bore_diameter * 1e3:.4g} mm: neighbouring pocket axes "
+                                 f"{chord * 1e3:.4g} mm apart there); allowed range [3, {z_max}]")
         self.cage.validate()
         if self.cage.n_pockets != self.n_balls:
             raise InputError(f"cage.n_pockets = {self.cage.n_pockets} must equal bearing.n_balls = {self.n_balls}")
