@@ -231,4 +231,5 @@ def test_report_summary_rows_name_what_was_derived():
     assert "derived: bearing.guide_land_diameter = 97.0158 mm from cage.outside_diameter" in rows["Not given in the scene"]
     assert "derived: cage mass = " in rows["Not given in the scene"]
     assert rows["Warnings"].startswith("warning: model.traction_law = 'fit'")
+    assert rows["Oil"].startswith("the 4106 oil at 100 °C: η = 0.004414 Pa·s")
     assert "outer-land guided: outer-ring land Ø 97.016 mm" in rows["Cage"]

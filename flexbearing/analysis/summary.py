@@ -18,7 +18,7 @@ from flexbearing.analysis.windows import QUANTITY, impact_windows, speed_phases
 import flexbearing.mesh.cage_mesh as cm
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
 from flexbearing.common.provenance import git_commit, program_version
-from flexbearing.simulation.derived import cage_mass_line, guidance_words, traction_words
+from flexbearing.simulation.derived import cage_mass_line, guidance_words, oil_words, traction_words
 
 INTEGRATORS = {"dopri5": "Dormand–Prince 5(4)", "bs32": "Bogacki–Shampine 3(2)"}
 
@@ -68,7 +68,7 @@ def load_line(scene) -> str:
 
 
 def oil_line(oil) -> str:
-    return (f"{oil.temperature_c:g} °C: η = {oil.viscosity():.4g} Pa·s, pressure–viscosity α = "
+    return (f"{oil_words(oil)}: η = {oil.viscosity():.4g} Pa·s, pressure–viscosity α = "
             f"{oil.pressure_viscosity_coeff:.3g} 1/Pa, density {oil.density:g} kg/m³; oil volume fraction "
             f"in the cavity {100 * oil.oil_air_fraction:g} %")
 
