@@ -233,3 +233,12 @@ def test_report_summary_rows_name_what_was_derived():
     assert rows["Warnings"].startswith("warning: model.traction_law = 'fit'")
     assert rows["Oil"].startswith("the 4106 oil at 100 °C: η = 0.004414 Pa·s")
     assert "outer-land guided: outer-ring land Ø 97.016 mm" in rows["Cage"]
+
+
+def test_split_ring_layout_is_recorded():
+    """A split ring given only its clearance keeps the paper's assumed 30° shim, said as a default;
+    given its free contact angle, shim angle and clearance are derived and said so."""
+    d = _derived(_scene("[bearing]\nradial_clearance = 50e-6\n"))
+    assert d["bearing.shim_angle"].kind == "default" and d["bearing.shim_angle"].value == pytest.approx(math.radians(30))
+    d = _derived(_scene("[bearing]\nfree_contact_angle = 0.5\n"))
+    assert d["bearing.shim_angle"].kind == d["bearing.radial_clearance"].kind == "derived"

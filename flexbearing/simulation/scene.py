@@ -337,6 +337,9 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
         dw = changes.get("ball_diameter", PAPER_BEARING.ball_diameter)
         if ring == "split" and not inner.keys() & {"free_contact_angle", "shim_angle"}:
             inner["shim_angle"] = PAPER_BEARING.shim_angle
+            derived.append(DV.Derived("bearing.shim_angle", PAPER_BEARING.shim_angle, "rad",
+                                      "the paper's assumed shim angle (give shim_angle or free_contact_angle)",
+                                      "default"))
         layout = resolve_inner_ring(ring, fe, fi, dw, inner.get("free_contact_angle"), inner.get("shim_angle"),
                                     inner.get("radial_clearance"))
         changes["radial_clearance"] = layout.diametral_clearance
@@ -347,9 +350,7 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
                                       f"the {ring} inner ring's layout (flexbearing.multibody.clearance)"))
         if ring == "split" and "shim_angle" not in inner:
             derived.append(DV.Derived("bearing.shim_angle", layout.shim_angle, "rad",
-                                      "the split inner ring's layout (flexbearing.multibody.clearance)"
-                                      if inner.keys() - {"shim_angle"} else "the paper's assumed 30° (default)",
-                                      "derived" if inner.keys() - {"shim_angle"} else "default"))
+                                      "the split inner ring's layout (flexbearing.multibody.clearance)"))
     if not DV.is_paper_size(changes):
         for k in ("fe", "fi"):
             if k not in changes:
