@@ -12,7 +12,7 @@ from flexbearing.common.validation import InputError
     (dict(pocket_diameter=30e-3), "cage.pocket_diameter"),      # wider than the cage / overlapping
     (dict(pocket_diameter=21.9e-3), "cage.pocket_diameter"),    # Dp <= Dw: the ball does not fit
     (dict(pocket_diameter=25e-3), "cage.pocket_diameter"),      # > 1.1 Dw
-    (dict(n_pockets=40), "cage.pocket_diameter"),               # 40 pockets of 22.5 mm overlap
+    (dict(n_pockets=40), "cage.n_pockets = 40: the balls do not fit"),  # 40 pockets of 22.5 mm overlap
     (dict(bore_diameter=0.18), "cage.bore_diameter"),           # bore >= outside diameter
     (dict(land_width=20e-3), "cage.land_width"),                # land wider than half the cage
     (dict(width=-1e-3), "cage.width"),

@@ -123,11 +123,12 @@ def _rhs(model, y, speed=OMEGA, load=(55e3, 0.0, -4e3)):
 
 def test_model_guiding_radius_and_clearance():
     """P_R1 is the cage's bore for the inner land, its outside for the outer; Cg from the land's
-    diameter (default: the outer land's diametral clearance, 0.75 mm)."""
+    diameter (default: the paper outer land's relative diametral clearance, 0.75/178.45, applied to
+    the cage bore: flexbearing.simulation.derived)."""
     b = _bearing("inner")
     m = build_model(b, PAPER_OIL)
     assert m.p[M.P_R1] == b.cage.inner_radius
-    assert m.p[M.P_CG] == pytest.approx(0.5 * (PAPER_BEARING.guide_land_diameter - PAPER_BEARING.cage.outside_diameter), rel=1e-12)
+    assert m.p[M.P_CG] == pytest.approx(0.5 * 161.15e-3 * 0.75 / 178.45, rel=1e-12)
     b2 = b.with_(inner_land_diameter=160.6e-3)
     assert build_model(b2, PAPER_OIL).p[M.P_CG] == pytest.approx(0.5 * (161.15e-3 - 160.6e-3), rel=1e-12)
     with pytest.raises(InputError, match="bearing.inner_land_diameter"):

@@ -18,6 +18,7 @@ from flexbearing.analysis.windows import QUANTITY, impact_windows, speed_phases
 import flexbearing.mesh.cage_mesh as cm
 from flexbearing.fem_cage.reduced_cage import DEFAULT_N_KEEP, N_RIGID
 from flexbearing.common.provenance import git_commit, program_version
+from flexbearing.simulation.derived import cage_mass_line, guidance_words, oil_words, traction_words
 
 INTEGRATORS = {"dopri5": "Dormand–Prince 5(4)", "bs32": "Bogacki–Shampine 3(2)"}
 
@@ -30,7 +31,16 @@ def bearing_line(b) -> str:
     return (f"{b.n_balls} balls of D_w = {_mm(b.ball_diameter)} mm on a pitch diameter of "
             f"{_mm(b.pitch_diameter)} mm; D × d × B = {_mm(b.outside_diameter)} × {_mm(b.bore_diameter)} × "
             f"{_mm(b.width)} mm; groove radii f_e = {b.fe:g}, f_i = {b.fi:g} (× D_w); free contact angle "
-            f"{math.degrees(b.free_contact_angle):.1f}°; guide land Ø {_mm(b.guide_land_diameter)} mm")
+            f"{math.degrees(b.free_contact_angle):.1f}°; " + _land_words(b))
+
+
+def _land_words(b) -> str:
+    """The land the cage rides on (none for a ball-riding cage)."""
+    if b.cage.guidance == "inner":
+        return f"inner-ring guide land Ø {_mm(b.inner_land_diameter_or_default)} mm"
+    if b.cage.guidance == "balls":
+        return "no guide land (ball-riding cage)"
+    return f"outer-ring guide land Ø {_mm(b.guide_land_diameter)} mm"
 
 
 def speed_line(scene) -> str:
@@ -58,7 +68,7 @@ def load_line(scene) -> str:
 
 
 def oil_line(oil) -> str:
-    return (f"{oil.temperature_c:g} °C: η = {oil.viscosity():.4g} Pa·s, pressure–viscosity α = "
+    return (f"{oil_words(oil)}: η = {oil.viscosity():.4g} Pa·s, pressure–viscosity α = "
             f"{oil.pressure_viscosity_coeff:.3g} 1/Pa, density {oil.density:g} kg/m³; oil volume fraction "
             f"in the cavity {100 * oil.oil_air_fraction:g} %")
 
@@ -66,8 +76,7 @@ def oil_line(oil) -> str:
 def cage_line(scene, attrs) -> str:
     c = scene.bearing.cage
     geo = (f"outside Ø {_mm(c.outside_diameter)} mm, bore Ø {_mm(c.bore_diameter)} mm, width {_mm(c.width)} mm, "
-           f"pocket Ø {_mm(c.pocket_diameter)} mm; outer-land guided, guide clearance "
-           f"{scene.bearing.guide_clearance * 1e6:.0f} µm")
+           f"pocket Ø {_mm(c.pocket_diameter)} mm; {guidance_words(scene.bearing)}")
     if scene.cage_model != "flexible":
         return f"rigid; {geo}"
     from flexbearing.coupling.flexible_cage import DEFAULT_DAMPING_BETA
@@ -147,7 +156,13 @@ def summary_rows(run, rows: list[dict], strength_rows: list[dict], power_rows: l
             out.append(("Scene", " ".join(scene.description.split())))
         out += [("Bearing", bearing_line(scene.bearing)), ("Speed spectrum (inner ring)", speed_line(scene)),
                 ("Load spectrum (on the inner ring)", load_line(scene)), ("Oil", oil_line(scene.oil)),
+                ("Traction law", traction_words(scene)),
                 ("Cage", cage_line(scene, attrs)), ("Integrator", integrator_line(scene, rs))]
+        if getattr(scene, "derived", ()):
+            out.append(("Not given in the scene", "; ".join([d.line() for d in scene.derived]
+                                                            + [cage_mass_line(scene.bearing)])))
+        if getattr(scene, "warnings", ()):
+            out.append(("Warnings", "; ".join(scene.warnings)))
     n = rows[0]["n_samples"] if rows else 0
     wall = rs.get("wall_time_s")
     simulated = f"{float(attrs.get('duration', 0.0)):g} s simulated"

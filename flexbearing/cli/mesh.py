@@ -33,15 +33,51 @@ def add_geometry_arguments(p):
     g.add_argument("--chamfer-mm", type=float)
     g.add_argument("--bore-chamfer-mm", type=float, help="bore-edge chamfer (default: --chamfer-mm)")
     g.add_argument("--n-pockets", type=int)
+    g.add_argument("--scene", metavar="SCENE",
+                   help="the cage of this scene: its [cage] (CAD or parametric), derived from its own bearing "
+                        "(flexbearing.simulation.derived) with its material; the geometry options then do not apply")
+
+
+_GEOMETRY_OPTIONS = (("pocket_diameter_mm", "pocket_diameter"), ("land_width_mm", "land_width"),
+                     ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer"),
+                     ("bore_chamfer_mm", "bore_chamfer"))
+
+
+def scene_of(args):
+    """The scene of --scene (validated; its derived values printed unless --quiet), or None.
+    The geometry options are refused beside it: the scene says the cage."""
+    path = getattr(args, "scene", None)
+    if not path:
+        return None
+    given = [o for o, _ in _GEOMETRY_OPTIONS + (("n_pockets", ""),) if getattr(args, o, None) is not None]
+    if getattr(args, "preset", "paper") != "paper":
+        given.insert(0, "preset")
+    if given:
+        raise InputError(f"--{given[0].replace('_', '-')}: --scene {path} gives the cage; give its geometry "
+                         f"in the scene's [cage] table instead")
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.simulation.derived import guidance_words
+    scene = load_scene(path)
+    if not getattr(args, "quiet", False):
+        from mpi4py import MPI
+        if MPI.COMM_WORLD.rank == 0:
+            for d in scene.derived:
+                if d.key.startswith(("cage.", "bearing.")):
+                    print(d.line())
+            print(f"cage guidance: {guidance_words(scene.bearing)}")
+    return scene
 
 
 def geometry_from_args(args):
-    """The preset's geometry with the options' changes (mm on the command line), validated."""
+    """The preset's geometry with the options' changes (mm on the command line), validated; or the
+    cage of --scene (its bearing's own, flexbearing.simulation.derived)."""
+    scene = scene_of(args)
+    if scene is not None:
+        args._scene = scene
+        return scene.bearing.cage.validate()
     g = CAGE_PRESETS[args.preset]
     ch = {}
-    for opt, field in (("pocket_diameter_mm", "pocket_diameter"), ("land_width_mm", "land_width"),
-                       ("relief_depth_mm", "relief_depth"), ("chamfer_mm", "chamfer"),
-                       ("bore_chamfer_mm", "bore_chamfer")):
+    for opt, field in _GEOMETRY_OPTIONS:
         v = getattr(args, opt, None)
         if v is not None:
             ch[field] = v * 1e-3
@@ -111,8 +147,13 @@ def cmd_mesh(args) -> int:
     out = mesh_output(args)
     t0 = time.perf_counter()
     if args.cad:
+        if getattr(args, "scene", None):
+            raise InputError(f"--cad: --scene {args.scene} gives the cage (its [cage] cad key for a CAD cage)")
         return cmd_mesh_cad(args, out, t0, plan)
     g = geometry_from_args(args)
+    scene = getattr(args, "_scene", None)
+    if scene is not None and scene.cad:
+        return cmd_mesh_cad(args, out, t0, plan, scene)
     with plan.writing():                          # written beside, renamed into place when whole
         staged = plan.staged(out)                 # every rank (the staging folder is shared)
         if MPI.COMM_WORLD.rank == 0:
@@ -145,7 +186,7 @@ def planned_outputs(args) -> OutputPlan:
     return plan
 
 
-def cmd_mesh_cad(args, out: Path, t0: float, plan: OutputPlan) -> int:
+def cmd_mesh_cad(args, out: Path, t0: float, plan: OutputPlan, scene=None) -> int:
     """`flexbearing mesh --cad CAGE.step -o cage.msh`: find the pockets and the land, match them
     to the bearing (the paper's, with --n-balls/--pitch-diameter-mm/--ball-diameter-mm changes),
     mesh and check; print what was found."""
@@ -154,12 +195,17 @@ def cmd_mesh_cad(args, out: Path, t0: float, plan: OutputPlan) -> int:
     n_balls = args.n_balls or PAPER_BEARING.n_balls
     dm = args.pitch_diameter_mm * 1e-3 if args.pitch_diameter_mm else PAPER_BEARING.pitch_diameter
     dw = args.ball_diameter_mm * 1e-3 if args.ball_diameter_mm else PAPER_BEARING.ball_diameter
+    file, guidance, unit, material = args.cad, args.guidance, args.cad_unit, None
+    if scene is not None:             # the scene's CAD cage, matched to the scene's own bearing
+        b = scene.bearing
+        n_balls, dm, dw = b.n_balls, b.pitch_diameter, b.ball_diameter
+        file, guidance, unit, material = scene.cad["file"], b.cage.guidance, scene.cad.get("unit"), b.cage.material
     cad = None
     with plan.writing():                          # written beside, renamed into place when whole
         staged = plan.staged(out)                 # every rank (the staging folder is shared)
         if MPI.COMM_WORLD.rank == 0:
-            cad = build_cad_cage_mesh(args.cad, staged, n_balls, dm, dw, args.guidance,
-                                      args.cad_unit, args.size, args.pocket_size, args.order)
+            cad = build_cad_cage_mesh(file, staged, n_balls, dm, dw, guidance, unit,
+                                      args.size, args.pocket_size, args.order, material=material)
         MPI.COMM_WORLD.barrier()
         write_mesh_xdmf(staged)
     x = out.with_suffix(".xdmf")

@@ -4,8 +4,11 @@ The work: flexbearing.fem_cage.modes (run_modes, mode_table), flexbearing.fem_ca
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import time
+
+import numpy as np
 from pathlib import Path
 
 from flexbearing.cli.mesh import MAX_ELEMENT_SIZE, add_geometry_arguments, add_mesh_arguments, geometry_from_args
@@ -25,11 +28,22 @@ def _comm():
 
 
 def mesh_for(args, g) -> Path:
-    """The .msh to use: --mesh FILE, else the cached mesh for (geometry, size, order)."""
+    """The .msh to use: --mesh FILE, else the cached mesh for (geometry, size, order) (a --scene's
+    CAD cage: its cached CAD mesh, matched to the scene's bearing)."""
     comm = _comm()
     if getattr(args, "mesh", None):
         return Path(args.mesh)
     size, ps = args.size, args.pocket_size
+    scene = getattr(args, "_scene", None)
+    if scene is not None and scene.cad:
+        from flexbearing.mesh.cad_cage import cached_cad_cage_mesh
+        b = scene.bearing
+        path = None
+        if comm.rank == 0:
+            path, _ = cached_cad_cage_mesh(scene.cad["file"], b.n_balls, b.pitch_diameter, b.ball_diameter,
+                                           b.cage.guidance, scene.cad.get("unit"), b.cage.material, size, ps,
+                                           args.order)
+        return Path(comm.bcast(str(path) if path else None, root=0))
     if comm.rank == 0:
         cached_cage_mesh(g, size, args.order, ps)
     comm.barrier()
@@ -65,8 +79,15 @@ def cmd_modes(args) -> int:
                              quiet=args.quiet)
     res["timing_s"]["mesh"] = tm
     res["wall_s"] = time.perf_counter() - t0
-    res["mesh"] = {"file": str(path), "size_m": args.size, "pocket_size_m": args.pocket_size,
-                   "order": args.order, "degree": args.degree, "geometry": g.to_dict()}
+    scene = getattr(args, "_scene", None)
+    if getattr(args, "mesh", None) or (scene is not None and scene.cad):
+        # the mesh's own geometry, measured from its nodes (not the preset's numbers)
+        geometry = measured_mesh_geometry(path)
+        res["mesh"] = {"file": str(path), "order": args.order, "degree": args.degree, "geometry": geometry}
+    else:
+        res["mesh"] = {"file": str(path), "size_m": args.size, "pocket_size_m": args.pocket_size,
+                       "order": args.order, "degree": args.degree, "geometry": g.to_dict()}
+    res["material"] = {**dataclasses.asdict(g.material), "source": material_source(args, g)}
     labels = [m["label"] for m in res["modes"]] if "modes" in res else None
     if args.xdmf:
         from flexbearing.fem_cage.xdmf import write_modes_xdmf
@@ -81,6 +102,14 @@ def cmd_modes(args) -> int:
             if not paper:
                 print(f"cage from {args.mesh or 'the options'}: not the paper's cage, no Table 8 comparison")
             print(mode_table(res["frequencies_hz"], labels, paper=paper))
+            geo = res["mesh"]["geometry"]
+            print(f"cage: outside Ø {geo['outside_diameter'] * 1e3:.2f} mm, bore Ø {geo['bore_diameter'] * 1e3:.2f} mm, "
+                  f"width {geo['width'] * 1e3:.2f} mm"
+                  + (f", {geo['n_pockets']} pockets" if geo.get("n_pockets") else "")
+                  + (" (measured from the mesh's nodes)" if "source" in geo else " (the geometry meshed)"))
+            m = res["material"]
+            print(f"material: {m['density']:g} kg/m³, E = {m['youngs_modulus'] / 1e9:g} GPa, ν = "
+                  f"{m['poisson_ratio']:g} ({m['source']})")
             print(f"{res['ndofs']} dofs, P{args.degree} on order-{args.order} mesh, {comm.size} MPI rank(s), "
                   f"wall {res['wall_s']:.1f} s (mesh {tm:.1f}, assemble {res['timing_s']['assemble']:.1f}, "
                   f"eigensolve {res['timing_s']['eigensolve']:.1f})")
@@ -105,6 +134,36 @@ def planned_calibrate_outputs(args) -> OutputPlan:
     plan = OutputPlan("flexbearing calibrate-cage")
     plan.folder(args.output, "-o", names=("evaluations.jsonl", "calibration.json", "calibration.md"))
     return plan
+
+
+def measured_mesh_geometry(path) -> dict:
+    """The cage's outside and bore diameters and width measured from a mesh file's nodes (m; the
+    largest and smallest distance from the bearing axis x, the axial extent; the nodes lie on the
+    surfaces), and its pockets counted from the physical groups named pocket*."""
+    import gmsh
+    gmsh.initialize()      # gmsh 4.8 has no isInitialized(): own the session for this call
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(path))
+        _, xyz, _ = gmsh.model.mesh.getNodes()
+        names = [gmsh.model.getPhysicalName(d, t) for d, t in gmsh.model.getPhysicalGroups(2)]
+    finally:
+        gmsh.finalize()
+    P = np.asarray(xyz, dtype=float).reshape(-1, 3)
+    r = np.hypot(P[:, 1], P[:, 2])
+    pockets = sum(1 for n in names if n.lower().startswith("pocket") and n.lower() != "pockets")
+    return {"outside_diameter": float(2.0 * r.max()), "bore_diameter": float(2.0 * r.min()),
+            "width": float(np.ptp(P[:, 0])), "n_pockets": pockets, "n_nodes": int(P.shape[0]),
+            "source": "measured from the mesh's nodes (m): 2·max and 2·min distance from the x axis, x extent"}
+
+
+def material_source(args, g) -> str:
+    """Where the cage material came from, in words."""
+    scene = getattr(args, "_scene", None)
+    if scene is not None:
+        given = "material" in scene.data.get("cage", {})
+        return f"the scene's [cage.material]" if given else "the paper's 40CrNiMoA, the scene's default"
+    return f"the preset '{args.preset}': 40CrNiMoA, the paper's cage steel (--scene for another material)"
 
 
 def cmd_mesh_study(args) -> int:

@@ -27,7 +27,13 @@ def run_scene(args) -> int:
     parametric, mesh size and FE degree), built once and cached under the run's own key."""
     from flexbearing.simulation.scene import load_scene
     from flexbearing.coupling.flexible_cage import reduced_cage_path
+    from flexbearing.simulation.derived import guidance_words
     scene = load_scene(args.scene)
+    if not args.quiet:                 # the cage's derived values (its bearing's own, not the paper's)
+        for d in scene.derived:
+            if d.key.startswith("cage."):
+                print(d.line())
+        print(f"cage guidance: {guidance_words(scene.bearing)}")
     if scene.cad and not args.quiet:
         print("\n".join(scene.cad["report"]))
     path = reduced_cage_path(scene, quiet=args.quiet)

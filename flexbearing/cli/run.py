@@ -169,6 +169,12 @@ def cmd_run(args) -> int:
     scene = load_scene(args.scene)                      # refuses bad scenes before any work
     planned_outputs(args, scene.name).check()
     out = run_output(args, scene.name)
+    from flexbearing.simulation.derived import run_start_lines
+    for line in run_start_lines(scene):                 # what the scene did not give, and how it was found
+        if line.startswith("warning:"):
+            print(line, file=sys.stderr)
+        elif not args.quiet:
+            print(line)
     try:
         summary = run_scene(scene, out, resume=args.resume, force=args.force, quiet=args.quiet,
                             max_wall_time=args.max_wall_time, max_output_bytes=args.max_output_size)

@@ -112,6 +112,14 @@ class CageGeometry:
         # tightest place (the axes converge towards the centre). A pocket must also leave a side
         # rail on each side (Dp < width) and hold the ball (Dw < Dp <= 1.1·Dw).
         chord = 2.0 * self.inner_radius * math.sin(math.pi / self.n_pockets)
+        if chord <= self.ball_diameter:
+            # the pockets' axes converge: at the bore neighbouring ones are `chord` apart, and a
+            # pocket wider than the ball cannot be cut there (Z·Dw against the bore's circumference)
+            max_z = math.ceil(math.pi / math.asin(min(1.0, self.ball_diameter / self.bore_diameter))) - 1
+            raise InputError(f"cage.n_pockets = {self.n_pockets}: the balls do not fit in this cage "
+                             f"({self.n_pockets} pockets for balls of Ø{self.ball_diameter * 1e3:g} mm: at the "
+                             f"cage bore Ø{self.bore_diameter * 1e3:g} mm neighbouring pocket axes are "
+                             f"{chord * 1e3:.3g} mm apart, less than the ball); allowed range [3, {max_z}]")
         require_range("cage.pocket_diameter", self.pocket_diameter, 0.0, min(chord, self.width),
                       lo_open=True, hi_open=True, unit="m")
         require_range("cage.pocket_diameter", self.pocket_diameter, self.ball_diameter,

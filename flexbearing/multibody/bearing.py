@@ -69,6 +69,11 @@ class Oil:
 
 # The paper bearing's numbers that its clearance is derived from (Table 1; shim angle assumed, SPEC §1).
 _PAPER_DW, _PAPER_FE, _PAPER_SHIM = 22e-3, 0.515, math.radians(30.0)
+_PAPER_GUIDE_LAND = 179.2e-3             # assumed: the outer-ring land that guides the paper's cage
+# Diametral land clearance relative to the cage surface it guides: the paper bearing's assumed outer
+# land, (179.2 − 178.45)/178.45 = 0.4203 %. The rule for every land a scene does not give
+# (flexbearing.simulation.derived): outer land = cage outside × (1 + this), inner = cage bore × (1 − this).
+LAND_CLEARANCE_RATIO = (_PAPER_GUIDE_LAND - PAPER_CAGE.outside_diameter) / PAPER_CAGE.outside_diameter
 
 
 @dataclass(frozen=True)
@@ -100,9 +105,9 @@ class Bearing:
     shim_angle: float = _PAPER_SHIM        # assumed: alpha_D, contact angle of each inner half (split ring)
     # diametral clearance Pd, m (class docstring): the design clearance of the 30° shim, 88.4 um
     radial_clearance: float = CL.design_clearance(_PAPER_FE, _PAPER_DW, _PAPER_SHIM)
-    guide_land_diameter: float = 179.2e-3   # assumed: outer-ring land that guides the cage
+    guide_land_diameter: float = _PAPER_GUIDE_LAND   # assumed: outer-ring land that guides the cage
     # inner-ring land under the cage bore (cage.guidance = "inner"); None: the cage bore less the
-    # outer land's diametral clearance (guide_land_diameter − cage.outside_diameter)
+    # paper's relative land clearance, bore·(1 − LAND_CLEARANCE_RATIO)
     inner_land_diameter: float | None = None
     cage: CageGeometry = field(default=PAPER_CAGE)
     ball_material: Material = field(default=M50)
@@ -160,7 +165,8 @@ class Bearing:
 
     @property
     def inner_land_diameter_or_default(self) -> float:
-        """inner_land_diameter, or the cage bore less the outer land's diametral clearance."""
+        """inner_land_diameter, or the cage bore less the paper's relative land clearance,
+        bore·(1 − LAND_CLEARANCE_RATIO) (the rule of flexbearing.simulation.derived)."""
         if self.cage.pocket_shape == "spherical":
             # the dynamics put each pocket's centre at the ball centres' radius (the pitch circle)
             tol = 1e-6 * self.pitch_diameter
@@ -168,7 +174,7 @@ class Bearing:
                           self.pitch_diameter - tol, self.pitch_diameter + tol, unit="m")
         if self.inner_land_diameter is not None:
             return self.inner_land_diameter
-        return self.cage.bore_diameter - (self.guide_land_diameter - self.cage.outside_diameter)
+        return self.cage.bore_diameter * (1.0 - LAND_CLEARANCE_RATIO)
 
     @property
     def ball_mass(self) -> float:
@@ -185,8 +191,14 @@ class Bearing:
                       0.5 * (self.outside_diameter - self.bore_diameter), lo_open=True, hi_open=True, unit="m")
         if int(self.n_balls) != self.n_balls or self.n_balls < 3:
             raise InputError(f"bearing.n_balls = {self.n_balls!r} must be an integer >= 3")
-        max_z = math.pi / math.asin(min(1.0, self.ball_diameter / self.pitch_diameter))
-        require_range("bearing.n_balls", self.n_balls, 3, math.floor(max_z))
+        # Z balls touch on the pitch circle when sin(pi/Z) = Dw/dm (neighbouring centres Dw apart)
+        max_z = math.floor(math.pi / math.asin(min(1.0, self.ball_diameter / self.pitch_diameter)))
+        if self.n_balls > max_z:
+            gap = self.pitch_diameter * math.sin(math.pi / self.n_balls)
+            raise InputError(f"bearing.n_balls = {self.n_balls}: the balls do not fit on the pitch circle "
+                             f"({self.n_balls} balls of Ø{self.ball_diameter * 1e3:g} mm on Ø"
+                             f"{self.pitch_diameter * 1e3:g} mm: neighbouring centres {gap * 1e3:.3g} mm apart, "
+                             f"less than the ball diameter); allowed range [3, {max_z}]")
         require_range("bearing.fe", self.fe, 0.5, 0.6, lo_open=True)
         require_range("bearing.fi", self.fi, 0.5, 0.6, lo_open=True)
         if self.inner_ring not in CL.INNER_RINGS:
@@ -204,19 +216,39 @@ class Bearing:
             th = getattr(self, name)
             require_positive(f"bearing.{name}.conductivity", th.conductivity, "W/(m·K)")
             require_positive(f"bearing.{name}.diffusivity", th.diffusivity, "m²/s")
+        c = self.cage
+        if c.n_pockets == self.n_balls and 0.0 < c.bore_diameter and c.pocket_diameter > 0.0:
+            # the pockets' radial axes converge: at the cage bore neighbouring ones are
+            # bore·sin(pi/Z) apart, and Z pockets wider than that cannot be cut (Z·Dp against pi·bore)
+            chord = c.bore_diameter * math.sin(math.pi / self.n_balls)
+            if chord <= c.pocket_diameter:
+                z_max = math.ceil(math.pi / math.asin(min(1.0, c.pocket_diameter / c.bore_diameter))) - 1
+                raise InputError(f"bearing.n_balls = {self.n_balls}: the balls do not fit in the cage "
+                                 f"({self.n_balls} pockets of Ø{c.pocket_diameter * 1e3:.4g} mm around the cage "
+                                 f"bore Ø{c.bore_diameter * 1e3:.4g} mm: neighbouring pocket axes "
+                                 f"{chord * 1e3:.4g} mm apart there); allowed range [3, {z_max}]")
         self.cage.validate()
         if self.cage.n_pockets != self.n_balls:
             raise InputError(f"cage.n_pockets = {self.cage.n_pockets} must equal bearing.n_balls = {self.n_balls}")
         require_range("cage.pocket_diameter", self.cage.pocket_diameter, self.ball_diameter,
                       1.1 * self.ball_diameter, lo_open=True, unit="m")
-        require_range("bearing.guide_land_diameter", self.guide_land_diameter, self.cage.outside_diameter,
-                      self.cage.outside_diameter + 0.02 * self.cage.outside_diameter, lo_open=True, unit="m")
+        # only the land the cage rides on is checked against it (a clearance of up to 1 % of the
+        # diameter); the outer land of a ball-riding cage scales its recorded eccentricity only
+        if self.cage.guidance == "outer":
+            require_range("bearing.guide_land_diameter", self.guide_land_diameter, self.cage.outside_diameter,
+                          self.cage.outside_diameter + 0.02 * self.cage.outside_diameter, lo_open=True, unit="m")
+        elif self.cage.guidance == "balls":
+            require_range("bearing.guide_land_diameter", self.guide_land_diameter, self.cage.outside_diameter,
+                          self.outside_diameter, lo_open=True, hi_open=True, unit="m")
+        else:
+            require_range("bearing.guide_land_diameter", self.guide_land_diameter, self.pitch_diameter,
+                          self.outside_diameter, lo_open=True, hi_open=True, unit="m")
         if self.cage.pocket_shape == "spherical":
             # the dynamics put each pocket's centre at the ball centres' radius (the pitch circle)
             tol = 1e-6 * self.pitch_diameter
             require_range("cage.pocket_centre_diameter", self.cage.pocket_centre_diameter,
                           self.pitch_diameter - tol, self.pitch_diameter + tol, unit="m")
-        if self.inner_land_diameter is not None:
+        if self.inner_land_diameter is not None and self.cage.guidance == "inner":
             # the same band as the outer land's: a clearance of up to 1 % of the diameter
             require_range("bearing.inner_land_diameter", self.inner_land_diameter,
                           0.98 * self.cage.bore_diameter, self.cage.bore_diameter, hi_open=True, unit="m")

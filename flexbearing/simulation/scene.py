@@ -51,9 +51,11 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     [cage.material]           # density, youngs_modulus, poisson_ratio
 
     [model]                   # multibody options passed to flexbearing.multibody.model.build_model
-    traction_law = "fit"      # "fit" (paper's 4106 fit, default) | "ehl" (EHL film-shear law, no
-                              #   dead zone at light load; flexbearing.multibody.traction), with "ehl":
-                              #   traction_scale = 1.0, contact_temperature_rise = 0.0 (K)
+    traction_law = "fit"      # "fit" (paper's 4106 fit) | "ehl" (EHL film-shear law, no dead zone at
+                              #   light load; flexbearing.multibody.traction), with "ehl":
+                              #   traction_scale = 1.0, contact_temperature_rise = 0.0 (K); default:
+                              #   "fit" for the 4106 oil at 15–25 °C, "ehl" otherwise (a warning when
+                              #   "fit" is given outside; flexbearing.simulation.derived.traction_law)
 
     [operation]
     duration = 0.6            # s
@@ -92,6 +94,10 @@ in rpm and say so in the key name (`start_rpm`, `end_rpm`, `rpm`, `table_rpm`).
     record = ["contact_stress", "pocket_force", "guiding_force", "cage_speed"]
     checkpoint_every = 100    # samples between checkpoints (resume points)
 
+Every key with its unit, default or derivation rule and allowed range: docs/scene.md (generated from
+SCENE_TABLES and flexbearing.simulation.scene_keys). What a scene does not give is derived by a stated
+rule from the bearing's own geometry, or refused (flexbearing.simulation.derived; Scene.derived).
+
 Loading converts the spectra to the arrays of `flexbearing.multibody.profiles`: speed_table (n, 2) in rad/s,
 load_table (n, 4) in N, impacts (m, 6). Every refusal names the field, the value and the allowed
 range (flexbearing.common.validation.InputError); unknown keys are refused with the list of allowed keys.
@@ -120,6 +126,7 @@ from flexbearing.multibody.model import DEFAULT_OPTIONS
 from flexbearing.multibody.output_registry import GROUPS
 from flexbearing.multibody.profiles import HALF_SINE, RECTANGULAR, breakpoints, load_at
 from flexbearing.mesh.cad_cage import UNITS, cad_cage_geometry, cad_geometry_from_dict
+from flexbearing.simulation import derived as DV
 
 RPM = 2.0 * math.pi / 60.0          # rad/s per rpm
 
@@ -156,6 +163,30 @@ _CAGE_SCALARS = tuple(f.name for f in dataclasses.fields(CageGeometry) if f.name
 _FLEXIBLE_KEYS = ("n_modes", "mesh_size", "element_order", "damping_beta", "yield_strength",
                   "stress_monitor_interval")
 _OIL_KEYS = tuple(f.name for f in dataclasses.fields(Oil))
+_CAD_KEYS = ("cad", "cad_unit")
+_RAMP_KEYS = ("kind", "t_start", "duration", "start_rpm", "end_rpm")
+_UNIFORM_KEYS = ("kind", "t_start", "duration", "rpm")
+
+# The keys each scene table accepts: what the validation below checks against (require_table), and
+# what docs/scene.md lists (flexbearing.simulation.scene_keys has one line per key; a key added here
+# without its line fails tests/test_scene_docs.py).
+SCENE_TABLES = {
+    "scene": ("name", "description", "bearing", "oil", "cage", "model", "operation", "integrator", "output"),
+    "bearing": _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring", "free_contact_angle"),
+    "material": _MATERIAL_KEYS,
+    "oil": ("preset",) + _OIL_KEYS,
+    "cage": ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",) + _CAD_KEYS,
+    "model": tuple(DEFAULT_OPTIONS),
+    "operation": ("duration", "speed", "load"),
+    "operation.speed": ("phases", "table_rpm"),
+    "operation.speed.phases[]": tuple(dict.fromkeys(_RAMP_KEYS + _UNIFORM_KEYS)),
+    "operation.load": ("axial_load", "radial_load", "radial_direction", "radial_azimuth", "points", "table",
+                       "impacts"),
+    "operation.load.points[]": ("t", "axial_load", "radial_load"),
+    "operation.load.impacts[]": ("t_start", "t_center", "duration", "magnitude", "direction", "azimuth", "shape"),
+    "integrator": ("tolerance", "method", "initial_step", "max_step", "start"),
+    "output": ("sample_interval", "record", "checkpoint_every"),
+}
 
 
 @dataclass(frozen=True)
@@ -185,6 +216,10 @@ class Scene:
     data: dict = field(default_factory=dict, repr=False)   # the parsed TOML
     path: str = ""
     cad: dict = field(default_factory=dict)   # cage.cad: {"file", "unit", "key"} (flexbearing.mesh.cad_cage)
+    # what the scene did not give (flexbearing.simulation.derived.Derived: derived, measured or default),
+    # printed at run start and in the report's summary
+    derived: tuple = ()
+    warnings: tuple = ()                      # one line each, printed at run start and in the report
 
     @property
     def n_samples(self) -> int:
@@ -269,17 +304,19 @@ def _one_of(d: dict, where: str, keys) -> str | None:
 # ---------------------------------------------------------------- sections
 
 def _material(base: Material, d, where: str) -> Material:
-    d = require_table(where, d, _MATERIAL_KEYS)
+    d = require_table(where, d, SCENE_TABLES["material"])
     return dataclasses.replace(base, **{k: _number(f"{where}.{k}", v) for k, v in d.items()})
 
 
-def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, str, dict, dict]:
-    b = require_table("bearing", b, _BEARING_SCALARS + ("ball_material", "ring_material", "inner_ring",
-                                                         "free_contact_angle"))
+def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, str, dict, dict, tuple]:
+    """The bearing with its cage, the cage model, the flexible cage's parameters, the CAD cage's
+    record and the derived values (flexbearing.simulation.derived: what the scene does not give is
+    derived by a stated rule from the bearing's own geometry, or refused)."""
+    b = require_table("bearing", b, SCENE_TABLES["bearing"])
     if isinstance(c, dict) and "ball_diameter" in c:
         raise InputError("cage.ball_diameter: give the ball diameter once, as bearing.ball_diameter "
                          "(the cage's pockets take it from the bearing)")
-    c = require_table("cage", c, ("model",) + _CAGE_SCALARS + _FLEXIBLE_KEYS + ("material",) + _CAD_KEYS)
+    c = require_table("cage", c, SCENE_TABLES["cage"])
     c, cad = dict(c), {}
     for k in _CAD_KEYS:
         if k in c:
@@ -300,6 +337,10 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
             inner[k] = _number(f"bearing.{k}", v)
         else:
             changes[k] = _number(f"bearing.{k}", v)
+    # the ring sizes: a bearing given by its rings derives its pitch diameter, or is refused
+    sized, derived = DV.ring_sizes({k: changes[k] for k in DV.RING_SIZE_KEYS if k in changes})
+    changes.update(sized)
+    DV.needs_contact_angle(changes, inner)
     # free contact angle, shim angle and clearance: what is not given is derived (a split ring given
     # nothing keeps the preset's shim angle and clearance)
     # (a split ring's clearance follows its fe and Dw by the design rule unless given)
@@ -309,11 +350,26 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
         dw = changes.get("ball_diameter", PAPER_BEARING.ball_diameter)
         if ring == "split" and not inner.keys() & {"free_contact_angle", "shim_angle"}:
             inner["shim_angle"] = PAPER_BEARING.shim_angle
+            derived.append(DV.Derived("bearing.shim_angle", PAPER_BEARING.shim_angle, "rad",
+                                      "the paper's assumed shim angle (give shim_angle or free_contact_angle)",
+                                      "default"))
         layout = resolve_inner_ring(ring, fe, fi, dw, inner.get("free_contact_angle"), inner.get("shim_angle"),
                                     inner.get("radial_clearance"))
         changes["radial_clearance"] = layout.diametral_clearance
         if ring == "split":
             changes["shim_angle"] = layout.shim_angle
+        if "radial_clearance" not in inner:
+            derived.append(DV.Derived("bearing.radial_clearance", layout.diametral_clearance, "m",
+                                      f"the {ring} inner ring's layout (flexbearing.multibody.clearance)"))
+        if ring == "split" and "shim_angle" not in inner:
+            derived.append(DV.Derived("bearing.shim_angle", layout.shim_angle, "rad",
+                                      "the split inner ring's layout (flexbearing.multibody.clearance)"))
+    if not DV.is_paper_size(changes):
+        for k in ("fe", "fi"):
+            if k not in changes:
+                derived.append(DV.Derived(f"bearing.{k}", getattr(PAPER_BEARING, k), "",
+                                          "the paper's groove radius ratio (× D_w; give it if yours differs)",
+                                          "default"))
     cage_model = _string("cage.model", c.get("model", "rigid"), CAGE_MODELS)
     cage_changes = {}
     for k, v in c.items():
@@ -329,18 +385,40 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
             cage_changes[k] = _string("cage.pocket_shape", v, POCKET_SHAPES)
         else:
             cage_changes[k] = _number(f"cage.{k}", v)
+    given_cage = set(cage_changes)
     # the cage has one pocket per ball unless the scene says otherwise
     if "n_balls" in changes and "n_pockets" not in cage_changes:
         cage_changes["n_pockets"] = changes["n_balls"]
+        derived.append(DV.Derived("cage.n_pockets", changes["n_balls"], "", "bearing.n_balls (one pocket per ball)"))
     cage_changes["ball_diameter"] = changes.get("ball_diameter", PAPER_BEARING.ball_diameter)
     # and its spherical pockets are centred on the bearing's pitch circle unless it says otherwise
     if "pitch_diameter" in changes and "pocket_centre_diameter" not in cage_changes:
         cage_changes["pocket_centre_diameter"] = changes["pitch_diameter"]
-    changes["cage"] = dataclasses.replace(PAPER_BEARING.cage, **cage_changes)
+        if cage_changes.get("pocket_shape", PAPER_BEARING.cage.pocket_shape) != "cylindrical":
+            derived.append(DV.Derived("cage.pocket_centre_diameter", changes["pitch_diameter"], "m",
+                                      "bearing.pitch_diameter (pockets centred on the pitch circle)"))
     cad_info = {}
+    if not cad:
+        # the parametric cage's dimensions not given: the paper cage's proportions to the bearing's own
+        dims, rec = DV.cage_dimensions(changes, cage_changes)
+        cage_changes.update(dims)
+        derived += rec
+    if "material" not in cage_changes:
+        derived.append(DV.Derived("cage.material", "40CrNiMoA (7870 kg/m³, 209 GPa, ν 0.295)", "",
+                                  "the paper's cage steel (default; give [cage.material] for another)", "default"))
+    changes["cage"] = dataclasses.replace(PAPER_BEARING.cage, **cage_changes)
     if cad:
-        changes["cage"], cad_info = _cad_cage(cad, changes, {k: c[k] for k in c if k in cage_changes},
+        changes["cage"], cad_info = _cad_cage(cad, changes, {k: c[k] for k in c if k in given_cage},
                                               scene_path)
+        g = changes["cage"]
+        for k in ("outside_diameter", "bore_diameter", "width", "pocket_diameter", "land_width"):
+            derived.append(DV.Derived(f"cage.{k}", getattr(g, k), "m", f"the faces of cage.cad = {cad['cad']!r}",
+                                      "measured"))
+    # the ring lands the scene does not give: from the cage's own diameters
+    g = changes["cage"]
+    lands, rec = DV.land_diameters(g.guidance, g.outside_diameter, g.bore_diameter, changes)
+    changes.update(lands)
+    derived += rec
     bearing = dataclasses.replace(PAPER_BEARING, **changes).validate()
 
     flexible = {}
@@ -371,10 +449,9 @@ def _bearing_and_cage(b: dict, c: dict, scene_path: str = "") -> tuple[Bearing, 
         flexible.setdefault("n_modes", DEFAULT_N_KEEP)
         if "material" not in c:              # the paper's 40CrNiMoA; another material names its own
             flexible.setdefault("yield_strength", YIELD_STRENGTH_40CrNiMoA)
-    return bearing, cage_model, flexible, cad_info
+    return bearing, cage_model, flexible, cad_info, tuple(derived)
 
 
-_CAD_KEYS = ("cad", "cad_unit")
 # what a CAD cage's file decides; the scene gives only what the file cannot say
 _CAD_OWN = tuple(k for k in _CAGE_SCALARS if k not in ("guidance", "material"))
 
@@ -450,7 +527,7 @@ def _recorded_cad_cage(record, named: str):
 
 
 def _oil(d: dict) -> Oil:
-    d = require_table("oil", d, ("preset",) + _OIL_KEYS)
+    d = require_table("oil", d, SCENE_TABLES["oil"])
     preset = _string("oil.preset", d.get("preset", "paper"), tuple(OIL_PRESETS))
     changes = {k: _number(f"oil.{k}", v) for k, v in d.items() if k not in ("preset", "supply")}
     if "supply" in d:
@@ -459,7 +536,7 @@ def _oil(d: dict) -> Oil:
 
 
 def _speed_table(d: dict, duration: float | None) -> tuple[np.ndarray, float]:
-    d = require_table("operation.speed", d, ("phases", "table_rpm"))
+    d = require_table("operation.speed", d, SCENE_TABLES["operation.speed"])
     form = _one_of(d, "operation.speed", ("phases", "table_rpm"))
     if form is None:
         raise InputError("operation.speed needs either phases = [...] or table_rpm = [[t, rpm], ...]")
@@ -498,8 +575,7 @@ def _speed_table(d: dict, duration: float | None) -> tuple[np.ndarray, float]:
         where = f"operation.speed.phases[{i}]"
         kind = _string(f"{where}.kind", (ph or {}).get("kind") if isinstance(ph, dict) else None,
                        ("ramp", "uniform"))
-        keys = (("kind", "t_start", "duration", "start_rpm", "end_rpm") if kind == "ramp"
-                else ("kind", "t_start", "duration", "rpm"))
+        keys = _RAMP_KEYS if kind == "ramp" else _UNIFORM_KEYS
         ph = require_table(where, ph, keys)
         if "t_start" in ph:
             t0 = _number(f"{where}.t_start", ph["t_start"], 0.0, MAX_DURATION, unit="s")
@@ -553,8 +629,7 @@ def _radial_direction(d: dict, where: str, prefix: str) -> np.ndarray:
 
 
 def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
-    d = require_table("operation.load", d, ("axial_load", "radial_load", "radial_direction", "radial_azimuth",
-                                     "points", "table", "impacts"))
+    d = require_table("operation.load", d, SCENE_TABLES["operation.load"])
     load = lambda f, v: _number(f, v, 0.0, MAX_LOAD, unit="N")  # noqa: E731
     const = [k for k in ("axial_load", "radial_load") if k in d]
     form = _one_of(d, "operation.load", ("points", "table"))
@@ -579,7 +654,7 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
         for i, row in enumerate(rows):
             f = f"operation.load.{form}[{i}]"
             if form == "points":
-                row = require_table(f, row, ("t", "axial_load", "radial_load"))
+                row = require_table(f, row, SCENE_TABLES["operation.load.points[]"])
                 if "t" not in row:
                     raise InputError(f"{f}.t is missing (s)")
                 t = _number(f"{f}.t", row["t"], 0.0, MAX_DURATION, unit="s")
@@ -603,8 +678,7 @@ def _load(d: dict, duration: float) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(f"operation.load.impacts = {rows!r} must be a list of tables ([[operation.load.impacts]])")
     for i, imp in enumerate(rows):
         where = f"operation.load.impacts[{i}]"
-        imp = require_table(where, imp, ("t_start", "t_center", "duration", "magnitude", "direction",
-                                  "azimuth", "shape"))
+        imp = require_table(where, imp, SCENE_TABLES["operation.load.impacts[]"])
         for k in ("duration", "magnitude"):
             if k not in imp:
                 raise InputError(f"{where}.{k} is missing")
@@ -632,7 +706,7 @@ def _model_options(d: dict) -> dict:
     """[model] keys are checked against flexbearing.multibody.model.DEFAULT_OPTIONS."""
     if not isinstance(d, dict):
         raise InputError(f"model = {d!r} must be a table")
-    require_table("model", d, tuple(DEFAULT_OPTIONS))
+    require_table("model", d, SCENE_TABLES["model"])
     out = {}
     for k, v in d.items():
         if isinstance(v, (bool, str)):
@@ -655,19 +729,21 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     if isinstance(data, dict) and "study" in data:
         raise InputError(f"{path or 'scene'} is a study ([study] with a base scene and values), not a "
                          f"scene: it is run by `flexbearing study`")
-    d = require_table("scene", data, ("name", "description", "bearing", "oil", "cage", "model", "operation",
-                               "integrator", "output"))
+    d = require_table("scene", data, SCENE_TABLES["scene"])
     name = _file_name("name", d.get("name", Path(path).stem if path else "scene"))
     description = d.get("description", "")
     if not isinstance(description, str):
         raise InputError(f"description = {description!r} must be a string")
-    bearing, cage_model, flexible, cad = _bearing_and_cage(d.get("bearing", {}), d.get("cage", {}), path)
+    bearing, cage_model, flexible, cad, derived = _bearing_and_cage(d.get("bearing", {}), d.get("cage", {}), path)
     oil = _oil(d.get("oil", {}))
     model_options = _model_options(d.get("model", {}))
+    # the traction law follows the oil (flexbearing.simulation.derived.traction_law)
+    model_options, rec, warnings = DV.traction_law(model_options, oil)
+    derived = derived + tuple(rec)
 
     if "operation" not in d:
         raise InputError("[operation] is missing (duration, [operation.speed], [operation.load])")
-    op = require_table("operation", d["operation"], ("duration", "speed", "load"))
+    op = require_table("operation", d["operation"], SCENE_TABLES["operation"])
     duration = None
     if "duration" in op:
         duration = _number("operation.duration", op["duration"], 0.0, MAX_DURATION, lo_open=True, unit="s")
@@ -682,8 +758,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                          "points = [...] or table = [...]")
     load_table, impacts = _load(op["load"], duration)
 
-    integ = require_table("integrator", d.get("integrator", {}), ("tolerance", "method", "initial_step", "max_step",
-                                                                  "start"))
+    integ = require_table("integrator", d.get("integrator", {}), SCENE_TABLES["integrator"])
     start = _string("integrator.start", integ.get("start", "quasi_static"), START_KINDS)
     tolerance = _number("integrator.tolerance", integ.get("tolerance", 1e-6), MIN_TOLERANCE, 1e-1)
     method = _string("integrator.method", integ.get("method", "dopri5"), INTEGRATOR_METHODS)
@@ -693,7 +768,7 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
     initial_step = _number("integrator.initial_step", integ.get("initial_step", min(1e-7, max_step or 1e-7)),
                            0.0, max_step or duration, lo_open=True, unit="s")
 
-    out = require_table("output", d.get("output", {}), ("sample_interval", "record", "checkpoint_every"))
+    out = require_table("output", d.get("output", {}), SCENE_TABLES["output"])
     if "sample_interval" not in out:
         raise InputError("output.sample_interval is missing (s, in (0, operation.duration])")
     dt = _number("output.sample_interval", out["sample_interval"],
@@ -716,7 +791,8 @@ def parse_scene(data: dict, text: str = "", path: str = "") -> Scene:
                  speed_table=speed_table, load_table=load_table, impacts=impacts,
                  tolerance=tolerance, initial_step=initial_step, max_step=max_step,
                  sample_interval=dt, outputs=tuple(record), checkpoint_every=checkpoint_every,
-                 method=method, start=start, text=text, data=data, path=str(path), cad=cad)
+                 method=method, start=start, text=text, data=data, path=str(path), cad=cad, derived=derived,
+                 warnings=tuple(warnings))
 
 
 def load_scene(path) -> Scene:

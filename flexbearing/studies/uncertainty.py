@@ -146,17 +146,23 @@ class UnknownsStudy:
         return {u.name: u.nominal for u in self.unknowns}
 
 
+# the keys of an unknowns file's tables (checked below; listed in docs/scene.md by flexbearing.studies.input_docs)
+UNKNOWNS_FILE_KEYS = ("study", "unknowns")
+UNKNOWNS_HEAD_KEYS = ("name", "description", "points", "seed")
+UNKNOWN_KEYS = ("kind", "lo", "hi", "values", "nominal", "unit", "reason")
+
+
 def load_unknowns(path) -> UnknownsStudy:
     """Read and check an unknowns file: [study] (name, description, points >= 64, seed) and one
     [unknowns.NAME] table per unknown of UNKNOWN_LIMITS (kind, lo/hi or values, nominal, unit, reason).
     Every problem is an InputError naming the field, its value and what is allowed."""
     path = Path(path)
     data = read_toml(path, "unknowns file")
-    require_table("unknowns file", data, ("study", "unknowns"))
+    require_table("unknowns file", data, UNKNOWNS_FILE_KEYS)
     head = data.get("study")
     if not isinstance(head, dict):
         raise InputError(f"{path}: [study] is missing")
-    require_table("study", head, ("name", "description", "points", "seed"))
+    require_table("study", head, UNKNOWNS_HEAD_KEYS)
     points = head.get("points", MIN_POINTS)
     if isinstance(points, bool) or not isinstance(points, int) or points < MIN_POINTS:
         raise InputError(f"study.points = {points!r} is not allowed; allowed: an integer >= {MIN_POINTS}")
@@ -181,7 +187,7 @@ def _parse_unknown(name, spec) -> Unknown:
     where = f"unknowns.{name}"
     if name not in UNKNOWN_LIMITS:
         raise InputError(f"{where}: {name!r} is not an unknown of the model; allowed: {', '.join(UNKNOWN_LIMITS)}")
-    require_table(where, spec, ("kind", "lo", "hi", "values", "nominal", "unit", "reason"))
+    require_table(where, spec, UNKNOWN_KEYS)
     kind = spec.get("kind")
     if kind not in UNKNOWN_KINDS:
         raise InputError(f"{where}.kind = {kind!r} is not known; allowed: {', '.join(UNKNOWN_KINDS)}")
