@@ -173,17 +173,29 @@ def test_ctrl_c_in_the_eigen_solve_stops_it_at_the_next_operator_application(spr
             os.kill(os.getpid(), signal.SIGINT)
         return real(self, pc, x, y)
     monkeypatch.setattr(modes._InterruptibleFactor, "apply", apply)
-    with pytest.raises(KeyboardInterrupt):
-        modes.free_free_modes(_petsc(K), _petsc(M), n_modes=40)
+    # as in a terminal: a test runner started in the background (`cmd &` in a script) inherits SIGINT
+    # ignored, and Python then installs no handler of its own
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            modes.free_free_modes(_petsc(K), _petsc(M), n_modes=40)
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler     # put back
+    finally:
+        signal.signal(signal.SIGINT, before)
     assert len(calls) <= 4                  # the 3rd application (signal handled at once) or the next
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler     # put back
+
+
+def _terminal_sigint() -> None:
+    """In the child before exec: SIGINT at its default, as a terminal's foreground job has it (a test
+    runner started in the background inherits it ignored, and so would the command under test)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def _stop_after(cmd, ready: str, delay: float, cwd, timeout: float = 300.0):
     """Start cmd in its own session; when `ready` appears on its stderr wait `delay` s, send SIGINT
     to its process group (as a terminal's Ctrl-C) and return (exit code, seconds to stop, stderr)."""
     p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=cwd,
-                         start_new_session=True)
+                         start_new_session=True, preexec_fn=_terminal_sigint)
     seen, t_end = b"", time.monotonic() + timeout
     os.set_blocking(p.stderr.fileno(), False)
     while ready.encode() not in seen and time.monotonic() < t_end and p.poll() is None:

@@ -108,8 +108,9 @@ def _check_reduced_cage(path) -> None:
         raise InputError(f"--reduced-cage {path}: no such file (give a reduced cage file of `flexbearing reduce`)")
     kind = h5_file_kind(p)
     if kind != "reduced cage file":
-        raise InputError(f"--reduced-cage {path}: it is {'a ' + kind if kind else 'not a reduced cage file'}, "
-                         f"not a reduced cage file (`flexbearing reduce` writes them; default: the one the run names)")
+        what = f" (it is a {kind})" if kind else ""
+        raise InputError(f"--reduced-cage {path}: not a reduced cage file{what}; give the reduced cage the run "
+                         f"used (`flexbearing reduce` writes them; default: the one the run names)")
 
 
 def cmd_report(args) -> int:
