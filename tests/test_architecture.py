@@ -179,3 +179,49 @@ def test_the_cage_arrays_are_read_by_name():
             if bare.search(line):
                 found.append(f"{name}:{i}: {line.strip()}")
     assert found == [], "cage arrays read by position:\n" + "\n".join(found)
+
+
+# names that hold an enumeration's code inside compiled kernels (guidance, pocket shape, ball
+# attitude, controlling race, race kind, contact index)
+CODE_NAMES = {"attitude", "guidance", "shape", "ctl", "kind", "law", "g", "c", "cc"}
+
+
+def _compiled_functions(tree):
+    """The functions of a module tree decorated with numba's njit (bare or called)."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef):
+            for d in node.decorator_list:
+                f = d.func if isinstance(d, ast.Call) else d
+                if (isinstance(f, ast.Name) and f.id == "njit") or (isinstance(f, ast.Attribute) and f.attr == "njit"):
+                    yield node
+                    break
+
+
+def test_compiled_kernels_compare_codes_by_name():
+    """In the compiled kernels of flexbearing.multibody and flexbearing.coupling no flag (`flags[...]`) and no
+    variable holding an enumeration's code (CODE_NAMES: guidance, pocket shape, attitude, controlling
+    race, race kind, contact) is compared with an integer literal: the codes have names beside their
+    string names (GUIDANCE_INNER, POCKET_CONICAL, ATTITUDE_JONES, CONTROL_NO_PIVOT, RACE_INNER,
+    CONTACT_OUTER, ...), so `guidance == 1` cannot silently mean another guidance when a name is added."""
+    def is_literal(n):
+        if isinstance(n, ast.UnaryOp):
+            n = n.operand
+        return isinstance(n, ast.Constant) and type(n.value) is int
+
+    def holds_code(n):
+        if isinstance(n, ast.Subscript):
+            v = n.value
+            return (isinstance(v, ast.Name) and v.id == "flags") or (isinstance(v, ast.Attribute) and v.attr == "flags")
+        return isinstance(n, ast.Name) and n.id in CODE_NAMES
+
+    found = []
+    for name, path in modules().items():
+        if not (name.startswith(f"{TOP}.multibody.") or name.startswith(f"{TOP}.coupling.")):
+            continue
+        for fn in _compiled_functions(ast.parse(path.read_text())):
+            for node in ast.walk(fn):
+                if isinstance(node, ast.Compare):
+                    ops = [node.left] + node.comparators
+                    if any(map(is_literal, ops)) and any(map(holds_code, ops)):
+                        found.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
+    assert found == [], "enumeration codes compared with integer literals:\n" + "\n".join(found)

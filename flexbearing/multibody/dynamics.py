@@ -136,7 +136,7 @@ from flexbearing.multibody import model as M
 from flexbearing.multibody.model import (
     P_OIL_WREF, P_DW, P_Z, P_MB, P_IB, P_MI, P_IID, P_IIP, P_ETA0, P_RHO_OIL, P_OILFRAC, P_GRAV, F_DRAG,
     P_ATT_RATE, F_BALL_DRAG_MOMENT, W_P_CHURNING, W_DRAG, WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M,
-    WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
+    WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I, RACE_INNER,
 )
 from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.oil_supply import cavity_oil_fraction
@@ -158,7 +158,7 @@ from flexbearing.multibody.kernel_state import (  # noqa: F401
     BallState, RingState, BallLoad, RingLoad, ball_state, ring_state,
 )
 from flexbearing.multibody.race_kernels import (  # noqa: F401
-    TRACTION_EHL, RaceContact, _hertz_lookup, control_race, _race, RaceControl, BallRaceContacts, Attitude,
+    CONTROL_NONE, CONTROL_NO_PIVOT, TRACTION_EHL, RaceContact, _hertz_lookup, control_race, _race, RaceControl, BallRaceContacts, Attitude,
     _record_race_contact, inner_race_reaction, ball_race_contacts, race_control_couple,
 )
 from flexbearing.multibody.pocket_kernels import (  # noqa: F401
@@ -222,10 +222,10 @@ def ball_equations(j, b, load, att, p, dydt):
     dydt[o + BALL_R_DOT] = load.fr / mb + rb * psid * psid
     dydt[o + BALL_PSI_DOT] = (load.ft / mb - 2.0 * vbr * psid) / rb
     ctl = att.control
-    if ctl < 0:
+    if ctl == CONTROL_NONE or ctl == CONTROL_NO_PIVOT:
         dydt[o + BALL_W_X] = mx / ib
         dydt[o + BALL_W_R] = mr / ib + psid * w_t
-        if ctl == -2:
+        if ctl == CONTROL_NO_PIVOT:
             # no gyroscopic pivoting: the yaw is held at 0, the pitch is free
             dydt[o + BALL_W_T] = -kr * w_t
         else:
@@ -241,7 +241,7 @@ def ball_equations(j, b, load, att, p, dydt):
     dydt[o + BALL_W_X] = a_u * ux + b_n * cnx
     dydt[o + BALL_W_R] = a_u * ur + b_n * cnr
     dydt[o + BALL_W_T] = -kr * w_t
-    if ctl == 1:
+    if ctl == RACE_INNER:
         m_n = ib * b_n - (mx * cnx + (mr + ib * psid * w_t) * cnr)
         cs = b.cos_psi
         sn = b.sin_psi

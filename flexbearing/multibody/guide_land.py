@@ -58,11 +58,36 @@ import math
 
 from numba import njit
 
+from flexbearing.mesh.cage_geometry import GUIDANCE_INNER
+
 
 @njit(cache=True)
 def rim_stiffness(E_eff, width):
     """Default rim-contact penalty stiffness k_rim = (pi/4)·E'·L, N/m (see module docstring)."""
     return 0.25 * math.pi * E_eff * width
+
+
+@njit(cache=True, inline="always")
+def rim_force(e, Cg, k_rim):
+    """Normal force of the rim penalty contact, N: k_rim·(e − Cg) for e > Cg, else 0 (module docstring)."""
+    return k_rim * (e - Cg) if e > Cg else 0.0
+
+
+@njit(cache=True)
+def rim_potential(e, Cg, k_rim):
+    """Potential of `rim_force`, J: k_rim·(e − Cg)²/2 for e > Cg, else 0."""
+    return 0.5 * k_rim * (e - Cg) ** 2 if e > Cg else 0.0
+
+
+@njit(cache=True)
+def rim_offset(guidance, yc, zc, yi, zi):
+    """|e| of the cage centre (yc, zc) from the centre of the land that guides it, m: the outer
+    ring's (the origin) or, for guidance code GUIDANCE_INNER, the inner ring's (yi, zi)
+    (flexbearing.mesh.cage_geometry.GUIDANCES; a ball-riding cage's offset from the origin only scales
+    its recorded eccentricity)."""
+    if guidance == GUIDANCE_INNER:
+        return math.sqrt((yc - yi) ** 2 + (zc - zi) ** 2)
+    return math.sqrt(yc * yc + zc * zc)
 
 
 @njit(cache=True)
@@ -115,7 +140,7 @@ def guide_land_force(ey, ez, vy, vz, omega_cage, omega_land, R1, L, Cg, eta, eps
     fy = -wr * cy - wt * cz
     fz = -wr * cz + wt * cy
     if e > Cg:
-        frim = k_rim * (e - Cg)
+        frim = rim_force(e, Cg, k_rim)
         fy -= frim * cy
         fz -= frim * cz
         torque -= mu_rim * frim * R1 * math.tanh(omega_cage - omega_land)

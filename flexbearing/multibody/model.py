@@ -103,6 +103,7 @@ from flexbearing.multibody.hertz import effective_modulus, ellipticity, hertz_st
 from flexbearing.multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table
 from flexbearing.multibody.geometry import inner_groove_centres, outer_groove_centre
 from flexbearing.multibody.guide_land import rim_stiffness
+from flexbearing.multibody.pocket import pocket_gap_stiffness, pocket_hertz_constant
 from flexbearing.multibody import state_layout as SL
 
 # ---------------------------------------------------------------- parameter indices
@@ -145,6 +146,14 @@ F_POCKET_SHAPE = 13                    # index in POCKET_SHAPES (cylindrical, sp
 F_BALL_DRAG_MOMENT = 14                # viscous drag moment of the mixture on the spinning balls
 N_FLAGS = 15
 BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
+# their codes in flags[F_ATTITUDE]
+ATTITUDE_FREE, ATTITUDE_OUTER, ATTITUDE_INNER, ATTITUDE_JONES, ATTITUDE_NO_PIVOT = (BALL_ATTITUDES.index(a)
+                                                                                    for a in BALL_ATTITUDES)
+# a ball's race contacts (the index c of the work arrays and of the outputs' contact names) and the
+# race of each (the first index of the Hertz table, `_hertz_tables`)
+RACE_CONTACTS = ("outer", "inner_left", "inner_right")
+CONTACT_OUTER, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT = (RACE_CONTACTS.index(c) for c in RACE_CONTACTS)
+RACE_OUTER, RACE_INNER = 0, 1
 
 # ---------------------------------------------------------------- Hertz table columns
 # table[kind, i, col] at cos(alpha) = i/(n-1); kind 0 outer, 1 inner.
@@ -386,21 +395,13 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     e_bc = effective_modulus(bm.youngs_modulus, bm.poisson_ratio, cage.material.youngs_modulus,
                              cage.material.poisson_ratio)
     p[P_EBR] = e_br
-    # ball–pocket (paper §2.3.1): linear Kc = 11/Cp up to Cp, Hertz beyond (ball in a cylinder:
-    # across the pocket 1/R = 1/Rb − 1/Rp (conforming), along the pocket axis R = Rb; ball in a
-    # sphere: conforming both ways, flexbearing.multibody.pocket.pocket_curvature_radii)
+    # ball–pocket (paper §2.3.1): the linear "lubricated gap" Kc up to Cp, Hertz beyond, at the
+    # pocket shape's nominal contact (flexbearing.multibody.pocket: pocket_gap_stiffness, pocket_hertz_constant)
     cp = bearing.pocket_clearance
     rb, rp = 0.5 * dw, 0.5 * cage.pocket_diameter
-    p[P_CP], p[P_KC] = cp, 11.0 / cp
-    if cage.pocket_shape == "spherical":
-        r_conf = 1.0 / (1.0 / rb - 1.0 / rp)
-        p[P_KN] = hertz_stiffness(r_conf, r_conf, e_bc)
-    elif cage.pocket_shape == "elliptical":   # at the circumferential vertex, radius A²/B (pocket docstring)
-        r_across = 1.0 / (1.0 / rb - 1.0 / (rp * rp / (0.5 * cage.pocket_circumferential_diameter)))
-        p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
-    else:
-        r_across = 1.0 / (1.0 / rb - 1.0 / rp)
-        p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
+    p[P_CP], p[P_KC] = cp, pocket_gap_stiffness(cp)
+    p[P_KN] = pocket_hertz_constant(POCKET_SHAPES.index(cage.pocket_shape), rb, rp,
+                                    0.5 * cage.pocket_circumferential_diameter, e_bc)
     p[P_RPOCKET] = rp
     p[P_POCKET_CONE] = cage.pocket_cone_angle
     p[P_POCKET_B] = 0.5 * cage.pocket_circumferential_diameter
