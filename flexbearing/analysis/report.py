@@ -115,10 +115,10 @@ def _markdown_table(columns: list[tuple[str, dict]], keys, increase_from: int | 
     if increase_from is not None:
         head.append(f"change vs {columns[increase_from][0]}")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" + "---:|" * (len(head) - 1)]
-    for label, field, qd in _stat_rows(keys):
-        cells = [label] + [_fmt(row.get(field), qd.scale) for _, row in columns]
+    for label, name, qd in _stat_rows(keys):
+        cells = [label] + [_fmt(row.get(name), qd.scale) for _, row in columns]
         if increase_from is not None:
-            a, b = columns[increase_from][1].get(field), columns[-1][1].get(field)
+            a, b = columns[increase_from][1].get(name), columns[-1][1].get(name)
             if a is None or b is None:
                 cells.append("–")
             elif qd.display_unit == "%":      # a signed ratio (slip): the difference, in points
