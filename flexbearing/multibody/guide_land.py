@@ -58,7 +58,9 @@ import math
 
 from numba import njit
 
+from flexbearing.common.validation import require_range
 from flexbearing.mesh.cage_geometry import GUIDANCE_INNER
+from flexbearing.multibody.model_layout import P_CG, P_KRIM, P_L3, P_LAND_L, P_MURIM, P_R1
 
 
 @njit(cache=True)
@@ -145,3 +147,28 @@ def guide_land_force(ey, ez, vy, vz, omega_cage, omega_land, R1, L, Cg, eta, eps
         fz -= frim * cz
         torque -= mu_rim * frim * R1 * math.tanh(omega_cage - omega_land)
     return fy, fz, torque
+
+
+def fill_guide_land_parameters(p, bearing, E_eff, k_rim, mu_rim):
+    """The guide land's slots of the model's parameter vector p (flexbearing.multibody.model_layout;
+    flexbearing.multibody.model.build_model): R1 the cage's guiding radius (its outside on the outer
+    ring's land, its bore on the inner ring's), Cg the radial clearance (Bearing.guide_clearance),
+    the lands' n·L³ and n·L (the inner land runs under the whole bore; the relief and the two
+    lands are on the outside), the rim's k_rim (model option rim_stiffness, N/m in [1e5, 1e13];
+    None: `rim_stiffness` of E_eff, the ball–cage E', and n·L) and its friction mu_rim ([0, 1])."""
+    cage = bearing.cage
+    p[P_R1] = cage.inner_radius if cage.guidance == "inner" else cage.outer_radius
+    p[P_CG] = bearing.guide_clearance
+    if cage.guidance == "inner":
+        p[P_L3] = cage.width ** 3
+        p[P_LAND_L] = cage.width
+    elif cage.relief_depth > 0.0:
+        p[P_L3] = 2.0 * cage.land_width ** 3
+        p[P_LAND_L] = 2.0 * cage.land_width
+    else:
+        p[P_L3] = cage.width ** 3
+        p[P_LAND_L] = cage.width
+    if k_rim is None:
+        k_rim = rim_stiffness(E_eff, p[P_LAND_L])
+    p[P_KRIM] = require_range("model.rim_stiffness", k_rim, 1e5, 1e13, unit="N/m")
+    p[P_MURIM] = require_range("model.rim_friction", mu_rim, 0.0, 1.0)

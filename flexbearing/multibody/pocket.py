@@ -96,8 +96,12 @@ import math
 
 from numba import njit
 
-from flexbearing.mesh.cage_geometry import POCKET_CYLINDRICAL, POCKET_ELLIPTICAL, POCKET_SPHERICAL
+from flexbearing.common.validation import require_range
+from flexbearing.mesh.cage_geometry import POCKET_CYLINDRICAL, POCKET_ELLIPTICAL, POCKET_SHAPES, POCKET_SPHERICAL
 from flexbearing.multibody.hertz import hertz_stiffness
+from flexbearing.multibody.model_layout import (
+    P_CP, P_KC, P_KN, P_MUPOCKET, P_POCKET_B, P_POCKET_CONE, P_RCAGE_POCKET, P_RPOCKET,
+)
 
 # The paper's "lubricated gap" law: the linear branch carries this force at the pocket clearance,
 # Kc = POCKET_GAP_FORCE/Cp (module docstring)
@@ -414,3 +418,23 @@ def pocket_sliding_resistance(du, h0, h_edge, Rx, Ry, eta0):
     (`pocket_sliding_force` of `pocket_resistance_coefficients`)."""
     _, c_slide, c_root = pocket_resistance_coefficients(Rx, Ry, eta0)
     return pocket_sliding_force(c_slide, c_root, du, h0, h_edge)
+
+
+def fill_pocket_parameters(p, bearing, E_eff, friction):
+    """The pocket law's slots of the model's parameter vector p (flexbearing.multibody.model_layout;
+    flexbearing.multibody.model.build_model): the clearance Cp = (Dp − Dw)/2, the linear Kc
+    (`pocket_gap_stiffness`), the Hertz Kn at the shape's nominal contact (`pocket_hertz_constant`,
+    E_eff the ball–cage E'), the pocket radius, the cone's half-angle, the ellipse's circumferential
+    semi-axis, the radius of the pocket centres (dm/2) and the Coulomb coefficient mu_p (model
+    option pocket_friction, in [0, 1])."""
+    cage = bearing.cage
+    cp = bearing.pocket_clearance
+    rb, rp = 0.5 * bearing.ball_diameter, 0.5 * cage.pocket_diameter
+    p[P_CP], p[P_KC] = cp, pocket_gap_stiffness(cp)
+    p[P_KN] = pocket_hertz_constant(POCKET_SHAPES.index(cage.pocket_shape), rb, rp,
+                                    0.5 * cage.pocket_circumferential_diameter, E_eff)
+    p[P_RPOCKET] = rp
+    p[P_POCKET_CONE] = cage.pocket_cone_angle
+    p[P_POCKET_B] = 0.5 * cage.pocket_circumferential_diameter
+    p[P_RCAGE_POCKET] = 0.5 * bearing.pitch_diameter
+    p[P_MUPOCKET] = require_range("model.pocket_friction", friction, 0.0, 1.0)

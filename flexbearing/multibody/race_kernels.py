@@ -26,7 +26,7 @@ from flexbearing.multibody.geometry import (
 )
 from flexbearing.multibody.drag import ehl_rolling_resistance, ehl_pressure_rolling_force
 from flexbearing.multibody.traction import (
-    TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table,
+    TRACTION_LAWS, ehl_inlet_viscosity, sliced_traction, sliced_traction_ehl, traction_coefficients_table,
 )
 from flexbearing.multibody.film import film_thickness as hamrock_dowson_film
 from flexbearing.multibody.hertz import hertz_load
@@ -119,7 +119,7 @@ def _race_traction(kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb
         urr = p[P_UMIN]
     if flags[F_TRACTION_LAW] == TRACTION_EHL:
         # EHL film-shear law (flexbearing.multibody.traction): the film at the contact's inlet viscosity
-        eta_in = p[P_ETA0] * math.exp(-ttab[7, 3] * ttab[7, 0])
+        eta_in = ehl_inlet_viscosity(p[P_ETA0], ttab)
         h_c = hamrock_dowson_film(rx, ry, p[P_EBR], q_el, urr, eta_in, p[P_ALPHA_P])[1]
         Tt, Ttau, Mn = sliced_traction_ehl(Q, a_ax, b_ax, p0, h_c, urr, du0, du1, 0.0, dv,
                                            flags[F_NSLICES], bool(flags[F_TRANSVERSE]), p[P_SLIN],
