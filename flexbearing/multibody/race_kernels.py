@@ -88,12 +88,13 @@ def control_race(attitude, q_o, a_o, nxo, nro, q_i, a_i, nxi, nri):
     return CONTROL_NONE
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _race_traction(kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb_r, w_x, w_r, w_t, vrace_x, vrace_r,
-                   ring_speed, g2, rx, ry, Fx, Fr, Ft, Mx, Mr, Mt, p, flags, ttab):
-    """The traction of one loaded ball–race contact (`_race`) added to the force (Fx, Fr, Ft) and
-    the moment (Mx, Mr, Mt) about the ball centre on the ball: returns (Fx, Fr, Ft, Mx, Mr, Mt,
-    cx, cr, P_traction), (cx, cr) the spin moment's couple.
+                   ring_speed, g2, rx, ry, Fx, Fr, Mx, Mr, p, flags, ttab):
+    """The traction of one loaded ball–race contact (`_race`) added to the normal force (Fx, Fr)
+    and the moment (Mx, Mr) about the ball centre on the ball: returns (Fx, Fr, Ft, Mx, Mr, Mt,
+    cx, cr, P_traction), (cx, cr) the spin moment's couple. (Fewer than 31 arguments: CPython
+    passes more as *args, which numba does not inline.)
 
     The sliced traction (flexbearing.multibody.traction: `sliced_traction_ehl` of the EHL film-shear
     law at the Hamrock–Dowson central film of the inlet viscosity, or `sliced_traction` of the
@@ -134,7 +135,9 @@ def _race_traction(kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb
     if kind == RACE_INNER:
         # diagnostic of the race-control screening (model option spin_moment_scale_inner, 1 = the law)
         Mn *= p[P_SPIN_SCALE_INNER]
-    # force on the ball at p: Tt·e_t + Ttau·tau
+    # force on the ball at p: Tt·e_t + Ttau·tau (Ft, Mt: none before the traction)
+    Ft = 0.0
+    Mt = 0.0
     Fx += Ttau * tx_
     Fr += Ttau * tr_
     Ft += Tt
@@ -152,7 +155,7 @@ def _race_traction(kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb
     return Fx, Fr, Ft, Mx, Mr, Mt, cx, cr, p_trac
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _race_rolling_resistance(q_el, ur, rx, ell, rho, nx, nr, du0, xb, rb, vb_t, rv_x, rv_r, rv_t0, g1, g2, ring_rc,
                              ring_speed, Ft, Mx, Mr, p):
     """The EHL rolling resistance of one loaded ball–race contact (`_race`; flexbearing.multibody.drag)
@@ -254,7 +257,7 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     if flags[F_TRACTION] and Q > 0.0:
         Fx, Fr, Ft, Mx, Mr, Mt, cx, cr, p_trac = _race_traction(
             kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb_r, w_x, w_r, w_t, vrace_x, vrace_r,
-            ring_speed, g2, rx, ry, Fx, Fr, Ft, Mx, Mr, Mt, p, flags, ttab)
+            ring_speed, g2, rx, ry, Fx, Fr, Mx, Mr, p, flags, ttab)
     f_h = 0.0
     if flags[F_ROLLRES] and flags[F_DRAG]:
         Ft, Mx, Mr, p_roll, f_h = _race_rolling_resistance(
