@@ -16,7 +16,7 @@ from flexbearing.multibody.model import (
 )
 from flexbearing.mesh.cage_geometry import GUIDANCE_BALLS, GUIDANCE_INNER, GUIDANCE_OUTER
 from flexbearing.multibody.geometry import cross
-from flexbearing.multibody.guide_land import guide_land_force, rim_force
+from flexbearing.multibody.guide_land import guide_land_force, land_count, rim_force
 from flexbearing.multibody.kernel_state import RingLoad
 
 
@@ -40,8 +40,7 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
     cg = p[P_CG]
     eta = p[P_ETA0] if flags[F_LAND] else 0.0
     mu = p[P_MURIM] if flags[F_DRAG] else 0.0
-    # n lands of width w: P_LAND_L = n·w, P_L3 = n·w³  ->  n = sqrt(P_LAND_L³ / P_L3)
-    n_lands = int(round(math.sqrt(p[P_LAND_L] ** 3 / p[P_L3])))
+    n_lands = land_count(p[P_LAND_L], p[P_L3])
     fy, fz, mx = guide_land_force(yc, zc, vy, vz, omega_c, 0.0, p[P_R1], p[P_LAND_L] / n_lands, cg,
                                   eta, p[P_EPSMAX], True, p[P_KRIM], mu, n_lands)
     frim = rim_force(e, cg, p[P_KRIM])
@@ -76,7 +75,7 @@ def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flag
     cg = p[P_CG]
     eta = p[P_ETA0] if flags[F_LAND] else 0.0
     mu = p[P_MURIM] if flags[F_DRAG] else 0.0
-    n_lands = int(round(math.sqrt(p[P_LAND_L] ** 3 / p[P_L3])))
+    n_lands = land_count(p[P_LAND_L], p[P_L3])
     fy, fz, mx = guide_land_force(ey, ez, vyc - vyi, vzc - vzi, omega_c, omega_i, p[P_R1],
                                   p[P_LAND_L] / n_lands, cg, eta, p[P_EPSMAX], True, p[P_KRIM], mu,
                                   n_lands)

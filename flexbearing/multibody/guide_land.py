@@ -70,6 +70,13 @@ def rim_stiffness(E_eff, width):
 
 
 @njit(cache=True, inline="always")
+def land_count(lands_width, lands_width_cubed):
+    """n of n identical lands of width w from the model's n·w and n·w³ (P_LAND_L, P_L3;
+    `fill_guide_land_parameters`): n = sqrt((n·w)³/(n·w³))."""
+    return int(round(math.sqrt(lands_width ** 3 / lands_width_cubed)))
+
+
+@njit(cache=True, inline="always")
 def rim_force(e, Cg, k_rim):
     """Normal force of the rim penalty contact, N: k_rim·(e − Cg) for e > Cg, else 0 (module docstring)."""
     return k_rim * (e - Cg) if e > Cg else 0.0
