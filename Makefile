@@ -1,6 +1,7 @@
 # flexbearing — every target sets itself up on a fresh Debian 12 machine (root, or sudo).
 #   make demo      the paper's case end to end (results in out/demo/)
 #   make test      the fast test suite
+#   make lint      the linter (ruff, pyflakes rules: unused and undefined names) over the code, tests, benchmarks, docs
 #   make test-all  every test, the slow verification included (installs ParaView, xvfb, Chromium)
 #   make viewers   ParaView, xvfb and Chromium: the report's .pvsm, --movie and --pdf
 #   make bench     the benchmarks in benchmarks/ (work–precision, wall times)
@@ -33,14 +34,15 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh python3-meshio python3-numpy p
 # sets up. flexbearing runs it on one thread (flexbearing/__init__.py says why).
 OPTIONAL_APT_PACKAGES := libopenblas0-pthread
 # Small pure-Python PyPI packages, pinned, installed with --no-deps into the venv.
-PIP_PACKAGES := rainflow==3.2.0
+# ruff: the linter of `make lint` and CI (a standalone binary wheel, no Python dependencies).
+PIP_PACKAGES := rainflow==3.2.0 ruff==0.17.5
 
 # Viewers of the report and the ParaView scene, for the slow tests that open them
 # (tests/test_viewers.py) and for `flexbearing report --pdf / --series` (bearing.pvsm, --movie).
 # Not needed to run or report: without them the .pvsm, the movie and the PDF are left out.
 VIEWER_PACKAGES := paraview xvfb chromium
 
-.PHONY: setup viewers demo test test-all bench bench-work-precision cost-model stress clean
+.PHONY: setup viewers demo lint test test-all bench bench-work-precision cost-model stress clean
 
 # $(call apt_install,PACKAGES): install those of the Debian packages that are missing
 define apt_install
@@ -75,6 +77,7 @@ $(VENV)/.install-stamp: $(VENV)/.apt-stamp pyproject.toml
 	@$(PY) -m pip install -q --no-build-isolation --no-deps -e .
 	@# rainflow (ASTM E1049-85 5.4.4 rainflow counting, pure Python, no dependencies) for the cage's
 	@# fatigue (flexbearing.analysis.fatigue); --no-deps so pip never touches the Debian numpy
+	@# ruff (pinned, a standalone binary wheel): the linter of `make lint`
 	@$(PY) -m pip install -q --no-deps $(PIP_PACKAGES)
 	@$(PY) -c "import dolfinx, numba, gmsh, h5py, slepc4py, distributed, xarray, rainflow; print('flexbearing environment ready: dolfinx', dolfinx.__version__, '| numba', numba.__version__, '| gmsh', gmsh.__version__)"
 	@touch $@
@@ -92,6 +95,9 @@ demo: setup
 # The fast suite twice: as this machine is, then on the generic x86-64 instruction set (numba and
 # numpy's dispatched kernels: .ci/other_isa.py), so a tolerance fitted to one processor's rounding
 # fails here and not only on someone else's machine.
+lint: setup
+	$(VENV)/bin/ruff check --output-format concise flexbearing tests benchmarks docs
+
 test: setup
 	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
 	.ci/on-other-isa $(PY) -m pytest -q -m "not slow" -p no:cacheprovider

@@ -323,7 +323,6 @@ def stable_step(lam: complex, R) -> float:
 
 def state_label(model, k: int) -> str:
     lay = M.state_layout(model)
-    z = model.n_balls
     if k < lay["ring"]:
         return f"ball {k // SL.BALL_STATE + 1} {lay['ball_fields'][k % SL.BALL_STATE]}"
     if k < lay["cage"]:
@@ -781,7 +780,6 @@ def markdown(r: dict, quick=False) -> str:
             L.append(f"| {e['re']:.3g} | {e['im']:.3g} | {e['freq_hz']:,.0f} | {e['h_stable_s'] * 1e6:.2f} | {comp} |")
         L.append("")
         hb = s["hertz_ball_hz"]
-        osc = [e["freq_hz"] for e in s["eigen"] if e["freq_hz"] > 0]
         jac = (f"the Jacobian's fastest mode: {s['eigen'][0]['freq_hz']:,.0f} Hz" if s["eigen"][0]["freq_hz"] > 0 else
                "the Jacobian's largest eigenvalues here are real (no oscillation: the traction's relaxation); with "
                "the traction off its largest |λ| = " + f"{s['without_traction']['top'][0]['abs']:.3g} 1/s, i.e. "

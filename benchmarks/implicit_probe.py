@@ -102,7 +102,7 @@ def main(argv=None):
 
 
 def markdown(r: dict) -> str:
-    lines = [f"# Implicit integration of the bearing: does it step over the ball–race vibration? (issue 21)", "",
+    lines = ["# Implicit integration of the bearing: does it step over the ball–race vibration? (issue 21)", "",
              f"{r['date']}; `.venv/bin/python benchmarks/implicit_probe.py --scene {r['scene']} --span {r['span']}` "
              f"(benchmarks/implicit_probe.py docstring: method). {r['span'] * 1e3:g} ms of `{r['scene']}` from its "
              f"running state at t = {r['t_state']} s ({r['n_state']} states), against DOPRI5 at tol 1e-10 "

@@ -46,7 +46,6 @@ def main(argv=None):
     frames = meta["cage"]["frames"] if series else meta["frames"]
     written = [fr["field_max_von_mises"] for fr in frames]
     recorded = [fr.get("recorded_von_mises_max") for fr in frames]
-    scale = meta.get("displacement_scale", 1.0)
 
     cage = pv.Xdmf3ReaderS(FileName=[cage_file])
     times = list(cage.TimestepValues) if len(frames) > 1 else [frames[0]["time"]]

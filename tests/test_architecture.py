@@ -179,3 +179,72 @@ def test_the_cage_arrays_are_read_by_name():
             if bare.search(line):
                 found.append(f"{name}:{i}: {line.strip()}")
     assert found == [], "cage arrays read by position:\n" + "\n".join(found)
+
+
+# names that hold an enumeration's code inside compiled kernels (guidance, pocket shape, ball
+# attitude, controlling race, race kind, contact index)
+CODE_NAMES = {"attitude", "guidance", "shape", "ctl", "kind", "law", "g", "c", "cc"}
+
+
+def _compiled_functions(tree):
+    """The functions of a module tree decorated with numba's njit (bare or called)."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef):
+            for d in node.decorator_list:
+                f = d.func if isinstance(d, ast.Call) else d
+                if (isinstance(f, ast.Name) and f.id == "njit") or (isinstance(f, ast.Attribute) and f.attr == "njit"):
+                    yield node
+                    break
+
+
+def test_compiled_kernels_compare_codes_by_name():
+    """In the compiled kernels of flexbearing.multibody and flexbearing.coupling no flag (`flags[...]`) and no
+    variable holding an enumeration's code (CODE_NAMES: guidance, pocket shape, attitude, controlling
+    race, race kind, contact) is compared with an integer literal: the codes have names beside their
+    string names (GUIDANCE_INNER, POCKET_CONICAL, ATTITUDE_JONES, CONTROL_NO_PIVOT, RACE_INNER,
+    CONTACT_OUTER, ...), so `guidance == 1` cannot silently mean another guidance when a name is added."""
+    def is_literal(n):
+        if isinstance(n, ast.UnaryOp):
+            n = n.operand
+        return isinstance(n, ast.Constant) and type(n.value) is int
+
+    def holds_code(n):
+        if isinstance(n, ast.Subscript):
+            v = n.value
+            return (isinstance(v, ast.Name) and v.id == "flags") or (isinstance(v, ast.Attribute) and v.attr == "flags")
+        return isinstance(n, ast.Name) and n.id in CODE_NAMES
+
+    found = []
+    for name, path in modules().items():
+        if not (name.startswith(f"{TOP}.multibody.") or name.startswith(f"{TOP}.coupling.")):
+            continue
+        for fn in _compiled_functions(ast.parse(path.read_text())):
+            for node in ast.walk(fn):
+                if isinstance(node, ast.Compare):
+                    ops = [node.left] + node.comparators
+                    if any(map(is_literal, ops)) and any(map(holds_code, ops)):
+                        found.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
+    assert found == [], "enumeration codes compared with integer literals:\n" + "\n".join(found)
+
+
+# functions allowed over the limit, each with its reason
+LONG_FUNCTIONS_ALLOWED = {
+    "flexbearing.multibody.quasi_static.solve_quasi_static",   # being reworked on its own branch (issue 42)
+}
+
+
+def test_no_function_over_100_lines_in_the_physics_core():
+    """No function or method of flexbearing.multibody and flexbearing.coupling is longer than 100 lines
+    (from `def` to its end, docstring included): a contact law, a kernel or a model fill that grows
+    past it is split into named parts (as race_kernels._race into _race_traction and
+    _race_rolling_resistance)."""
+    long = []
+    for name, path in modules().items():
+        if not (name.startswith(f"{TOP}.multibody.") or name.startswith(f"{TOP}.coupling.")):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                n = node.end_lineno - node.lineno + 1
+                if n > 100 and f"{name}.{node.name}" not in LONG_FUNCTIONS_ALLOWED:
+                    long.append(f"{name}.{node.name}: {n} lines")
+    assert long == [], "functions over 100 lines:\n" + "\n".join(long)

@@ -206,7 +206,7 @@ CASES = [(1, 0.03), (1, 0.1), (6, 0.03), (6, 0.1)]
 
 @pytest.mark.parametrize("case_no,mu0", CASES)
 def test_attitude_and_cage_speed_independent_vs_steady_and_dynamics(case_no, mu0):
-    from flexbearing.multibody import dynamics as D, integrator as I
+    from flexbearing.multibody import integrator as I
     from flexbearing.multibody.steady import steady_thrust_state
     case = V.slip_rate_cases()[case_no - 1]
     roots = independent_state(case, mu0)

@@ -44,7 +44,7 @@ def test_recorded_offset_is_relative_to_the_inner_ring():
     recorded offset is cage − ring, and the model's eccentricity ratio is its length over Cg."""
     from flexbearing.multibody.bearing import PAPER_OIL
     from flexbearing.multibody import model as M
-    from flexbearing.multibody.model import build_model, state_layout
+    from flexbearing.multibody.model import build_model
     from flexbearing.multibody.outputs import evaluate_outputs
     from test_guidance import OMEGA, _bearing, _displaced_state
     m = build_model(_bearing("inner"), PAPER_OIL)

@@ -11,7 +11,6 @@ pocket + centrifugal load.
 """
 import numpy as np
 import pytest
-import scipy.linalg as sla
 import scipy.sparse as sp
 
 from flexbearing.fem_cage import interface as itf

@@ -59,7 +59,6 @@ def test_free_ball_centrifugal_coriolis_gyroscopic(clear_model):
     """
     m = clear_model
     y = _free_state(m)
-    lay = state_layout(m)
     j = 3
     o = 9 * j
     psid, rdot = 300.0, 0.02

@@ -29,7 +29,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from flexbearing.analysis import field_export
-from flexbearing.analysis.stress_picture import boundary_faces, face_normals, write_stress_picture
+from flexbearing.analysis.stress_picture import boundary_faces, face_normals
 from flexbearing.common.validation import InputError
 from test_report import _vm_by_deviator, write_run
 

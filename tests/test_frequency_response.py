@@ -7,7 +7,6 @@ response with 26 modes, with and without the residual static correction, vs the 
 import numpy as np
 import pytest
 import scipy.linalg as sla
-import scipy.sparse as sp
 
 from flexbearing.verification import frequency_response as fr
 

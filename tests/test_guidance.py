@@ -20,7 +20,6 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from flexbearing.mesh.cage_geometry import CageGeometry
 from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import model as M
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL

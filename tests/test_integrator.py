@@ -9,7 +9,7 @@ from scipy.integrate import quad
 
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody import model as M
-from flexbearing.multibody.model import build_model, state_layout
+from flexbearing.multibody.model import build_model
 from flexbearing.multibody.initial import initial_state
 from flexbearing.multibody import integrator as I
 from flexbearing.multibody import dynamics as D

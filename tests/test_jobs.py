@@ -42,7 +42,6 @@ def test_in_process_reports_the_failed_job_and_runs_the_others():
 
 def test_local_cluster_of_two_workers():
     """Two worker processes, other than this one: the same results, the failure reported."""
-    got = {}
     J.run_jobs(time.sleep, [(0.5,)] * 4, lambda k, r: None, workers=2, progress=False)   # warm start
     pids = {}
     J.run_jobs(os.getpid, [()] * 2, pids.__setitem__, workers=2, progress=False)

@@ -91,3 +91,31 @@ def test_sliding_resistance_is_the_couette_integral():
                   lambda y: -xlim(y), xlim, epsabs=1e-9, epsrel=1e-10)[0]
     assert pocket_sliding_resistance(du, h0, h_edge, rx, ry, eta) == pytest.approx(eta * du * num, rel=1e-6)
     assert pocket_sliding_resistance(du, h0, h0 / 2, rx, ry, eta) == 0.0
+
+
+def test_the_model_runs_the_tested_pocket_law():
+    """The law above is the one the dynamics run: the paper model's pocket constants come from it
+    (Kc = 11 N/Cp, Kn = the Hertz constant of (R_xi, R_eta) against the exact Hertz solution), the
+    kernel's normal force (pocket_kernels._pocket_interface, no drag or damping) is
+    pocket_normal_force of them on both branches, and pocket_potential is the force's potential
+    (its centred difference at h = 1 nm: truncation h²·V'''/6 and round-off both below 1e-7 of
+    the force here)."""
+    from flexbearing.multibody import dynamics as D, model as M
+    from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
+    from flexbearing.multibody.pocket import pocket_elastic_force, pocket_potential
+    model = M.build_model(PAPER_BEARING, PAPER_OIL, {"traction": False, "drag": False, "damping": False})
+    p = model.p
+    cp, kc, kn = p[M.P_CP], p[M.P_KC], p[M.P_KN]
+    assert kc * cp == pytest.approx(11.0, rel=1e-14)
+    rb, rp = 0.5 * PAPER_BEARING.ball_diameter, 0.5 * PAPER_BEARING.cage.pocket_diameter
+    e_bc = effective_modulus(PAPER_BEARING.ball_material.youngs_modulus, PAPER_BEARING.ball_material.poisson_ratio,
+                             PAPER_BEARING.cage.material.youngs_modulus, PAPER_BEARING.cage.material.poisson_ratio)
+    rxi, reta = pocket_curvature_radii(rb, rp)
+    assert kn == pytest.approx(hertz_exact(rxi, reta, e_bc, 100.0)["stiffness"], rel=1e-6)
+    for zz in (0.5 * cp, cp + 2e-6):
+        out = D._pocket_interface(0.0, 0.0835, zz, 0, 0, 0, 0, 0, 0, 0.0, 0.0835, 0.0, 0.0, 1.0, 0.0,
+                                  0, 0, 0, 0, 0, 0, 0, 0, 0, p, model.flags)
+        assert out.q == pocket_normal_force(zz, cp, kn) == pocket_elastic_force(zz, cp, kc, kn)
+        h = 1e-9
+        dv = (pocket_potential(zz + h, cp, kc, kn) - pocket_potential(zz - h, cp, kc, kn)) / (2 * h)
+        assert dv == pytest.approx(out.q, rel=1e-6)

@@ -13,7 +13,7 @@ from flexbearing.analysis import plots, report, summary
 from flexbearing.common.progress import Stages
 from flexbearing.simulation.results import Run, opened, read_outputs
 
-from test_report import A, B, SCENE, write_run
+from test_report import A, B, write_run
 
 
 def test_run_reads_once_and_opened_passes_an_open_run_through(tmp_path):

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from flexbearing.studies import validate as V
-from flexbearing.multibody import dynamics as D
 from flexbearing.multibody.geometry import nominal_cage_speed
 
 # Table 5, last column: the paper's "slip rate error" (%) = |sim − test|/test

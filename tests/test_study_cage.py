@@ -12,15 +12,13 @@ flexbearing.fem_cage's, tested there.
 """
 import dataclasses
 import json
-import math
-from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
 
 from flexbearing.common.validation import InputError
-from flexbearing.verification.cad_test_cage import Z, make_cad_cage
+from flexbearing.verification.cad_test_cage import make_cad_cage
 
 R0, WEB, WIDTH = 83.5e-3, 9e-3, 26e-3        # m: ring radius, radial web, axial width
 

@@ -7,7 +7,6 @@ ones go through flexbearing.cli.main.main as `flexbearing` does.
 """
 import math
 
-import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 

@@ -6,7 +6,6 @@ and ParaView (`make test-all` installs them: Makefile, VIEWER_PACKAGES)."""
 from __future__ import annotations
 
 import json
-import os
 import re
 import subprocess
 from pathlib import Path

@@ -117,12 +117,12 @@ def _markdown_table(columns: list[tuple[str, dict]], keys, increase_from: int | 
     if increase_from is not None:
         head.append(f"change vs {columns[increase_from][0]}")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" + "---:|" * (len(head) - 1)]
-    for label, field, qd in _stat_rows(keys):
-        mark = f" {MARK}" if not field.endswith(f"_{qd.extreme_stat}") else ""
-        cells = [label] + [_fmt(row.get(field), qd.scale) + (mark if unsettled(row) and row.get(field) is not None
-                                                              else "") for _, row in columns]
+    for label, name, qd in _stat_rows(keys):
+        mark = f" {MARK}" if not name.endswith(f"_{qd.extreme_stat}") else ""
+        cells = [label] + [_fmt(row.get(name), qd.scale) + (mark if unsettled(row) and row.get(name) is not None
+                                                            else "") for _, row in columns]
         if increase_from is not None:
-            a, b = columns[increase_from][1].get(field), columns[-1][1].get(field)
+            a, b = columns[increase_from][1].get(name), columns[-1][1].get(name)
             if a is None or b is None:
                 cells.append("–")
             elif qd.display_unit == "%":      # a signed ratio (slip): the difference, in points

@@ -322,16 +322,9 @@ def search_cache_path(reduced_cage_file, rc, n_keep: int) -> Path:
 _NOW = object()      # evaluate_outputs: take the stress snapshot at the call (no sample_snapshot before)
 
 
-def backend(scene, reduced_cage=None):
-    """The flexible-cage physics for flexbearing.simulation.run: the multibody model with the reduced cage as
-    its floating-frame body (the scene's cage.n_modes, by default DEFAULT_N_KEEP = 26), its initial
-    state with the cage's quasi-static centrifugal deformation, and outputs extended by the cage
-    stress.
-
-    reduced_cage: the reduced cage file to use (a study's jobs get the path of the file built once
-    for them, flexbearing.studies.study); it must be the scene's cage (its content hash is checked). Default:
-    from the cache, built if missing (reduced_cage_path)."""
-
+def _scene_reduced_cage(scene, reduced_cage):
+    """(path, ReducedCage) of the scene's cage (`backend`): the given file, verified and checked
+    to be the scene's cage by its content hash, or the cache's (built if missing)."""
     if reduced_cage is None:
         path = reduced_cage_path(scene)
     else:
@@ -347,6 +340,45 @@ def backend(scene, reduced_cage=None):
                          f"cage of scene {scene.name} (hash {reduced_cage_hash(scene)})")
     if reduced_cage is not None:   # and built from the scene's parameters and the cache's mesh
         rcf.check_provenance(path, reduced_cage_key(scene), scene_mesh_path(scene))
+    return path, rc
+
+
+def _add_stress_outputs(stress, model, t, y, q, c0, snapshot, out) -> None:
+    """The cage stress outputs of a sample into out (`backend`'s evaluate_outputs): von_mises_max,
+    its vertex, time and step count, and the full modal coordinates of that step, from the
+    monitor's snapshot, or at (t, y) itself (the first sample, or one no step led to)."""
+    if snapshot is None:
+        A = model.cage.A
+        cage_rotation(y[c0 + SL.CAGE_PHI], y[c0 + SL.CAGE_TILT_Y], y[c0 + SL.CAGE_TILT_Z], A)
+        w = np.zeros(3)
+        cage_body_angular_velocity(A, y, c0, w)
+        spin = w[0]                                         # body-frame spin component
+        qf = stress.full_coordinates(q, model.cage.node_load, spin)
+        # the first sample by the every-vertex formula (an independent check of the
+        # search's first value); later ones no monitored step reached by the search
+        vm, node = stress(qf) if t == 0.0 else stress.at_state(q, model.cage.node_load, spin)
+        t_peak, n_eval = t, 1
+    else:
+        vm, row, t_peak, n_eval, y_pk = snapshot
+        node = stress.vertex(row)
+        qf = stress.full_coordinates_of(y_pk)
+    out["von_mises_max"] = float(vm)
+    out["von_mises_max_vertex"] = int(node)
+    out["von_mises_max_time"] = float(t_peak)
+    out["von_mises_steps"] = int(n_eval)
+    out["cage_modal_coordinates_full"] = qf
+
+
+def backend(scene, reduced_cage=None):
+    """The flexible-cage physics for flexbearing.simulation.run: the multibody model with the reduced cage as
+    its floating-frame body (the scene's cage.n_modes, by default DEFAULT_N_KEEP = 26), its initial
+    state with the cage's quasi-static centrifugal deformation, and outputs extended by the cage
+    stress.
+
+    reduced_cage: the reduced cage file to use (a study's jobs get the path of the file built once
+    for them, flexbearing.studies.study); it must be the scene's cage (its content hash is checked). Default:
+    from the cache, built if missing (reduced_cage_path)."""
+    path, rc = _scene_reduced_cage(scene, reduced_cage)
     n_keep = int(scene.flexible.get("n_modes", DEFAULT_N_KEEP))
     beta = float(scene.flexible.get("damping_beta", DEFAULT_DAMPING_BETA))
     basis = flexible_cage_body(rc, n_keep, beta, centrifugal_correction=False)
@@ -420,27 +452,7 @@ def backend(scene, reduced_cage=None):
         q = y[lay["modes"]:lay["modes"] + n]
         out["cage_modal_coordinates"] = q.copy()
         if stress is not None:
-            pk = snapshot
-            if pk is None:
-                A = model.cage.A
-                cage_rotation(y[lay["cage"] + SL.CAGE_PHI], y[lay["cage"] + SL.CAGE_TILT_Y], y[lay["cage"] + SL.CAGE_TILT_Z], A)
-                w = np.zeros(3)
-                cage_body_angular_velocity(A, y, lay["cage"], w)
-                spin = w[0]                                         # body-frame spin component
-                qf = stress.full_coordinates(q, model.cage.node_load, spin)
-                # the first sample by the every-vertex formula (an independent check of the
-                # search's first value); later ones no monitored step reached by the search
-                vm, node = stress(qf) if t == 0.0 else stress.at_state(q, model.cage.node_load, spin)
-                t_peak, n_eval = t, 1
-            else:
-                vm, row, t_peak, n_eval, y_pk = pk
-                node = stress.vertex(row)
-                qf = stress.full_coordinates_of(y_pk)
-            out["von_mises_max"] = float(vm)
-            out["von_mises_max_vertex"] = int(node)
-            out["von_mises_max_time"] = float(t_peak)
-            out["von_mises_steps"] = int(n_eval)
-            out["cage_modal_coordinates_full"] = qf
+            _add_stress_outputs(stress, model, t, y, q, lay["cage"], snapshot, out)
         return select_recorded(out, request)
 
     # the units of these outputs: flexbearing.multibody.output_registry (groups "von_mises", "cage_modes")

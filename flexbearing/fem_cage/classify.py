@@ -25,7 +25,6 @@ import numpy as np
 def nodal_displacements(V, vec, comm=None):
     """(X, U): coordinates (N, 3) and displacements (N, 3) of all owned nodes, gathered on
     every rank (small enough for classification and plots)."""
-    from mpi4py import MPI
     comm = comm or V.mesh.comm
     n_owned = V.dofmap.index_map.size_local
     X = V.tabulate_dof_coordinates()[:n_owned]
@@ -94,7 +93,6 @@ def classify_mode(X, U, frequency_hz: float = np.inf, rigid_tol_hz: float = 1.0,
     if abs(frequency_hz) < rigid_tol_hz:
         return {"family": "rigid", "n": None, "shares": share}
     lead = max(("inplane", "outofplane", "twist"), key=lambda k: share[k])
-    col = {"inplane": 1, "outofplane": 0, "twist": 3}[lead]
     # n: the strongest order among the components of the leading family
     cands = {"inplane": [1, 2, 5], "outofplane": [0, 4], "twist": [3]}[lead]
     n, conc = max((_wave_number(coef[:, c]) for c in cands), key=lambda t: t[1])

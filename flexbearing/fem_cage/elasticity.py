@@ -16,11 +16,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 from mpi4py import MPI
 
 
-from flexbearing.mesh.cage_mesh import DEFAULT_DEGREE  # noqa: E402  (re-export: the converged default space)
 
 
 def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, check: bool = True):

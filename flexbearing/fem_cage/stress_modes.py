@@ -52,7 +52,6 @@ class NodalStress:
     interpolated to the same nodes (`displacement`)."""
 
     def __init__(self, V, material):
-        import ufl
         from dolfinx import fem
         from .elasticity import stress
         domain = V.mesh

@@ -15,7 +15,6 @@ there (the integrator links them; its cache check hashes that file); this module
 from __future__ import annotations
 
 import copy
-import os
 
 import numpy as np
 

@@ -20,7 +20,12 @@ from flexbearing.common.validation import InputError, require_positive, require_
 
 
 GUIDANCES = ("outer", "inner", "balls")
+# their codes in the compiled model (flags[F_GUIDANCE], flexbearing.multibody.model)
+GUIDANCE_OUTER, GUIDANCE_INNER, GUIDANCE_BALLS = (GUIDANCES.index(g) for g in GUIDANCES)
 POCKET_SHAPES = ("cylindrical", "spherical", "conical", "elliptical")
+# their codes in the compiled model (flags[F_POCKET_SHAPE])
+POCKET_CYLINDRICAL, POCKET_SPHERICAL, POCKET_CONICAL, POCKET_ELLIPTICAL = (POCKET_SHAPES.index(s)
+                                                                          for s in POCKET_SHAPES)
 MAX_CONE_ANGLE = math.radians(30.0)     # rad: steeper walls are no longer a pocket holding a ball
 
 

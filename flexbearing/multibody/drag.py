@@ -54,6 +54,10 @@ import math
 
 from numba import njit
 
+from flexbearing.multibody import numba_cache  # noqa: F401  (drops stale compiled kernels first)
+from flexbearing.multibody.kernel_state import BallLoad
+from flexbearing.multibody.model_layout import F_BALL_DRAG_MOMENT, F_DRAG, W_DRAG, W_P_CHURNING
+
 RHO_AIR = 1.2          # kg/m^3 at 20 °C, 1 atm
 ETA_AIR = 1.8e-5       # Pa·s
 
@@ -112,3 +116,26 @@ def ball_drag_moment_coefficient(ball_diameter, eta_mix):
     """c of the viscous drag moment M = −c·w on a ball spinning at w in the mixture at rest,
     c = 8·pi·eta·R³ = pi·eta·Dw³, N·m·s (Stokes–Lamb couple, module docstring)."""
     return math.pi * eta_mix * ball_diameter ** 3
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load):
+    """The kernel of `rhs` (flexbearing.multibody.dynamics): churning drag on the orbiting ball j in the
+    oil–air mixture at rest (`churning_drag`, `ball_drag_moment_coefficient`):
+    F_d = ½·rho_mix·C_d(Re)·(pi·Dw²/4)·v², v = r·psi', along −e_t; with the option ball_drag_moment the
+    mixture's viscous moment on the spinning ball, M = −c·w, c = pi·eta_mix·Dw³ (Stokes–Lamb), and
+    the power they dissipate, −F_d·v + c·|w|². Added to the ball load, recorded into work."""
+    if not flags[F_DRAG]:
+        work[j, W_DRAG] = 0.0
+        work[j, W_P_CHURNING] = 0.0
+        return load
+    vbt = b.v_t
+    fd = churning_drag(dw, vbt, rho_mix, eta_mix)
+    work[j, W_DRAG] = -fd
+    work[j, W_P_CHURNING] = -fd * vbt
+    if not flags[F_BALL_DRAG_MOMENT]:
+        return BallLoad(load.fx, load.fr, load.ft + fd, load.mx, load.mr, load.mt)
+    c_spin = ball_drag_moment_coefficient(dw, eta_mix)
+    work[j, W_P_CHURNING] += c_spin * (b.w_x * b.w_x + b.w_r * b.w_r + b.w_t * b.w_t)
+    return BallLoad(load.fx, load.fr, load.ft + fd, load.mx - c_spin * b.w_x, load.mr - c_spin * b.w_r,
+                    load.mt - c_spin * b.w_t)

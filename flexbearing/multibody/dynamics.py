@@ -134,13 +134,13 @@ from numba import njit
 
 from flexbearing.multibody import model as M
 from flexbearing.multibody.model import (
-    P_OIL_WREF, P_DW, P_Z, P_MB, P_IB, P_MI, P_IID, P_IIP, P_ETA0, P_RHO_OIL, P_OILFRAC, P_GRAV, F_DRAG,
-    P_ATT_RATE, F_BALL_DRAG_MOMENT, W_P_CHURNING, W_DRAG, WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M,
-    WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I,
+    P_OIL_WREF, P_DW, P_Z, P_MB, P_IB, P_MI, P_IID, P_IIP, P_ETA0, P_RHO_OIL, P_OILFRAC, P_GRAV, P_ATT_RATE,
+    WR_FX, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M,
+    WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I, RACE_INNER,
 )
 from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.oil_supply import cavity_oil_fraction
-from flexbearing.multibody.drag import ball_drag_moment_coefficient, churning_drag, oil_air_mixture
+from flexbearing.multibody.drag import ball_churning_drag, oil_air_mixture
 from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation
 from flexbearing.multibody.state_layout import (
     BALL_PSI, BALL_PSI_DOT, BALL_R, BALL_R_DOT, BALL_W_R, BALL_W_T, BALL_W_X, BALL_X, BALL_X_DOT,
@@ -158,7 +158,7 @@ from flexbearing.multibody.kernel_state import (  # noqa: F401
     BallState, RingState, BallLoad, RingLoad, ball_state, ring_state,
 )
 from flexbearing.multibody.race_kernels import (  # noqa: F401
-    TRACTION_EHL, RaceContact, _hertz_lookup, control_race, _race, RaceControl, BallRaceContacts, Attitude,
+    CONTROL_NONE, CONTROL_NO_PIVOT, TRACTION_EHL, RaceContact, _hertz_lookup, control_race, _race, RaceControl, BallRaceContacts, Attitude,
     _record_race_contact, inner_race_reaction, ball_race_contacts, race_control_couple,
 )
 from flexbearing.multibody.pocket_kernels import (  # noqa: F401
@@ -170,28 +170,6 @@ from flexbearing.multibody.guidance_kernels import (  # noqa: F401
 
 
 # ---------------------------------------------------------------- the kernels of `rhs`
-
-
-@njit(cache=True, _nrt=False, inline="always")
-def ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load):
-    """Churning drag on the orbiting ball j in the oil–air mixture at rest (flexbearing.multibody.drag):
-    F_d = ½·rho_mix·C_d(Re)·(pi·Dw²/4)·v², v = r·psi', along −e_t; with the option ball_drag_moment the
-    mixture's viscous moment on the spinning ball, M = −c·w, c = pi·eta_mix·Dw³ (Stokes–Lamb), and
-    the power they dissipate, −F_d·v + c·|w|². Added to the ball load, recorded into work."""
-    if not flags[F_DRAG]:
-        work[j, W_DRAG] = 0.0
-        work[j, W_P_CHURNING] = 0.0
-        return load
-    vbt = b.v_t
-    fd = churning_drag(dw, vbt, rho_mix, eta_mix)
-    work[j, W_DRAG] = -fd
-    work[j, W_P_CHURNING] = -fd * vbt
-    if not flags[F_BALL_DRAG_MOMENT]:
-        return BallLoad(load.fx, load.fr, load.ft + fd, load.mx, load.mr, load.mt)
-    c_spin = ball_drag_moment_coefficient(dw, eta_mix)
-    work[j, W_P_CHURNING] += c_spin * (b.w_x * b.w_x + b.w_r * b.w_r + b.w_t * b.w_t)
-    return BallLoad(load.fx, load.fr, load.ft + fd, load.mx - c_spin * b.w_x, load.mr - c_spin * b.w_r,
-                    load.mt - c_spin * b.w_t)
 
 
 @njit(cache=True, _nrt=False)
@@ -222,10 +200,10 @@ def ball_equations(j, b, load, att, p, dydt):
     dydt[o + BALL_R_DOT] = load.fr / mb + rb * psid * psid
     dydt[o + BALL_PSI_DOT] = (load.ft / mb - 2.0 * vbr * psid) / rb
     ctl = att.control
-    if ctl < 0:
+    if ctl == CONTROL_NONE or ctl == CONTROL_NO_PIVOT:
         dydt[o + BALL_W_X] = mx / ib
         dydt[o + BALL_W_R] = mr / ib + psid * w_t
-        if ctl == -2:
+        if ctl == CONTROL_NO_PIVOT:
             # no gyroscopic pivoting: the yaw is held at 0, the pitch is free
             dydt[o + BALL_W_T] = -kr * w_t
         else:
@@ -241,7 +219,7 @@ def ball_equations(j, b, load, att, p, dydt):
     dydt[o + BALL_W_X] = a_u * ux + b_n * cnx
     dydt[o + BALL_W_R] = a_u * ur + b_n * cnr
     dydt[o + BALL_W_T] = -kr * w_t
-    if ctl == 1:
+    if ctl == RACE_INNER:
         m_n = ib * b_n - (mx * cnx + (mr + ib * psid * w_t) * cnr)
         cs = b.cos_psi
         sn = b.sin_psi

@@ -12,12 +12,17 @@ import math
 import numpy as np
 from numba import njit
 
+from flexbearing.mesh.cage_geometry import GUIDANCE_BALLS
 from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rotation, pocket_pose
 from flexbearing.multibody.dynamics import _hertz_lookup
 from flexbearing.multibody.floating_frame import deformed_moments, mass_matrix
 from flexbearing.multibody.geometry import race_contact, ring_point_in_plane
-from flexbearing.multibody.model import (F_GUIDANCE, F_HERTZ_FIXED, F_INNER_HALVES, F_POCKET_SHAPE, P_ALPHA0, P_CG, P_CP, P_DW, P_FE, P_FI, P_GRAV, P_IB, P_IID,
-                             P_KC, P_KN, P_KRIM, P_MB, P_MI, P_RIL, P_RIR, P_RO, P_XIL, P_XIR, P_XO, P_Z)
+from flexbearing.multibody.guide_land import rim_offset, rim_potential
+from flexbearing.multibody.hertz import hertz_potential
+from flexbearing.multibody.model import (CONTACT_INNER_LEFT, CONTACT_OUTER, RACE_INNER, RACE_OUTER, F_GUIDANCE, F_HERTZ_FIXED, F_INNER_HALVES, F_POCKET_SHAPE, P_ALPHA0, P_CG, P_CP, P_DW, P_FE, P_FI, P_GRAV, P_IB, P_IID,
+                             P_KC, P_KN, P_KRIM, P_MB, P_MI, P_POCKET_B, P_POCKET_CONE, P_RIL, P_RIR, P_RO, P_RPOCKET, P_XIL,
+                             P_XIR, P_XO, P_Z)
+from flexbearing.multibody.pocket import pocket_contact_offset, pocket_potential
 from flexbearing.multibody.profiles import load_at
 from flexbearing.multibody.state_layout import (
     BALL_PSI, BALL_PSI_DOT, BALL_R, BALL_R_DOT, BALL_W_R, BALL_W_T, BALL_W_X, BALL_X, BALL_X_DOT, CAGE_PHI,
@@ -28,6 +33,33 @@ from flexbearing.multibody.state_layout import (
 
 
 @njit(cache=True)
+def _add_cage_energy(y, c0, m0, cage, A, w_body, ek, ev):
+    """The cage's kinetic energy ½·vᵀM(q)v of the floating-frame body, v = (R', w_body, q')
+    (flexbearing.multibody.floating_frame.mass_matrix at the cage's attitude A and modal coordinates
+    q), added to ek, and its modal strain energy ½·Σ omega_k²·q_k² added to ev: returns (ek, ev)."""
+    stiff = cage.stiffness
+    n = stiff.shape[0]
+    q = y[m0:m0 + n]
+    v = cage.rhs                 # work array: the velocity (R', w_body, q')
+    v[0] = y[c0 + CAGE_VX]
+    v[1] = y[c0 + CAGE_VY]
+    v[2] = y[c0 + CAGE_VZ]
+    v[3] = w_body[0]
+    v[4] = w_body[1]
+    v[5] = w_body[2]
+    for k in range(n):
+        v[6 + k] = y[m0 + n + k]
+        ev += 0.5 * stiff[k] * q[k] * q[k]
+    Mmat = cage.Mmat
+    deformed_moments(q, cage.second, cage.Sx, cage.SS, cage.U, cage.Wab)
+    mass_matrix(A, q, cage.mass[0], cage.first, cage.S1, cage.Mff, cage.U, cage.Wab, Mmat)
+    for i in range(6 + n):
+        for k in range(6 + n):
+            ek += 0.5 * v[i] * Mmat[i, k] * v[k]
+    return ek, ev
+
+
+@njit(cache=True)
 def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     """Kinetic energy of balls, ring and cage + elastic energy of the contacts − work potential
     of the (constant) external load, J. Conserved when traction, drag and damping are off and the
@@ -35,8 +67,11 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     force field very slightly non-conservative). The ring spin is prescribed (constant speed in a
     free run), its kinetic energy is constant and left out.
 
-    Hertz: V = (2/5)·K·delta^2.5. Pocket: V = Kc·Z²/2 (Z <= Cp), Kc·Cp²/2 + Kc·Cp·(Z − Cp) +
-    (2/5)·Kn·(Z − Cp)^2.5 beyond. Rim: K_rim·(e − Cg)²/2. Load: −F·x_ring. Gravity (along −Z):
+    Each contact's potential is its law's own (the functions whose forces rhs applies):
+    Hertz: V = (2/5)·K·delta^2.5 (hertz.hertz_potential). Pocket: V = Kc·Z²/2 (Z <= Cp),
+    Kc·Cp²/2 + Kc·Cp·(Z − Cp) + (2/5)·Kn·(Z − Cp)^2.5 beyond (pocket.pocket_potential) of the
+    approach Z of the pocket's shape (pocket.pocket_contact_offset, as rhs). Rim: K_rim·(e − Cg)²/2
+    (guide_land.rim_potential). Load: −F·x_ring. Gravity (along −Z):
     g·(m_b·Σ z_ball + m_i·z_ring + m_cage·z_cage). Cage: ½·vᵀM(q)v of the floating-frame body,
     v = (R', w_body, q'), plus the modal strain energy ½·Σ omega_k²·q_k².
     """
@@ -67,24 +102,24 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
         ev += mb * p[P_GRAV] * rb * math.sin(psi)
         ek += 0.5 * ib * (y[o + BALL_W_X] ** 2 + y[o + BALL_W_R] ** 2 + y[o + BALL_W_T] ** 2)
         for c in range(1 + flags[F_INNER_HALVES]):      # one-piece ring: no second inner half
-            if c == 0:
+            if c == CONTACT_OUTER:
                 xc_g = p[P_XO]
                 rc_g = p[P_RO]
                 f = p[P_FE]
-                kind = 0
+                kind = RACE_OUTER
             else:
-                x0 = p[P_XIL] if c == 1 else p[P_XIR]
-                rr0 = p[P_RIL] if c == 1 else p[P_RIR]
+                x0 = p[P_XIL] if c == CONTACT_INNER_LEFT else p[P_XIR]
+                rr0 = p[P_RIL] if c == CONTACT_INNER_LEFT else p[P_RIR]
                 xc_g, rc_g = ring_point_in_plane(psi, x0, rr0, xi, yi, zi, ty, tz)
                 f = p[P_FI]
-                kind = 1
+                kind = RACE_INNER
             delta, ca, sa = race_contact(xb, rb, xc_g, rc_g, f, dw)
             if delta > 0.0:
                 if flags[F_HERTZ_FIXED]:
                     K = _hertz_lookup(htab, kind, math.cos(p[P_ALPHA0]))[0]
                 else:
                     K = _hertz_lookup(htab, kind, ca)[0]
-                ev += 0.4 * K * delta ** 2.5
+                ev += hertz_potential(K, delta)
         # pocket (exact pose of its interface node, as in rhs)
         pocket_pose(j, y, c0, m0, cage, scr[1], scr[3], scr[4], scr[5], scr[6])
         ax = scr[5, 0]
@@ -93,50 +128,21 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
         dx = xb - scr[3, 0]
         dy = rb * math.cos(psi) - scr[3, 1]
         dz = rb * math.sin(psi) - scr[3, 2]
-        # cylindrical pocket: offset from its axis; spherical: from its centre (as rhs)
-        da = dx * ax + dy * ay + dz * az if flags[F_POCKET_SHAPE] == 0 else 0.0
-        ux = dx - da * ax
-        uy = dy - da * ay
-        uz = dz - da * az
-        zz = math.sqrt(ux * ux + uy * uy + uz * uz)
-        cp = p[P_CP]
-        kc = p[P_KC]
-        if zz <= cp:
-            ev += 0.5 * kc * zz * zz
-        else:
-            ev += 0.5 * kc * cp * cp + kc * cp * (zz - cp) + 0.4 * p[P_KN] * (zz - cp) ** 2.5
+        # the approach the pocket law of rhs acts on (cylinder: from the axis; sphere: from the
+        # centre; cone: from the wall's generator; ellipse: from the bore), and its potential
+        zz = pocket_contact_offset(dx, dy, dz, ax, ay, az, flags[F_POCKET_SHAPE], p[P_POCKET_CONE],
+                                   p[P_RPOCKET], p[P_POCKET_B])[6]
+        ev += pocket_potential(zz, p[P_CP], p[P_KC], p[P_KN])
     # ring (translation + tilt) and cage
     ek += 0.5 * p[P_MI] * (y[r0 + RING_VX] ** 2 + y[r0 + RING_VY] ** 2 + y[r0 + RING_VZ] ** 2)
     ev += p[P_GRAV] * (p[P_MI] * zi + cage.mass[0] * y[c0 + CAGE_Z])
     ek += 0.5 * p[P_IID] * (y[r0 + RING_TILT_Y_DOT] ** 2 + y[r0 + RING_TILT_Z_DOT] ** 2)
-    stiff = cage.stiffness
-    n = stiff.shape[0]
-    q = y[m0:m0 + n]
-    v = cage.rhs                 # work array: the velocity (R', w_body, q')
-    v[0] = y[c0 + CAGE_VX]
-    v[1] = y[c0 + CAGE_VY]
-    v[2] = y[c0 + CAGE_VZ]
-    v[3] = scr[1, 0]
-    v[4] = scr[1, 1]
-    v[5] = scr[1, 2]
-    for k in range(n):
-        v[6 + k] = y[m0 + n + k]
-        ev += 0.5 * stiff[k] * q[k] * q[k]
-    Mmat = cage.Mmat
-    deformed_moments(q, cage.second, cage.Sx, cage.SS, cage.U, cage.Wab)
-    mass_matrix(A, q, cage.mass[0], cage.first, cage.S1, cage.Mff, cage.U, cage.Wab, Mmat)
-    for i in range(6 + n):
-        for k in range(6 + n):
-            ek += 0.5 * v[i] * Mmat[i, k] * v[k]
+    ek, ev = _add_cage_energy(y, c0, m0, cage, A, scr[1], ek, ev)
     # the rim's potential: offset from the outer land's centre (the origin) or the inner ring's;
-    # a ball-riding cage has no rim (dynamics._cage_guidance)
-    guidance = flags[F_GUIDANCE]
-    if guidance == 1:
-        e = math.sqrt((y[c0 + CAGE_Y] - yi) ** 2 + (y[c0 + CAGE_Z] - zi) ** 2)
-    else:
-        e = math.sqrt(y[c0 + CAGE_Y] ** 2 + y[c0 + CAGE_Z] ** 2)
-    if guidance != 2 and e > p[P_CG]:
-        ev += 0.5 * p[P_KRIM] * (e - p[P_CG]) ** 2
+    # a ball-riding cage has no rim (guidance_kernels._cage_guidance)
+    if flags[F_GUIDANCE] != GUIDANCE_BALLS:
+        e = rim_offset(flags[F_GUIDANCE], y[c0 + CAGE_Y], y[c0 + CAGE_Z], yi, zi)
+        ev += rim_potential(e, p[P_CG], p[P_KRIM])
     f3 = np.empty(3)
     load_at(t, load_table, impacts, f3)
     ev -= f3[0] * xi + f3[1] * yi + f3[2] * zi

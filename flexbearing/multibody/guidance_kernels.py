@@ -14,8 +14,9 @@ from flexbearing.multibody.model import (
     P_R1, P_CG, P_L3, P_KRIM, P_MURIM, P_ETA0, P_EPSMAX, P_LAND_L, F_DRAG, F_LAND, F_GUIDANCE, WR_P_LAND,
     WR_P_STRUCTURAL,
 )
+from flexbearing.mesh.cage_geometry import GUIDANCE_BALLS, GUIDANCE_INNER, GUIDANCE_OUTER
 from flexbearing.multibody.geometry import cross
-from flexbearing.multibody.guide_land import guide_land_force
+from flexbearing.multibody.guide_land import guide_land_force, land_count, rim_force
 from flexbearing.multibody.kernel_state import RingLoad
 
 
@@ -39,11 +40,10 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
     cg = p[P_CG]
     eta = p[P_ETA0] if flags[F_LAND] else 0.0
     mu = p[P_MURIM] if flags[F_DRAG] else 0.0
-    # n lands of width w: P_LAND_L = n·w, P_L3 = n·w³  ->  n = sqrt(P_LAND_L³ / P_L3)
-    n_lands = int(round(math.sqrt(p[P_LAND_L] ** 3 / p[P_L3])))
+    n_lands = land_count(p[P_LAND_L], p[P_L3])
     fy, fz, mx = guide_land_force(yc, zc, vy, vz, omega_c, 0.0, p[P_R1], p[P_LAND_L] / n_lands, cg,
                                   eta, p[P_EPSMAX], True, p[P_KRIM], mu, n_lands)
-    frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
+    frim = rim_force(e, cg, p[P_KRIM])
     return GuidanceLoad(fy, fz, mx, e / cg, frim)
 
 
@@ -65,9 +65,9 @@ def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flag
     the cage; zero force, eps = 0.
     """
     g = flags[F_GUIDANCE]
-    if g == 0:
+    if g == GUIDANCE_OUTER:
         return _guide_land(yc, zc, vyc, vzc, omega_c, p, flags)
-    if g == 2:
+    if g == GUIDANCE_BALLS:
         return GuidanceLoad(0.0, 0.0, 0.0, 0.0, 0.0)
     ey = yc - yi
     ez = zc - zi
@@ -75,11 +75,11 @@ def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flag
     cg = p[P_CG]
     eta = p[P_ETA0] if flags[F_LAND] else 0.0
     mu = p[P_MURIM] if flags[F_DRAG] else 0.0
-    n_lands = int(round(math.sqrt(p[P_LAND_L] ** 3 / p[P_L3])))
+    n_lands = land_count(p[P_LAND_L], p[P_L3])
     fy, fz, mx = guide_land_force(ey, ez, vyc - vyi, vzc - vzi, omega_c, omega_i, p[P_R1],
                                   p[P_LAND_L] / n_lands, cg, eta, p[P_EPSMAX], True, p[P_KRIM], mu,
                                   n_lands)
-    frim = p[P_KRIM] * (e - cg) if e > cg else 0.0
+    frim = rim_force(e, cg, p[P_KRIM])
     return GuidanceLoad(fy, fz, mx, e / cg, frim)
 
 
@@ -87,7 +87,7 @@ def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flag
 def guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl):
     """An inner-ring land (`_cage_guidance`) puts the opposite of its force and torque on the ring,
     the force applied at the cage centre (so the pair conserves angular momentum)."""
-    if flags[F_GUIDANCE] != 1:
+    if flags[F_GUIDANCE] != GUIDANCE_INNER:
         return rl
     m1, m2, m3 = cross(xc - ring.x, yc - ring.y, zc - ring.z, 0.0, -g.fy, -g.fz)
     return RingLoad(rl.fx, rl.fy - g.fy, rl.fz - g.fz, rl.mx + (m1 - g.mx), rl.my + m2, rl.mz + m3)
@@ -101,7 +101,7 @@ def land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, w_b,
     relative to the ring. P_structural = sum_k d_k·q_k'²."""
     lfy, lfz, lmx, frim = g.fy, g.fz, g.mx, g.rim_force
     wx_inertial = A[0, 0] * w_b[0] + A[0, 1] * w_b[1] + A[0, 2] * w_b[2]
-    if flags[F_GUIDANCE] == 1:
+    if flags[F_GUIDANCE] == GUIDANCE_INNER:
         ey_ = yc - ring.y
         ez_ = zc - ring.z
         p_land = lfy * (vyc - ring.vy) + lfz * (vzc - ring.vz) + lmx * (wx_inertial - omega_i)

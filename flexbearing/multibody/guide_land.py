@@ -58,11 +58,45 @@ import math
 
 from numba import njit
 
+from flexbearing.common.validation import require_range
+from flexbearing.mesh.cage_geometry import GUIDANCE_INNER
+from flexbearing.multibody.model_layout import P_CG, P_KRIM, P_L3, P_LAND_L, P_MURIM, P_R1
+
 
 @njit(cache=True)
 def rim_stiffness(E_eff, width):
     """Default rim-contact penalty stiffness k_rim = (pi/4)·E'·L, N/m (see module docstring)."""
     return 0.25 * math.pi * E_eff * width
+
+
+@njit(cache=True, inline="always")
+def land_count(lands_width, lands_width_cubed):
+    """n of n identical lands of width w from the model's n·w and n·w³ (P_LAND_L, P_L3;
+    `fill_guide_land_parameters`): n = sqrt((n·w)³/(n·w³))."""
+    return int(round(math.sqrt(lands_width ** 3 / lands_width_cubed)))
+
+
+@njit(cache=True, inline="always")
+def rim_force(e, Cg, k_rim):
+    """Normal force of the rim penalty contact, N: k_rim·(e − Cg) for e > Cg, else 0 (module docstring)."""
+    return k_rim * (e - Cg) if e > Cg else 0.0
+
+
+@njit(cache=True)
+def rim_potential(e, Cg, k_rim):
+    """Potential of `rim_force`, J: k_rim·(e − Cg)²/2 for e > Cg, else 0."""
+    return 0.5 * k_rim * (e - Cg) ** 2 if e > Cg else 0.0
+
+
+@njit(cache=True)
+def rim_offset(guidance, yc, zc, yi, zi):
+    """|e| of the cage centre (yc, zc) from the centre of the land that guides it, m: the outer
+    ring's (the origin) or, for guidance code GUIDANCE_INNER, the inner ring's (yi, zi)
+    (flexbearing.mesh.cage_geometry.GUIDANCES; a ball-riding cage's offset from the origin only scales
+    its recorded eccentricity)."""
+    if guidance == GUIDANCE_INNER:
+        return math.sqrt((yc - yi) ** 2 + (zc - zi) ** 2)
+    return math.sqrt(yc * yc + zc * zc)
 
 
 @njit(cache=True)
@@ -115,8 +149,33 @@ def guide_land_force(ey, ez, vy, vz, omega_cage, omega_land, R1, L, Cg, eta, eps
     fy = -wr * cy - wt * cz
     fz = -wr * cz + wt * cy
     if e > Cg:
-        frim = k_rim * (e - Cg)
+        frim = rim_force(e, Cg, k_rim)
         fy -= frim * cy
         fz -= frim * cz
         torque -= mu_rim * frim * R1 * math.tanh(omega_cage - omega_land)
     return fy, fz, torque
+
+
+def fill_guide_land_parameters(p, bearing, E_eff, k_rim, mu_rim):
+    """The guide land's slots of the model's parameter vector p (flexbearing.multibody.model_layout;
+    flexbearing.multibody.model.build_model): R1 the cage's guiding radius (its outside on the outer
+    ring's land, its bore on the inner ring's), Cg the radial clearance (Bearing.guide_clearance),
+    the lands' n·L³ and n·L (the inner land runs under the whole bore; the relief and the two
+    lands are on the outside), the rim's k_rim (model option rim_stiffness, N/m in [1e5, 1e13];
+    None: `rim_stiffness` of E_eff, the ball–cage E', and n·L) and its friction mu_rim ([0, 1])."""
+    cage = bearing.cage
+    p[P_R1] = cage.inner_radius if cage.guidance == "inner" else cage.outer_radius
+    p[P_CG] = bearing.guide_clearance
+    if cage.guidance == "inner":
+        p[P_L3] = cage.width ** 3
+        p[P_LAND_L] = cage.width
+    elif cage.relief_depth > 0.0:
+        p[P_L3] = 2.0 * cage.land_width ** 3
+        p[P_LAND_L] = 2.0 * cage.land_width
+    else:
+        p[P_L3] = cage.width ** 3
+        p[P_LAND_L] = cage.width
+    if k_rim is None:
+        k_rim = rim_stiffness(E_eff, p[P_LAND_L])
+    p[P_KRIM] = require_range("model.rim_stiffness", k_rim, 1e5, 1e13, unit="N/m")
+    p[P_MURIM] = require_range("model.rim_friction", mu_rim, 0.0, 1.0)

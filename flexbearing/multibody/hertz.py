@@ -192,6 +192,21 @@ def hertz_point_contact(Rx, Ry, E_eff, Q):
     return a, b, p0, delta
 
 
+@njit(cache=True, inline="always")
+def hertz_load(K, delta):
+    """Hertz point-contact load Q = K·delta^1.5, N (K the contact's constant, N/m^1.5; delta the
+    approach, m; Harris & Kotzalas, Essential Concepts of Bearing Technology, 2007, §6.3). The
+    race contacts of the dynamics (flexbearing.multibody.race_kernels) take their elastic load from it."""
+    return K * delta * math.sqrt(delta)
+
+
+@njit(cache=True)
+def hertz_potential(K, delta):
+    """Elastic energy of a Hertz point contact, J: V = ∫ K·d^1.5 dd = (2/5)·K·delta^2.5 (the
+    potential of `hertz_load`; flexbearing.multibody.energy)."""
+    return 0.4 * K * delta ** 2.5
+
+
 @njit(cache=True)
 def hertz_stiffness(Rx, Ry, E_eff):
     """Load–deflection constant K_H of Q = K_H·delta^1.5, N/m^1.5 (exact ellipticity).

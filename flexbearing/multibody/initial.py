@@ -112,7 +112,7 @@ def control_contact(model, res) -> int:
     ao = _semi_major_axis(model, 0, qo, res[0][1])
     ai = _semi_major_axis(model, 1, qi, res[ci][1])
     c = control_race(int(model.flags[M.F_ATTITUDE]), qo, ao, res[0][3], res[0][4], qi, ai, res[ci][3], res[ci][4])
-    return -1 if c < 0 else (0 if c == 0 else ci)
+    return -1 if c < 0 else (M.CONTACT_OUTER if c == M.RACE_OUTER else ci)
 
 
 class _Races(NamedTuple):
@@ -365,7 +365,7 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
     if refine:
         om = nominal_cage_speed(speed_rad_s, dw, dm, _mean_alpha(qs))
         qs = quasi_static(model, speed_rad_s, load, ring_guess=qs["ring"], omega_orbit=om)
-        if model.flags[M.F_ATTITUDE] != 0 and speed_rad_s > 0.0:
+        if model.flags[M.F_ATTITUDE] != M.ATTITUDE_FREE and speed_rad_s > 0.0:
             # race control: orbit at the mean race-control orbital speed (module docstring)
             oms = [k[0] for k in (race_control_ball_kinematics(model, qs, j, speed_rad_s) for j in range(z))
                    if k is not None]

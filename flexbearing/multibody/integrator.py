@@ -103,6 +103,37 @@ class SimulationUnstable(RuntimeError):
 
 
 @njit(cache=True, nogil=True)
+def _error_norm(y, ytmp, K, E, h, tol, scale, relmask):
+    """(err, finite) of a step from y to ytmp (`_rk_loop`): the RMS over the state of the error
+    estimate h·Σ_j E_j·K_j scaled by tol·(scale + relmask·max(|y|, |ytmp|)) (Hairer, Nørsett &
+    Wanner, Solving ODE I, 1993, §II.4, eq. 4.11), and whether ytmp and the last stage are finite
+    (err = 1e10 when not)."""
+    n = y.shape[0]
+    s = K.shape[0]
+    err = 0.0
+    finite = True
+    for q in range(n):
+        e = 0.0
+        for j in range(s):
+            if E[j] != 0.0:
+                e += E[j] * K[j, q]
+        e *= h
+        a = abs(y[q])
+        b = abs(ytmp[q])
+        if b > a:
+            a = b
+        sc = tol * (scale[q] + relmask[q] * a)
+        r = e / sc
+        err += r * r
+        if not math.isfinite(ytmp[q]) or not math.isfinite(K[s - 1, q]):
+            finite = False
+    err = math.sqrt(err / n)
+    if not finite:
+        err = 1e10
+    return err, finite
+
+
+@njit(cache=True, nogil=True)
 def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, ld, imp,
              work, scale, relmask, K, ytmp, ynew, max_steps, cage, mon, ts, Ys, Pk, Ypk, n_out, h_max):
     """Adaptive explicit RK (FSAL tableau A, weights B, error weights E) from t to t_end, in place.
@@ -137,7 +168,7 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
         h = h_max
     while t < t_end:
         if n_acc + n_rej >= max_steps:
-            return t, h, n_acc, n_rej, 4
+            return t, h, n_acc, n_rej, TOO_MANY_STEPS
         last = False
         if t + h >= t_end:
             h = t_end - t
@@ -151,29 +182,10 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
                         acc += h * aij * K[j, q]
                 ytmp[q] = acc
             if i == s - 1:
-                work[zb, 10] = 0.0  # reset the status before the FSAL stage (at the new state)
+                work[zb, M.WR_STATUS] = 0.0  # reset the status before the FSAL stage (at the new state)
             D_rhs(t + C[i] * h, ytmp, K[i], p, flags, htab, ttab, sp, ld, imp, work, cage)
         # the last stage state is the 5th-order solution (FSAL): ytmp
-        err = 0.0
-        finite = True
-        for q in range(n):
-            e = 0.0
-            for j in range(s):
-                if E[j] != 0.0:
-                    e += E[j] * K[j, q]
-            e *= h
-            a = abs(y[q])
-            b = abs(ytmp[q])
-            if b > a:
-                a = b
-            sc = tol * (scale[q] + relmask[q] * a)
-            r = e / sc
-            err += r * r
-            if not math.isfinite(ytmp[q]) or not math.isfinite(K[s - 1, q]):
-                finite = False
-        err = math.sqrt(err / n)
-        if not finite:
-            err = 1e10
+        err, finite = _error_norm(y, ytmp, K, E, h, tol, scale, relmask)
         if err <= 1.0:
             # accept
             t_new = t_end if last else t + h
@@ -196,8 +208,8 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
                 take_peak(peak, y_peak, Pk[i_s], Ypk[i_s])
                 i_s += 1
             n_out[0] = i_s
-            if work[zb, 10] != 0.0:
-                return t, h, n_acc, n_rej, 1
+            if work[zb, M.WR_STATUS] != 0.0:
+                return t, h, n_acc, n_rej, UNSTABLE_STATUS
             e1 = err if err > 1e-10 else 1e-10
             fac = 0.9 * e1 ** (-(expo - 0.75 * beta)) * err_old ** beta
             if fac > 4.0:
@@ -219,9 +231,9 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
             h = h * fac
             if h < 1e-12:
                 if not finite:
-                    return t, h, n_acc, n_rej, 2
-                return t, h, n_acc, n_rej, 3
-    return t, h, n_acc, n_rej, 0
+                    return t, h, n_acc, n_rej, UNSTABLE_NONFINITE
+                return t, h, n_acc, n_rej, STEP_TOO_SMALL
+    return t, h, n_acc, n_rej, OK
 
 
 # Dormand–Prince's continuous extension of order 4 (Hairer, Nørsett & Wanner, Solving ODEs I,

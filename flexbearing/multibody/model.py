@@ -102,86 +102,25 @@ from flexbearing.multibody.floating_frame import CageArrays, new_workspace, rigi
 from flexbearing.multibody.hertz import effective_modulus, ellipticity, hertz_stiffness, race_curvature_radii
 from flexbearing.multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table
 from flexbearing.multibody.geometry import inner_groove_centres, outer_groove_centre
-from flexbearing.multibody.guide_land import rim_stiffness
+from flexbearing.multibody.guide_land import fill_guide_land_parameters
+from flexbearing.multibody.pocket import fill_pocket_parameters
 from flexbearing.multibody import state_layout as SL
 
-# ---------------------------------------------------------------- parameter indices
-# Viscosities: the guide-land film, the churning drag and the film thickness use eta(T) at the oil
-# temperature; the 4106 traction fit is evaluated with eta0 at the reference (ambient, 20 °C)
-# temperature and the oil temperature T0 in its Tb group, as the fit prescribes (flexbearing.multibody.traction:
-# with eta(100 °C) the fit returns mu ≈ 0.8).
-P_DW, P_DM, P_Z, P_FE, P_FI = 0, 1, 2, 3, 4
-P_XO, P_RO = 5, 6                      # outer groove centre (x, r)
-P_XIL, P_RIL, P_XIR, P_RIR = 7, 8, 9, 10  # inner half-groove centres (ring frame)
-P_MB, P_IB = 11, 12                    # ball mass, ball moment of inertia
-P_MI, P_IID, P_IIP = 13, 14, 15        # inner ring mass, diametral and polar inertia
-P_MC, P_ICP, P_ICD = 16, 17, 18        # cage mass, polar and diametral inertia
-P_EBR = 19                             # E' ball–race
-P_CP, P_KC, P_KN, P_RPOCKET = 20, 21, 22, 23  # pocket clearance, linear const, Hertz const, pocket radius
-P_RCAGE_POCKET = 24                    # radius of the pocket centres on the cage (= dm/2)
-P_R1, P_CG, P_L3, P_KRIM, P_MURIM = 25, 26, 27, 28, 29  # guide land
-P_ETA0, P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_ALPHA_P = 30, 31, 32, 33, 34, 35
-P_SLIN, P_UMIN, P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX = 36, 37, 38, 39, 40, 41
-P_ALPHA0 = 42                          # free contact angle (rad)
-P_LAND_L = 43                          # effective land width used for the Petroff torque, m
-P_ETA_TRACTION = 44                    # eta0 of the traction fit: viscosity at the reference (ambient) temperature
-P_ATT_RATE = 45                        # relaxation rate of the race-control ball attitude constraint, 1/s
-P_UREG = 46                            # regularisation speed of the fit's slide-to-roll ratio, m/s
-P_OIL_WREF = 47                        # reference speed of the cavity oil fraction (rad/s; 0: fixed), oil_supply
-P_SPIN_SCALE_INNER = 48                # diagnostic factor on the inner contacts' spin moment (1 = the law)
-P_POCKET_CONE = 49                     # conical pocket's half-angle, rad (> 0 opens outwards; flexbearing.multibody.pocket)
-P_POCKET_B = 50                        # elliptical pocket's circumferential semi-axis, m (flexbearing.multibody.pocket)
-N_PARAMS = 51
-
-# ---------------------------------------------------------------- switch indices
-F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES = 0, 1, 2, 3, 4
-F_HERTZ_FIXED, F_ROLLRES, F_LAND = 5, 6, 7
-F_ATTITUDE = 8                         # ball attitude: 0 free, 1 outer-race control, 2 inner, 3 Jones, 4 no pivoting
-F_ATT_RING = 9                         # race control / no pivoting: gyroscopic friction reaction on the inner ring
-F_TRACTION_LAW = 10                    # the traction law of traction_table: index in TRACTION_LAWS
-F_INNER_HALVES = 11                    # inner race contacts per ball: 2 split ring, 1 one-piece (contacts 1..halves)
-F_GUIDANCE = 12                        # what guides the cage: index in GUIDANCES (outer / inner land, balls)
-F_POCKET_SHAPE = 13                    # index in POCKET_SHAPES (cylindrical, spherical, conical, elliptical)
-F_BALL_DRAG_MOMENT = 14                # viscous drag moment of the mixture on the spinning balls
-N_FLAGS = 15
-BALL_ATTITUDES = ("free", "outer", "inner", "jones", "no_pivot")
-
-# ---------------------------------------------------------------- Hertz table columns
-# table[kind, i, col] at cos(alpha) = i/(n-1); kind 0 outer, 1 inner.
-H_K, H_ELL, H_EK, H_R, H_RX, H_RY = 0, 1, 2, 3, 4, 5
-N_HCOLS = 6
-N_HGRID = 201
-
-# ---------------------------------------------------------------- work array (per ball row)
-# work[j, W_*] for ball j; contacts c = 0 outer, 1 inner-left, 2 inner-right at W_C0 + c*N_WC.
-# WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING: power the contact's traction (sliding and spin),
-# EHL rolling forces and normal damping dissipate, W (flexbearing.multibody.power_loss)
-N_WC = 14
-(WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR, WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT,
- WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING) = range(N_WC)
-W_C0 = 0
-W_POCKET_Q = 3 * N_WC          # pocket normal force magnitude, N
-W_POCKET_Z = W_POCKET_Q + 1    # ball offset from the pocket axis, m
-W_POCKET_T = W_POCKET_Q + 2    # pocket force component on the ball along e_t, N
-W_DRAG = W_POCKET_Q + 3        # churning drag, N
-# pocket-interface force on the CAGE (inertial X, Y, Z, N) and its untilted lever from the cage
-# centre (cage-fixed, m): what a flexible cage maps to its interface node j (Phi^T·F)
-W_PK_FX, W_PK_FY, W_PK_FZ = W_POCKET_Q + 4, W_POCKET_Q + 5, W_POCKET_Q + 6
-W_PK_LY, W_PK_LZ = W_POCKET_Q + 7, W_POCKET_Q + 8
-# power the pocket's lubricant (and damping, friction) and the churning drag dissipate, W
-W_P_POCKET, W_P_CHURNING = W_POCKET_Q + 9, W_POCKET_Q + 10
-N_WORK = W_POCKET_Q + 11
-# last row (index Z) holds the cage / ring aggregates
-WR_FX, WR_FY, WR_FZ = 0, 1, 2          # external load on the ring (written by load_at)
-WR_LAND_FY, WR_LAND_FZ, WR_LAND_M = 3, 4, 5  # guide-land force on the cage (N) and torque (N·m)
-WR_RIM_F = 6                           # rim contact force magnitude, N
-WR_RING_TORQUE = 7                     # torque the races exert on the inner ring about X, N·m
-WR_EPS = 8                             # cage relative eccentricity e/Cg
-WR_OMEGA_I = 9                         # prescribed inner-ring speed, rad/s
-WR_STATUS = 10                         # > 0: first bad contact flagged (see dynamics)
-WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE = 11, 12, 13
-WR_P_LAND = 14                         # power dissipated by the guide-land film and rim friction, W
-WR_P_STRUCTURAL = 15                   # power dissipated by the cage's modal damping, W
+from flexbearing.multibody.model_layout import (  # noqa: F401  (the layout's names, read as model.P_* etc.)
+    P_DW, P_DM, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_MI, P_IID, P_IIP, P_MC,
+    P_ICP, P_ICD, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_RCAGE_POCKET, P_R1, P_CG, P_L3, P_KRIM, P_MURIM, P_ETA0,
+    P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_ALPHA_P, P_SLIN, P_UMIN, P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX,
+    P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ATT_RATE, P_UREG, P_OIL_WREF, P_SPIN_SCALE_INNER, P_POCKET_CONE,
+    P_POCKET_B, N_PARAMS, F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_ROLLRES,
+    F_LAND, F_ATTITUDE, F_ATT_RING, F_TRACTION_LAW, F_INNER_HALVES, F_GUIDANCE, F_POCKET_SHAPE,
+    F_BALL_DRAG_MOMENT, N_FLAGS, BALL_ATTITUDES, ATTITUDE_FREE, ATTITUDE_OUTER, ATTITUDE_INNER, ATTITUDE_JONES,
+    ATTITUDE_NO_PIVOT, RACE_CONTACTS, CONTACT_OUTER, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT, RACE_OUTER,
+    RACE_INNER, H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HCOLS, N_HGRID, N_WC, W_C0, W_POCKET_Q, W_POCKET_Z,
+    W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ, W_P_POCKET, W_P_CHURNING, N_WORK, WR_FX,
+    WR_FY, WR_FZ, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I, WR_STATUS,
+    WR_BAD_BALL, WR_BAD_CONTACT, WR_BAD_VALUE, WR_P_LAND, WR_P_STRUCTURAL, WC_Q, WC_COS, WC_SIN, WC_P0, WC_UR,
+    WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING, WC_P_DAMPING,
+)
 
 
 class Model(NamedTuple):
@@ -330,6 +269,43 @@ def _option(options: dict, key: str):
     return options[key] if key in options else DEFAULT_OPTIONS[key]
 
 
+def _fill_inner_ring(p, bearing, options) -> None:
+    """The inner ring's mass and inertias in p (assumed geometry, module docstring; model options
+    inner_ring_mass, inner_ring_added_mass)."""
+    dw, dm = bearing.ball_diameter, bearing.pitch_diameter
+    ro_i, ri_i, w_i = 0.5 * (dm - 0.5 * dw), 0.5 * bearing.bore_diameter, bearing.width
+    m_ring = _option(options, "inner_ring_mass")
+    if m_ring is None:
+        m_ring = 0.85 * bearing.ring_material.density * math.pi * (ro_i ** 2 - ri_i ** 2) * w_i
+    m_ring = require_range("model.inner_ring_mass", m_ring, 1e-3, 1e3, unit="kg")
+    m_ring += require_range("model.inner_ring_added_mass", _option(options, "inner_ring_added_mass"), 0.0, 1e4, unit="kg")
+    p[P_MI] = m_ring
+    p[P_IID] = m_ring * (3.0 * (ro_i ** 2 + ri_i ** 2) + w_i ** 2) / 12.0
+    p[P_IIP] = 0.5 * m_ring * (ro_i ** 2 + ri_i ** 2)
+
+
+def _switches(options, bearing, n_slices) -> np.ndarray:
+    """The switches of the model options (flags, F_*) but the traction law, the guidance and the
+    pocket shape, which build_model sets."""
+    flags = np.zeros(N_FLAGS, dtype=np.int64)
+    flags[F_TRACTION] = bool(_option(options, "traction"))
+    flags[F_DRAG] = bool(_option(options, "drag"))
+    flags[F_ROLLRES] = bool(_option(options, "rolling_resistance"))  # active only with drag on
+    flags[F_LAND] = bool(_option(options, "drag"))
+    flags[F_DAMPING] = bool(_option(options, "damping"))
+    flags[F_TRANSVERSE] = bool(_option(options, "transverse_traction"))
+    flags[F_NSLICES] = n_slices
+    flags[F_INNER_HALVES] = bearing.n_inner_halves
+    flags[F_HERTZ_FIXED] = bool(_option(options, "hertz_fixed_angle"))
+    attitude = _option(options, "ball_attitude")
+    if attitude not in BALL_ATTITUDES:
+        raise InputError(f"model.ball_attitude = {attitude!r} is not known; allowed: {list(BALL_ATTITUDES)}")
+    flags[F_ATTITUDE] = BALL_ATTITUDES.index(attitude)
+    flags[F_ATT_RING] = bool(_option(options, "attitude_ring_reaction"))
+    flags[F_BALL_DRAG_MOMENT] = bool(_option(options, "ball_drag_moment"))
+    return flags
+
+
 def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_body=None) -> Model:
     """Model arrays for `bearing` lubricated with `oil` (module docstring for every entry).
 
@@ -370,61 +346,16 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
                                                                   *bearing.groove_layout)
     p[P_MB] = bearing.ball_mass
     p[P_IB] = 0.4 * bearing.ball_mass * (0.5 * dw) ** 2
-    # inner ring (assumed geometry, module docstring)
-    ro_i, ri_i, w_i = 0.5 * (dm - 0.5 * dw), 0.5 * bearing.bore_diameter, bearing.width
-    m_ring = _option(options, "inner_ring_mass")
-    if m_ring is None:
-        m_ring = 0.85 * rm.density * math.pi * (ro_i ** 2 - ri_i ** 2) * w_i
-    m_ring = require_range("model.inner_ring_mass", m_ring, 1e-3, 1e3, unit="kg")
-    m_ring += require_range("model.inner_ring_added_mass", _option(options, "inner_ring_added_mass"), 0.0, 1e4, unit="kg")
-    p[P_MI] = m_ring
-    p[P_IID] = m_ring * (3.0 * (ro_i ** 2 + ri_i ** 2) + w_i ** 2) / 12.0
-    p[P_IIP] = 0.5 * m_ring * (ro_i ** 2 + ri_i ** 2)
+    _fill_inner_ring(p, bearing, options)
     mc, icp, icd = cage_mass_properties(cage)
     p[P_MC], p[P_ICP], p[P_ICD] = mc, icp, icd
     e_br = effective_modulus(bm.youngs_modulus, bm.poisson_ratio, rm.youngs_modulus, rm.poisson_ratio)
     e_bc = effective_modulus(bm.youngs_modulus, bm.poisson_ratio, cage.material.youngs_modulus,
                              cage.material.poisson_ratio)
     p[P_EBR] = e_br
-    # ball–pocket (paper §2.3.1): linear Kc = 11/Cp up to Cp, Hertz beyond (ball in a cylinder:
-    # across the pocket 1/R = 1/Rb − 1/Rp (conforming), along the pocket axis R = Rb; ball in a
-    # sphere: conforming both ways, flexbearing.multibody.pocket.pocket_curvature_radii)
-    cp = bearing.pocket_clearance
-    rb, rp = 0.5 * dw, 0.5 * cage.pocket_diameter
-    p[P_CP], p[P_KC] = cp, 11.0 / cp
-    if cage.pocket_shape == "spherical":
-        r_conf = 1.0 / (1.0 / rb - 1.0 / rp)
-        p[P_KN] = hertz_stiffness(r_conf, r_conf, e_bc)
-    elif cage.pocket_shape == "elliptical":   # at the circumferential vertex, radius A²/B (pocket docstring)
-        r_across = 1.0 / (1.0 / rb - 1.0 / (rp * rp / (0.5 * cage.pocket_circumferential_diameter)))
-        p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
-    else:
-        r_across = 1.0 / (1.0 / rb - 1.0 / rp)
-        p[P_KN] = hertz_stiffness(rb, r_across, e_bc) if r_across > rb else hertz_stiffness(r_across, rb, e_bc)
-    p[P_RPOCKET] = rp
-    p[P_POCKET_CONE] = cage.pocket_cone_angle
-    p[P_POCKET_B] = 0.5 * cage.pocket_circumferential_diameter
-    p[P_RCAGE_POCKET] = 0.5 * dm
-    # guide land (short journal bearing, Ocvirk; flexbearing.multibody.guide_land): R1 the cage's
-    # guiding radius (its outside on the outer ring's land, its bore on the inner ring's), Cg radial
-    # clearance (Bearing.guide_clearance). The inner land runs under the whole bore (the relief and
-    # the two lands are on the outside).
-    p[P_R1] = cage.inner_radius if cage.guidance == "inner" else cage.outer_radius
-    p[P_CG] = bearing.guide_clearance
-    if cage.guidance == "inner":
-        p[P_L3] = cage.width ** 3
-        p[P_LAND_L] = cage.width
-    elif cage.relief_depth > 0.0:
-        p[P_L3] = 2.0 * cage.land_width ** 3
-        p[P_LAND_L] = 2.0 * cage.land_width
-    else:
-        p[P_L3] = cage.width ** 3
-        p[P_LAND_L] = cage.width
-    k_rim = _option(options, "rim_stiffness")
-    if k_rim is None:
-        k_rim = rim_stiffness(e_bc, p[P_LAND_L])
-    p[P_KRIM] = require_range("model.rim_stiffness", k_rim, 1e5, 1e13, unit="N/m")
-    p[P_MURIM] = require_range("model.rim_friction", _option(options, "rim_friction"), 0.0, 1.0)
+    # ball–pocket (paper §2.3.1) and guide land (Ocvirk short bearing and rim): each law fills its slots
+    fill_pocket_parameters(p, bearing, e_bc, _option(options, "pocket_friction"))
+    fill_guide_land_parameters(p, bearing, e_bc, _option(options, "rim_stiffness"), _option(options, "rim_friction"))
     # oil: the traction fit and the film models take eta0 "at ambient" (flexbearing.multibody.traction)
     p[P_ETA0] = oil.viscosity()                      # land film, film thickness: at the oil temperature
     p[P_ETA_TRACTION] = oil.viscosity(oil.temperature_ref_c)  # traction fit: "ambient" eta0 (traction.py)
@@ -436,27 +367,11 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
     p[P_ALPHA_P] = oil.pressure_viscosity_coeff
     p[P_SLIN], p[P_UMIN], p[P_ZETA] = s_lin, u_min, zeta
     p[P_UREG] = u_reg
-    p[P_MUPOCKET] = require_range("model.pocket_friction", _option(options, "pocket_friction"), 0.0, 1.0)
     p[P_GRAV] = require_range("model.gravity", _option(options, "gravity"), 0.0, 100.0, unit="m/s^2")
     p[P_EPSMAX] = eps_max
     p[P_ALPHA0] = bearing.free_contact_angle
 
-    flags = np.zeros(N_FLAGS, dtype=np.int64)
-    flags[F_TRACTION] = bool(_option(options, "traction"))
-    flags[F_DRAG] = bool(_option(options, "drag"))
-    flags[F_ROLLRES] = bool(_option(options, "rolling_resistance"))  # active only with drag on
-    flags[F_LAND] = bool(_option(options, "drag"))
-    flags[F_DAMPING] = bool(_option(options, "damping"))
-    flags[F_TRANSVERSE] = bool(_option(options, "transverse_traction"))
-    flags[F_NSLICES] = n_slices
-    flags[F_INNER_HALVES] = bearing.n_inner_halves
-    flags[F_HERTZ_FIXED] = bool(_option(options, "hertz_fixed_angle"))
-    attitude = _option(options, "ball_attitude")
-    if attitude not in BALL_ATTITUDES:
-        raise InputError(f"model.ball_attitude = {attitude!r} is not known; allowed: {list(BALL_ATTITUDES)}")
-    flags[F_ATTITUDE] = BALL_ATTITUDES.index(attitude)
-    flags[F_ATT_RING] = bool(_option(options, "attitude_ring_reaction"))
-    flags[F_BALL_DRAG_MOMENT] = bool(_option(options, "ball_drag_moment"))
+    flags = _switches(options, bearing, n_slices)
     p[P_SPIN_SCALE_INNER] = require_range("model.spin_moment_scale_inner", _option(options, "spin_moment_scale_inner"),
                                           0.1, 1000.0)
     p[P_ATT_RATE] = require_range("model.attitude_rate", _option(options, "attitude_rate"), 1e2, 1e6, unit="1/s")

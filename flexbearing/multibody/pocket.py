@@ -96,7 +96,16 @@ import math
 
 from numba import njit
 
+from flexbearing.common.validation import require_range
+from flexbearing.mesh.cage_geometry import POCKET_CYLINDRICAL, POCKET_ELLIPTICAL, POCKET_SHAPES, POCKET_SPHERICAL
 from flexbearing.multibody.hertz import hertz_stiffness
+from flexbearing.multibody.model_layout import (
+    P_CP, P_KC, P_KN, P_MUPOCKET, P_POCKET_B, P_POCKET_CONE, P_RCAGE_POCKET, P_RPOCKET,
+)
+
+# The paper's "lubricated gap" law: the linear branch carries this force at the pocket clearance,
+# Kc = POCKET_GAP_FORCE/Cp (module docstring)
+POCKET_GAP_FORCE = 11.0                 # N
 
 # Rigid cylinder, isoviscous, Reynolds outlet condition (Martin 1916 / Dowson & Higginson):
 MARTIN_OUTLET = 0.4751299200930563      # X_e = x_e/sqrt(2Rh0)
@@ -226,9 +235,9 @@ def pocket_contact_offset(dx, dy, dz, ax, ay, az, shape, cone_angle, semi_axial=
     e = d − u the part of the offset the wall's nearest point p + e + Rp·n follows:
     cylinder e = (d·a)·a, Z = |d − e|; sphere e = 0, Z = |d|; cone Z = rho·cos(beta) −
     s·sin(beta) (module docstring; no contact, Z = 0, for a ball on the axis or Z <= 0)."""
-    if shape == 1:
+    if shape == POCKET_SPHERICAL:
         return 0.0, 0.0, 0.0, dx, dy, dz, math.sqrt(dx * dx + dy * dy + dz * dz)
-    if shape == 3:
+    if shape == POCKET_ELLIPTICAL:
         return _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential)
     s = dx * ax + dy * ay + dz * az
     ex = s * ax
@@ -238,7 +247,7 @@ def pocket_contact_offset(dx, dy, dz, ax, ay, az, shape, cone_angle, semi_axial=
     uy = dy - ey
     uz = dz - ez
     rho = math.sqrt(ux * ux + uy * uy + uz * uz)
-    if shape == 0:
+    if shape == POCKET_CYLINDRICAL:
         return ex, ey, ez, ux, uy, uz, rho
     if rho < 1e-15:
         return dx, dy, dz, 0.0, 0.0, 0.0, 0.0
@@ -261,10 +270,10 @@ def pocket_axis_point(dx, dy, dz, ax, ay, az, shape, cone_angle):
     (the meridian plane's normal through the ball meets the axis there). The elliptical pocket's
     normal misses the axis: d·a, the axis point level with the ball (the node moment −(b − p)×F
     − M_b the dynamics apply does not depend on the point; only the recorded lever does)."""
-    if shape == 1:
+    if shape == POCKET_SPHERICAL:
         return 0.0
     s = dx * ax + dy * ay + dz * az
-    if shape == 0 or shape == 3:
+    if shape == POCKET_CYLINDRICAL or shape == POCKET_ELLIPTICAL:
         return s
     ux = dx - s * ax
     uy = dy - s * ay
@@ -280,14 +289,62 @@ def pocket_hertz_stiffness(ball_radius, pocket_radius, E_eff):
 
 
 @njit(cache=True)
+def pocket_gap_stiffness(Cp):
+    """Kc = POCKET_GAP_FORCE/Cp of the linear "lubricated gap" branch, N/m (module docstring)."""
+    return POCKET_GAP_FORCE / Cp
+
+
+@njit(cache=True)
+def pocket_film_radii(shape, ball_radius, pocket_radius, semi_circumferential):
+    """(R_xi, R_eta) of the pocket contact at its nominal point for the shape code (POCKET_SHAPES):
+    a cylinder's and a cone's (`pocket_curvature_radii`, module docstring: the cone's nominal
+    concave radius is Rp), a sphere's (`spherical_pocket_curvature_radii`), an ellipse's at its
+    circumferential vertex (concave radius A²/B, A = Rp). The film resistances (rhs) and the
+    Hertz constant (`pocket_hertz_constant`) are taken there."""
+    if shape == POCKET_SPHERICAL:
+        return spherical_pocket_curvature_radii(ball_radius, pocket_radius)
+    if shape == POCKET_ELLIPTICAL:
+        return pocket_curvature_radii(ball_radius, pocket_radius ** 2 / semi_circumferential)
+    return pocket_curvature_radii(ball_radius, pocket_radius)
+
+
+def pocket_hertz_constant(shape, ball_radius, pocket_radius, semi_circumferential, E_eff):
+    """Kn of the pocket's Hertz branch, N/m^1.5 (flexbearing.multibody.hertz.hertz_stiffness), for the
+    shape code: sphere both radii conforming; cylinder, cone and ellipse a point contact of
+    R_eta = Rb along the pocket axis and the conforming R_xi across it at the nominal contact
+    (`pocket_film_radii`), the larger radius first. The parameter fill of the model
+    (flexbearing.multibody.model.build_model)."""
+    r_across, rb = pocket_film_radii(shape, ball_radius, pocket_radius, semi_circumferential)
+    if shape == POCKET_SPHERICAL:
+        return hertz_stiffness(r_across, r_across, E_eff)
+    return hertz_stiffness(rb, r_across, E_eff) if r_across > rb else hertz_stiffness(r_across, rb, E_eff)
+
+
+@njit(cache=True, inline="always")
+def pocket_elastic_force(Z, Cp, Kc, Kn):
+    """Elastic ball–pocket normal force Q_el(Z) >= 0 for the approach Z >= 0, N (paper §2.3.1,
+    eq. for Q_cj; module docstring): Kc·Z up to the clearance Cp, Kc·Cp + Kn·(Z − Cp)^1.5 beyond.
+    The law the dynamics run (flexbearing.multibody.pocket_kernels)."""
+    if Z <= Cp:
+        return Kc * Z
+    pen = Z - Cp
+    return Kc * Cp + Kn * pen * math.sqrt(pen)
+
+
+@njit(cache=True)
+def pocket_potential(Z, Cp, Kc, Kn):
+    """Potential of `pocket_elastic_force`, J: Kc·Z²/2 (Z <= Cp), Kc·Cp²/2 + Kc·Cp·(Z − Cp) +
+    (2/5)·Kn·(Z − Cp)^2.5 beyond (flexbearing.multibody.energy)."""
+    if Z <= Cp:
+        return 0.5 * Kc * Z * Z
+    return 0.5 * Kc * Cp * Cp + Kc * Cp * (Z - Cp) + 0.4 * Kn * (Z - Cp) ** 2.5
+
+
+@njit(cache=True)
 def pocket_normal_force(Z, Cp, Kn):
-    """Signed ball–pocket normal force Q(Z), N (paper eq. for Q_cj; Kc = 11/Cp; module docstring)."""
-    z = abs(Z)
-    kc = 11.0 / Cp
-    if z <= Cp:
-        q = kc * z
-    else:
-        q = kc * Cp + Kn * (z - Cp) ** 1.5
+    """Signed ball–pocket normal force Q(Z), N: `pocket_elastic_force` of |Z| with Kc =
+    `pocket_gap_stiffness`, the sign of Z (paper eq. for Q_cj; module docstring)."""
+    q = pocket_elastic_force(abs(Z), Cp, pocket_gap_stiffness(Cp), Kn)
     return q if Z >= 0.0 else -q
 
 
@@ -319,10 +376,27 @@ def pocket_film_load(h, u_entrain, Rx, Ry, eta0):
 @njit(cache=True)
 def pocket_rolling_resistance(u_entrain, Rx, Ry, eta0):
     """Poiseuille rolling resistance on the ball, N, signed opposite to u_entrain:
-    F_R = 8·C_XP·lambda·(0.131·theta + 1.683)·eta0·|u|·sqrt(Rx·Ry) (module docstring)."""
-    k = Ry / Rx
-    f = 8.0 * MARTIN_PRESSURE_CENTRE * _bht_factor(k) * eta0 * abs(u_entrain) * math.sqrt(Rx * Ry)
+    F_R = 8·C_XP·lambda·(0.131·theta + 1.683)·eta0·|u|·sqrt(Rx·Ry) (module docstring;
+    `pocket_rolling_force` of `pocket_resistance_coefficients`)."""
+    c_roll, _, c_root = pocket_resistance_coefficients(Rx, Ry, eta0)
+    f = pocket_rolling_force(c_roll, c_root, u_entrain)
     return -f if u_entrain > 0.0 else f
+
+
+@njit(cache=True, inline="always")
+def pocket_rolling_force(c_roll, c_root, u_entrain):
+    """|F_R| = (c_R·|u|)·r of `pocket_resistance_coefficients`, N: the rolling resistance the
+    dynamics apply on each side of the ball (flexbearing.multibody.pocket_kernels)."""
+    return c_roll * abs(u_entrain) * c_root
+
+
+@njit(cache=True, inline="always")
+def pocket_sliding_force(c_slide, c_root, du, h0, h_edge):
+    """F_S = ((c_S·du)·r)·ln(h_edge/h0) of `pocket_resistance_coefficients`, N (0 for h_edge <=
+    h0): the sliding resistance the dynamics apply on each side of the ball."""
+    if h_edge <= h0:
+        return 0.0
+    return c_slide * du * c_root * math.log(h_edge / h0)
 
 
 @njit(cache=True)
@@ -340,7 +414,27 @@ def pocket_resistance_coefficients(Rx, Ry, eta0):
 @njit(cache=True)
 def pocket_sliding_resistance(du, h0, h_edge, Rx, Ry, eta0):
     """Couette sliding force on the ball along du (cage − ball surface speed), N:
-    F_S = 2·pi·eta0·du·sqrt(Rx·Ry)·ln(h_edge/h0), h0 the minimum gap, h_edge the wetted edge."""
-    if h_edge <= h0:
-        return 0.0
-    return 2.0 * math.pi * eta0 * du * math.sqrt(Rx * Ry) * math.log(h_edge / h0)
+    F_S = 2·pi·eta0·du·sqrt(Rx·Ry)·ln(h_edge/h0), h0 the minimum gap, h_edge the wetted edge
+    (`pocket_sliding_force` of `pocket_resistance_coefficients`)."""
+    _, c_slide, c_root = pocket_resistance_coefficients(Rx, Ry, eta0)
+    return pocket_sliding_force(c_slide, c_root, du, h0, h_edge)
+
+
+def fill_pocket_parameters(p, bearing, E_eff, friction):
+    """The pocket law's slots of the model's parameter vector p (flexbearing.multibody.model_layout;
+    flexbearing.multibody.model.build_model): the clearance Cp = (Dp − Dw)/2, the linear Kc
+    (`pocket_gap_stiffness`), the Hertz Kn at the shape's nominal contact (`pocket_hertz_constant`,
+    E_eff the ball–cage E'), the pocket radius, the cone's half-angle, the ellipse's circumferential
+    semi-axis, the radius of the pocket centres (dm/2) and the Coulomb coefficient mu_p (model
+    option pocket_friction, in [0, 1])."""
+    cage = bearing.cage
+    cp = bearing.pocket_clearance
+    rb, rp = 0.5 * bearing.ball_diameter, 0.5 * cage.pocket_diameter
+    p[P_CP], p[P_KC] = cp, pocket_gap_stiffness(cp)
+    p[P_KN] = pocket_hertz_constant(POCKET_SHAPES.index(cage.pocket_shape), rb, rp,
+                                    0.5 * cage.pocket_circumferential_diameter, E_eff)
+    p[P_RPOCKET] = rp
+    p[P_POCKET_CONE] = cage.pocket_cone_angle
+    p[P_POCKET_B] = 0.5 * cage.pocket_circumferential_diameter
+    p[P_RCAGE_POCKET] = 0.5 * bearing.pitch_diameter
+    p[P_MUPOCKET] = require_range("model.pocket_friction", friction, 0.0, 1.0)

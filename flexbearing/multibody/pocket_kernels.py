@@ -11,7 +11,6 @@ from collections import namedtuple
 from numba import njit
 
 from flexbearing.multibody import numba_cache  # noqa: F401  (drops stale compiled kernels first)
-from flexbearing.multibody import model as M
 from flexbearing.multibody.model import (
     P_DW, P_Z, P_MB, P_CP, P_KC, P_KN, P_RPOCKET, P_ETA0, P_ZETA, P_MUPOCKET, F_DRAG, F_DAMPING,
     F_POCKET_SHAPE, P_POCKET_CONE, P_POCKET_B, W_P_POCKET, W_POCKET_Q, W_POCKET_Z, W_POCKET_T, W_PK_FX,
@@ -19,8 +18,8 @@ from flexbearing.multibody.model import (
 )
 from flexbearing.multibody.geometry import cross
 from flexbearing.multibody.pocket import (
-    pocket_curvature_radii, pocket_resistance_coefficients, spherical_pocket_curvature_radii,
-    pocket_contact_offset, pocket_axis_point,
+    pocket_film_radii, pocket_resistance_coefficients, pocket_contact_offset, pocket_axis_point,
+    pocket_elastic_force, pocket_rolling_force, pocket_sliding_force,
 )
 from flexbearing.multibody.cage_body import pocket_pose_arrays
 from flexbearing.multibody.floating_frame import add_node_load
@@ -36,15 +35,12 @@ PocketContact.__doc__ = "One ball–pocket contact (`_pocket_force` docstring), 
 @njit(cache=True)
 def pocket_film_coefficients(p, flags):
     """(c_R, c_S, r) of the lubricated pocket's rolling and sliding resistances
-    (flexbearing.multibody.pocket.pocket_resistance_coefficients) for the model's ball, pocket and oil:
-    entrainment radius Rb, transverse radius R_xi (pocket.pocket_curvature_radii) in a cylindrical
-    pocket; both radii conforming in a spherical one (pocket.spherical_pocket_curvature_radii).
-    Constant for a model; `rhs` evaluates them once per call and hands them to `_pocket_force`."""
-    if flags[F_POCKET_SHAPE] != 1:          # cylinder; cone, ellipse at their nominal contact (pocket docstring)
-        rxi, reta = pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET] if flags[F_POCKET_SHAPE] != 3
-                                           else p[P_RPOCKET] ** 2 / p[P_POCKET_B])
-    else:
-        rxi, reta = spherical_pocket_curvature_radii(0.5 * p[P_DW], p[P_RPOCKET])
+    (flexbearing.multibody.pocket.pocket_resistance_coefficients) for the model's ball, pocket and oil,
+    at the pocket's nominal contact (pocket.pocket_film_radii: entrainment radius Rb and the
+    conforming transverse radius R_xi in a cylindrical, conical or elliptical pocket; both radii
+    conforming in a spherical one). Constant for a model; `rhs` evaluates them once per call and
+    hands them to `_pocket_force`."""
+    rxi, reta = pocket_film_radii(flags[F_POCKET_SHAPE], 0.5 * p[P_DW], p[P_RPOCKET], p[P_POCKET_B])
     return pocket_resistance_coefficients(reta, rxi, p[P_ETA0])
 
 
@@ -56,6 +52,60 @@ def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     c_roll, c_slide, c_root = pocket_film_coefficients(p, flags)
     return _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz, px, py, pz, ax, ay, az, vpx, vpy, vpz,
                          wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide, c_root)
+
+
+@njit(cache=True, inline="always")
+def _pocket_film_forces(fx, fy, fz, Q, zz, ux, uy, uz, ex, ey, ez, px, py, pz, vbx, vby, vbz, wbx, wby, wbz,
+                        vpx, vpy, vpz, wcx, wcy, wcz, p, c_roll, c_slide, c_root):
+    """The lubricated pocket's resistances (flexbearing.multibody.pocket; paper §2.3.2) added to the
+    force (fx, fy, fz) on the ball: returns (fx, fy, fz, mx, my, mz), M about the ball centre.
+
+    On each side s = ±1 of the ball (points b + s·Rb·u and p + e + s·Rp·u, u the unit approach
+    direction) the ball surface slides on the pocket wall at g = (v_ball − v_wall) tangential;
+    the film there gives the Poiseuille rolling resistance F_R (entrainment g/2 relative to the
+    wall, independent of the gap; pocket.pocket_rolling_force) and the Couette sliding resistance
+    F_S (gap h0 = Cp − s·Z, floored at POCKET_H_MIN, wetted edge at the gap Cp;
+    pocket.pocket_sliding_force), both along −g on the ball, with c_R, c_S, r of
+    `pocket_film_coefficients`; and the Coulomb part mu_p·Q (option pocket_friction, default 0)
+    on the loaded side only.
+    """
+    mx = 0.0
+    my = 0.0
+    mz = 0.0
+    rb = 0.5 * p[P_DW]
+    rp = p[P_RPOCKET]
+    cp_gap = p[P_CP]
+    for side in (1.0, -1.0):
+        sx, sy, sz = cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
+        wx_ = px + ex + side * rp * ux
+        wy_ = py + ey + side * rp * uy
+        wz_ = pz + ez + side * rp * uz
+        ox, oy, oz = cross(wcx, wcy, wcz, wx_ - px, wy_ - py, wz_ - pz)
+        gx = vbx + sx - (vpx + ox)
+        gy = vby + sy - (vpy + oy)
+        gz = vbz + sz - (vpz + oz)
+        gn = gx * ux + gy * uy + gz * uz
+        gx -= gn * ux
+        gy -= gn * uy
+        gz -= gn * uz
+        g = math.sqrt(gx * gx + gy * gy + gz * gz)
+        if g <= 1e-12:
+            continue
+        h0 = cp_gap - side * zz
+        if h0 < POCKET_H_MIN:
+            h0 = POCKET_H_MIN
+        f_r = pocket_rolling_force(c_roll, c_root, 0.5 * g)
+        f_s = pocket_sliding_force(c_slide, c_root, g, h0, cp_gap)
+        f_c = p[P_MUPOCKET] * Q if side > 0.0 else 0.0
+        tf = (f_r + f_s + f_c) / g
+        fx -= tf * gx
+        fy -= tf * gy
+        fz -= tf * gz
+        m1, m2, m3 = cross(side * rb * ux, side * rb * uy, side * rb * uz, -tf * gx, -tf * gy, -tf * gz)
+        mx += m1
+        my += m2
+        mz += m3
+    return fx, fy, fz, mx, my, mz
 
 
 @njit(cache=True)
@@ -92,21 +142,15 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     uz /= zz
     cp = p[P_CP]
     kc = p[P_KC]
-    if zz <= cp:
-        Q = kc * zz
-        q_el = Q
-    else:
-        pen = zz - cp
-        sq = math.sqrt(pen)
-        Q = kc * cp + p[P_KN] * pen * sq
-        q_el = Q
-        if flags[F_DAMPING]:
-            # approach rate along u: (v_b − v_pocket point)·u
-            rate = (vbx - vpx) * ux + (vby - vpy) * uy + (vbz - vpz) * uz
-            c = 2.0 * p[P_ZETA] * math.sqrt(1.5 * p[P_KN] * sq * p[P_MB])
-            Q += c * rate
-            if Q < kc * cp:
-                Q = kc * cp
+    q_el = pocket_elastic_force(zz, cp, kc, p[P_KN])
+    Q = q_el
+    if zz > cp and flags[F_DAMPING]:
+        # Hertz branch: contact damping on the approach rate along u, (v_b − v_pocket point)·u
+        rate = (vbx - vpx) * ux + (vby - vpy) * uy + (vbz - vpz) * uz
+        c = 2.0 * p[P_ZETA] * math.sqrt(1.5 * p[P_KN] * math.sqrt(zz - cp) * p[P_MB])
+        Q += c * rate
+        if Q < kc * cp:
+            Q = kc * cp
     fx = -Q * ux
     fy = -Q * uy
     fz = -Q * uz
@@ -119,49 +163,9 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     qy = py + ey + rp * uy
     qz = pz + ez + rp * uz
     if flags[F_DRAG]:
-        # Lubricated pocket (flexbearing.multibody.pocket; paper §2.3.2): on each side s = ±1 of the ball
-        # (points b + s·Rb·u and p + (d·a)a + s·Rp·u) the ball surface slides on the pocket wall at
-        # g = (v_ball − v_wall) tangential; the film there gives the Poiseuille rolling resistance
-        # F_R (entrainment g/2 relative to the wall, independent of the gap) and the Couette
-        # sliding resistance F_S (gap h0 = Cp − s·Z, floored at POCKET_H_MIN, wetted edge at the
-        # gap Cp), both along −g on the ball. Entrainment radius Rb (the ball surface runs along
-        # the radial pocket axis), transverse radius R_xi (conforming, pocket.pocket_curvature_radii).
-        # With c_R, c_S, r of `pocket_film_coefficients`: F_R = (c_R·g/2)·r, F_S = ((c_S·g)·r)·ln(Cp/h0)
-        # (zero for h0 >= Cp, i.e. on the unloaded side), evaluated as pocket_rolling_resistance and
-        # pocket_sliding_resistance do (bit-identical).
-        rb = 0.5 * p[P_DW]
-        cp_gap = p[P_CP]
-        for side in (1.0, -1.0):
-            sx, sy, sz = cross(wbx, wby, wbz, side * rb * ux, side * rb * uy, side * rb * uz)
-            wx_ = px + ex + side * rp * ux
-            wy_ = py + ey + side * rp * uy
-            wz_ = pz + ez + side * rp * uz
-            ox, oy, oz = cross(wcx, wcy, wcz, wx_ - px, wy_ - py, wz_ - pz)
-            gx = vbx + sx - (vpx + ox)
-            gy = vby + sy - (vpy + oy)
-            gz = vbz + sz - (vpz + oz)
-            gn = gx * ux + gy * uy + gz * uz
-            gx -= gn * ux
-            gy -= gn * uy
-            gz -= gn * uz
-            g = math.sqrt(gx * gx + gy * gy + gz * gz)
-            if g <= 1e-12:
-                continue
-            h0 = cp_gap - side * zz
-            if h0 < POCKET_H_MIN:
-                h0 = POCKET_H_MIN
-            f_r = c_roll * (0.5 * g) * c_root
-            f_s = c_slide * g * c_root * math.log(cp_gap / h0) if cp_gap > h0 else 0.0
-            # Coulomb part (option pocket_friction, default 0) on the loaded side only
-            f_c = p[P_MUPOCKET] * Q if side > 0.0 else 0.0
-            tf = (f_r + f_s + f_c) / g
-            fx -= tf * gx
-            fy -= tf * gy
-            fz -= tf * gz
-            m1, m2, m3 = cross(side * rb * ux, side * rb * uy, side * rb * uz, -tf * gx, -tf * gy, -tf * gz)
-            mx += m1
-            my += m2
-            mz += m3
+        fx, fy, fz, mx, my, mz = _pocket_film_forces(fx, fy, fz, Q, zz, ux, uy, uz, ex, ey, ez, px, py, pz,
+                                                     vbx, vby, vbz, wbx, wby, wbz, vpx, vpy, vpz, wcx, wcy,
+                                                     wcz, p, c_roll, c_slide, c_root)
     # dissipated power (docstring): relative velocity of the ball centre to the cage point there
     r1, r2, r3 = cross(wcx, wcy, wcz, dx, dy, dz)
     pw = ((fx + q_el * ux) * (vbx - vpx - r1) + (fy + q_el * uy) * (vby - vpy - r2)

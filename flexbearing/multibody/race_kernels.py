@@ -12,29 +12,33 @@ from collections import namedtuple
 from numba import njit
 
 from flexbearing.multibody import numba_cache  # noqa: F401  (drops stale compiled kernels first)
-from flexbearing.multibody import model as M
 from flexbearing.multibody.model import (
     F_INNER_HALVES, P_DW, P_Z, P_FE, P_FI, P_XO, P_RO, P_XIL, P_RIL, P_XIR, P_RIR, P_MB, P_IB, P_EBR,
     P_ETA0, P_T0K, P_K0, P_SLIN, P_UMIN, P_ZETA, P_ALPHA0, P_UREG, P_ETA_TRACTION, P_ALPHA_P, F_TRACTION,
     F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_ROLLRES, F_ATTITUDE, F_ATT_RING,
-    F_TRACTION_LAW, P_SPIN_SCALE_INNER, H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS,
+    F_TRACTION_LAW, P_SPIN_SCALE_INNER, ATTITUDE_INNER, ATTITUDE_JONES, ATTITUDE_NO_PIVOT, ATTITUDE_OUTER,
+    CONTACT_INNER_LEFT, CONTACT_OUTER, RACE_INNER, RACE_OUTER, H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS,
     WC_SIN, WC_P0, WC_UR, WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING,
-    WC_P_DAMPING, WR_STATUS,
+    WC_P_DAMPING,
 )
 from flexbearing.multibody.geometry import (
     cross, race_contact, ring_point_in_plane, ring_velocity_at, ring_velocity_in_plane,
 )
 from flexbearing.multibody.drag import ehl_rolling_resistance, ehl_pressure_rolling_force
 from flexbearing.multibody.traction import (
-    TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table,
+    TRACTION_LAWS, ehl_inlet_viscosity, sliced_traction, sliced_traction_ehl, traction_coefficients_table,
 )
 from flexbearing.multibody.film import film_thickness as hamrock_dowson_film
+from flexbearing.multibody.hertz import hertz_load
 from flexbearing.multibody.contact_status import STATUS_DEEP_RACE, DELTA_MAX_FRAC, _flag
 from flexbearing.multibody.kernel_state import BallLoad, RingLoad
 
 
-# status codes written into work[Z, WR_STATUS] (first offence wins)
 TRACTION_EHL = TRACTION_LAWS.index("ehl")   # flags[F_TRACTION_LAW] of the EHL film-shear law
+# which race controls a ball's attitude (`control_race`): a race code (model.RACE_OUTER, RACE_INNER)
+# or one of these
+CONTROL_NONE = -1          # free ball, or its controlling race unloaded
+CONTROL_NO_PIVOT = -2      # no pivoting: no race controls, only the yaw is held
 RaceContact = namedtuple("RaceContact", "q cos_a sin_a p0 ur rx ry a slip delta fx fr ft mx mr mt x_p r_p "
                                         "cx cr p_traction p_rolling p_damping f_h")
 RaceContact.__doc__ = "One ball–race contact (`_race` docstring: fields, units SI)."
@@ -67,21 +71,110 @@ def control_race(attitude, q_o, a_o, nxo, nro, q_i, a_i, nxi, nri):
     the race with the larger spin-friction capacity Q·a·E(k) controls, the outer one entering with
     cos(alpha_o − alpha_i) = −n_o·n_i (E(k) ratio taken as 1). q, a load and semi-major axis, n the
     contact normal (n_x, n_r) of the outer and of the more loaded inner contact."""
-    if attitude == 4:
-        return -2
-    if attitude == 1:
-        return 0 if q_o > 0.0 else -1
-    if attitude == 2:
-        return 1 if q_i > 0.0 else -1
-    if attitude == 3:
+    if attitude == ATTITUDE_NO_PIVOT:
+        return CONTROL_NO_PIVOT
+    if attitude == ATTITUDE_OUTER:
+        return RACE_OUTER if q_o > 0.0 else CONTROL_NONE
+    if attitude == ATTITUDE_INNER:
+        return RACE_INNER if q_i > 0.0 else CONTROL_NONE
+    if attitude == ATTITUDE_JONES:
         if q_o > 0.0 and q_i > 0.0:
             cos_oi = -(nxo * nxi + nro * nri)
-            return 0 if q_o * a_o * cos_oi >= q_i * a_i else 1
+            return RACE_OUTER if q_o * a_o * cos_oi >= q_i * a_i else RACE_INNER
         if q_o > 0.0:
-            return 0
+            return RACE_OUTER
         if q_i > 0.0:
-            return 1
-    return -1
+            return RACE_INNER
+    return CONTROL_NONE
+
+
+@njit(cache=True, inline="always")
+def _race_traction(kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb_r, w_x, w_r, w_t, vrace_x, vrace_r,
+                   ring_speed, g2, rx, ry, Fx, Fr, Mx, Mr, p, flags, ttab):
+    """The traction of one loaded ball–race contact (`_race`) added to the normal force (Fx, Fr)
+    and the moment (Mx, Mr) about the ball centre on the ball: returns (Fx, Fr, Ft, Mx, Mr, Mt,
+    cx, cr, P_traction), (cx, cr) the spin moment's couple. (Fewer than 31 arguments: CPython
+    passes more as *args, which numba does not inline.)
+
+    The sliced traction (flexbearing.multibody.traction: `sliced_traction_ehl` of the EHL film-shear
+    law at the Hamrock–Dowson central film of the inlet viscosity, or `sliced_traction` of the
+    fitted curve at UR_eff = max(|UR|, u_reg)) of the sliding du(y) = du0 + du1·y along the
+    rolling direction e_t and dv across it (tau, in the contact plane): T_t along e_t, T_tau along
+    tau at the contact point rho·n, and the spin moment M_n about the normal (scaled on the inner
+    race by the model option spin_moment_scale_inner). P_traction = T_t·du0 − M_n·du1 + T_tau·dv.
+    """
+    # transverse direction tau = (cos a, −sin a) = (−n_r, n_x)·sign ; use tau = (nr, −nx)
+    # for the outer (n_r > 0) and (−nr, nx) for the inner, i.e. tau = s·(nr, −nx), s = sign(n_r)
+    sg = 1.0 if nr >= 0.0 else -1.0
+    tx_ = sg * nr
+    tr_ = -sg * nx
+    # du(y) = race − ball along e_t at p + y·tau: ball adds (w × y·tau)_t = y(w_x·tau_r − w_r·tau_x),
+    # race adds y·(ring_speed·tau_r − g2·tau_x) (g2: the ring's tilt rate about e_r)
+    du1 = ring_speed * tr_ - g2 * tx_ - (w_x * tr_ - w_r * tx_)
+    # transverse sliding race − ball at the centre (ball: v_b + w × rho·n, ring: rigid-body velocity)
+    vball_x = vb_x - rho * w_t * nr
+    vball_r = vb_r + rho * w_t * nx
+    dv = (vrace_x - vball_x) * tx_ + (vrace_r - vball_r) * tr_
+    urr = abs(ur)
+    if urr < p[P_UMIN]:
+        urr = p[P_UMIN]
+    if flags[F_TRACTION_LAW] == TRACTION_EHL:
+        # EHL film-shear law (flexbearing.multibody.traction): the film at the contact's inlet viscosity
+        eta_in = ehl_inlet_viscosity(p[P_ETA0], ttab)
+        h_c = hamrock_dowson_film(rx, ry, p[P_EBR], q_el, urr, eta_in, p[P_ALPHA_P])[1]
+        Tt, Ttau, Mn = sliced_traction_ehl(Q, a_ax, b_ax, p0, h_c, urr, du0, du1, 0.0, dv,
+                                           flags[F_NSLICES], bool(flags[F_TRANSVERSE]), p[P_SLIN],
+                                           p[P_ETA0], p[P_ALPHA_P], p[P_K0], ttab)
+    else:
+        # the fit at UR_eff = max(|UR|, u_reg): coefficients and slide-to-roll ratio
+        # (flexbearing.multibody.traction, "Low rolling speed")
+        u_s = urr if urr > p[P_UREG] else p[P_UREG]
+        A, B, C, D = traction_coefficients_table(Q, u_s, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
+        Tt, Ttau, Mn = sliced_traction(Q, a_ax, u_s, du0, du1, 0.0, dv, A, B, C, D,
+                                       flags[F_NSLICES], bool(flags[F_TRANSVERSE]), p[P_SLIN])
+    if kind == RACE_INNER:
+        # diagnostic of the race-control screening (model option spin_moment_scale_inner, 1 = the law)
+        Mn *= p[P_SPIN_SCALE_INNER]
+    # force on the ball at p: Tt·e_t + Ttau·tau (Ft, Mt: none before the traction)
+    Ft = 0.0
+    Mt = 0.0
+    Fx += Ttau * tx_
+    Fr += Ttau * tr_
+    Ft += Tt
+    # moment about the ball centre of the force at rho·n: (rho n) × F ; n = (nx, nr, 0)
+    Mx += rho * (nr * Tt)
+    Mr += -rho * (nx * Tt)
+    Mt += rho * (nx * Ttau * tr_ - nr * Ttau * tx_)
+    # spin moment about e_t × tau = (−tau_r, tau_x, 0)·(−1)... e_t × tau = (-(tau_r)*(-1)...)
+    # e_t × tau with e_t = (0,0,1): (0·0 − 1·tau_r, 1·tau_x − 0·0, 0) = (−tau_r, tau_x, 0)
+    cx = -Mn * tr_
+    cr = Mn * tx_
+    Mx += cx
+    Mr += cr
+    p_trac = Tt * du0 - Mn * du1 + Ttau * dv
+    return Fx, Fr, Ft, Mx, Mr, Mt, cx, cr, p_trac
+
+
+@njit(cache=True, inline="always")
+def _race_rolling_resistance(q_el, ur, rx, ell, rho, nx, nr, du0, xb, rb, vb_t, rv_x, rv_r, rv_t0, g1, g2, ring_rc,
+                             ring_speed, Ft, Mx, Mr, p):
+    """The EHL rolling resistance of one loaded ball–race contact (`_race`; flexbearing.multibody.drag)
+    added to the force Ft and moment (Mx, Mr) on the ball: returns (Ft, Mx, Mr, P_rolling, F_H).
+    F_R at the contact, opposite to the entrainment speed, and the pressure rolling force
+    F_H = −2(Rx/r_b)·F_R through the ball centre; P_rolling = F_R·du0 − F_H·(v_b,t − v_ring,t(b)).
+    """
+    # EHL rolling resistance (flexbearing.multibody.drag): F_R at the contact, opposite to the entrainment
+    # speed, and the pressure rolling force F_H = −2(Rx/r_b)·F_R through the ball centre
+    f_r = ehl_rolling_resistance(q_el, ur, rx, ell, p[P_EBR], p[P_ETA0], p[P_ALPHA_P])
+    f_h = ehl_pressure_rolling_force(f_r, rx, 0.5 * p[P_DW])
+    Ft += f_r + f_h
+    Mx += rho * nr * f_r
+    Mr += -rho * nx * f_r
+    # the race takes −F_H on the same line, through the ball centre (a balanced pair): its
+    # velocity there is the ring's rigid-body velocity at (xb, rb)
+    vring_bt = ring_velocity_at(rv_x, rv_r, rv_t0, g1, g2, ring_rc, ring_speed, xb, rb)[2]
+    p_roll = f_r * du0 - f_h * (vb_t - vring_bt)
+    return Ft, Mx, Mr, p_roll, f_h
 
 
 @njit(cache=True)
@@ -126,7 +219,7 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     else:
         K, ell, ek, R, rx, ry = _hertz_lookup(htab, kind, ca)
     sqd = math.sqrt(delta)
-    q_el = K * delta * sqd
+    q_el = hertz_load(K, delta)
     rho = 0.5 * dw - 0.5 * delta
     x_p = xb + rho * nx
     r_p = rb + rho * nr
@@ -162,65 +255,14 @@ def _race(kind, xb, rb, xc, rc, f, vb_x, vb_r, vb_t, w_x, w_r, w_t, psid,
     du0 = vrace_t - vball_t
     slip = du0 / abs(ur) if ur != 0.0 else 0.0
     if flags[F_TRACTION] and Q > 0.0:
-        # transverse direction tau = (cos a, −sin a) = (−n_r, n_x)·sign ; use tau = (nr, −nx)
-        # for the outer (n_r > 0) and (−nr, nx) for the inner, i.e. tau = s·(nr, −nx), s = sign(n_r)
-        sg = 1.0 if nr >= 0.0 else -1.0
-        tx_ = sg * nr
-        tr_ = -sg * nx
-        # du(y) = race − ball along e_t at p + y·tau: ball adds (w × y·tau)_t = y(w_x·tau_r − w_r·tau_x),
-        # race adds y·(ring_speed·tau_r − g2·tau_x) (g2: the ring's tilt rate about e_r)
-        du1 = ring_speed * tr_ - g2 * tx_ - (w_x * tr_ - w_r * tx_)
-        # transverse sliding race − ball at the centre (ball: v_b + w × rho·n, ring: rigid-body velocity)
-        vball_x = vb_x - rho * w_t * nr
-        vball_r = vb_r + rho * w_t * nx
-        dv = (vrace_x - vball_x) * tx_ + (vrace_r - vball_r) * tr_
-        urr = abs(ur)
-        if urr < p[P_UMIN]:
-            urr = p[P_UMIN]
-        if flags[F_TRACTION_LAW] == TRACTION_EHL:
-            # EHL film-shear law (flexbearing.multibody.traction): the film at the contact's inlet viscosity
-            eta_in = p[P_ETA0] * math.exp(-ttab[7, 3] * ttab[7, 0])
-            h_c = hamrock_dowson_film(rx, ry, p[P_EBR], q_el, urr, eta_in, p[P_ALPHA_P])[1]
-            Tt, Ttau, Mn = sliced_traction_ehl(Q, a_ax, b_ax, p0, h_c, urr, du0, du1, 0.0, dv,
-                                               flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN],
-                                               p[P_ETA0], p[P_ALPHA_P], p[P_K0], ttab)
-        else:
-            # the fit at UR_eff = max(|UR|, u_reg): coefficients and slide-to-roll ratio
-            # (flexbearing.multibody.traction, "Low rolling speed")
-            u_s = urr if urr > p[P_UREG] else p[P_UREG]
-            A, B, C, D = traction_coefficients_table(Q, u_s, rx, p[P_EBR], p[P_ETA_TRACTION], p[P_T0K], p[P_K0], ttab)
-            Tt, Ttau, Mn = sliced_traction(Q, a_ax, u_s, du0, du1, 0.0, dv, A, B, C, D,
-                                           flags[F_NSLICES], flags[F_TRANSVERSE] != 0, p[P_SLIN])
-        if kind == 1:
-            # diagnostic of the race-control screening (model option spin_moment_scale_inner, 1 = the law)
-            Mn *= p[P_SPIN_SCALE_INNER]
-        # force on the ball at p: Tt·e_t + Ttau·tau
-        Fx += Ttau * tx_
-        Fr += Ttau * tr_
-        Ft += Tt
-        # moment about the ball centre of the force at rho·n: (rho n) × F ; n = (nx, nr, 0)
-        Mx += rho * (nr * Tt)
-        Mr += -rho * (nx * Tt)
-        Mt += rho * (nx * Ttau * tr_ - nr * Ttau * tx_)
-        # spin moment about e_t × tau = (−tau_r, tau_x, 0)·(−1)... e_t × tau = (-(tau_r)*(-1)...)
-        # e_t × tau with e_t = (0,0,1): (0·0 − 1·tau_r, 1·tau_x − 0·0, 0) = (−tau_r, tau_x, 0)
-        cx = -Mn * tr_
-        cr = Mn * tx_
-        Mx += cx
-        Mr += cr
-        p_trac = Tt * du0 - Mn * du1 + Ttau * dv
+        Fx, Fr, Ft, Mx, Mr, Mt, cx, cr, p_trac = _race_traction(
+            kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb_r, w_x, w_r, w_t, vrace_x, vrace_r,
+            ring_speed, g2, rx, ry, Fx, Fr, Mx, Mr, p, flags, ttab)
+    f_h = 0.0
     if flags[F_ROLLRES] and flags[F_DRAG]:
-        # EHL rolling resistance (flexbearing.multibody.drag): F_R at the contact, opposite to the entrainment
-        # speed, and the pressure rolling force F_H = −2(Rx/r_b)·F_R through the ball centre
-        f_r = ehl_rolling_resistance(q_el, ur, rx, ell, p[P_EBR], p[P_ETA0], p[P_ALPHA_P])
-        f_h = ehl_pressure_rolling_force(f_r, rx, 0.5 * dw)
-        Ft += f_r + f_h
-        Mx += rho * nr * f_r
-        Mr += -rho * nx * f_r
-        # the race takes −F_H on the same line, through the ball centre (a balanced pair): its
-        # velocity there is the ring's rigid-body velocity at (xb, rb)
-        vring_bt = ring_velocity_at(rv_x, rv_r, rv_t0, g1, g2, ring_rc, ring_speed, xb, rb)[2]
-        p_roll = f_r * du0 - f_h * (vb_t - vring_bt)
+        Ft, Mx, Mr, p_roll, f_h = _race_rolling_resistance(
+            q_el, ur, rx, ell, rho, nx, nr, du0, xb, rb, vb_t, rv_x, rv_r, rv_t0, g1, g2, ring_rc, ring_speed,
+            Ft, Mx, Mr, p)
     return RaceContact(Q, ca, sa, p0, ur, rx, ry, a_ax, slip, delta, Fx, Fr, Ft, Mx, Mr, Mt, x_p, r_p,
                        cx, cr, p_trac, p_roll, p_damp, f_h)
 
@@ -335,12 +377,12 @@ def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl
         ft_lean = 0.0
         x0 = 0.0
         rr0 = 0.0
-        if c == 0:
-            res = _race(0, b.x, b.r, p[P_XO], p[P_RO], p[P_FE], b.x_dot, b.r_dot, b.v_t, b.w_x, b.w_r, b.w_t, psid,
+        if c == CONTACT_OUTER:
+            res = _race(RACE_OUTER, b.x, b.r, p[P_XO], p[P_RO], p[P_FE], b.x_dot, b.r_dot, b.v_t, b.w_x, b.w_r, b.w_t, psid,
                         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, p, flags, htab, ttab)
             ft = res.ft
         else:
-            if c == 1:
+            if c == CONTACT_INNER_LEFT:
                 x0 = p[P_XIL]
                 rr0 = p[P_RIL]
             else:
@@ -350,7 +392,7 @@ def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl
             th_rate = (ring.tilt_y_dot * sn - ring.tilt_z_dot * cs) + (ring.tilt_y * cs + ring.tilt_z * sn) * psid
             cd_x = ring.vx + rr0 * th_rate
             cd_r = rv_r_trans + (-ring.y * sn + ring.z * cs) * psid - x0 * th_rate
-            res = _race(1, b.x, b.r, xc_g, rc_g, p[P_FI], b.x_dot, b.r_dot, b.v_t, b.w_x, b.w_r, b.w_t, psid,
+            res = _race(RACE_INNER, b.x, b.r, xc_g, rc_g, p[P_FI], b.x_dot, b.r_dot, b.v_t, b.w_x, b.w_r, b.w_t, psid,
                         rv_x, rv_r, rv_t, omega_i, ring_rc, g1, g2, cd_x, cd_r, p, flags, htab, ttab)
             ft = res.ft
             if res.q > 0.0:
@@ -359,7 +401,7 @@ def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl
                 drc = (-ring.y * sn + ring.z * cs) - x0 * thp
                 ft_lean = res.q * (-res.sin_a * dxc - res.cos_a * drc) / b.r
                 ft = res.ft + ft_lean
-        if c == 0:      # outer: n = (sin a, cos a)
+        if c == CONTACT_OUTER:      # outer: n = (sin a, cos a)
             ctl = RaceControl(res.q, res.a, res.sin_a, res.cos_a, res.x_p, res.r_p, ctl.q_inner, ctl.a_inner,
                               ctl.nx_inner, ctl.nr_inner, ctl.x_inner, ctl.r_inner)
         elif res.q > ctl.q_inner:      # inner: n = (−sin a, −cos a)
@@ -371,7 +413,7 @@ def ball_race_contacts(j, b, ring, omega_i, p, flags, htab, ttab, work, load, rl
         if res.q > 0.0 or res.delta > 0.0:
             load = BallLoad(load.fx + res.fx, load.fr + res.fr, load.ft + ft, load.mx + res.mx, load.mr + res.mr,
                             load.mt + res.mt)
-            if c > 0:
+            if c != CONTACT_OUTER:
                 rl = inner_race_reaction(res, ft, ft_lean, b, ring, x0, rr0, rl)
     return BallRaceContacts(load, rl, ctl)
 
@@ -388,11 +430,11 @@ def race_control_couple(b, load, ctl, omega_i, ring, p, flags, rl):
     c = control_race(flags[F_ATTITUDE], ctl.q_outer, ctl.a_outer, ctl.nx_outer, ctl.nr_outer, ctl.q_inner,
                      ctl.a_inner, ctl.nx_inner, ctl.nr_inner)
     cnx = cnr = w_ring = ux = ur = 0.0
-    if c == -1:
+    if c == CONTROL_NONE:
         return Attitude(c, cnx, cnr, w_ring, ux, ur, rl)
-    if c == 0:
+    if c == RACE_OUTER:
         cnx, cnr, w_ring = ctl.nx_outer, ctl.nr_outer, 0.0
-    elif c == 1:
+    elif c == RACE_INNER:
         cnx, cnr, w_ring = ctl.nx_inner, ctl.nr_inner, omega_i
     ux = -cnr
     ur = cnx

@@ -387,6 +387,13 @@ EHL_RANGES = {
     "contact_temperature_rise": (0.0, 60.0),     # K above the oil temperature
 }
 EHL_TABLE_ROWS = 8
+# The slots of the EHL law's table (`ehl_traction_table`), by name: row EHL_ROW_FILM the film's
+# shear constants, row EHL_ROW_THERMAL the contact temperature's, row EHL_ROW_INLET what the table
+# derives once from them (rows 0–4 unused: the fit's table has other rows, `is_ehl_table`).
+EHL_ROW_INLET, EHL_ROW_FILM, EHL_ROW_THERMAL = 5, 6, 7
+EHL_C_TAU0, EHL_C_GAMMA_L, EHL_C_SHEAR_MODULUS, EHL_C_SCALE = 0, 1, 2, 3              # row EHL_ROW_FILM
+EHL_C_TEMPERATURE_RISE, EHL_C_K_SOLID, EHL_C_KAPPA_SOLID, EHL_C_BETA_T = 0, 1, 2, 3   # row EHL_ROW_THERMAL
+EHL_C_INLET_FACTOR = 0       # row EHL_ROW_INLET: exp(−beta_T·ΔT), the inlet viscosity's share of eta0
 TRACTION_LAWS = ("fit", "ehl")      # model option traction_law (flexbearing.multibody.model)
 
 
@@ -414,7 +421,8 @@ def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float
                        limiting_shear_coeff: float = EHL_LIMITING_SHEAR_COEFF,
                        shear_modulus: float = EHL_SHEAR_MODULUS, ball_thermal=None,
                        race_thermal=None) -> np.ndarray:
-    """The (8, 4) coefficient table of the EHL film-shear law (module docstring): rows 0–5 unused,
+    """The (8, 4) coefficient table of the EHL film-shear law (module docstring): rows 0–4 unused,
+    row 5 = (exp(−beta_T·ΔT), 0, 0, 0): the inlet viscosity's factor (`ehl_inlet_viscosity`),
     row 6 = (tau0 Pa, gamma_L, G Pa, traction_scale), row 7 = (contact temperature rise K, k_steel
     W/(m·K), kappa_steel m²/s, beta_T 1/K: the oil's viscosity–temperature coefficient). Values
     outside EHL_RANGES are refused (flexbearing.common.validation.require_range names the field).
@@ -427,10 +435,18 @@ def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float
         require_range(f"traction.{name}", value, lo, hi)
     require_range("oil.viscosity_temperature_coeff", viscosity_temperature_coeff, 0.0, 1.0)
     tab = np.zeros((EHL_TABLE_ROWS, 4))
-    tab[6] = (eyring_stress, limiting_shear_coeff, shear_modulus, traction_scale)
+    tab[EHL_ROW_FILM] = (eyring_stress, limiting_shear_coeff, shear_modulus, traction_scale)
     k_solid, kappa_solid = flash_constants(ball_thermal, race_thermal)
-    tab[7] = (contact_temperature_rise, k_solid, kappa_solid, viscosity_temperature_coeff)
+    tab[EHL_ROW_THERMAL] = (contact_temperature_rise, k_solid, kappa_solid, viscosity_temperature_coeff)
+    tab[EHL_ROW_INLET, EHL_C_INLET_FACTOR] = math.exp(-viscosity_temperature_coeff * contact_temperature_rise)
     return tab
+
+
+@njit(cache=True)
+def ehl_inlet_viscosity(eta_oil, table):
+    """The oil's viscosity at the contact inlet, Pa·s: eta_oil·exp(−beta_T·ΔT) (module docstring,
+    "EHL film-shear law"), the factor taken once by `ehl_traction_table`."""
+    return eta_oil * table[EHL_ROW_INLET, EHL_C_INLET_FACTOR]
 
 
 def is_ehl_table(table) -> bool:
@@ -508,16 +524,16 @@ def sliced_traction_ehl(Q, a, b, p0, h, u_rolling, du0, du1, du2, dv, n_slices, 
     ur = abs(u_rolling)
     if ur < 1e-12:
         ur = 1e-12
-    scale = table[6, 3]
-    tau0 = table[6, 0] * scale
-    gamma_l = table[6, 1] * scale
-    g_mod = table[6, 2]
-    beta_t = table[7, 3]
-    eta_in = eta_oil * math.exp(-beta_t * table[7, 0])
+    scale = table[EHL_ROW_FILM, EHL_C_SCALE]
+    tau0 = table[EHL_ROW_FILM, EHL_C_TAU0] * scale
+    gamma_l = table[EHL_ROW_FILM, EHL_C_GAMMA_L] * scale
+    g_mod = table[EHL_ROW_FILM, EHL_C_SHEAR_MODULUS]
+    beta_t = table[EHL_ROW_THERMAL, EHL_C_BETA_T]
+    eta_in = ehl_inlet_viscosity(eta_oil, table)
     u = max(ur, 1e-3)
     # per contact: the film's thermal term and the flash term of the full half-length b
     c_film = h / (12.0 * k_oil)
-    c_flash = 0.532 * math.sqrt(2.0 * table[7, 2] * b / u) / table[7, 1]
+    c_flash = 0.532 * math.sqrt(2.0 * table[EHL_ROW_THERMAL, EHL_C_KAPPA_SOLID] * b / u) / table[EHL_ROW_THERMAL, EHL_C_K_SOLID]
     v_lin = s_lin * ur
     tx = 0.0
     ty = 0.0
@@ -559,7 +575,7 @@ def ehl_traction_curve(slips, Q, Rx, Ry, E_eff, u_rolling, oil, table, n_slices:
     from flexbearing.multibody.hertz import hertz_point_contact
     a, b, p0, _ = hertz_point_contact(Rx, Ry, E_eff, Q)
     eta = oil.viscosity()
-    eta_in = eta * math.exp(-table[7, 3] * table[7, 0])
+    eta_in = ehl_inlet_viscosity(eta, table)
     h = film_thickness(Rx, Ry, E_eff, Q, u_rolling, eta_in, oil.pressure_viscosity_coeff)[1]
     out = np.empty(len(np.atleast_1d(slips)))
     for i, s in enumerate(np.atleast_1d(slips)):

@@ -24,8 +24,10 @@ cage proportions, pocket and land clearance of the NASA and 1979 bearings) is ta
 in proportion (the cross-section scaled with D_w about d_m): a declared approximation, printed in the page. Free contact angle,
 shim angle and clearance are tied by flexbearing.multibody.clearance (a split ring given alpha0 and Pd gets
 its shim angle from them; a combination that no shim angle gives is "infeasible" and left out of the band).
-The model has outer-land guidance only: a series with an inner-land-guided cage is computed with an
-outer-land-guided one (said in the page).
+A series' bearing keeps the paper cage's outer-land guidance: the model has outer-land, inner-land and
+ball guidance (flexbearing.mesh.cage_geometry.GUIDANCES), but the guidance a series states is not carried
+into its bearing, so a series with an inner-land-guided cage is computed with an outer-land-guided one
+(said in the page).
 
 Band: `n_samples` scrambled Sobol' points (flexbearing.studies.uncertainty.unit_sample) of the series'
 [[unknowns]] box, each point's steady state; the 5–95 % quantiles of the converged ones. Rows are

@@ -212,10 +212,8 @@ def compare(red: dict, load_node: int = 1, n_keep: int = DEFAULT_N_KEEP, n_elast
     if at_resonances:
         freqs = np.unique(np.r_[freqs, full_hz[full_hz <= f_max * (1 + 1e-12)]])
     w = 2 * np.pi * freqs
-    Z = len(red["interface_positions"])
     Fd = pocket_directions(red["interface_positions"][load_node])
     C = sp.csr_matrix(red["C"])
-    T = red["T"]
     K, M = (red["Kz"], red["Mz"])                       # rbe2: the coupled model's DOFs z
     loads = np.column_stack([pocket_load(C, load_node, Fd[:, j]) for j in range(Fd.shape[1])])
     obs = C[6 * load_node:6 * load_node + 6].toarray()
