@@ -688,7 +688,8 @@ def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_dia
     out = Path(out)
     if out.resolve() == Path(path).resolve():
         raise InputError(f"mesh output {str(out)!r} is the CAD input")
-    gmsh.initialize()
+    from flexbearing.common.fe_stack import gmsh_initialize
+    gmsh_initialize(gmsh)      # gmsh >= 4.9 off the main thread: fe_stack
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("cad_cage")
@@ -744,7 +745,8 @@ def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: 
         rec = json.loads(store.read_text())
         if rec.get("key") == key:                   # checked against its contents, not its name
             return _geometry_from_dict(rec["geometry"]), rec["report"], key
-    gmsh.initialize()
+    from flexbearing.common.fe_stack import gmsh_initialize
+    gmsh_initialize(gmsh)      # gmsh >= 4.9 off the main thread: fe_stack
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         cad = read_cad_cage(path, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)
