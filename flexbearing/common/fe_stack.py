@@ -35,13 +35,16 @@ What each stack lacks (said here once):
 
 * Debian 12: its MUMPS has no METIS, SCOTCH or ParMETIS, so its fill-reducing ordering is AMD-
   family (`mumps_ordering` picks the best one present); dolfinx 0.5.2's `read_from_msh` is broken
-  (`read_gmsh_model` goes through gmsh on rank 0 and `model_to_mesh` on both); gmsh 4.8 drops the
-  face names of a STEP file. It is the stack of `make setup`/`make test`/`make demo` and the
-  reference results.
-* PyPI: Python >= 3.12 on x86-64/aarch64 Linux with glibc >= 2.34 only (the wheel is
-  manylinux_2_34); no CalculiX (the slow independent FE checks need `ccx` from the system) and no
-  ParaView/Chromium (the report's .pvsm, movie and PDF are left out without them, as on Debian
-  without `make viewers`).
+  (`read_gmsh_model` goes through gmsh on rank 0 and `model_to_mesh` on both). It is the stack of
+  `make setup`/`make test`/`make demo` and the reference results.
+* PyPI: Python >= 3.12 on Linux with glibc >= 2.34 only (the wheel is manylinux_2_34); no
+  CalculiX (the slow independent FE checks need `ccx` from the system) and no ParaView/Chromium
+  (the report's .pvsm, movie and PDF are left out without them, as on Debian without
+  `make viewers`); gmsh's wheel needs the system's X11/OpenGL libraries (libGLU, libXcursor,
+  libXft, libXinerama).
+* Both: neither gmsh keeps a STEP file's face names (checked with gmsh 4.8/OCC 7.6 and gmsh
+  4.15/OCC 7.8: of a STEP whose ADVANCED_FACEs are named, only the solid's product name comes
+  through), so named CAD faces come in a gmsh .geo (flexbearing.mesh.cad_cage) on both.
 
 Both compute the same model: the same elements, quadrature and solvers. Their results agree to
 the solvers' tolerances, not bit for bit: dolfinx 0.11 numbers the mesh's cells and dofs in
