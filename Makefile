@@ -101,7 +101,8 @@ test: setup
 # numba/numpy/scipy from PyPI; flexbearing.common.fe_stack): a fresh venv of Python 3.12 (pyenv's
 # 3.12.1 where pyenv is there, else python3.12 on the PATH), `pip install ".[fem,test]"` as a user
 # would (not editable: the package's file list and data are tested too), then the FE and
-# command-line tests, run from outside the source tree so they import the installed copy. Not the
+# command-line tests with the venv's own pytest command (not `python -m pytest`, which would put
+# the source tree first on sys.path), so they import the installed copy. Not the
 # whole suite twice: the physics kernels are the same code on both, the Debian pass runs them all.
 PYPI_VENV  := .venv-pypi-test
 PYPI_TESTS := tests/test_fe_stack.py tests/test_cage_mesh.py tests/test_modes.py tests/test_craig_bampton.py \
@@ -114,9 +115,9 @@ test-pypi:
 	  { echo "make test-pypi: needs Python 3.12 (python3.12 on the PATH, e.g. pyenv install 3.12.1): not found"; exit 1; }; \
 	rm -rf $(PYPI_VENV) && PYENV_VERSION=3.12.1 $$py -m venv $(PYPI_VENV)
 	$(PYPI_VENV)/bin/python -m pip install -q --disable-pip-version-check ".[fem,test]"
-	@$(PYPI_VENV)/bin/python -c "from flexbearing.common.fe_stack import versions; print('PyPI stack:', versions())"
-	cd tests && ../$(PYPI_VENV)/bin/pytest -q -m "not slow" -p no:cacheprovider --rootdir=.. -c ../pyproject.toml \
-	    $(PYPI_TESTS:tests/%=%)
+	@cd / && $(abspath $(PYPI_VENV))/bin/python -c "import flexbearing; from flexbearing.common.fe_stack import \
+	    versions; print('PyPI stack:', versions(), 'flexbearing from', flexbearing.__file__)"
+	$(PYPI_VENV)/bin/pytest -q -m "not slow" -p no:cacheprovider $(PYPI_TESTS)
 
 test-all: setup viewers
 	$(PY) -m pytest -q -p no:cacheprovider
