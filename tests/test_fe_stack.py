@@ -137,3 +137,25 @@ def test_gmsh_initialises_off_the_main_thread(tmp_path):
     t.start()
     t.join()
     assert errors == [6]                             # a box has 6 faces
+
+
+def test_reduced_cage_digest_is_the_same_on_both_stacks(tmp_path):
+    """A reduced cage written on one stack is read on the other (the cache is shared): its content
+    digest takes the root attributes as Python values, since numpy 2 writes np.int64(26) as
+    "np.int64(26)" and numpy 1 as "26". Known answer, hashed here by hand from the format
+    (flexbearing.fem_cage.reduced_cage.data_digest): name|dtype|shape| and bytes, then k=v;."""
+    import hashlib
+    import h5py
+    from flexbearing.fem_cage.reduced_cage import data_digest
+    path = tmp_path / "r.h5"
+    with h5py.File(path, "w") as f:
+        f["a"] = np.arange(3, dtype="<f8")
+        f.attrs["schema_version"] = 5
+        f.attrs["content_hash"] = "abc"
+        f.attrs["parameters"] = "{}"
+        f.attrs["n_modes"] = 26
+    h = hashlib.sha256()
+    h.update(b"a|<f8|(3,)|" + np.arange(3, dtype="<f8").tobytes())
+    h.update(b"schema_version=5;content_hash='abc';parameters='{}';n_modes=26;")
+    with h5py.File(path, "r") as f:
+        assert data_digest(f) == h.hexdigest()
