@@ -33,8 +33,10 @@ is cached, or whose cage is rigid, never loads the FE stack.
 
 What each stack lacks (said here once):
 
-* Debian 12: its MUMPS has no METIS, SCOTCH or ParMETIS, so its fill-reducing ordering is AMD-
-  family (`mumps_ordering` picks the best one present); dolfinx 0.5.2's `read_from_msh` is broken
+* Debian 12: its MUMPS has no METIS, SCOTCH or ParMETIS; MUMPS's automatic choice (ICNTL(7) = 7,
+  left as it is on both stacks) takes PORD there and METIS on the PyPI wheel, and on the paper
+  cage's saddle matrix the orderings differ by ~10 % at most (benchmarks/mumps_ordering.py,
+  benchmarks/results/mumps_ordering.md); dolfinx 0.5.2's `read_from_msh` is broken
   (`read_gmsh_model` goes through gmsh on rank 0 and `model_to_mesh` on both). It is the stack of
   `make setup`/`make test`/`make demo` and the reference results.
 * PyPI: Python >= 3.12 on Linux with glibc >= 2.34 only (the wheel is manylinux_2_34); no
@@ -107,7 +109,8 @@ def versions() -> dict:
     return {"dolfinx": dolfinx.__version__, "ufl": ufl.__version__,
             "petsc": ".".join(map(str, PETSc.Sys.getVersion())),
             "slepc": ".".join(map(str, SLEPc.Sys.getVersion())),
-            "mpi": __getattr__("MPI").Get_library_version().splitlines()[0].strip(),
+            "mpi": " ".join(__getattr__("MPI").Get_library_version().splitlines()[0].split(",")[0]
+                            .replace("\0", "").split()),
             "gmsh": gmsh.__version__}
 
 
