@@ -112,6 +112,19 @@ def test_xdmf_mesh_and_tags(cube, tmp_path):
         assert list(np.ravel(f[dataset][()])) == [7] * 48
 
 
+def test_ctrl_c_is_python_s_again_after_gmsh():
+    """gmsh sets SIGINT to the default action while it works (Ctrl-C kills a long mesh); after
+    finalize() Python's handler is back, so Ctrl-C in a run that meshed first raises
+    KeyboardInterrupt and the run stops cleanly (gmsh 4.15 alone would leave SIG_DFL for good)."""
+    import signal
+    import gmsh
+    from flexbearing.common.fe_stack import gmsh_initialize
+    signal.signal(signal.SIGINT, signal.default_int_handler)     # Python's (a test may have left gmsh's)
+    gmsh_initialize(gmsh)
+    gmsh.finalize()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
 def test_gmsh_initialises_off_the_main_thread(tmp_path):
     """A Dask worker builds a reduced cage on a task thread: gmsh must start there (gmsh >= 4.9
     installs its SIGINT handler in initialize(), which Python allows on the main thread only)."""

@@ -56,6 +56,7 @@ differences).
 from __future__ import annotations
 
 import importlib
+import signal
 import sys
 import threading
 
@@ -119,14 +120,23 @@ def versions() -> dict:
 def gmsh_initialize(gmsh) -> None:
     """gmsh.initialize(). gmsh 4.8 sets the SIGINT handler when it is imported; gmsh >= 4.9 sets
     it in initialize() unless interruptible=False, and Python allows signal.signal in the main
-    thread only: off the main thread (a Dask worker building a reduced cage) it is left alone;
+    thread only: off the main thread (a Dask worker building a reduced cage) it is left alone. On
+    the main thread, finalize() puts Python's handler back (KeyboardInterrupt: a run stops cleanly)
+    on both;
     gmsh 4.8's finalize() would put back the handler it saw at import (`oldsig`) with
     signal.signal too: that is dropped."""
     if threading.current_thread() is threading.main_thread():
+        previous = signal.getsignal(signal.SIGINT)
         gmsh.initialize()
+        if hasattr(gmsh, "prev_interrupt_handler"):
+            # gmsh >= 4.9 means finalize() to put the handler back, but keeps it in a local
+            # variable (no `global`): Ctrl-C would kill the process for good after the first mesh
+            gmsh.prev_interrupt_handler = previous
         return
     if getattr(gmsh, "oldsig", None) is not None:
         gmsh.oldsig = None
+    if getattr(gmsh, "prev_interrupt_handler", None) is not None:
+        gmsh.prev_interrupt_handler = None     # its finalize() would call signal.signal here
     try:
         gmsh.initialize(interruptible=False)
     except TypeError:                              # gmsh 4.8: no such argument, nothing to skip
