@@ -2,6 +2,7 @@
 #   make demo      the paper's case end to end (results in out/demo/)
 #   make test      the fast test suite
 #   make lint      the linter (ruff, pyflakes rules: unused and undefined names) over the code, tests, benchmarks, docs
+#   make test-pypi the FE and command-line tests on the PyPI stack (Python 3.12, dolfinx 0.11)
 #   make test-all  every test, the slow verification included (installs ParaView, xvfb, Chromium)
 #   make viewers   ParaView, xvfb and Chromium: the report's .pvsm, --movie and --pdf
 #   make bench     the benchmarks in benchmarks/ (work–precision, wall times)
@@ -42,7 +43,7 @@ PIP_PACKAGES := rainflow==3.2.0 ruff==0.17.5
 # Not needed to run or report: without them the .pvsm, the movie and the PDF are left out.
 VIEWER_PACKAGES := paraview xvfb chromium
 
-.PHONY: setup viewers demo lint test test-all bench bench-work-precision cost-model stress clean
+.PHONY: setup viewers demo lint test test-pypi test-all bench bench-work-precision cost-model stress clean
 
 # $(call apt_install,PACKAGES): install those of the Debian packages that are missing
 define apt_install
@@ -102,6 +103,28 @@ test: setup
 	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
 	.ci/on-other-isa $(PY) -m pytest -q -m "not slow" -p no:cacheprovider
 
+# The same program on the PyPI stack (dolfinx 0.11 from the dolfinx-solver-real wheel, gmsh 4.15,
+# numba/numpy/scipy from PyPI; flexbearing.common.fe_stack): a fresh venv of Python 3.12 (pyenv's
+# 3.12.1 where pyenv is there, else python3.12 on the PATH), `pip install ".[fem,test]"` as a user
+# would (not editable: the package's file list and data are tested too), then the FE and
+# command-line tests with the venv's own pytest command (not `python -m pytest`, which would put
+# the source tree first on sys.path), so they import the installed copy. Not the
+# whole suite twice: the physics kernels are the same code on both, the Debian pass runs them all.
+PYPI_VENV  := .venv-pypi-test
+PYPI_TESTS := tests/test_fe_stack.py tests/test_cage_mesh.py tests/test_modes.py tests/test_craig_bampton.py \
+    tests/test_block_lanczos.py tests/test_guide_loads.py tests/test_invariants.py tests/test_reduced_cage.py \
+    tests/test_cad_cage_named.py tests/test_cli.py tests/test_user_errors_generated.py tests/test_run.py
+test-pypi:
+	@py=$$(PYENV_VERSION=3.12.1 command -v python3.12 2>/dev/null || \
+	       ls -d $${PYENV_ROOT:-$$HOME/.pyenv}/versions/3.12*/bin/python3.12 2>/dev/null | tail -1); \
+	[ -n "$$py" ] && PYENV_VERSION=3.12.1 $$py -c "import sys; assert sys.version_info >= (3, 12)" 2>/dev/null || \
+	  { echo "make test-pypi: needs Python 3.12 (python3.12 on the PATH, e.g. pyenv install 3.12.1): not found"; exit 1; }; \
+	rm -rf $(PYPI_VENV) && PYENV_VERSION=3.12.1 $$py -m venv $(PYPI_VENV)
+	$(PYPI_VENV)/bin/python -m pip install -q --disable-pip-version-check ".[fem,test]"
+	@cd / && $(abspath $(PYPI_VENV))/bin/python -c "import flexbearing; from flexbearing.common.fe_stack import \
+	    versions; print('PyPI stack:', versions(), 'flexbearing from', flexbearing.__file__)"
+	$(PYPI_VENV)/bin/pytest -q -m "not slow" -p no:cacheprovider $(PYPI_TESTS)
+
 test-all: setup viewers
 	$(PY) -m pytest -q -p no:cacheprovider
 
@@ -118,4 +141,4 @@ stress: setup
 	nice -n 5 $(PY) benchmarks/stress_test.py
 
 clean:
-	rm -rf $(VENV) out cache *.egg-info
+	rm -rf $(VENV) $(PYPI_VENV) out cache *.egg-info

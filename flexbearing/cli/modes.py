@@ -141,7 +141,8 @@ def measured_mesh_geometry(path) -> dict:
     largest and smallest distance from the bearing axis x, the axial extent; the nodes lie on the
     surfaces), and its pockets counted from the physical groups named pocket*."""
     import gmsh
-    gmsh.initialize()      # gmsh 4.8 has no isInitialized(): own the session for this call
+    from flexbearing.common.fe_stack import gmsh_initialize
+    gmsh_initialize(gmsh)  # gmsh 4.8 has no isInitialized(): own the session for this call
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.open(str(path))

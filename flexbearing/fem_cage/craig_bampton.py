@@ -79,7 +79,7 @@ def petsc_to_scipy(A) -> sp.csr_matrix:
 
 
 def scipy_to_petsc(A):
-    from petsc4py import PETSc
+    from flexbearing.common.fe_stack import PETSc
     A = sp.csr_matrix(A)
     A.sort_indices()
     ity = PETSc.IntType
@@ -90,7 +90,7 @@ def scipy_to_petsc(A):
 
 
 def _lu_solver():
-    from petsc4py import PETSc
+    from flexbearing.common.fe_stack import PETSc
     for name in ("mumps", "superlu_dist", "superlu"):
         if PETSc.Sys.hasExternalPackage(name):
             return name
@@ -105,7 +105,7 @@ def lu_ksp(A, symmetric: bool = False):
     user guide §5.1) instead of LU — half the factor, so factorising and every solve cost less
     (the paper cage's saddle matrix: 4.1 s and 0.061 s per solve against 6.1 s and 0.098 s;
     benchmarks/results/reduce_design_loop.md). Returns (ksp set up, solver name)."""
-    from petsc4py import PETSc
+    from flexbearing.common.fe_stack import PETSc
     ksp = PETSc.KSP().create(PETSc.COMM_SELF)
     ksp.setOperators(A)
     ksp.setType(PETSc.KSP.Type.PREONLY)
@@ -186,7 +186,7 @@ class SaddleSolver:
     BLOCK = 50
 
     def _block_solve(self, rhs_u, rhs_c, k):
-        from petsc4py import PETSc
+        from flexbearing.common.fe_stack import PETSc
         N = self.n + self.nc
         Bm = PETSc.Mat().createDense([N, k], comm=PETSc.COMM_SELF)
         Bm.setUp()
@@ -272,8 +272,8 @@ def fixed_interface_modes(solver: SaddleSolver, K: sp.spmatrix, M: sp.spmatrix, 
                 "nconv": n_fixed, "max_relative_residual": float(modes.residual.max()),
                 "M_Phi": modes.M_Phi}
         return modes.omega, modes.Phi, info
-    from petsc4py import PETSc
-    from slepc4py import SLEPc
+    from flexbearing.common.fe_stack import PETSc
+    from flexbearing.common.fe_stack import SLEPc
     n = K.shape[0]
     ctx = _ConstrainedInverse(solver, mass_times)
     A = PETSc.Mat().createPython([n, n], ctx, comm=PETSc.COMM_SELF)

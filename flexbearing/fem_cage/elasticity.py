@@ -10,7 +10,8 @@ Weak form (small strain, isotropic, no body load), for u, v in [P_k]^3 on the ca
 No Dirichlet condition: the cage is free–free, K is singular with the 6 rigid-body motions in
 its null space (flexbearing.fem_cage.modes handles that with a shifted factorisation).
 Reference: any FE text, e.g. Hughes, "The Finite Element Method" (2000), §2.7 and §7.
-dolfinx 0.5.2 API (FunctionSpace/VectorFunctionSpace, dolfinx.fem.petsc.assemble_matrix).
+dolfinx calls that differ between the Debian (0.5.2) and PyPI (0.11) stacks go through
+flexbearing.common.fe_stack.
 """
 from __future__ import annotations
 
@@ -33,8 +34,8 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
     model_to_mesh); dolfinx 0.5.2's read_from_msh is broken, hence this wrapper.
     """
     import gmsh
-    from dolfinx.io import gmshio
 
+    from flexbearing.common import fe_stack
     from flexbearing.common.validation import InputError
 
     path = Path(path)
@@ -51,7 +52,7 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
         from flexbearing.mesh.quality import check_mesh_file, MIN_JACOBIAN_RATIO
         if check:
             check_mesh_file(path, bound=MIN_JACOBIAN_RATIO if min_quality is None else min_quality)
-        gmsh.initialize()
+        fe_stack.gmsh_initialize(gmsh)
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("cage")
         gmsh.merge(str(path))
@@ -66,7 +67,7 @@ def load_cage_mesh(path, comm=MPI.COMM_WORLD, min_quality: float | None = None, 
         raise InputError(f"mesh {str(path)!r} has no physical volume group (groups: {sorted(names) or 'none'}): "
                          "make it with `flexbearing mesh` or `flexbearing mesh --cad CAGE.step`")
     try:
-        domain, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
+        domain, cell_tags, facet_tags = fe_stack.read_gmsh_model(gmsh.model, comm, 0, gdim=3)
     finally:
         if comm.rank == 0:
             gmsh.finalize()
@@ -98,11 +99,10 @@ def assemble_stiffness_mass(domain, material, degree: int = 2, quadrature_degree
     K_ij = k(phi_j, phi_i), M_ij = m(phi_j, phi_i) (forms in the module docstring); no BCs.
     """
     import ufl
-    from dolfinx import fem
-    from dolfinx.fem.petsc import assemble_matrix
+    from flexbearing.common.fe_stack import fem, assemble_matrix, vector_space
 
     material.validate("cage.material")
-    V = fem.VectorFunctionSpace(domain, ("Lagrange", int(degree)))
+    V = vector_space(domain, "Lagrange", int(degree))
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     # Quadrature: exact for the P-degree polynomial integrands on affine cells; on curved
     # quadratic cells the Jacobian varies and the default estimate would be needlessly high.
@@ -127,7 +127,7 @@ def von_mises_expression(u, material):
 def total_mass(domain, material) -> float:
     """∫ rho dx over the mesh (all ranks), kg."""
     import ufl
-    from dolfinx import fem
+    from flexbearing.common.fe_stack import fem
     local = fem.assemble_scalar(fem.form(material.density * ufl.dx(domain=domain)))
     return domain.comm.allreduce(local, op=MPI.SUM)
 

@@ -161,7 +161,7 @@ def selection_matrix(n: int, idx: np.ndarray) -> sp.csr_matrix:
 
 def pocket_wall_nodes(V, facet_tags, n_pockets: int) -> list[np.ndarray]:
     """Node (block) indices of V on each pocket wall (facet tag 101 + k)."""
-    from dolfinx import fem
+    from flexbearing.common.fe_stack import fem
     domain = V.mesh
     fdim = domain.topology.dim - 1
     domain.topology.create_connectivity(fdim, domain.topology.dim)
@@ -177,8 +177,7 @@ def pocket_wall_nodes(V, facet_tags, n_pockets: int) -> list[np.ndarray]:
 def pocket_wall_weights(V, facet_tags, walls: list[np.ndarray]) -> list[np.ndarray]:
     """Consistent surface weights w_s = ∫_wall N_s dA of each wall node (m^2)."""
     import ufl
-    from dolfinx import fem
-    from dolfinx.fem.petsc import assemble_vector
+    from flexbearing.common.fe_stack import fem, assemble_vector
     domain = V.mesh
     ds = ufl.Measure("ds", domain=domain, subdomain_data=facet_tags)
     v = ufl.TestFunction(V)

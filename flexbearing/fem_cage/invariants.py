@@ -109,7 +109,7 @@ def direct_mass_properties(domain, density: float, quadrature_degree: int) -> di
     """∫ rho dV, ∫ rho x dV, ∫ rho x_a x_b dV assembled directly as dolfinx scalar forms (the
     independent check of mass_moments); serial."""
     import ufl
-    from dolfinx import fem
+    from flexbearing.common.fe_stack import fem
     dx = ufl.dx(domain=domain, metadata={"quadrature_degree": int(quadrature_degree)})
     x = ufl.SpatialCoordinate(domain)
 

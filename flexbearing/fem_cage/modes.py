@@ -28,7 +28,7 @@ PAPER_TABLE8_HZ = dict(zip(range(7, 28), (
 
 
 def _factor_solver() -> str:
-    from petsc4py import PETSc
+    from flexbearing.common.fe_stack import PETSc
     for name in ("mumps", "superlu_dist"):
         if PETSc.Sys.hasExternalPackage(name):
             return name
@@ -98,8 +98,8 @@ def free_free_modes(K, M, n_modes: int = 27, shift: float | None = None, tol: fl
     relative to the elastic spectrum so K - sigma M is positive definite but well conditioned.
     Returns (frequencies_hz ascending, eigenvectors: list of M-normalised PETSc Vecs).
     """
-    from petsc4py import PETSc
-    from slepc4py import SLEPc
+    from flexbearing.common.fe_stack import PETSc
+    from flexbearing.common.fe_stack import SLEPc
 
     if n_modes < 1:
         from flexbearing.common.validation import InputError

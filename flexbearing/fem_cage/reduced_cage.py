@@ -444,10 +444,16 @@ def data_digest(f) -> str:
         h.update(f"{name}|{a.dtype.str}|{a.shape}|".encode())
         h.update(a.tobytes() if a.dtype != object else repr(a.tolist()).encode())
     for k in _DIGEST_ATTRS:
-        h.update(f"{k}={f.attrs.get(k)!r};".encode())
+        v = f.attrs.get(k)
+        # as a Python value: numpy 2 writes a scalar's repr as "np.int64(26)", numpy 1 as "26", and
+        # a file written on one FE stack (docs/install.md) is read on the other
+        v = v.item() if isinstance(v, np.generic) else v
+        h.update(f"{k}={v!r};".encode())
     for k in _DIGEST_ATTRS_IF_PRESENT:
         if k in f.attrs:
-            h.update(f"{k}={f.attrs.get(k)!r};".encode())
+            v = f.attrs.get(k)
+            v = v.item() if isinstance(v, np.generic) else v
+            h.update(f"{k}={v!r};".encode())
     return h.hexdigest()
 
 

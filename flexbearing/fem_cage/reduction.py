@@ -105,13 +105,12 @@ def guide_load_vectors(V, facet_tags, tag: int = TAG_GUIDE, quadrature_degree: i
     facet tags. Returns (F (n, 3) columns f_y f_z f_t, info dict with c, c_t, area, raw off-axis
     resultants and correction sizes)."""
     import ufl
-    from dolfinx import fem
-    from dolfinx.fem.petsc import assemble_vector
+    from flexbearing.common.fe_stack import fem, assemble_vector, element_degree
     from .interface import rigid_field
     domain = V.mesh
     if not np.any(facet_tags.values == tag):
         raise ValueError(f"mesh has no facets tagged guide ({tag})")
-    deg = V.ufl_element().degree()
+    deg = element_degree(V)
     md = {"quadrature_degree": int(quadrature_degree or 2 * deg + 2)}   # integrand not polynomial
     ds = ufl.Measure("ds", domain=domain, subdomain_data=facet_tags, metadata=md)(tag)
     x = ufl.SpatialCoordinate(domain)

@@ -35,12 +35,11 @@ def mesh_nodes(domain):
     """(nodes, coords (Nn, 3), cells (Nc, k), vtk_cells (Nc, k)): the geometry nodes of the mesh
     (vertices, plus edge nodes on a curved quadratic mesh), their coordinates, the cells as
     compact node indices in dolfinx order and in VTK order (tetra / tetra10, for XDMF)."""
-    from dolfinx import cpp
-    ncell = domain.topology.index_map(3).size_local
-    gdm = domain.geometry.dofmap.array.reshape(ncell, -1)
+    from flexbearing.common.fe_stack import geometry_dofmap, vtk_permutation
+    gdm = geometry_dofmap(domain)
     nodes, cells = np.unique(gdm, return_inverse=True)
     cells = cells.reshape(gdm.shape).astype(np.int64)
-    perm = np.asarray(cpp.io.perm_vtk(cpp.mesh.CellType.tetrahedron, gdm.shape[1]))
+    perm = vtk_permutation(gdm.shape[1])
     vtk = np.empty_like(cells)
     vtk[:, perm] = cells          # perm maps VTK -> dolfinx local order
     return nodes, domain.geometry.x[nodes].copy(), cells, vtk
@@ -52,7 +51,8 @@ class NodalStress:
     interpolated to the same nodes (`displacement`)."""
 
     def __init__(self, V, material):
-        from dolfinx import fem
+        import ufl
+        from flexbearing.common.fe_stack import fem, vector_space, tensor_space, cell_dofs, expression
         from .elasticity import stress
         domain = V.mesh
         self.u = fem.Function(V)
@@ -61,11 +61,10 @@ class NodalStress:
         gdeg = {4: 1, 10: 2}[k]
         # DG space of the geometry's degree: its local dofs sit at the cell's geometry nodes, in
         # the same local order as the geometry dofmap (same Lagrange element layout).
-        W = fem.TensorFunctionSpace(domain, ("DG", gdeg))
+        W = tensor_space(domain, "DG", gdeg)
         self.sig = fem.Function(W)
-        self.expr = fem.Expression(stress(self.u, material), W.element.interpolation_points())
-        ncell = len(self.cells)
-        self.dg_dofs = W.dofmap.list.array.reshape(ncell, k)
+        self.expr = expression(stress(self.u, material), W)
+        self.dg_dofs = cell_dofs(W)
         self.count = np.bincount(self.cells.ravel(), minlength=len(self.nodes)).astype(float)
         # (1) as one sparse matrix, DG dof -> node, 1/|cells(n)| each: one product per mode
         # (np.add.at, unbuffered, took half the stress-mode time on the paper cage)
@@ -73,10 +72,10 @@ class NodalStress:
         self.average = sp.csr_matrix(
             (1.0 / self.count[self.cells.ravel()], (self.cells.ravel(), self.dg_dofs.ravel())),
             shape=(len(self.nodes), len(self.sig.x.array) // 9))
-        Vg = fem.VectorFunctionSpace(domain, ("Lagrange", gdeg))
+        Vg = vector_space(domain, "Lagrange", gdeg)
         self.ug = fem.Function(Vg)
-        self.ug_dofs = fem.VectorFunctionSpace(domain, ("DG", gdeg)).dofmap.list.array.reshape(ncell, k)
-        self.ug_cells = Vg.dofmap.list.array.reshape(ncell, k)
+        self.ug_dofs = cell_dofs(vector_space(domain, "DG", gdeg))
+        self.ug_cells = cell_dofs(Vg)
         self._ug_node = np.empty(len(self.nodes), dtype=np.int64)
         self._ug_node[self.cells.ravel()] = self.ug_cells.ravel()
 

@@ -32,8 +32,7 @@ _TET10_FROM_BASIX = [0, 1, 2, 3, 9, 6, 8, 7, 5, 4]
 
 def write_mesh_xdmf(msh_path) -> Path:
     """Read the .msh with dolfinx and write mesh + cell/facet tags to the same stem .xdmf."""
-    from mpi4py import MPI
-    from dolfinx.io import XDMFFile
+    from flexbearing.common.fe_stack import MPI, XDMFFile, write_meshtags
     from .elasticity import load_cage_mesh
     domain, cell_tags, facet_tags, names = load_cage_mesh(msh_path, MPI.COMM_WORLD)
     out = Path(msh_path).with_suffix(".xdmf")
@@ -42,28 +41,28 @@ def write_mesh_xdmf(msh_path) -> Path:
         xf.write_mesh(domain)
         cell_tags.name = "cell_tags"
         facet_tags.name = "facet_tags"
-        xf.write_meshtags(cell_tags)
-        xf.write_meshtags(facet_tags)
+        write_meshtags(xf, cell_tags, domain)
+        write_meshtags(xf, facet_tags, domain)
     return out
 
 
 def write_modes_xdmf(path, V, vecs, freqs_hz, material, labels=None) -> Path:
     import meshio
-    from dolfinx import fem
+    from flexbearing.common.fe_stack import (fem, vector_space, scalar_space, geometry_degree, cell_dofs,
+                                             expression, petsc_vector)
     from .elasticity import von_mises_expression
 
     path = Path(path).with_suffix(".xdmf")
     domain = V.mesh
     comm = domain.comm
-    gdeg = domain.geometry.cmap.degree
-    W = fem.VectorFunctionSpace(domain, ("Lagrange", gdeg))
-    Q = fem.FunctionSpace(domain, ("Lagrange", gdeg))
+    gdeg = geometry_degree(domain)
+    W = vector_space(domain, "Lagrange", gdeg)
+    Q = scalar_space(domain, "Lagrange", gdeg)
     u, uo, vm = fem.Function(V), fem.Function(W), fem.Function(Q)
-    vm_expr = fem.Expression(von_mises_expression(u, material), Q.element.interpolation_points())
+    vm_expr = expression(von_mises_expression(u, material), Q)
     points = W.tabulate_dof_coordinates()
     assert np.allclose(points, Q.tabulate_dof_coordinates())      # same node layout
-    n_cells = domain.topology.index_map(3).size_local
-    cells = Q.dofmap.list.array.reshape(-1, Q.dofmap.dof_layout.num_dofs)[:n_cells]
+    cells = cell_dofs(Q)
     if gdeg == 2:
         cells, ctype = cells[:, _TET10_FROM_BASIX], "tetra10"
     else:
@@ -91,7 +90,7 @@ def write_modes_xdmf(path, V, vecs, freqs_hz, material, labels=None) -> Path:
         writer.write_points_cells(all_points, [(ctype, all_cells)])
     try:
         for i, vec in enumerate(vecs):
-            vec.copy(u.vector)
+            vec.copy(petsc_vector(u))
             u.x.scatter_forward()
             uo.interpolate(u)
             vm.interpolate(vm_expr)

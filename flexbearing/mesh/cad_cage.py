@@ -993,7 +993,8 @@ def build_cad_cage_mesh(path, out, n_balls: int, pitch_diameter: float, ball_dia
     for given in {src.path, src.shape_file}:
         if out.resolve() == given.resolve():
             raise InputError(f"mesh output {str(out)!r} is the CAD input {str(given)!r}")
-    gmsh.initialize()
+    from flexbearing.common.fe_stack import gmsh_initialize
+    gmsh_initialize(gmsh)      # gmsh >= 4.9 off the main thread: fe_stack
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("cad_cage")
@@ -1084,7 +1085,8 @@ def cad_cage_geometry(path, n_balls: int, pitch_diameter: float, ball_diameter: 
     cached = read_cad_record(store, key)
     if cached is not None:
         return cached
-    gmsh.initialize()
+    from flexbearing.common.fe_stack import gmsh_initialize
+    gmsh_initialize(gmsh)      # gmsh >= 4.9 off the main thread: fe_stack
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         cad = read_cad_cage(src, n_balls, pitch_diameter, ball_diameter, guidance, unit, material)

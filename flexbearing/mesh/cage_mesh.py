@@ -374,7 +374,8 @@ def build_ring_mesh(geometry: CageGeometry, size: float, order: int, path,
 def _mesh_to_file(geometry, size, order, path, pocket_size, with_pockets, verbose, local=None,
                   repair: bool = True) -> Path:
     import gmsh
-    gmsh.initialize()      # gmsh 4.8 has no isInitialized(): own the session for this call
+    from flexbearing.common.fe_stack import gmsh_initialize
+    gmsh_initialize(gmsh)  # gmsh 4.8 has no isInitialized(): own the session for this call
     try:
         gmsh.model.add("cage")
         _build_model(geometry, size, order, pocket_size, with_pockets, verbose, local)

@@ -12,6 +12,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from flexbearing.common import fe_stack
+
 Z, OD, BORE, WIDTH, PITCH, DP, TURN = 14, 176.0, 158.0, 26.0, 167.0, 22.4, 7.0   # mm, degrees
 # mm: the elliptical pockets' diameter in the direction of rotation; the model takes at most
 # 2A²/(Dw/2) = 22.807 mm with A = DP/2 and the 22 mm ball (the ball fits the ellipse's end curvature)
@@ -39,7 +41,7 @@ def make_cad_cage(path, z: int = Z, pitch: float = PITCH, dp: float = DP, sphere
     these two shapes in the direction of rotation, its axis then missing the bearing axis.
     Returns the path."""
     import gmsh
-    gmsh.initialize()
+    fe_stack.gmsh_initialize(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         occ = gmsh.model.occ
@@ -112,7 +114,7 @@ def make_named_cad_cage(path, guidance: str = "inner", wrong: str = "", **cage):
     path = Path(path)
     step = make_cad_cage(path.with_suffix(".step"), **cage)
     pockets, bore, outside, sides = [[] for _ in range(Z)], [], [], []
-    gmsh.initialize()
+    fe_stack.gmsh_initialize(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.occ.importShapes(str(step))
@@ -157,7 +159,7 @@ def mesh_groups(msh_path) -> dict:
     in m)} — what the CAD and pocket-shape tests check a mesh's tagging and its pocket nodes with."""
     import gmsh
     import numpy as np
-    gmsh.initialize()
+    fe_stack.gmsh_initialize(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.merge(str(msh_path))

@@ -199,13 +199,13 @@ def extrapolated_nodal_stress(model: ProjectModel, u: np.ndarray) -> np.ndarray:
     extrapolate.f's a4), each mid-edge node the mean of its two corners, then averaged over the
     cells at each node. (N, 6) Voigt, .msh node order. Used to separate the two codes' recovery
     from their solutions (module docstring)."""
-    from dolfinx import fem
+    from flexbearing.common.fe_stack import fem, evaluate_expression
     from flexbearing.fem_cage.elasticity import stress
     op = model.stress_op
     op.u.x.array[:] = u
     expr = fem.Expression(stress(op.u, model.material), _ref_points())
     ncell = len(op.vtk_cells)
-    sig = expr.eval(np.arange(ncell, dtype=np.int32)).reshape(ncell, 4, 9)[:, :, VOIGT]
+    sig = evaluate_expression(expr, op.u.function_space.mesh, np.arange(ncell)).reshape(ncell, 4, 9)[:, :, VOIGT]
     lam = np.column_stack([1 - _ref_points().sum(1), _ref_points()])     # (point, vertex)
     corners = np.einsum("kj,cjv->ckv", np.linalg.inv(lam), sig)          # (cell, vertex, 6)
     mids = [0.5 * (corners[:, a] + corners[:, b]) for a, b in cx.TET10_EDGES]
