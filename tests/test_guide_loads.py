@@ -92,7 +92,7 @@ def test_plain_ring_matches_cylinder_formulas():
     ∫ c cos(theta) e_r · y r e_r dA = c R^2 ∫ cos^2 dA = R^2, of f_z on z (0, y, z) likewise, and of
     f_t on y^2 (0, -z, y) = y^2 r e_theta is c_t R^3 ∫ cos^2 dA = R^2/2. Tolerance 1e-4 relative: the curved
     quadratic facets approximate the cylinder's area to ~(h/R)^4 (measured ~1e-6)."""
-    from flexbearing.common.fe_stack import MPI, fem, vector_space
+    from flexbearing.common.fe_stack import MPI, vector_space
     from flexbearing.mesh.cage_geometry import CageGeometry
     from flexbearing.mesh.cage_mesh import cached_ring_mesh
     from flexbearing.fem_cage.elasticity import load_cage_mesh

@@ -163,7 +163,7 @@ def material_source(args, g) -> str:
     scene = getattr(args, "_scene", None)
     if scene is not None:
         given = "material" in scene.data.get("cage", {})
-        return f"the scene's [cage.material]" if given else "the paper's 40CrNiMoA, the scene's default"
+        return "the scene's [cage.material]" if given else "the paper's 40CrNiMoA, the scene's default"
     return f"the preset '{args.preset}': 40CrNiMoA, the paper's cage steel (--scene for another material)"
 
 

@@ -51,7 +51,6 @@ class NodalStress:
     interpolated to the same nodes (`displacement`)."""
 
     def __init__(self, V, material):
-        import ufl
         from flexbearing.common.fe_stack import fem, vector_space, tensor_space, cell_dofs, expression
         from .elasticity import stress
         domain = V.mesh
