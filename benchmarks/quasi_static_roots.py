@@ -45,7 +45,7 @@ def main():
                     (warm.residual_ring + cold.residual_ring)
                 du = float(np.max(np.abs(warm.ring_displacement - cold.ring_displacement)[free]))
                 worst = max(worst, du / bound)
-                print(f"{name:15s} {rpm:6.0f} {-fz:7.0f} {cold.iterations:8d} {warm.iterations:8d} {du:10.2e} "
+                print(f"{name:15s} {rpm:6.0f} {abs(fz):7.0f} {cold.iterations:8d} {warm.iterations:8d} {du:10.2e} "
                       f"{bound:10.2e} {du / bound:6.2f} {cold.jacobian_condition:6.1f}")
                 previous = cold
     print(f"largest |du|/bound {worst:.2f}; {time.time() - t0:.1f} s")

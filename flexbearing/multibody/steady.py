@@ -262,6 +262,11 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
 # the continuation in the load that breaks the balls' symmetry: first step, smallest step
 CONTINUATION_FIRST_STEP = 0.25
 CONTINUATION_MIN_STEP = 1.0 / 256.0
+# condition number of the held-cage Jacobian (scaled unknowns and equations) read as singular: the
+# damped Newton stalls beyond about 1e8 (the non-root stationary point of |F| measured at 7e8,
+# _held_cage_continuation's docstring); a tenfold rise between the last two roots also marks the
+# approach to a fold (the smallest singular value goes to zero like sqrt(lambda* - lambda))
+FOLD_CONDITION = 1e8
 
 
 def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float,
@@ -290,10 +295,11 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
     axial = np.array([load[0], 0.0, 0.0])
     radial = np.array([0.0, load[1], load[2]])
 
-    def at(lam, start):
+    def at(lam, start, conditioning=False):
         p = model.p.copy()
         p[M.P_GRAV] = lam * g
-        return _held_cage_solve(model._replace(p=p), speed_rad_s, axial + lam * radial, phase, tol, start=start)
+        return _held_cage_solve(model._replace(p=p), speed_rad_s, axial + lam * radial, phase, tol, start=start,
+                                conditioning=conditioning)
 
     start = _symmetric_start(model, speed_rad_s, load[0], phase)
     y, info = at(0.0, start)
@@ -336,7 +342,7 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             # contact law inside the step: the residual jumps there and no root lies on the switch
             # itself, but the branch goes on beyond it. Jump over it from the last root.
             jumped = False
-            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1)}, reverse=True):
+            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1), min(1.0, lam + 0.02)}, reverse=True):
                 y_t, info_t = at(far, info["unknowns"])
                 if info_t["converged"]:
                     previous = None
@@ -346,10 +352,22 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                     break
             if jumped:
                 continue
+            # the branch's conditioning at the last two roots tells a fold (a limit point: the
+            # Jacobian turns singular as lambda approaches it, beyond it this branch has no root) from
+            # a switch of a contact law (a kink: the Jacobian stays regular)
+            c_last = at(lam, info["unknowns"], conditioning=True)[1]["jacobian_condition"]
+            c_prev = at(previous[0], previous[1], conditioning=True)[1]["jacobian_condition"] \
+                if previous is not None else math.nan
+            fold = c_last > FOLD_CONDITION or (c_prev > 0.0 and c_last > 10.0 * c_prev)
+            what = (f"a fold: the Jacobian's condition number rises to {c_last:.2e} (from {c_prev:.2e} at lambda = "
+                    f"{previous[0] if previous is not None else math.nan:.3f}), so this branch of held-cage states "
+                    "ends there and has no root at the full load") if fold else \
+                (f"the Jacobian stays regular there (condition {c_last:.2e}): a contact law switching (a ball "
+                 "leaving the load zone or the pocket clearance, the cage reaching its rim) that the steps "
+                 "could not cross")
             y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.3f} "
                                       f"of the radial load and weight (residual {info_t['residual']:.2e} at "
-                                      f"{trial:.3f}): the branch turns or ends there (a fold, or a ball leaving the "
-                                      "load zone)")
+                                      f"{trial:.3f}): {what}")
             info["continuation"] = path
             return y, info
     info["continuation"] = path
@@ -405,9 +423,11 @@ def _thrust_state_by_speed(model, speed_rad_s: float, axial_load: float) -> dict
 
 
 def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float,
-                     start: np.ndarray | None = None) -> tuple[np.ndarray, dict]:
+                     start: np.ndarray | None = None, conditioning: bool = False) -> tuple[np.ndarray, dict]:
     """One damped-Newton solve of the held-cage equations (steady_held_cage_state's docstring) from
-    the quasi-static balls, or from `start` (the unknowns of an earlier solution, info["unknowns"])."""
+    the quasi-static balls, or from `start` (the unknowns of an earlier solution, info["unknowns"]).
+    conditioning: also info["jacobian_condition"], the 2-norm condition number of the scaled
+    equations' Jacobian (central differences) at the end point."""
     p = model.p
     z = model.n_balls
     lay = M.state_layout(model)
@@ -474,6 +494,15 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
         return scale_r * f
 
     v, f, iterations, nfev = _newton(residual, n, tol)
+    cond = math.nan
+    if conditioning:
+        jac = np.empty((n, n))
+        for k in range(n):
+            e = np.zeros(n)
+            e[k] = 1e-3
+            jac[:, k] = (residual(v + e) - residual(v - e)) / 2e-3
+        sv = np.linalg.svd(jac, compute_uv=False)
+        cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
     y = state(v)
     res = float(np.max(np.abs(f)))
     out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
@@ -483,7 +512,7 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
                 cage_land_force=out["cage_land_force"].copy(),
                 pocket_resultant=out["pocket_force_on_cage"].sum(axis=0),
                 pocket_offset=(u0 + v * scale_u)[2:nb:6].copy(), outputs=out,
-                unknowns=u0 + v * scale_u, continuation=[], reason="")
+                unknowns=u0 + v * scale_u, continuation=[], reason="", jacobian_condition=cond)
     if not info["converged"]:
         info["reason"] = f"damped Newton ended at residual {res:.2e} after {iterations} iterations"
     return y, info
