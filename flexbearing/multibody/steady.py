@@ -261,7 +261,7 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
 
 # the continuation in the load that breaks the balls' symmetry: first step, smallest step
 CONTINUATION_FIRST_STEP = 0.25
-CONTINUATION_MIN_STEP = 1.0 / 256.0
+CONTINUATION_MIN_STEP = 1.0 / 1024.0
 # condition number of the held-cage Jacobian (scaled unknowns and equations) read as singular: the
 # damped Newton stalls beyond about 1e8 (the non-root stationary point of |F| measured at 7e8,
 # _held_cage_continuation's docstring); a tenfold rise between the last two roots also marks the
@@ -280,8 +280,9 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
     where that fails, the held-cage solve of the thrust alone from the quasi-static balls. Then
     lambda rises to 1, each solve starting from the secant predictor through the last two roots
     (then, where that fails, from the last root itself); a failed step is halved (down to
-    CONTINUATION_MIN_STEP = 1/256; 1/64 stopped the paper steady case at the design clearance at
-    lambda = 0.70, issue 42), a converged one enlarged by 1.5. Where the halving ends
+    CONTINUATION_MIN_STEP = 1/1024; 1/64 stopped the paper steady case at the design clearance at
+    lambda = 0.70 and 1/256 at 0.972, where the step to 0.978 fails and the one to 0.975 converges in
+    4 iterations, issue 42), a converged one enlarged by 1.5. Where the halving ends
     (a contact law switching inside the step: the residual jumps there), it jumps over the switch
     from the last root: to lambda = 1, +0.25, +0.1.
 
@@ -319,14 +320,17 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                                "balance the drag the dynamics do not settle)")
     lam, step, path = 0.0, CONTINUATION_FIRST_STEP, [0.0]
     previous = None                       # (lambda, unknowns) of the root before the last one
+
+    def predict(target):
+        """[the secant predictor at lambda = target] where there are two roots, else []."""
+        if previous is None:
+            return []
+        return [info["unknowns"] + (target - lam) / (lam - previous[0]) * (info["unknowns"] - previous[1])]
     while lam < 1.0:
         trial = min(1.0, lam + step)
         # the secant predictor (Allgower & Georg 2003, §2.2: the branch extrapolated linearly
         # through the last two roots), then the last root itself
-        starts = [info["unknowns"]]
-        if previous is not None:
-            starts.insert(0, info["unknowns"] + (trial - lam) / (lam - previous[0]) * (info["unknowns"] - previous[1]))
-        for start in starts:
+        for start in predict(trial) + [info["unknowns"]]:
             y_t, info_t = at(trial, start)
             if info_t["converged"]:
                 break
@@ -337,13 +341,19 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             step *= 1.5
             continue
         step *= 0.5
+        res_trial, lam_fail = info_t["residual"], trial
         if step < CONTINUATION_MIN_STEP:
             # a ball entering or leaving the load zone, or the cage reaching its rim, switches a
             # contact law inside the step: the residual jumps there and no root lies on the switch
             # itself, but the branch goes on beyond it. Jump over it from the last root.
             jumped = False
-            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1), min(1.0, lam + 0.02)}, reverse=True):
-                y_t, info_t = at(far, info["unknowns"])
+            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1), min(1.0, lam + 0.02),
+                               min(1.0, lam + 0.005)}, reverse=True):
+                # from the secant predictor, then from the last root
+                for start in predict(far) + [info["unknowns"]]:
+                    y_t, info_t = at(far, start)
+                    if info_t["converged"]:
+                        break
                 if info_t["converged"]:
                     previous = None
                     lam, y, info, jumped = far, y_t, info_t, True
@@ -358,16 +368,26 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             c_last = at(lam, info["unknowns"], conditioning=True)[1]["jacobian_condition"]
             c_prev = at(previous[0], previous[1], conditioning=True)[1]["jacobian_condition"] \
                 if previous is not None else math.nan
-            fold = c_last > FOLD_CONDITION or (c_prev > 0.0 and c_last > 10.0 * c_prev)
-            what = (f"a fold: the Jacobian's condition number rises to {c_last:.2e} (from {c_prev:.2e} at lambda = "
-                    f"{previous[0] if previous is not None else math.nan:.3f}), so this branch of held-cage states "
-                    "ends there and has no root at the full load") if fold else \
-                (f"the Jacobian stays regular there (condition {c_last:.2e}): a contact law switching (a ball "
-                 "leaving the load zone or the pocket clearance, the cage reaching its rim) that the steps "
-                 "could not cross")
-            y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.3f} "
-                                      f"of the radial load and weight (residual {info_t['residual']:.2e} at "
-                                      f"{trial:.3f}): {what}")
+            # near a fold (a simple limit point) the smallest singular value goes to zero like
+            # sqrt(lambda* - lambda) (Allgower & Georg 2003, §2.3), so the condition c obeys
+            # c1²·(lambda* - l1) = c2²·(lambda* - l2): lambda* from the last two roots; a fold where it
+            # lies between the last root and the first lambda that failed
+            lam_star = math.nan
+            if previous is not None and c_last > c_prev > 0.0:
+                lam_star = (c_last ** 2 * lam - c_prev ** 2 * previous[0]) / (c_last ** 2 - c_prev ** 2)
+            fold = c_last > FOLD_CONDITION or lam <= lam_star <= lam_fail
+            what = (f"a fold: the Jacobian's condition number rises from {c_prev:.2e} at lambda = "
+                    f"{previous[0] if previous is not None else math.nan:.4f} to {c_last:.2e} at {lam:.4f}, as "
+                    f"1/sqrt(lambda* - lambda) with lambda* = {lam_star:.4f} (no root at {lam_fail:.4f}): the branch "
+                    "of held-cage states ends there, so there is no held cage at the full load on it (the cage is not "
+                    "held: integrate the dynamics)") if fold else \
+                (f"the Jacobian stays regular there (condition {c_last:.2e}): a contact law switching that the "
+                 "steps could not cross (a ball leaving the load zone, the cage reaching its rim, or a ball "
+                 "pressed past its pocket clearance, where the pocket law's stiffness drops from Kc to 0)")
+            y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
+                                      f"of the radial load and weight (residual {res_trial:.2e} at "
+                                      f"{lam_fail:.4f}): {what}")
+            info["fold"] = bool(fold)
             info["continuation"] = path
             return y, info
     info["continuation"] = path
