@@ -31,7 +31,8 @@ from flexbearing.multibody.bearing import PAPER_BEARING as PRESET
 # The clearance-free paper bearing (radial_clearance = 0) these tests were written on: issue 35 moved the
 # preset to the design clearance of its 30° shim (88.4 um); the solvers' properties checked here are
 # those of the three-point bearing at rest, and the held-cage continuation does not reach the paper
-# steady case at the design clearance (stops at 71 % of the radial load: reported with issue 35).
+# steady case at the design clearance (its held-cage branch ends in a fold at 97.5 % of the radial load:
+# test_steady.test_paper_steady_case_at_the_design_clearance_ends_in_a_fold).
 PAPER_BEARING = PRESET.with_(radial_clearance=0.0)
 from flexbearing.multibody.hertz import hertz_exact, race_curvature_radii, effective_modulus
 
