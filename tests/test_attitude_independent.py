@@ -218,7 +218,7 @@ def test_attitude_and_cage_speed_independent_vs_steady_and_dynamics(case_no, mu0
     omega = case["speed_rpm"] * math.pi / 30.0
     # steady: from its own start, else from the independent root (the root is then still the
     # dynamics' own fixed point: its residual is what is solved)
-    y_s, info = steady_thrust_state(model, omega, case["axial_load"])
+    y_s, info = steady_thrust_state(model, omega, case["axial_load"], strict=False)
     if not info["converged"]:
         from flexbearing.multibody.initial import initial_state
         y0 = initial_state(model, omega, case["axial_load"], 0.0)

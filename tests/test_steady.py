@@ -40,7 +40,8 @@ from flexbearing.multibody.steady import steady_held_cage_state, steady_thrust_s
 # The clearance-free paper bearing (radial_clearance = 0) these tests were written on: issue 35 moved the
 # preset to the design clearance of its 30° shim (88.4 um); the solvers' properties checked here are
 # those of the three-point bearing at rest, and the held-cage continuation does not reach the paper
-# steady case at the design clearance (stops at 71 % of the radial load: reported with issue 35).
+# steady case at the design clearance (its held-cage branch ends in a fold at 97.5 % of the radial load:
+# test_paper_steady_case_at_the_design_clearance_ends_in_a_fold).
 PAPER_BEARING = PRESET.with_(radial_clearance=0.0)
 
 W = 14000 * math.pi / 30
@@ -215,3 +216,26 @@ def test_held_cage_state_converges_on_a_sample_point_where_newton_alone_stalls()
     assert info["converged"], info["reason"]
     assert info["residual"] <= 1e-9
     assert -0.5 < info["outputs"]["slip_rate"] < 0.5
+
+
+@pytest.mark.slow
+def test_paper_steady_case_at_the_design_clearance_ends_in_a_fold():
+    """The paper steady scene (14,000 rpm, Fa 55 kN, Fr 4 kN) on the preset's design clearance (88.4 um):
+    the held-cage continuation follows the branch to lambda = 0.975 of the radial load, where the
+    Jacobian's condition grows as 1/sqrt(lambda* - lambda) (5.8e4 at 0.972, 2.4e5 at 0.975) and no root
+    lies at 0.976: a fold at lambda* = 0.9754 (Allgower & Georg 2003, §2.3), beyond which this branch of
+    held-cage states does not continue. The solver must say so (not 'stopped at lambda') and raise by
+    default. Measured 2-8 min on a shared 2-core machine: slow."""
+    from flexbearing.simulation.scene import load_scene
+    from flexbearing.simulation.quasi_static_scene import steady_scene
+    from flexbearing.multibody.steady import SteadyNotConverged
+    from flexbearing.simulation.quasi_static_scene import scene_instant
+    scene = load_scene("scenes/paper_steady_rigid.toml")
+    assert scene.bearing.radial_clearance > 80e-6
+    _, info, _, _ = steady_scene(scene)
+    assert not info["converged"] and info["fold"] and "a fold" in info["reason"]
+    lam_star = float(info["reason"].split("lambda* = ")[1].split()[0])
+    assert 0.95 < lam_star < 1.0
+    omega, force = scene_instant(scene, 0.0)
+    with pytest.raises(SteadyNotConverged, match="a fold"):
+        steady_held_cage_state(build_model(scene.bearing, scene.oil, scene.model_options), omega, force)

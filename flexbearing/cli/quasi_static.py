@@ -185,6 +185,8 @@ def cmd_quasi_static(args) -> int:
     print(f"{scene.name} at t = {args.time:g} s: inner ring {inputs['inner_speed'] * 30 / math.pi:.1f} rpm, "
           f"Fa = {fx:.1f} N, Fr = {math.hypot(fy, fz):.1f} N; {args.control} race control")
     print(result.summary())
+    if result.notes:                    # a converged state at or near a fold: not unique
+        print(f"note: {result.notes}")
     if args.balls:
         print("\n".join(ball_lines(result)))
     stiffness = None

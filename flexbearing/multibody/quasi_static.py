@@ -43,11 +43,16 @@ Inner-ring equilibrium: F_ext + sum_j sum_k∈inner (Q_k·n_k − f_k·tau_k) = 
 and moments about Y and Z (moments of the contact-point forces about the ring centre).
 
 Solution: for given u each ball is solved by a damped 2×2 Newton iteration (compiled:
-flexbearing.multibody.quasi_static_ball);
-u by a damped Newton iteration with a forward-difference Jacobian (5 unknowns, or 3 with the tilts
-held at zero); the kinematics (omega_m, omega_b, hence F_c and M_g) by fixed-point iteration
-around that; the start is a bracketed 1-D solve of the axial (then radial) ring displacement at
-zero speed, and the speed is raised in steps (continuation) when needed.
+flexbearing.multibody.quasi_static_ball) to 1e-3 of the ring tolerance (never below its round-off
+floor); u by Newton's method with a forward-difference Jacobian (5 unknowns, or 3 with the tilts
+held at zero) globalised by Armijo backtracking on the 2-norm of the residual scaled by the load
+(forces by the load scale, moments by it times dm/2); the kinematics (omega_m, omega_b, hence F_c
+and M_g) by fixed-point iteration around that. Every convergence test is relative to the load and
+never below the residual's round-off floor, so the iteration stops at the same place on every
+processor and BLAS. The cold start is a bracketed 1-D solve of the axial (then radial) ring
+displacement at zero speed, followed by continuation in the speed (steps of 1/4, halved on
+failure); a warm start (`initial`) that fails falls back to it. A converged state at or near a
+fold (ring Jacobian condition above 1/sqrt(eps)) says so in `notes`.
 
 Geometry input: `grooves_from_bearing` (split inner ring, geometry of flexbearing.multibody.geometry) or `angular_contact_grooves`
 (ordinary angular-contact bearing: one inner groove, used for the textbook comparisons).
@@ -56,19 +61,31 @@ Output: `QuasiStaticResult` (see its docstring): per-ball arrays, SI units.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, asdict
+from dataclasses import dataclass, asdict
 
 import numpy as np
 
+from flexbearing.common.convergence import SolverNotConverged
 from flexbearing.common.validation import InputError, require_range, require_positive, require_finite
 from flexbearing.multibody import geometry as geo
 from flexbearing.multibody.hertz import race_curvature_radii, hertz_point_contact, effective_modulus
+from flexbearing.multibody import quasi_static_ball as qb
 from flexbearing.multibody.quasi_static_ball import solve_all_balls
 
 OUTER, INNER_LEFT, INNER_RIGHT = 0, 1, 2
 CONTACT_NAMES = ("outer", "inner_left", "inner_right")
 CONTROL = {"outer": 0, "inner": 1, "jones": 2}
 JONES_REVISIONS = 20    # outer iterations per speed step in which Jones's choice may still change
+# condition number of the ring Jacobian above which a solution is reported as at or near a fold:
+# 1/sqrt(eps), where a Newton step's own round-off error is as large as the step it resolves
+FOLD_CONDITION = 1.0 / math.sqrt(float(np.finfo(float).eps))
+NO_RACE_CONTROL = "race control is not possible"     # how _failure_diagnostic's physical verdict reads
+
+
+class QuasiStaticNotConverged(SolverNotConverged):
+    """solve_quasi_static did not find the equilibrium (raised unless strict=False): .result is the
+    QuasiStaticResult it ended with, .residual its ring residual (relative to the load scale),
+    .iterations the Newton iterations made, .diagnostic why."""
 
 
 @dataclass(frozen=True)
@@ -146,11 +163,15 @@ class QuasiStaticResult:
     applied_load (5,)       (Fx, Fy, Fz, My, Mz) on the inner ring, N and N·m
     inner_speed             rad/s; control "outer" / "inner" / "jones"
     residual_ring           max |ring residual| / load scale; residual_ball: max ball residual, N
-    converged, iterations
+    converged, iterations   iterations: ring Newton iterations over all speed steps and kinematic updates
     controlling_race (Z,)   race that controls each ball: 0 outer, 1 inner (all equal unless control="jones")
     friction_share          (lambda_o, lambda_i) as given to the solver (None: all on the controlling race)
     diagnostic              why the solve failed (empty when converged), e.g. race control that would
                             need a friction coefficient above 1 at the controlling race
+    jacobian_condition      2-norm condition number of the ring Jacobian at the solution (kinematics held,
+                            tilts as displacements at the pitch radius); nan when not converged
+    notes                   what a converged solution's user should know: at or near a fold (condition
+                            above FOLD_CONDITION), where the equilibrium is not unique; empty otherwise
     """
     psi: np.ndarray
     ball_x: np.ndarray
@@ -176,6 +197,8 @@ class QuasiStaticResult:
     diagnostic: str = ""
     controlling_race: np.ndarray | None = None
     friction_share: tuple | None = None
+    jacobian_condition: float = math.nan
+    notes: str = ""
 
     @property
     def cage_speed(self) -> float:
@@ -220,10 +243,12 @@ class _State:
         self.ctrl = np.zeros(z, dtype=np.int64)     # controlling race per ball: 0 outer, 1 inner
 
 
-def _ring_residual(u, g, st, arr, lam, fext, fscale):
+def _ring_residual(u, g, st, arr, lam, fext, ball_tol):
+    """F_ext + the balls' force on the ring at ring displacement u, every ball re-seated to its
+    residual tolerance ball_tol (N)."""
     rf = np.zeros(5)
     solve_all_balls(u, st.psi, arr[0], arr[1], arr[2], arr[3], g.ball_diameter, g.pitch_diameter,
-                     g.effective_modulus, st.m_w2, st.mg, lam[0], lam[1], fscale,
+                     g.effective_modulus, st.m_w2, st.mg, lam[0], lam[1], ball_tol,
                      st.xb, st.rb, st.q, st.nrm, rf, st.ball_res)
     return fext + rf
 
@@ -266,7 +291,8 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                        gyroscopic: bool = True, centrifugal: bool = True, fix_tilt: bool = False,
                        psi0: float = 0.0, tol: float = 1e-9, max_iter: int = 60,
                        initial: QuasiStaticResult | None = None,
-                       friction_share: tuple[float, float] | None = None) -> QuasiStaticResult:
+                       friction_share: tuple[float, float] | None = None,
+                       strict: bool = True) -> QuasiStaticResult:
     """Quasi-static equilibrium (module docstring) under loads on the inner ring and inner-ring speed.
 
     fx, fy, fz (N), my, mz (N·m): external load on the inner ring; inner_speed (rad/s, about +X);
@@ -281,6 +307,15 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     lambda_i), lambda_o + lambda_i = 2: how the gyroscopic moment's friction is shared between the
     races (module docstring); None = all of it on the controlling race, (1, 1) = equal and opposite
     friction forces at the two contacts (the pure couple of flexbearing.multibody.dynamics' race-control balls).
+
+    Convergence: the ring residual (max over the free directions, relative to the load scale) at or
+    below tol, or below its round-off floor where tol is smaller (32·eps of the inner contacts' summed
+    load: the tolerance cannot ask for cancellation finer than that on any processor), and the
+    kinematics settled (orbit speeds to 10·tol relative). A cold start, or a warm start that fails,
+    follows the speed up from rest (continuation, steps halved on failure). strict (default): a
+    solve that does not converge raises QuasiStaticNotConverged (result, residual, iterations and
+    diagnostic attached); strict=False returns the result with converged False, for callers that
+    check it themselves.
     """
     for name, v in (("fx", fx), ("fy", fy), ("fz", fz), ("my", my), ("mz", mz), ("psi0", psi0)):
         require_finite(name, v)
@@ -302,9 +337,15 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     fscale = max(abs(fx), math.hypot(fy, fz), 2.0 * math.hypot(my, mz) / g.pitch_diameter, 1.0)
     if abs(fx) + math.hypot(fy, fz) <= 0.0 and inner_speed == 0.0:
         raise InputError("the bearing carries no load: give fx, fy or fz (N) or a speed")
+    require_range("tol", tol, 0.0, 1e-3, lo_open=True)
     # residual scaling: forces by fscale, moments by fscale·dm/2
     rscale = np.array([1, 1, 1, 2 / g.pitch_diameter, 2 / g.pitch_diameter]) / fscale
     free = np.array([0, 1, 2] if fix_tilt else [0, 1, 2, 3, 4])
+    # the balls are solved to 1e-3 of the ring tolerance shared among them (never below their
+    # round-off floor, quasi_static_ball._solve_ball), so the ring residual the Newton iteration sees
+    # is its own and not the balls' stopping noise: with the balls at a fixed 1e-11 of the load, a
+    # ring tolerance of 1e-12 was met or missed depending on the processor's rounding (issue 42)
+    ball_tol = 1e-3 * tol * fscale / z
     st = _State(g, psi)
     # Jones's choice starts every ball on the outer race and is revised from the loads (below)
     st.ctrl[:] = 1 if control == "inner" else 0
@@ -313,37 +354,56 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
 
     def resid(uf, u_full):
         u_full[free] = uf
-        return (_ring_residual(u_full, g, st, arr, lam, fext, fscale) * rscale)[free]
+        return (_ring_residual(u_full, g, st, arr, lam, fext, ball_tol) * rscale)[free]
+
+    def tol_now():
+        """The ring tolerance, raised to the residual's round-off floor where tol lies below it: the
+        ring force sums the inner contacts' loads, so it cannot cancel the load to better than a few
+        eps of their sum (plus the balls' own stopping tolerance)."""
+        floor = (qb.ROUNDOFF_FACTOR * qb.EPS * float(np.sum(st.q[:, 1:])) + z * ball_tol) / fscale
+        return max(tol, floor)
+
+    hs = np.where(free < 3, 1e-9, 1e-8)       # forward-difference steps, m and rad
+    lim = np.where(free < 3, 20e-6, 1e-3)     # largest Newton step, m and rad
+
+    def jacobian(uf, u_full, r):
+        """Forward-difference Jacobian of the scaled ring residual (kinematics held), the balls
+        restarted from the same seats at every column."""
+        J = np.empty((len(free), len(free)))
+        xb0, rb0 = st.xb.copy(), st.rb.copy()
+        for i in range(len(free)):
+            up = uf.copy()
+            up[i] += hs[i]
+            J[:, i] = (resid(up, u_full) - r) / hs[i]
+            st.xb[:], st.rb[:] = xb0, rb0
+        resid(uf, u_full)
+        return J
 
     def newton(u_full, maxit):
+        """Newton's method on the ring residual with the kinematics held, globalised by Armijo
+        backtracking on the scaled residual's 2-norm (Dennis & Schnabel, Numerical Methods for
+        Unconstrained Optimization and Nonlinear Equations, SIAM 1996, §6.3): a step is accepted
+        where |r(u + a·s)| <= (1 − 1e-4·a)·|r(u)|. Returns (u_free, r, converged, iterations)."""
         uf = u_full[free].copy()
         r = resid(uf, u_full)
-        hs = np.where(free < 3, 1e-9, 1e-8)
         for it in range(maxit):
-            nr0 = np.max(np.abs(r))
-            if nr0 < tol:
+            if np.max(np.abs(r)) <= tol_now():
                 return uf, r, True, it
-            J = np.empty((len(free), len(free)))
-            xb0, rb0 = st.xb.copy(), st.rb.copy()
-            for i in range(len(free)):
-                up = uf.copy()
-                up[i] += hs[i]
-                J[:, i] = (resid(up, u_full) - r) / hs[i]
-                st.xb[:], st.rb[:] = xb0, rb0
+            J = jacobian(uf, u_full, r)
             try:
                 step = -np.linalg.solve(J, r)
             except np.linalg.LinAlgError:
                 step = -np.linalg.lstsq(J, r, rcond=None)[0]
-            # limit the step to 20 um / 1 mrad
-            lim = np.where(free < 3, 20e-6, 1e-3)
             s = np.max(np.abs(step) / lim)
             if s > 1:
                 step /= s
+            n0 = np.linalg.norm(r)
+            xb0, rb0 = st.xb.copy(), st.rb.copy()
             a = 1.0
             reduced = False
             for _ in range(40):
                 rn = resid(uf + a * step, u_full)
-                if np.max(np.abs(rn)) < nr0 or np.max(np.abs(rn)) < tol:
+                if np.linalg.norm(rn) <= (1.0 - 1e-4 * a) * n0 or np.max(np.abs(rn)) <= tol_now():
                     reduced = True
                     break
                 st.xb[:], st.rb[:] = xb0, rb0
@@ -352,41 +412,32 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                 # no step along the Newton direction lowers the residual: more iterations would only
                 # repeat this search (stagnation), so report the state as it is
                 r = resid(uf, u_full)
-                return uf, r, np.max(np.abs(r)) < tol, it + 1
+                return uf, r, np.max(np.abs(r)) <= tol_now(), it + 1
             uf = uf + a * step
             r = rn
-        return uf, r, np.max(np.abs(r)) < tol, maxit
+        return uf, r, np.max(np.abs(r)) <= tol_now(), maxit
 
-    u = np.zeros(5)
-    if initial is not None:
-        u[:] = initial.ring_displacement
-        st.xb[:], st.rb[:] = initial.ball_x, initial.ball_r
-        st.wm[:], st.wb[:] = initial.orbit_speed, initial.ball_omega
-        if control == "jones" and initial.controlling_race is not None:
-            st.ctrl[:] = initial.controlling_race
-            _set_friction_shares(lam, st.ctrl, friction_share)
-    else:
-        u = _initial_guess(g, st, arr, lam, fext, fscale, free)
-    speeds = [inner_speed] if (initial is not None or inner_speed == 0.0) else \
-        [inner_speed * s for s in (0.25, 0.5, 0.75, 1.0)]
-    ok = False
-    total_it = 0
-    diagnostic = ""
     # the kinematics are iterated to the precision the ring equilibrium is solved to: with a ring
     # residual of tol the orbit speeds carry noise of about tol relative, and a tighter test would
     # chase a 2-cycle at that level (found at light load, 6000 rpm, inner control)
     kin_tol = max(1e-11, 10.0 * tol)
-    for w in speeds:
-        if initial is None and w == speeds[0]:
+
+    def speed_step(u, w, cold):
+        """Ring equilibrium and race-control kinematics at inner-ring speed w by fixed-point
+        iteration of the kinematics around the ring Newton. Returns (ok, iterations, diagnostic)."""
+        if cold:
             st.wm[:] = geo.pitch_orbit_speed(w, 0.0, g.ball_diameter, g.pitch_diameter, 0.0)
         kin_ok = w == 0.0
         failed_newtons = 0
+        its = 0
+        ok = False
+        dwm = math.inf
         for outer_it in range(50):
             wm_old = st.wm.copy()
             mg_old = st.mg.copy()
             st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
             uf, r, ok, it = newton(u, max_iter)
-            total_it += it
+            its += it
             u[free] = uf
             changed = False
             if control == "jones" and w != 0.0 and outer_it < JONES_REVISIONS:
@@ -405,23 +456,100 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                 break
             failed_newtons = 0 if ok else failed_newtons + 1
             if failed_newtons >= 3:
-                diagnostic = _failure_diagnostic(g, st, w, control, lam)
-                break
+                why = _failure_diagnostic(g, st, w, control, lam)
+                return False, its, why
         if not kin_ok:
-            if not diagnostic:
-                diagnostic = (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
-                              f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
-                              f"needed {kin_tol:.3g})")
-            ok = False
-            break
+            return False, its, (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
+                                f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
+                                f"needed {kin_tol:.3g})")
+        return ok, its, ""
+
+    def snapshot(u):
+        return (u.copy(), st.xb.copy(), st.rb.copy(), st.wm.copy(), st.wb.copy(), st.mg.copy(),
+                st.ctrl.copy(), lam.copy())
+
+    def restore(snap, u):
+        u[:], st.xb[:], st.rb[:], st.wm[:], st.wb[:], st.mg[:], st.ctrl[:], lam[:] = snap
+
+    def cold_path(u):
+        """From rest to inner_speed by natural-parameter continuation in the speed (Allgower & Georg,
+        Introduction to Numerical Continuation Methods, SIAM 2003, ch. 1-2): the zero-speed
+        bracketed start, then steps of a quarter of the speed, each started from the last state; a
+        failed step is halved (down to 1/64 of the speed), a converged one enlarged by 1.5."""
+        u[:] = _initial_guess(g, st, arr, lam, fext, ball_tol, free)
+        st.wm[:] = 0.0
+        st.wb[:] = 0.0
+        st.mg[:] = 0.0
+        st.ctrl[:] = 1 if control == "inner" else 0
+        _set_friction_shares(lam, st.ctrl, friction_share)
+        if inner_speed == 0.0:
+            return speed_step(u, 0.0, True)
+        its = 0
+        done, step, first = 0.0, 0.25, True
+        good = snapshot(u)
+        while done < 1.0:
+            trial = min(1.0, done + step)
+            ok, it, why = speed_step(u, trial * inner_speed, first)
+            its += it
+            if ok:
+                done, first = trial, False
+                good = snapshot(u)
+                step *= 1.5
+                continue
+            if NO_RACE_CONTROL in why:
+                # a physical limit, not a numerical one: a smaller speed step reaches the same speed
+                return False, its, why
+            restore(good, u)
+            step *= 0.5
+            if step < 1.0 / 64.0:
+                return False, its, why
+        return True, its, ""
+
+    u = np.zeros(5)
+    total_it = 0
+    if initial is not None:
+        u[:] = initial.ring_displacement
+        st.xb[:], st.rb[:] = initial.ball_x, initial.ball_r
+        st.wm[:], st.wb[:] = initial.orbit_speed, initial.ball_omega
+        if control == "jones" and initial.controlling_race is not None:
+            st.ctrl[:] = initial.controlling_race
+            _set_friction_shares(lam, st.ctrl, friction_share)
+        ok, total_it, diagnostic = speed_step(u, inner_speed, False)
+        if not ok:
+            # a warm start too far from this load or speed: the cold path (continuation from rest)
+            ok, it, diagnostic = cold_path(u)
+            total_it += it
+    else:
+        ok, total_it, diagnostic = cold_path(u)
     # final consistent evaluation
     st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
     rfin = resid(u[free], u)
-    ok = ok and np.max(np.abs(rfin)) < 10 * tol
+    ok = ok and np.max(np.abs(rfin)) <= 10 * tol_now()
     if not ok and not diagnostic:
-        diagnostic = f"ring equilibrium not reached: residual {np.max(np.abs(rfin)):.3g} of the load scale (tol {tol:.3g})"
-    return _result(g, st, u, fext, inner_speed, control, float(np.max(np.abs(rfin))), ok, total_it,
-                   diagnostic, friction_share)
+        diagnostic = (f"ring equilibrium not reached: residual {np.max(np.abs(rfin)):.3g} of the load scale "
+                      f"(tol {tol:.3g})")
+    notes = ""
+    cond = math.nan
+    if ok:
+        # the conditioning of the ring equilibrium (kinematics held; tilts as the displacement
+        # they cause at the pitch radius): near a fold (a limit point of the load–displacement
+        # curve) the Jacobian is singular and a second equilibrium lies close
+        J = jacobian(u[free], u, rfin)
+        d = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)
+        sv = np.linalg.svd(J / d[None, :], compute_uv=False)
+        cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
+        if cond > FOLD_CONDITION:
+            notes = (f"the ring Jacobian's condition number is {cond:.3g} (> {FOLD_CONDITION:.0e}): the state is "
+                     "at or near a fold of the load-displacement curve, where the equilibrium is not unique "
+                     "(another one lies close, and a small change of load or speed may jump to it)")
+    res = _result(g, st, u, fext, inner_speed, control, float(np.max(np.abs(rfin))), ok, total_it,
+                  diagnostic, friction_share)
+    res.jacobian_condition = cond
+    res.notes = notes
+    if strict and not ok:
+        raise QuasiStaticNotConverged(f"quasi-static equilibrium not found: {diagnostic}", result=res,
+                                      residual=res.residual_ring, iterations=total_it, diagnostic=diagnostic)
+    return res
 
 
 def _set_friction_shares(lam, ctrl, friction_share):
@@ -473,7 +601,7 @@ def _failure_diagnostic(g, st, inner_speed, control, lam) -> str:
         race = "outer" if st.ctrl[j] == 0 else "inner"
         other = "inner" if race == "outer" else "outer"
         hint = "" if control == "jones" else f"; try control='{other}' or 'jones' (Jones's criterion per ball)"
-        return (f"{race} race control is not possible at inner-ring speed {inner_speed:.6g} rad/s: "
+        return (f"{race} {NO_RACE_CONTROL} at inner-ring speed {inner_speed:.6g} rad/s: "
                 f"ball {j} needs a friction force of {f_race[j]:.3g} N at its {race} contact to carry "
                 f"the gyroscopic moment {abs(st.mg[j]):.3g} N·m, but that contact's normal load is "
                 f"{q_race[j]:.3g} N (friction coefficient {mu[j]:.3g} > 1){hint}")
@@ -481,7 +609,7 @@ def _failure_diagnostic(g, st, inner_speed, control, lam) -> str:
             f"control (Newton stagnated 3 times; largest friction coefficient needed {mu[j]:.3g}, ball {j})")
 
 
-def _initial_guess(g, st, arr, lam, fext, fscale, free):
+def _initial_guess(g, st, arr, lam, fext, ball_tol, free):
     """Zero-speed bracketed 1-D solves: axial displacement, then radial along the load direction."""
     from scipy.optimize import brentq
     u = np.zeros(5)
@@ -499,7 +627,7 @@ def _initial_guess(g, st, arr, lam, fext, fscale, free):
         def h(t):
             st.xb[:] = 0.0
             st.rb[:] = 0.5 * g.pitch_diameter
-            return float(np.dot(_ring_residual(base + t * d, g, st, arr, lam, fext, fscale), d))
+            return float(np.dot(_ring_residual(base + t * d, g, st, arr, lam, fext, ball_tol), d))
         sgn = math.copysign(1.0, fd)
         lo, hlo = 0.0, h(0.0)
         step = 2e-6
@@ -517,7 +645,7 @@ def _initial_guess(g, st, arr, lam, fext, fscale, free):
             u = base + t * d
     st.xb[:] = 0.0
     st.rb[:] = 0.5 * g.pitch_diameter
-    _ring_residual(u, g, st, arr, lam, fext, fscale)
+    _ring_residual(u, g, st, arr, lam, fext, ball_tol)
     return u
 
 
@@ -594,6 +722,9 @@ def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: s
     arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
            np.array(g.active, np.bool_))
     fscale = max(abs(result.applied_load[0]), math.hypot(result.applied_load[1], result.applied_load[2]), 1.0)
+    # the balls to their round-off floor (quasi_static_ball._solve_ball): the central difference
+    # divides their residual by the step
+    ball_tol = 1e-14 * fscale
     zero = np.zeros(5)
     centrifugal = bool(np.any(result.centrifugal_force != 0.0))
     gyroscopic = bool(np.any(result.gyroscopic_moment != 0.0))
@@ -604,7 +735,7 @@ def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: s
         st.wm[:], st.wb[:] = result.orbit_speed, result.ball_omega
         st.mg[:] = result.gyroscopic_moment
         st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
-        f = _ring_residual(u, g, st, arr, lam, zero, fscale)
+        f = _ring_residual(u, g, st, arr, lam, zero, ball_tol)
         if kinematics == "frozen" or w == 0.0:
             return f
         for _ in range(100):
@@ -612,7 +743,7 @@ def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: s
             _kinematics(g, st, w, u)
             st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
             st.mg[:] = g.ball_inertia * st.wm * st.wb[:, 1] if gyroscopic else 0.0
-            f = _ring_residual(u, g, st, arr, lam, zero, fscale)
+            f = _ring_residual(u, g, st, arr, lam, zero, ball_tol)
             if np.max(np.abs(st.wm - wm_old)) < 1e-13 * abs(w):
                 break
         return f

@@ -22,6 +22,11 @@ from numba import njit
 from flexbearing.multibody import geometry as geo
 from flexbearing.multibody.hertz import hertz_stiffness, race_curvature_radii
 
+EPS = float(np.finfo(np.float64).eps)
+# a residual that sums n forces of size F carries round-off of about sqrt(n)..n·eps·F; 32·eps of the
+# sum of the magnitudes bounds it for the handful of terms of one ball (and of one ring) with margin
+ROUNDOFF_FACTOR = 32.0
+
 
 @njit(cache=True)
 def _contact(xb, rb, xc, rc, f, dw, dm, e_eff, inner):
@@ -95,15 +100,21 @@ def _ball_residual(xb, rb, cx, cr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, l
 
 
 @njit(cache=True)
-def _solve_ball(xb, rb, cx, cr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, lam_i, fscale, out_q, out_n):
-    """Damped Newton for one ball's centre (x, r). Returns (x, r, |R|, iterations)."""
-    tol = 1e-11 * fscale
+def _solve_ball(xb, rb, cx, cr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, lam_i, ball_tol, out_q, out_n):
+    """Damped Newton for one ball's centre (x, r). Returns (x, r, |R|, iterations).
+
+    Stops at |R| <= max(ball_tol, ROUNDOFF_FACTOR·eps·(sum of the force magnitudes on the ball)): the
+    second term is the round-off floor of the residual (a sum of forces of that size cannot cancel to
+    better than a few eps of them), so a tolerance below it ends at the floor on every processor
+    instead of after a processor-dependent number of steps that do not change the state."""
     smax = 0.02 * dw
     rx, rr, jxx, jxr, jrx, jrr = _ball_residual(xb, rb, cx, cr, cf, active, dw, dm, e_eff, m_w2,
                                                  mg, lam_o, lam_i, out_q, out_n)
     res = math.sqrt(rx * rx + rr * rr)
     it = 0
     for it in range(200):
+        tol = max(ball_tol, ROUNDOFF_FACTOR * EPS * (out_q[0] + out_q[1] + out_q[2] + abs(m_w2 * rb)
+                                                    + 2.0 * abs(mg) / dw))
         if res <= tol:
             break
         if out_q[0] == 0.0 and out_q[1] == 0.0 and out_q[2] == 0.0:
@@ -142,21 +153,25 @@ def _solve_ball(xb, rb, cx, cr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, lam_
                 accepted = True
                 break
             lam *= 0.5
+        if not accepted:
+            # no step along the Newton direction lowers |R| (2^-30 of it included): the ball has no
+            # equilibrium nearby (e.g. friction asked of an unloaded contact) or sits at the residual's
+            # round-off floor; further iterations would repeat this search
+            break
         xb = xn
         rb = rn
         rx, rr, jxx, jxr, jrx, jrr = rx2, rr2, a1, a2, a3, a4
         res = res2
-        if not accepted and lam * sn < 1e-16:
-            break
     _ball_residual(xb, rb, cx, cr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, lam_i, out_q, out_n)
     return xb, rb, res, it
 
 
 @njit(cache=True)
-def solve_all_balls(u, psi, gx, gr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, lam_i, fscale,
+def solve_all_balls(u, psi, gx, gr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, lam_i, ball_tol,
                      xb, rb, q, nrm, ring_force, ball_res):
     """Solve every ball for ring displacement u (5) and accumulate the balls' force on the ring.
 
+    ball_tol: each ball's residual tolerance, N (`_solve_ball`: never below its round-off floor).
     ring_force = (Fx, Fy, Fz, My, Mz) exerted by the balls on the inner ring (moments about the
     displaced ring centre, from the forces at the contact points).
     """
@@ -172,7 +187,7 @@ def solve_all_balls(u, psi, gx, gr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, 
         for k in range(1, 3):
             cx[k], cr[k] = geo.ring_point_in_plane(psi[j], gx[k], gr[k], u[0], u[1], u[2], u[3], u[4])
         x1, r1, res, it = _solve_ball(xb[j], rb[j], cx, cr, cf, active, dw, dm, e_eff, m_w2[j],
-                                      mg[j], lam_o[j], lam_i[j], fscale, qq, nn)
+                                      mg[j], lam_o[j], lam_i[j], ball_tol, qq, nn)
         xb[j] = x1
         rb[j] = r1
         ball_res[j] = res

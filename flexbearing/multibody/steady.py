@@ -45,6 +45,7 @@ import math
 
 import numpy as np
 
+from flexbearing.common.convergence import SolverNotConverged
 from flexbearing.common.validation import InputError, require_range
 from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import outputs as O
@@ -52,19 +53,35 @@ from flexbearing.multibody import model as M
 from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody.initial import initial_state
 
+class SteadyNotConverged(SolverNotConverged):
+    """A steady solve found no fixed point (raised unless strict=False): .result is the (y, info) it
+    ended with (info["converged"] False, info["reason"] why where known), .residual its scaled
+    residual, .iterations the function evaluations (thrust state) or Newton iterations (held cage)."""
+
+
+def _checked(y, info, strict: bool, what: str):
+    """(y, info), or SteadyNotConverged where strict and the solve did not converge."""
+    if strict and not info["converged"]:
+        reason = info.get("reason") or f"residual {info['residual']:.2e} above the tolerance"
+        raise SteadyNotConverged(f"no {what} found: {reason}", result=(y, info), residual=info["residual"],
+                                 iterations=int(info.get("iterations", info.get("nfev", 0))), diagnostic=reason)
+    return y, info
+
+
 UNKNOWNS = ("ball_x", "ball_r", "pocket_offset", "orbit_speed", "ball_w_x", "ball_w_r", "ball_w_t",
             "ring_x", "cage_x")
 
 
 def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: np.ndarray | None = None,
-                        tol: float = 1e-10) -> tuple[np.ndarray, dict]:
+                        tol: float = 1e-10, strict: bool = True) -> tuple[np.ndarray, dict]:
     """(y, info): the steady state (module docstring) at inner-ring speed speed_rad_s (rad/s) and
     axial load axial_load (N, along +X), as a full state vector of `model` (flexbearing.multibody.model layout,
     ball j at azimuth 2·pi·j/Z + pocket_offset, cage angle 0). info: converged, residual (max scaled
     residual, N per ball), cage_speed (rad/s), slip_rate ((nm − nc)/nm, nm at the mean loaded
     contact angle, the paper's definition), the unknowns by name, nfev, and outputs (the
     flexbearing.multibody.outputs.evaluate_outputs dict of y). tol: residual tolerance relative to the axial
-    load per ball."""
+    load per ball. strict (default): no root raises SteadyNotConverged; strict=False returns it with
+    converged False (where the traction cannot balance the drag there is none: module docstring)."""
     require_range("steady.speed_rad_s", speed_rad_s, 0.0, 1e5, lo_open=True, unit="rad/s")
     require_range("steady.axial_load", abs(axial_load), 0.0, 1e7, lo_open=True, unit="N")
     p = model.p
@@ -127,7 +144,9 @@ def steady_thrust_state(model, speed_rad_s: float, axial_load: float, y_start: n
                 slip_rate=float(out["slip_rate"]), nfev=int(nfev))
     info.update(zip(UNKNOWNS, (u0 + sol.x * scale_u).tolist()))
     info["outputs"] = out
-    return y, info
+    info["reason"] = "" if info["converged"] else \
+        f"hybrid Powell and Levenberg-Marquardt ended at residual {res:.2e} (tol {tol:.0e})"
+    return _checked(y, info, strict, "steady thrust state")
 
 
 # ------------------------------------------------------------------ combined load, frozen azimuths
@@ -182,7 +201,7 @@ def _newton(residual, n: int, tol: float, max_iter: int = 60, h: float = 1e-3):
 
 
 def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, tol: float = 1e-9,
-                           continuation: bool = True) -> tuple[np.ndarray, dict]:
+                           continuation: bool = True, strict: bool = True) -> tuple[np.ndarray, dict]:
     """(y, info): the frozen-azimuth equilibrium of the bearing under a combined load with the cage
     held off-centre in its guide film.
 
@@ -213,7 +232,9 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
     solution varies with it at the ball-pass period only. Rigid cage only. info: converged,
     residual (max scaled residual, N per ball relative to the axial load per ball), iterations,
     nfev, cage_speed, cage_centre (x, y, z, m), cage_eccentricity_ratio, cage_land_force (y, z, N),
-    pocket_resultant (x, y, z, N, on the cage), pocket_offset (Z,), outputs (evaluate_outputs).
+    pocket_resultant (x, y, z, N, on the cage), pocket_offset (Z,), outputs (evaluate_outputs),
+    reason (why it failed; empty when converged). strict (default): a solve without a root raises
+    SteadyNotConverged (the (y, info) it ended with attached); strict=False returns it.
     """
     load = np.asarray(load, dtype=float)
     if load.shape != (3,):
@@ -233,13 +254,19 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
             raise
         y, info = None, dict(converged=False, residual=math.inf, reason=f"no quasi-static start: {e}")
     if info["converged"] or not continuation:
-        return y, info
-    return _held_cage_continuation(model, speed_rad_s, load, phase, tol, (y, info))
+        return _checked(y, info, strict, "held-cage state")
+    return _checked(*_held_cage_continuation(model, speed_rad_s, load, phase, tol, (y, info)), strict,
+                    "held-cage state")
 
 
 # the continuation in the load that breaks the balls' symmetry: first step, smallest step
 CONTINUATION_FIRST_STEP = 0.25
-CONTINUATION_MIN_STEP = 1.0 / 64.0
+CONTINUATION_MIN_STEP = 1.0 / 1024.0
+# condition number of the held-cage Jacobian (scaled unknowns and equations) read as singular: the
+# damped Newton stalls beyond about 1e8 (the non-root stationary point of |F| measured at 7e8,
+# _held_cage_continuation's docstring); a tenfold rise between the last two roots also marks the
+# approach to a fold (the smallest singular value goes to zero like sqrt(lambda* - lambda))
+FOLD_CONDITION = 1e8
 
 
 def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float,
@@ -251,8 +278,11 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
     At lambda = 0 all balls are alike and the state is `steady_thrust_state`'s (9 unknowns,
     MINPACK's hybrid method: far more robust than a Newton on all 6Z + 11), copied to every ball;
     where that fails, the held-cage solve of the thrust alone from the quasi-static balls. Then
-    lambda rises to 1, each solve starting from the previous solution; a failed step is halved
-    (down to CONTINUATION_MIN_STEP), a converged one enlarged by 1.5. Where the halving ends
+    lambda rises to 1, each solve starting from the secant predictor through the last two roots
+    (then, where that fails, from the last root itself); a failed step is halved (down to
+    CONTINUATION_MIN_STEP = 1/1024; 1/64 stopped the paper steady case at the design clearance at
+    lambda = 0.70 and 1/256 at 0.972, where the step to 0.978 fails and the one to 0.975 converges in
+    4 iterations, issue 42), a converged one enlarged by 1.5. Where the halving ends
     (a contact law switching inside the step: the residual jumps there), it jumps over the switch
     from the last root: to lambda = 1, +0.25, +0.1.
 
@@ -266,10 +296,11 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
     axial = np.array([load[0], 0.0, 0.0])
     radial = np.array([0.0, load[1], load[2]])
 
-    def at(lam, start):
+    def at(lam, start, conditioning=False):
         p = model.p.copy()
         p[M.P_GRAV] = lam * g
-        return _held_cage_solve(model._replace(p=p), speed_rad_s, axial + lam * radial, phase, tol, start=start)
+        return _held_cage_solve(model._replace(p=p), speed_rad_s, axial + lam * radial, phase, tol, start=start,
+                                conditioning=conditioning)
 
     start = _symmetric_start(model, speed_rad_s, load[0], phase)
     y, info = at(0.0, start)
@@ -288,33 +319,75 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                                "this speed and thrust (steady_thrust_state's docstring: where the traction cannot "
                                "balance the drag the dynamics do not settle)")
     lam, step, path = 0.0, CONTINUATION_FIRST_STEP, [0.0]
+    previous = None                       # (lambda, unknowns) of the root before the last one
+
+    def predict(target):
+        """[the secant predictor at lambda = target] where there are two roots, else []."""
+        if previous is None:
+            return []
+        return [info["unknowns"] + (target - lam) / (lam - previous[0]) * (info["unknowns"] - previous[1])]
     while lam < 1.0:
         trial = min(1.0, lam + step)
-        y_t, info_t = at(trial, info["unknowns"])
+        # the secant predictor (Allgower & Georg 2003, §2.2: the branch extrapolated linearly
+        # through the last two roots), then the last root itself
+        for start in predict(trial) + [info["unknowns"]]:
+            y_t, info_t = at(trial, start)
+            if info_t["converged"]:
+                break
         if info_t["converged"]:
+            previous = (lam, info["unknowns"])
             lam, y, info = trial, y_t, info_t
             path.append(lam)
             step *= 1.5
             continue
         step *= 0.5
+        res_trial, lam_fail = info_t["residual"], trial
         if step < CONTINUATION_MIN_STEP:
             # a ball entering or leaving the load zone, or the cage reaching its rim, switches a
             # contact law inside the step: the residual jumps there and no root lies on the switch
             # itself, but the branch goes on beyond it. Jump over it from the last root.
             jumped = False
-            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1)}, reverse=True):
-                y_t, info_t = at(far, info["unknowns"])
+            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1), min(1.0, lam + 0.02),
+                               min(1.0, lam + 0.005)}, reverse=True):
+                # from the secant predictor, then from the last root
+                for start in predict(far) + [info["unknowns"]]:
+                    y_t, info_t = at(far, start)
+                    if info_t["converged"]:
+                        break
                 if info_t["converged"]:
+                    previous = None
                     lam, y, info, jumped = far, y_t, info_t, True
                     path.append(lam)
                     step = CONTINUATION_FIRST_STEP
                     break
             if jumped:
                 continue
-            y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.3f} "
-                                      f"of the radial load and weight (residual {info_t['residual']:.2e} at "
-                                      f"{trial:.3f}): the branch turns or ends there (a fold, or a ball leaving the "
-                                      "load zone)")
+            # the branch's conditioning at the last two roots tells a fold (a limit point: the
+            # Jacobian turns singular as lambda approaches it, beyond it this branch has no root) from
+            # a switch of a contact law (a kink: the Jacobian stays regular)
+            c_last = at(lam, info["unknowns"], conditioning=True)[1]["jacobian_condition"]
+            c_prev = at(previous[0], previous[1], conditioning=True)[1]["jacobian_condition"] \
+                if previous is not None else math.nan
+            # near a fold (a simple limit point) the smallest singular value goes to zero like
+            # sqrt(lambda* - lambda) (Allgower & Georg 2003, §2.3), so the condition c obeys
+            # c1²·(lambda* - l1) = c2²·(lambda* - l2): lambda* from the last two roots; a fold where it
+            # lies between the last root and the first lambda that failed
+            lam_star = math.nan
+            if previous is not None and c_last > c_prev > 0.0:
+                lam_star = (c_last ** 2 * lam - c_prev ** 2 * previous[0]) / (c_last ** 2 - c_prev ** 2)
+            fold = c_last > FOLD_CONDITION or lam <= lam_star <= lam_fail
+            what = (f"a fold: the Jacobian's condition number rises from {c_prev:.2e} at lambda = "
+                    f"{previous[0] if previous is not None else math.nan:.4f} to {c_last:.2e} at {lam:.4f}, as "
+                    f"1/sqrt(lambda* - lambda) with lambda* = {lam_star:.4f} (no root at {lam_fail:.4f}): the branch "
+                    "of held-cage states ends there, so there is no held cage at the full load on it (the cage is not "
+                    "held: integrate the dynamics)") if fold else \
+                (f"the Jacobian stays regular there (condition {c_last:.2e}): a contact law switching that the "
+                 "steps could not cross (a ball leaving the load zone, the cage reaching its rim, or a ball "
+                 "pressed past its pocket clearance, where the pocket law's stiffness drops from Kc to 0)")
+            y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
+                                      f"of the radial load and weight (residual {res_trial:.2e} at "
+                                      f"{lam_fail:.4f}): {what}")
+            info["fold"] = bool(fold)
             info["continuation"] = path
             return y, info
     info["continuation"] = path
@@ -346,11 +419,11 @@ def _thrust_state_by_speed(model, speed_rad_s: float, axial_load: float) -> dict
     is followed up to the full speed, each solve starting from the previous state, the step
     halved on failure (down to CONTINUATION_MIN_STEP) and enlarged by 1.5 on success. None where
     no speed fraction converges or the branch ends before the full speed."""
-    y, s = steady_thrust_state(model, speed_rad_s, axial_load)
+    y, s = steady_thrust_state(model, speed_rad_s, axial_load, strict=False)
     if s["converged"]:
         return s
     for mu in (0.5, 0.25, 0.125):
-        y, s = steady_thrust_state(model, mu * speed_rad_s, axial_load)
+        y, s = steady_thrust_state(model, mu * speed_rad_s, axial_load, strict=False)
         if s["converged"]:
             break
     else:
@@ -358,7 +431,7 @@ def _thrust_state_by_speed(model, speed_rad_s: float, axial_load: float) -> dict
     step = 0.5 * mu
     while mu < 1.0:
         trial = min(1.0, mu + step)
-        y_t, s_t = steady_thrust_state(model, trial * speed_rad_s, axial_load, y_start=y)
+        y_t, s_t = steady_thrust_state(model, trial * speed_rad_s, axial_load, y_start=y, strict=False)
         if s_t["converged"]:
             mu, y, s = trial, y_t, s_t
             step *= 1.5
@@ -370,9 +443,11 @@ def _thrust_state_by_speed(model, speed_rad_s: float, axial_load: float) -> dict
 
 
 def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float,
-                     start: np.ndarray | None = None) -> tuple[np.ndarray, dict]:
+                     start: np.ndarray | None = None, conditioning: bool = False) -> tuple[np.ndarray, dict]:
     """One damped-Newton solve of the held-cage equations (steady_held_cage_state's docstring) from
-    the quasi-static balls, or from `start` (the unknowns of an earlier solution, info["unknowns"])."""
+    the quasi-static balls, or from `start` (the unknowns of an earlier solution, info["unknowns"]).
+    conditioning: also info["jacobian_condition"], the 2-norm condition number of the scaled
+    equations' Jacobian (central differences) at the end point."""
     p = model.p
     z = model.n_balls
     lay = M.state_layout(model)
@@ -439,6 +514,15 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
         return scale_r * f
 
     v, f, iterations, nfev = _newton(residual, n, tol)
+    cond = math.nan
+    if conditioning:
+        jac = np.empty((n, n))
+        for k in range(n):
+            e = np.zeros(n)
+            e[k] = 1e-3
+            jac[:, k] = (residual(v + e) - residual(v - e)) / 2e-3
+        sv = np.linalg.svd(jac, compute_uv=False)
+        cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
     y = state(v)
     res = float(np.max(np.abs(f)))
     out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
@@ -448,7 +532,7 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
                 cage_land_force=out["cage_land_force"].copy(),
                 pocket_resultant=out["pocket_force_on_cage"].sum(axis=0),
                 pocket_offset=(u0 + v * scale_u)[2:nb:6].copy(), outputs=out,
-                unknowns=u0 + v * scale_u, continuation=[], reason="")
+                unknowns=u0 + v * scale_u, continuation=[], reason="", jacobian_condition=cond)
     if not info["converged"]:
         info["reason"] = f"damped Newton ended at residual {res:.2e} after {iterations} iterations"
     return y, info

@@ -252,12 +252,14 @@ def point_bearing_oil(point: dict, speed_rpm: float):
 def steady_case_slip(point: dict, case: dict) -> dict:
     """One job: the steady fixed point with weight (flexbearing.multibody.steady.steady_held_cage_state) of
     `case` (flexbearing.studies.validate.slip_rate_cases row) at sample `point`; returns the row (slip in %,
-    convergence, residual, contact angles, cage eccentricity, CPU seconds)."""
+    convergence, residual, contact angles, cage eccentricity, CPU seconds; fold: the run has no held-cage
+    state because its branch ends in a fold, steady._held_cage_continuation; strict=False: a run without a
+    root is a row, not the end of the study)."""
     t0 = time.process_time()
     bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
     model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
     omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
-    _, info = steady_held_cage_state(model, omega, (case["axial_load"], 0.0, -case["radial_load"]))
+    _, info = steady_held_cage_state(model, omega, (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
     out = info["outputs"]
     return dict(case=case["case"], slip_pct=100.0 * float(out["slip_rate"]), converged=info["converged"],
                 residual=info["residual"], iterations=info["iterations"],
@@ -265,6 +267,7 @@ def steady_case_slip(point: dict, case: dict) -> dict:
                 contact_angle_outer_deg=math.degrees(float(np.mean(out["contact_angle_outer"]))),
                 contact_angle_inner_deg=math.degrees(float(np.mean(np.abs(out["contact_angle_inner_loaded"])))),
                 cage_eccentricity_ratio=info["cage_eccentricity_ratio"], reason=info.get("reason", ""),
+                fold=bool(info.get("fold", False)),   # no held-cage state: the branch ends in a fold (steady.py)
                 continuation_steps=len(info.get("continuation", [])), cpu_s=time.process_time() - t0)
 
 

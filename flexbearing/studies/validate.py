@@ -319,7 +319,7 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     if start == "steady":
         p0 = model.p.copy()
         p0[P_GRAV] = 0.0
-        y_s, info = steady_thrust_state(model._replace(p=p0), omega, case["axial_load"])
+        y_s, info = steady_thrust_state(model._replace(p=p0), omega, case["axial_load"], strict=False)
         if info["converged"]:
             y, started = y_s, "steady"
         else:

@@ -221,7 +221,7 @@ def solve_point(job: PointJob) -> dict:
                                      MODEL_PARAMETERS["traction_scale"])
     omega = job.speed_rpm * math.pi / 30.0
     try:
-        _, info = steady_held_cage_state(model, omega, (job.axial_load, 0.0, -job.radial_load))
+        _, info = steady_held_cage_state(model, omega, (job.axial_load, 0.0, -job.radial_load), strict=False)
     except Exception as exc:           # a failed solve is a row, not the end of the study
         row.update(reason=f"{type(exc).__name__}: {exc}", cpu_s=time.process_time() - t0)
         return row
