@@ -418,14 +418,21 @@ def test_the_scenes_max_step_reaches_the_integrator(tmp_path):
 
 if __name__ == "__main__":      # used by tests/test_resume.py to run a fake scene in a subprocess
     out = sys.argv[1]
+    # optional: at the first checkpoint of at least this many samples, wait for a line on stdin (a
+    # test that must act while this run is still writing holds it there, whatever the machine's load)
+    hold_at = int(sys.argv[2]) if len(sys.argv) > 2 else None
     from flexbearing.simulation import results
 
     # every checkpoint, the run loop's (written by the writer thread) and the last one, goes through it
     real = results.ResultsWriter._write_checkpoint
 
     def announcing(self, *a, **k):
+        global hold_at
         real(self, *a, **k)
         print("CHECKPOINT", self.n_written, flush=True)
+        if hold_at is not None and self.n_written >= hold_at:
+            hold_at = None
+            sys.stdin.readline()
     results.ResultsWriter._write_checkpoint = announcing
     slow = fake_backend(advance=lambda *a, **k: (__import__("time").sleep(0.01), fake_advance(*a, **k))[1])
     run_scene(fake_scene(), out, quiet=True, backend=slow)

@@ -72,8 +72,10 @@ def test_second_force_run_refuses_a_file_another_process_writes(tmp_path, capsys
     scene_file = tmp_path / "fake.toml"
     scene_file.write_text(SCENE)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(ROOT)]))
-    first = subprocess.Popen([sys.executable, str(HERE / "test_run.py"), str(out)], stdout=subprocess.PIPE,
-                             text=True, env=env)
+    # the first run holds at its checkpoint of >= 14 samples until the checks below are done (on a
+    # loaded machine it could otherwise finish before them, and --resume would find a complete file)
+    first = subprocess.Popen([sys.executable, str(HERE / "test_run.py"), str(out), "14"], stdout=subprocess.PIPE,
+                             stdin=subprocess.PIPE, text=True, env=env)
     try:
         for line in first.stdout:                    # the first run is writing (a checkpoint is on disk)
             if line.startswith("CHECKPOINT") and int(line.split()[1]) >= 14:
@@ -91,6 +93,8 @@ def test_second_force_run_refuses_a_file_another_process_writes(tmp_path, capsys
         assert code == 2 and "being written by another flexbearing process" in one_line(err)
         code, err = run_cli(["run", scene_file, "-o", out, "--resume"], capsys)
         assert code == 2 and "being written by another flexbearing process" in one_line(err)
+        first.stdin.write("go on\n")
+        first.stdin.close()
         assert first.wait(timeout=120) == 0          # the first run was not disturbed
     finally:
         if first.poll() is None:
