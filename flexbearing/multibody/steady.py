@@ -320,6 +320,7 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                                "balance the drag the dynamics do not settle)")
     lam, step, path = 0.0, CONTINUATION_FIRST_STEP, [0.0]
     previous = None                       # (lambda, unknowns) of the root before the last one
+    roots = [(0.0, info["unknowns"])]     # every root of the path
 
     def predict(target):
         """[the secant predictor at lambda = target] where there are two roots, else []."""
@@ -338,6 +339,7 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             previous = (lam, info["unknowns"])
             lam, y, info = trial, y_t, info_t
             path.append(lam)
+            roots.append((lam, info["unknowns"]))
             step *= 1.5
             continue
         step *= 0.5
@@ -358,10 +360,20 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                     previous = None
                     lam, y, info, jumped = far, y_t, info_t, True
                     path.append(lam)
+                    roots.append((lam, info["unknowns"]))
                     step = CONTINUATION_FIRST_STEP
                     break
             if jumped:
                 continue
+            # the full load from the earlier roots of the path: where this branch folds, another one
+            # may carry the state at lambda = 1 (measured: a sample run whose branch folds at 0.88
+            # has a root at 1 reached from an earlier root)
+            for lam_k, u_k in reversed(roots[:-1]):
+                y_t, info_t = at(1.0, u_k)
+                if info_t["converged"]:
+                    path.append(1.0)
+                    info_t["continuation"] = path
+                    return y_t, info_t
             # the branch's conditioning at the last two roots tells a fold (a limit point: the
             # Jacobian turns singular as lambda approaches it, beyond it this branch has no root) from
             # a switch of a contact law (a kink: the Jacobian stays regular)
@@ -379,8 +391,8 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             what = (f"a fold: the Jacobian's condition number rises from {c_prev:.2e} at lambda = "
                     f"{previous[0] if previous is not None else math.nan:.4f} to {c_last:.2e} at {lam:.4f}, as "
                     f"1/sqrt(lambda* - lambda) with lambda* = {lam_star:.4f} (no root at {lam_fail:.4f}): the branch "
-                    "of held-cage states ends there, so there is no held cage at the full load on it (the cage is not "
-                    "held: integrate the dynamics)") if fold else \
+                    "of held-cage states ends there, and no held-cage state at the full load was reached from any of "
+                    "its roots (the cage is not held there: integrate the dynamics)") if fold else \
                 (f"the Jacobian stays regular there (condition {c_last:.2e}): a contact law switching that the "
                  "steps could not cross (a ball leaving the load zone, the cage reaching its rim, or a ball "
                  "pressed past its pocket clearance, where the pocket law's stiffness drops from Kc to 0)")
