@@ -306,15 +306,8 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
     y, info = at(0.0, start)
     if not info["converged"]:
         y, info = at(0.0, None)
-    def failed(y, info, reason):
-        """The direct solve's end (or, where it had no start, this one), not converged, with why."""
-        if y_direct is not None:
-            y, info = y_direct, direct
-        info.update(converged=False, reason=reason)
-        return y, info
-
     if not info["converged"]:
-        return failed(y, info, f"no root from the quasi-static start ({direct['reason']}) nor of the symmetric thrust "
+        return _failed(y_direct, direct, y, info, f"no root from the quasi-static start ({direct['reason']}) nor of the symmetric thrust "
                                f"state without weight (residual {info['residual']:.2e}): no fixed point in reach at "
                                "this speed and thrust (steady_thrust_state's docstring: where the traction cannot "
                                "balance the drag the dynamics do not settle)")
@@ -348,22 +341,13 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             # a ball entering or leaving the load zone, or the cage reaching its rim, switches a
             # contact law inside the step: the residual jumps there and no root lies on the switch
             # itself, but the branch goes on beyond it. Jump over it from the last root.
-            jumped = False
-            for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1), min(1.0, lam + 0.02),
-                               min(1.0, lam + 0.005)}, reverse=True):
-                # from the secant predictor, then from the last root
-                for start in predict(far) + [info["unknowns"]]:
-                    y_t, info_t = at(far, start)
-                    if info_t["converged"]:
-                        break
-                if info_t["converged"]:
-                    previous = None
-                    lam, y, info, jumped = far, y_t, info_t, True
-                    path.append(lam)
-                    roots.append((lam, info["unknowns"]))
-                    step = CONTINUATION_FIRST_STEP
-                    break
-            if jumped:
+            jump = _jump_over_switch(at, predict, lam, info["unknowns"])
+            if jump is not None:
+                previous = None
+                lam, y, info = jump
+                path.append(lam)
+                roots.append((lam, info["unknowns"]))
+                step = CONTINUATION_FIRST_STEP
                 continue
             # the full load from the earlier roots of the path: where this branch folds, another one
             # may carry the state at lambda = 1 (measured: a sample run whose branch folds at 0.88
@@ -374,29 +358,8 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                     path.append(1.0)
                     info_t["continuation"] = path
                     return y_t, info_t
-            # the branch's conditioning at the last two roots tells a fold (a limit point: the
-            # Jacobian turns singular as lambda approaches it, beyond it this branch has no root) from
-            # a switch of a contact law (a kink: the Jacobian stays regular)
-            c_last = at(lam, info["unknowns"], conditioning=True)[1]["jacobian_condition"]
-            c_prev = at(previous[0], previous[1], conditioning=True)[1]["jacobian_condition"] \
-                if previous is not None else math.nan
-            # near a fold (a simple limit point) the smallest singular value goes to zero like
-            # sqrt(lambda* - lambda) (Allgower & Georg 2003, §2.3), so the condition c obeys
-            # c1²·(lambda* - l1) = c2²·(lambda* - l2): lambda* from the last two roots; a fold where it
-            # lies between the last root and the first lambda that failed
-            lam_star = math.nan
-            if previous is not None and c_last > c_prev > 0.0:
-                lam_star = (c_last ** 2 * lam - c_prev ** 2 * previous[0]) / (c_last ** 2 - c_prev ** 2)
-            fold = c_last > FOLD_CONDITION or lam <= lam_star <= lam_fail
-            what = (f"a fold: the Jacobian's condition number rises from {c_prev:.2e} at lambda = "
-                    f"{previous[0] if previous is not None else math.nan:.4f} to {c_last:.2e} at {lam:.4f}, as "
-                    f"1/sqrt(lambda* - lambda) with lambda* = {lam_star:.4f} (no root at {lam_fail:.4f}): the branch "
-                    "of held-cage states ends there, and no held-cage state at the full load was reached from any of "
-                    "its roots (the cage is not held there: integrate the dynamics)") if fold else \
-                (f"the Jacobian stays regular there (condition {c_last:.2e}): a contact law switching that the "
-                 "steps could not cross (a ball leaving the load zone, the cage reaching its rim, or a ball "
-                 "pressed past its pocket clearance, where the pocket law's stiffness drops from Kc to 0)")
-            y, info = failed(y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
+            fold, what = _fold_or_kink(at, lam, info, previous, lam_fail)
+            y, info = _failed(y_direct, direct, y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
                                       f"of the radial load and weight (residual {res_trial:.2e} at "
                                       f"{lam_fail:.4f}): {what}")
             info["fold"] = bool(fold)
@@ -404,6 +367,56 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
             return y, info
     info["continuation"] = path
     return y, info
+
+
+def _failed(y_direct, direct: dict, y, info: dict, reason: str):
+    """The direct solve's end (or, where it had no start, the continuation's), not converged, with why."""
+    if y_direct is not None:
+        y, info = y_direct, direct
+    info.update(converged=False, reason=reason)
+    return y, info
+
+
+def _jump_over_switch(at, predict, lam: float, last_root):
+    """(lambda, y, info) of the first root found beyond a contact law's switch that the halved steps
+    could not cross: at lambda = 1, +0.25, +0.1, +0.02, +0.005 from lam (the farthest first), each
+    from the secant predictor `predict(lambda)`, then from the last root; None where none converges."""
+    for far in sorted({1.0, min(1.0, lam + 0.25), min(1.0, lam + 0.1), min(1.0, lam + 0.02),
+                       min(1.0, lam + 0.005)}, reverse=True):
+        for start in predict(far) + [last_root]:
+            y_t, info_t = at(far, start)
+            if info_t["converged"]:
+                return far, y_t, info_t
+    return None
+
+
+def _fold_or_kink(at, lam: float, info: dict, previous, lam_fail: float) -> tuple[bool, str]:
+    """(fold?, why in words) where the held-cage continuation stopped at lambda = lam (its last
+    root's `info`, the root before it `previous` = (lambda, unknowns) or None, the first lambda that
+    failed `lam_fail`; `at(lambda, start, conditioning)` solves there)."""
+    # the branch's conditioning at the last two roots tells a fold (a limit point: the
+    # Jacobian turns singular as lambda approaches it, beyond it this branch has no root) from
+    # a switch of a contact law (a kink: the Jacobian stays regular)
+    c_last = at(lam, info["unknowns"], conditioning=True)[1]["jacobian_condition"]
+    c_prev = at(previous[0], previous[1], conditioning=True)[1]["jacobian_condition"] \
+        if previous is not None else math.nan
+    # near a fold (a simple limit point) the smallest singular value goes to zero like
+    # sqrt(lambda* - lambda) (Allgower & Georg 2003, §2.3), so the condition c obeys
+    # c1²·(lambda* - l1) = c2²·(lambda* - l2): lambda* from the last two roots; a fold where it
+    # lies between the last root and the first lambda that failed
+    lam_star = math.nan
+    if previous is not None and c_last > c_prev > 0.0:
+        lam_star = (c_last ** 2 * lam - c_prev ** 2 * previous[0]) / (c_last ** 2 - c_prev ** 2)
+    fold = c_last > FOLD_CONDITION or lam <= lam_star <= lam_fail
+    what = (f"a fold: the Jacobian's condition number rises from {c_prev:.2e} at lambda = "
+            f"{previous[0] if previous is not None else math.nan:.4f} to {c_last:.2e} at {lam:.4f}, as "
+            f"1/sqrt(lambda* - lambda) with lambda* = {lam_star:.4f} (no root at {lam_fail:.4f}): the branch "
+            "of held-cage states ends there, and no held-cage state at the full load was reached from any of "
+            "its roots (the cage is not held there: integrate the dynamics)") if fold else \
+        (f"the Jacobian stays regular there (condition {c_last:.2e}): a contact law switching that the "
+         "steps could not cross (a ball leaving the load zone, the cage reaching its rim, or a ball "
+         "pressed past its pocket clearance, where the pocket law's stiffness drops from Kc to 0)")
+    return fold, what
 
 
 def _symmetric_start(model, speed_rad_s: float, axial_load: float, phase: float) -> np.ndarray | None:
