@@ -12,13 +12,12 @@ Eigenvectors are M-normalised: phi^T M phi = 1.
 from __future__ import annotations
 
 import contextlib
-import signal
-import threading
 import time
 
 import numpy as np
 from flexbearing.common.progress import Stages
 from flexbearing.common.validation import require_range
+from flexbearing.common.interrupt import sigint_noted
 
 # Paper Table 8 (Yang, Liu, Deng, Lubricants 2025, 13, 249): free cage, modes 7..27, Hz.
 # Modes 1-6 are the rigid-body modes.
@@ -43,7 +42,7 @@ class _InterruptibleFactor:
     """petsc4py PC of type python: the Cholesky (MUMPS) or LU factorisation of the shift-invert
     operator, K - sigma M, applied as PREONLY's preconditioner exactly as the PC it wraps, but
     asking before each application whether Ctrl-C was pressed (`pressed`, a list filled by
-    _ctrl_c_noted): SLEPc's solve runs in C and does not see Python's KeyboardInterrupt until it
+    flexbearing.common.interrupt.sigint_noted): SLEPc's solve runs in C and does not see Python's KeyboardInterrupt until it
     returns (130-140 s for 300 modes of the paper cage), while it applies the operator every few
     milliseconds to tenths of a second. The factorisation itself (PCSetUp) is one C call and
     still runs to its end."""
@@ -72,22 +71,6 @@ class _InterruptibleFactor:
         if self.inner is not None:
             self.inner.destroy()
             self.inner = None
-
-
-@contextlib.contextmanager
-def _ctrl_c_noted():
-    """In the body a Ctrl-C (SIGINT) is noted in the list yielded instead of raised (the caller
-    stops and raises KeyboardInterrupt). Main thread only (signal.signal's rule): elsewhere the
-    list stays empty and nothing changes."""
-    pressed: list = []
-    if threading.current_thread() is not threading.main_thread():
-        yield pressed
-        return
-    old = signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
-    try:
-        yield pressed
-    finally:
-        signal.signal(signal.SIGINT, old)
 
 
 def free_free_modes(K, M, n_modes: int = 27, shift: float | None = None, tol: float = 1e-9,
@@ -129,7 +112,7 @@ def free_free_modes(K, M, n_modes: int = 27, shift: float | None = None, tol: fl
     factor = _InterruptibleFactor(solver)
     pc.setPythonContext(factor)
     eps.setFromOptions()
-    with _ctrl_c_noted() as pressed:
+    with sigint_noted() as pressed:
         factor.pressed = pressed
         try:
             eps.solve()

@@ -34,7 +34,6 @@ import logging
 import os
 import shlex
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -44,6 +43,7 @@ from dataclasses import dataclass
 from tqdm import tqdm
 
 from flexbearing.common.validation import InputError
+from flexbearing.common.interrupt import sigint_noted
 
 CONNECT_TIMEOUT = "20s"      # to reach the scheduler given by --scheduler
 
@@ -201,22 +201,6 @@ def _children_ignore_sigint():
         spawn.set_executable(old)
 
 
-@contextlib.contextmanager
-def _sigint_held():
-    """A Ctrl-C in the body is noted (in the list yielded), not raised: the caller raises it
-    after the body. Main thread only (signal.signal's rule; elsewhere nothing changes)."""
-    import threading
-    pressed: list[int] = []
-    if threading.current_thread() is not threading.main_thread():
-        yield pressed
-        return
-    old = signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
-    try:
-        yield pressed
-    finally:
-        signal.signal(signal.SIGINT, old)
-
-
 def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,
                  scheduler) -> list[JobFailure]:
     from distributed import Client, as_completed
@@ -235,7 +219,7 @@ def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,
             # and a Ctrl-C while it starts is held until it has (then raised, with the cluster
             # and the client assigned for the `finally` below to close)
             stack.enter_context(_children_ignore_sigint())
-            with _sigint_held() as pressed:
+            with sigint_noted() as pressed:
                 cluster = _local_cluster(n_workers)
                 client = Client(cluster, set_as_default=False)
             if pressed:
