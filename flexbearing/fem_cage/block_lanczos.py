@@ -92,8 +92,18 @@ def m_orthonormalise(W: np.ndarray, MW: np.ndarray, drop: float = 1e-8,
     (Q, M Q, B) with B (k x b)."""
     G = W.T @ MW
     g, V = np.linalg.eigh(0.5 * (G + G.T))
-    size2 = max(g.max(), 0.0) if size2 is None and g.size else size2
-    keep = g > (drop ** 2) * size2 if g.size else np.zeros(0, bool)
+    floor = drop ** 2
+    if size2 is None and g.size:
+        # the block measured against itself: an exactly dependent column leaves g at the rounding
+        # of forming G (n products per entry) and of its eigen solve, up to about (n + k)·eps·max(g)
+        # (Higham, Accuracy and Stability of Numerical Algorithms, 2002, §3.5; Golub & Van Loan
+        # 2013, §8.1.2); drop^2 = 1e-16 lies below it, so which of those directions was kept
+        # followed the BLAS's rounding. Below the floor the Gram matrix cannot tell a direction
+        # from zero. (Against a given size2 -- the Lanczos blocks, measured before their
+        # orthogonalisation -- a dependent remainder is at eps^2·size2, far below drop^2.)
+        size2 = max(g.max(), 0.0)
+        floor = max(floor, (W.shape[0] + W.shape[1]) * np.finfo(float).eps)
+    keep = g > floor * size2 if g.size else np.zeros(0, bool)
     if not np.any(keep):
         return W[:, :0], MW[:, :0], np.zeros((0, W.shape[1]))
     scale = 1.0 / np.sqrt(g[keep])
