@@ -105,6 +105,18 @@ def release_space(path) -> None:
         os.close(fd)
 
 
+def _put_in_place(written, target) -> None:
+    """A finished file onto its destination: flushed to disk, given the umask's permissions (it was
+    created 0600), then renamed over `target` (atomic on one file system)."""
+    fd = os.open(written, os.O_RDONLY | os.O_NOFOLLOW)
+    try:
+        os.fsync(fd)
+        os.fchmod(fd, 0o666 & ~_umask())
+    finally:
+        os.close(fd)
+    os.replace(written, target)
+
+
 @contextlib.contextmanager
 def atomic_output(target, suffix: str = ".tmp", reserve: int = 0):
     """Yield the path of a new, empty temporary file beside `target` (unique name, created
@@ -127,13 +139,7 @@ def atomic_output(target, suffix: str = ".tmp", reserve: int = 0):
         yield Path(tmp)
         if reserve:
             release_space(tmp)
-        fd = os.open(tmp, os.O_RDONLY | os.O_NOFOLLOW)
-        try:
-            os.fsync(fd)
-            os.fchmod(fd, 0o666 & ~_umask())
-        finally:
-            os.close(fd)
-        os.replace(tmp, target)
+        _put_in_place(tmp, target)
         fsync_folder(target.parent)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
@@ -441,13 +447,7 @@ class OutputPlan:
                                        f"OutputPlan (a program error: declare every output)")
                 moves.append((entry, target))
         for entry, target in moves:
-            fd = os.open(entry, os.O_RDONLY | os.O_NOFOLLOW)
-            try:
-                os.fsync(fd)
-                os.fchmod(fd, 0o666 & ~_umask())
-            finally:
-                os.close(fd)
-            os.replace(entry, target)
+            _put_in_place(entry, target)
         for dest, stage in list(self._stages.items()):
             shutil.rmtree(stage, ignore_errors=True)
             fsync_folder(dest)
