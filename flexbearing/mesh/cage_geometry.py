@@ -29,6 +29,13 @@ POCKET_CYLINDRICAL, POCKET_SPHERICAL, POCKET_CONICAL, POCKET_ELLIPTICAL = (POCKE
 MAX_CONE_ANGLE = math.radians(30.0)     # rad: steeper walls are no longer a pocket holding a ball
 
 
+def max_pockets_around(bore_diameter: float, pocket_width: float) -> int:
+    """The most radial pockets of width w that fit around a cage bore of diameter d: neighbouring
+    pocket axes are d·sin(pi/Z) apart at the bore (the axes converge towards the centre), so Z
+    pockets fit while d·sin(pi/Z) > w, i.e. Z < pi / asin(w/d)."""
+    return math.ceil(math.pi / math.asin(min(1.0, pocket_width / bore_diameter))) - 1
+
+
 @dataclass(frozen=True)
 class CageGeometry:
     outside_diameter: float = 178.45e-3
@@ -120,7 +127,7 @@ class CageGeometry:
         if chord <= self.ball_diameter:
             # the pockets' axes converge: at the bore neighbouring ones are `chord` apart, and a
             # pocket wider than the ball cannot be cut there (Z·Dw against the bore's circumference)
-            max_z = math.ceil(math.pi / math.asin(min(1.0, self.ball_diameter / self.bore_diameter))) - 1
+            max_z = max_pockets_around(self.bore_diameter, self.ball_diameter)
             raise InputError(f"cage.n_pockets = {self.n_pockets}: the balls do not fit in this cage "
                              f"({self.n_pockets} pockets for balls of Ø{self.ball_diameter * 1e3:g} mm: at the "
                              f"cage bore Ø{self.bore_diameter * 1e3:g} mm neighbouring pocket axes are "

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace, asdict
 from flexbearing.common.materials import BEARING_STEEL_THERMAL, M50, Material, Thermal
 from flexbearing.multibody import clearance as CL
 from flexbearing.multibody.oil_supply import SUPPLIES, cavity_oil_fraction
-from flexbearing.mesh.cage_geometry import PAPER_CAGE, CageGeometry
+from flexbearing.mesh.cage_geometry import PAPER_CAGE, CageGeometry, max_pockets_around
 from flexbearing.common.validation import InputError, require_positive, require_range
 
 
@@ -222,7 +222,7 @@ class Bearing:
             # bore·sin(pi/Z) apart, and Z pockets wider than that cannot be cut (Z·Dp against pi·bore)
             chord = c.bore_diameter * math.sin(math.pi / self.n_balls)
             if chord <= c.pocket_diameter:
-                z_max = math.ceil(math.pi / math.asin(min(1.0, c.pocket_diameter / c.bore_diameter))) - 1
+                z_max = max_pockets_around(c.bore_diameter, c.pocket_diameter)
                 raise InputError(f"bearing.n_balls = {self.n_balls}: the balls do not fit in the cage "
                                  f"({self.n_balls} pockets of Ø{c.pocket_diameter * 1e3:.4g} mm around the cage "
                                  f"bore Ø{c.bore_diameter * 1e3:.4g} mm: neighbouring pocket axes "
