@@ -147,3 +147,25 @@ def dask_cluster(tmp_path_factory):
     cluster = DaskCluster(tmp_path_factory.mktemp("dask"))
     yield cluster
     cluster.close()
+
+
+# the fake physics of tests/test_run.py behind the command line, for the tests of what commands
+# write and print (test_output_paths, test_one_line_errors)
+@pytest.fixture
+def fake_runs(monkeypatch):
+    """`flexbearing run` / `study` with the fake physics of tests/test_run.py (no numba compilation)."""
+    import functools
+    import flexbearing.simulation.run as simulation_run
+    from test_run import fake_backend
+    real = simulation_run.run_scene
+    monkeypatch.setattr(simulation_run, "run_scene", functools.partial(real, backend=fake_backend()))
+
+
+@pytest.fixture(scope="module")
+def run_file(tmp_path_factory):
+    """A finished fake run's results file, made once per module."""
+    import flexbearing.simulation.run as simulation_run
+    from test_run import fake_backend, fake_scene
+    out = tmp_path_factory.mktemp("run") / "r.h5"
+    simulation_run.run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
+    return out

@@ -1,6 +1,5 @@
 """Issue 43 §6: what gave a traceback (or was accepted and ignored) now gives one line and a
 non-zero exit, and Ctrl-C stops within seconds, SLEPc's eigen-solve and Dask's workers included."""
-import functools
 import os
 import signal
 import subprocess
@@ -27,19 +26,6 @@ def _one_line(capsys, argv, *fragments, code=2) -> str:
     for f in fragments:
         assert f in err, err
     return err
-
-
-@pytest.fixture
-def fake_runs(monkeypatch):
-    real = simulation_run.run_scene
-    monkeypatch.setattr(simulation_run, "run_scene", functools.partial(real, backend=fake_backend()))
-
-
-@pytest.fixture(scope="module")
-def run_file(tmp_path_factory):
-    out = tmp_path_factory.mktemp("run") / "r.h5"
-    simulation_run.run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
-    return out
 
 
 def test_a_deeply_nested_scene_is_one_line(tmp_path, capsys):

@@ -7,7 +7,6 @@ The enumeration tests run each command on a tiny case, list what appeared in its
 and check it against the command's declared list (printed: `pytest -s` shows the list per
 command). A file a command writes without declaring it fails there, and at run time the staged
 file is refused (test_an_undeclared_output_is_refused_and_nothing_lands)."""
-import functools
 import hashlib
 import os
 from pathlib import Path
@@ -18,7 +17,7 @@ from flexbearing.cli.main import build_parser, main
 from flexbearing.common.safe_files import OutputPlan
 from flexbearing.common.validation import InputError
 import flexbearing.simulation.run as simulation_run
-from test_run import SCENE, fake_backend, fake_scene
+from test_run import SCENE, fake_backend
 
 TINY_MESH = ["--size", "0.02", "--pocket-size", "0.02", "--order", "1"]
 
@@ -57,20 +56,6 @@ def _one_line(capsys, argv, *fragments, code=2) -> str:
 
 def _args(argv):
     return build_parser().parse_args([str(a) for a in argv])
-
-
-@pytest.fixture
-def fake_runs(monkeypatch):
-    """`flexbearing run` / `study` with the fake physics of test_run (no numba compilation)."""
-    real = simulation_run.run_scene
-    monkeypatch.setattr(simulation_run, "run_scene", functools.partial(real, backend=fake_backend()))
-
-
-@pytest.fixture(scope="module")
-def run_file(tmp_path_factory):
-    out = tmp_path_factory.mktemp("run") / "r.h5"
-    simulation_run.run_scene(fake_scene(), out, quiet=True, backend=fake_backend())
-    return out
 
 
 # ---------------------------------------------------------------- every file each command writes
