@@ -222,9 +222,11 @@ def contact_capacity(model, oil, out, ball: int = 0) -> dict:
         slips = np.geomspace(1e-4, 0.5, 200)
         mu = TR.ehl_traction_curve(slips, Q[c], rx, ry, p[M.P_EBR], ur, oil, model.traction_table)
         h = film_thickness(rx, ry, p[M.P_EBR], Q[c], ur, oil.viscosity(), oil.pressure_viscosity_coeff)[1]
+        law = TR.ehl_parameters(model.traction_table, oil.viscosity())
         _, _, m_spin = TR.sliced_traction_ehl(Q[c], a, b, p0, h, ur, 0.0, abs(spin), 0.0, 0.0, int(model.flags[M.F_NSLICES]),
-                                              False, p[M.P_SLIN], oil.viscosity(), oil.pressure_viscosity_coeff,
-                                              oil.thermal_conductivity, model.traction_table)
+                                              False, p[M.P_SLIN], law.eta_inlet, oil.pressure_viscosity_coeff,
+                                              oil.thermal_conductivity, law.tau0, law.gamma_l, law.shear_modulus,
+                                              law.k_solid, law.kappa_solid, law.beta_t)
         ek = float(ellipe(1.0 - (b / a) ** 2))
         res[name] = dict(Q=float(Q[c]), a=a, b=b, p0=p0, UR=ur, h=h, spin=float(spin), spin_roll=abs(spin) * a / ur,
                          mu_max=float(mu.max()), spin_moment=abs(m_spin),

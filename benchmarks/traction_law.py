@@ -92,23 +92,25 @@ def loop_fit(n):
 
 
 @njit(cache=True)
-def loop_ehl(n, tab):
+def loop_ehl(n, eta_in, tau0, gamma_l, g_mod, k_solid, kappa_solid, beta_t):
     s = 0.0
     for i in range(n):
         h = film_thickness(0.0097, 0.2, 2.3e11, 200.0 + i % 5, 18.6, 9e-4, 1.85e-8)[1]
         tx, ty, mz = T.sliced_traction_ehl(200.0, 1.2e-3, 2.0e-4, 0.6e9, h, 18.6, 0.05 + 1e-3 * (i % 3), -400.0,
-                                           0.0, 0.3, 8, True, 2e-3, 9e-4, 1.85e-8, 0.0966, tab)
+                                           0.0, 0.3, 8, True, 2e-3, eta_in, 1.85e-8, 0.0966, tau0, gamma_l, g_mod,
+                                           k_solid, kappa_solid, beta_t)
         s += tx
     return s
 
 
 def cost():
-    tab = T.ehl_traction_table(PAPER_OIL.viscosity_temperature_coeff)
+    law = T.ehl_parameters(T.ehl_traction_table(PAPER_OIL.viscosity_temperature_coeff), 9e-4)
+    args = (law.eta_inlet, law.tau0, law.gamma_l, law.shear_modulus, law.k_solid, law.kappa_solid, law.beta_t)
     loop_fit(10)
-    loop_ehl(10, tab)
+    loop_ehl(10, *args)
     n = 200_000
     res = {}
-    for name, f in (("fit", lambda: loop_fit(n)), ("ehl", lambda: loop_ehl(n, tab))):
+    for name, f in (("fit", lambda: loop_fit(n)), ("ehl", lambda: loop_ehl(n, *args))):
         best = min(_timed(f) for _ in range(5))
         res[f"contact_{name}_ns"] = best / n * 1e9
     case = V.slip_rate_cases()[0]

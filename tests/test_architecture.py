@@ -181,50 +181,73 @@ def test_the_cage_arrays_are_read_by_name():
     assert found == [], "cage arrays read by position:\n" + "\n".join(found)
 
 
-# names that hold an enumeration's code inside compiled kernels (guidance, pocket shape, ball
-# attitude, controlling race, race kind, contact index)
-CODE_NAMES = {"attitude", "guidance", "shape", "ctl", "kind", "law", "g", "c", "cc"}
+# names that hold an enumeration's code in the physics core (guidance, pocket shape, ball attitude,
+# controlling race, race kind, contact index; ctrl: the quasi-static solver's controlling race per ball)
+CODE_NAMES = {"attitude", "guidance", "shape", "ctl", "kind", "law", "g", "c", "cc", "ctrl"}
+# arrays that hold codes (the model's switches, the controlling race per ball)
+CODE_ARRAYS = {"flags", "ctrl"}
 
 
-def _compiled_functions(tree):
-    """The functions of a module tree decorated with numba's njit (bare or called)."""
-    for node in ast.walk(tree):
-        if isinstance(node, ast.FunctionDef):
-            for d in node.decorator_list:
-                f = d.func if isinstance(d, ast.Call) else d
-                if (isinstance(f, ast.Name) and f.id == "njit") or (isinstance(f, ast.Attribute) and f.attr == "njit"):
-                    yield node
-                    break
+def _is_int_literal(n):
+    if isinstance(n, ast.UnaryOp):
+        n = n.operand
+    return isinstance(n, ast.Constant) and type(n.value) is int
 
 
-def test_compiled_kernels_compare_codes_by_name():
-    """In the compiled kernels of flexbearing.multibody and flexbearing.coupling no flag (`flags[...]`) and no
-    variable holding an enumeration's code (CODE_NAMES: guidance, pocket shape, attitude, controlling
-    race, race kind, contact) is compared with an integer literal: the codes have names beside their
-    string names (GUIDANCE_INNER, POCKET_CONICAL, ATTITUDE_JONES, CONTROL_NO_PIVOT, RACE_INNER,
-    CONTACT_OUTER, ...), so `guidance == 1` cannot silently mean another guidance when a name is added."""
-    def is_literal(n):
-        if isinstance(n, ast.UnaryOp):
-            n = n.operand
-        return isinstance(n, ast.Constant) and type(n.value) is int
+def _holds_code(n):
+    """A name in CODE_NAMES, an attribute of such a name (`st.ctrl`), or an element of a code array."""
+    if isinstance(n, ast.Subscript):
+        n = n.value
+        return (isinstance(n, ast.Name) and n.id in CODE_ARRAYS) or (isinstance(n, ast.Attribute)
+                                                                      and n.attr in CODE_ARRAYS)
+    return (isinstance(n, ast.Name) and n.id in CODE_NAMES) or (isinstance(n, ast.Attribute) and n.attr in CODE_ARRAYS)
 
-    def holds_code(n):
-        if isinstance(n, ast.Subscript):
-            v = n.value
-            return (isinstance(v, ast.Name) and v.id == "flags") or (isinstance(v, ast.Attribute) and v.attr == "flags")
-        return isinstance(n, ast.Name) and n.id in CODE_NAMES
 
-    found = []
+def _physics_core():
+    """(module name, parsed tree) of flexbearing.multibody and flexbearing.coupling."""
     for name, path in modules().items():
-        if not (name.startswith(f"{TOP}.multibody.") or name.startswith(f"{TOP}.coupling.")):
-            continue
-        for fn in _compiled_functions(ast.parse(path.read_text())):
-            for node in ast.walk(fn):
-                if isinstance(node, ast.Compare):
-                    ops = [node.left] + node.comparators
-                    if any(map(is_literal, ops)) and any(map(holds_code, ops)):
-                        found.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
+        if name.startswith(f"{TOP}.multibody.") or name.startswith(f"{TOP}.coupling."):
+            yield name, ast.parse(path.read_text())
+
+
+def test_the_physics_core_compares_codes_by_name():
+    """Nowhere in flexbearing.multibody and flexbearing.coupling — compiled kernels and the plain
+    Python around them (the initial state, the quasi-static solver, the vibration model) alike — is
+    a flag (`flags[...]`) or a variable holding an enumeration's code (CODE_NAMES: guidance, pocket
+    shape, attitude, controlling race, race kind, contact) compared with an integer literal, or
+    looped over a tuple of them (`for c in (1, 2)`): the codes have names beside their string names
+    (GUIDANCE_INNER, POCKET_CONICAL, ATTITUDE_JONES, CONTROL_NO_PIVOT, RACE_INNER, CONTACT_OUTER,
+    CONTACT_INNER, ...), so `guidance == 1` cannot silently mean another guidance when a name is
+    added. (flexbearing.simulation and above hold no such codes: they pass the string names.)"""
+    found = []
+    for name, tree in _physics_core():
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Compare):
+                ops = [node.left] + node.comparators
+                if any(map(_is_int_literal, ops)) and any(map(_holds_code, ops)):
+                    found.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
+            elif isinstance(node, ast.For) and _holds_code(node.target) and isinstance(node.iter, ast.Tuple):
+                if any(map(_is_int_literal, node.iter.elts)):
+                    found.append(f"{name}:{node.lineno}: for {ast.unparse(node.target)} in {ast.unparse(node.iter)}")
     assert found == [], "enumeration codes compared with integer literals:\n" + "\n".join(found)
+
+
+def test_the_traction_tables_are_read_by_name():
+    """The traction laws' tables (flexbearing.multibody.traction: the fit's rows FIT_ROW_A..D,
+    FIT_ROW_RANGE, FIT_ROW_LIMIT and their columns FIT_C_*; the EHL law's EHL_ROW_*, EHL_C_*) are
+    indexed by name, never by an integer literal, in the module that defines them and in the race
+    kernels that read them (`table`, `ttab`, `tab`; slices allowed)."""
+    found = []
+    for name, tree in _physics_core():
+        if name not in (f"{TOP}.multibody.traction", f"{TOP}.multibody.race_kernels"):
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name) and node.value.id in (
+                    "table", "ttab", "tab"):
+                index = node.slice.elts if isinstance(node.slice, ast.Tuple) else [node.slice]
+                if any(map(_is_int_literal, index)):
+                    found.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
+    assert found == [], "traction tables read by position:\n" + "\n".join(found)
 
 
 # functions allowed over the limit, each with its reason

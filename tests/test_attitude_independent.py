@@ -53,10 +53,10 @@ def coulomb_table(mu0: float) -> np.ndarray:
     """The model's traction table for mu(s) = mu0·(1 − exp(−CREEP·s)) (origin law with B = 0, no
     load, speed or temperature exponents; flexbearing.multibody.traction "Origin law")."""
     tab = TR.bounded_traction_table((0.0, math.inf), (0.0, math.inf), 0.0)
-    tab[:4] = 0.0
-    tab[2, 0] = CREEP
-    tab[3, 0] = mu0
-    tab[5, 1] = 1.0
+    tab[:TR.FIT_TABLE_ROWS] = 0.0
+    tab[TR.FIT_ROW_C, TR.FIT_C_FACTOR] = CREEP
+    tab[TR.FIT_ROW_D, TR.FIT_C_FACTOR] = mu0
+    tab[TR.FIT_ROW_LIMIT, TR.FIT_C_ORIGIN] = 1.0
     return tab
 
 

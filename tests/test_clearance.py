@@ -228,7 +228,7 @@ def test_flash_constants_of_a_hybrid_contact():
     ratio = (math.sqrt(kappa) / k) / (math.sqrt(1.1e-5) / 40.0)
     assert ratio == pytest.approx(2 * e_st / (e_st + e_sn), rel=1e-12) and 1.18 < ratio < 1.20
     tab = TR.ehl_traction_table(0.03, ball_thermal=SN, race_thermal=ST)
-    assert tuple(tab[7, 1:3]) == (k, kappa)
+    assert tuple(tab[TR.EHL_ROW_THERMAL, [TR.EHL_C_K_SOLID, TR.EHL_C_KAPPA_SOLID]]) == (k, kappa)
 
 
 # ---------------------------------------------------------------- oil supply

@@ -145,8 +145,9 @@ def test_model_option_and_scene_key_select_the_law():
     assert build_model(PAPER_BEARING, PAPER_OIL, {}).traction_table.shape == (4, 4)      # the paper's fit
     tab = build_model(PAPER_BEARING, PAPER_OIL, {"traction_law": "ehl", "traction_scale": 1.5,
                                                  "contact_temperature_rise": 20.0}).traction_table
-    assert T.is_ehl_table(tab) and tab[6, 3] == 1.5 and tab[7, 0] == 20.0
-    assert tab[7, 3] == PAPER_OIL.viscosity_temperature_coeff
+    assert T.is_ehl_table(tab) and tab[T.EHL_ROW_FILM, T.EHL_C_SCALE] == 1.5
+    assert tab[T.EHL_ROW_THERMAL, T.EHL_C_TEMPERATURE_RISE] == 20.0
+    assert tab[T.EHL_ROW_THERMAL, T.EHL_C_BETA_T] == PAPER_OIL.viscosity_temperature_coeff
     with pytest.raises(InputError, match="traction_law"):
         build_model(PAPER_BEARING, PAPER_OIL, {"traction_law": "dry"})
     with pytest.raises(InputError, match=r"traction.traction_scale.*0.5"):
@@ -156,6 +157,47 @@ def test_model_option_and_scene_key_select_the_law():
     from flexbearing.simulation.scene import loads_scene
     text = open("scenes/paper_steady_rigid.toml").read().replace("[cage]", '[model]\ntraction_law = "ehl"\n\n[cage]', 1)
     assert loads_scene(text).model_options["traction_law"] == "ehl"
+
+
+def test_the_model_takes_the_ehl_law_once_into_named_slots():
+    # the law's parameters are taken once, at build_model, into the slots P_EHL_* of Model.p:
+    # tau0 and gamma_L scaled by traction_scale, bearing steel's k and kappa (flash term), the
+    # oil's beta_T, and the inlet viscosity eta(T_oil)·exp(−beta_T·ΔT) (module docstring)
+    import test_power_loss as P
+    from flexbearing.multibody import dynamics as D
+    from flexbearing.multibody import model as M
+    from flexbearing.multibody.bearing import PAPER_BEARING
+    beta = PAPER_OIL.viscosity_temperature_coeff
+    opts = {"traction_law": "ehl", "drag": False, "damping": False, **P.FIXED}
+    model = M.build_model(PAPER_BEARING, PAPER_OIL, {**opts, "traction_scale": 1.5, "contact_temperature_rise": 20.0})
+    p = model.p
+    assert p[M.P_EHL_TAU0] == pytest.approx(1.5 * 4.0e6, rel=1e-15)
+    assert p[M.P_EHL_GAMMA_L] == pytest.approx(1.5 * 0.06, rel=1e-15)
+    assert p[M.P_EHL_SHEAR_MODULUS] == 1.0e9
+    assert (p[M.P_EHL_K_SOLID], p[M.P_EHL_KAPPA_SOLID]) == (40.0, 1.1e-5)
+    assert p[M.P_EHL_BETA_T] == beta
+    assert p[M.P_EHL_ETA_INLET] == pytest.approx(PAPER_OIL.viscosity() * math.exp(-beta * 20.0), rel=1e-15)
+    # the fit leaves them zero; with_traction_table fills and clears them with the table
+    fit = M.build_model(PAPER_BEARING, PAPER_OIL, {})
+    slots = list(T.EHL_SLOTS)
+    assert not np.any(fit.p[slots])
+    swapped = M.with_traction_table(fit, model.traction_table, "ehl")
+    assert np.array_equal(swapped.p[slots], p[slots])
+    assert not np.any(M.with_traction_table(swapped, T.TRACTION_FIT_4106, "fit").p[slots])
+
+    # the right-hand side runs on the slots, not on the table: a model of scale 1 given the slots
+    # of scale 1.5 (its own table unchanged) has the right-hand side of the scale-1.5 model
+    def rhs(m, y):
+        dydt, work = np.zeros_like(y), D.new_work(m)
+        D.rhs(0.0, y, dydt, m.p, m.flags, m.hertz_table, m.traction_table, P.SP, P.LD, P.IMP, work, m.cage)
+        return dydt
+    one = M.build_model(PAPER_BEARING, PAPER_OIL, opts)
+    strong = M.build_model(PAPER_BEARING, PAPER_OIL, {**opts, "traction_scale": 1.5})
+    y = P._perturbed_state(one)
+    given = one.p.copy()
+    given[slots] = strong.p[slots]
+    assert np.array_equal(rhs(one._replace(p=given), y), rhs(strong, y))
+    assert not np.array_equal(rhs(one, y), rhs(strong, y))
 
 
 def test_power_balance_closes_with_the_ehl_law():

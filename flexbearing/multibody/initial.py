@@ -38,7 +38,11 @@ from scipy.optimize import root
 
 from flexbearing.common.validation import InputError, require_range
 from flexbearing.multibody import model as M
-from flexbearing.multibody.dynamics import _hertz_lookup, control_race
+from flexbearing.multibody.dynamics import CONTROL_NONE, _hertz_lookup, control_race
+from flexbearing.multibody.model_layout import (
+    CONTACT_INNER, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT, CONTACT_OUTER, CONTACT_RACE, RACE_CONTACTS, RACE_INNER,
+    RACE_OUTER,
+)
 from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody.geometry import nominal_cage_speed
 from flexbearing.multibody.geometry import race_contact, ring_point_in_plane
@@ -54,15 +58,15 @@ def _semi_major_axis(model, kind, Q, ca):
 
 
 def deepest_contact(model, qs) -> tuple[float, int, int, float]:
-    """(approach [m], ball, contact 0 outer / 1 inner-left / 2 inner-right, load [N]) of the race
-    contact with the largest Hertz approach delta = (Q/K(alpha))^(2/3) in the equilibrium `qs`
+    """(approach [m], ball, contact (CONTACT_OUTER, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT), load [N])
+    of the race contact with the largest Hertz approach delta = (Q/K(alpha))^(2/3) in the equilibrium `qs`
     (Q = K·delta^1.5 with the dynamics' Hertz tables, Harris & Kotzalas Vol. 1 eq. 6.41)."""
     best = (0.0, 0, 0, 0.0)
     for j, res in enumerate(qs["contacts"]):
-        for c in range(3):
+        for c in range(len(RACE_CONTACTS)):
             Q, ca = res[c][0], res[c][1]
             if Q > 0.0:
-                K = _hertz_lookup(model.hertz_table, 0 if c == 0 else 1, ca)[0]
+                K = _hertz_lookup(model.hertz_table, CONTACT_RACE[c], ca)[0]
                 d = (Q / K) ** (2.0 / 3.0)
                 if d > best[0]:
                     best = (d, j, c, Q)
@@ -103,16 +107,25 @@ def check_contact_range(model, speed_rad_s: float, load, qs=None) -> None:
         f"[0, {lo * np.linalg.norm(load):.3g}] N): reduce the load")
 
 
+def _loaded_inner(res) -> int:
+    """The inner contact (CONTACT_INNER_LEFT or _RIGHT) with the larger load in res [(Q, ...) x 3]."""
+    return CONTACT_INNER_LEFT if res[CONTACT_INNER_LEFT][0] >= res[CONTACT_INNER_RIGHT][0] else CONTACT_INNER_RIGHT
+
+
 def control_contact(model, res) -> int:
-    """Contact index (0 outer, 1/2 inner halves) of the race that controls the ball's attitude under
-    the model option ball_attitude (flexbearing.multibody.dynamics docstring, "Ball attitude"), −1 for free
-    balls or an unloaded controlling race. res: [(Q, ca, sa, nx, nr, x_p, r_p) x 3]."""
-    ci = 1 if res[1][0] >= res[2][0] else 2
-    qo, qi = res[0][0], res[ci][0]
-    ao = _semi_major_axis(model, 0, qo, res[0][1])
-    ai = _semi_major_axis(model, 1, qi, res[ci][1])
-    c = control_race(int(model.flags[M.F_ATTITUDE]), qo, ao, res[0][3], res[0][4], qi, ai, res[ci][3], res[ci][4])
-    return -1 if c < 0 else (M.CONTACT_OUTER if c == M.RACE_OUTER else ci)
+    """Contact index (CONTACT_OUTER, or the more loaded of the inner halves) of the race that
+    controls the ball's attitude under the model option ball_attitude (flexbearing.multibody.dynamics
+    docstring, "Ball attitude"), CONTROL_NONE for free or non-pivoting balls and an unloaded
+    controlling race. res: [(Q, ca, sa, nx, nr, x_p, r_p) x 3]."""
+    ci = _loaded_inner(res)
+    out = res[CONTACT_OUTER]
+    qo, qi = out[0], res[ci][0]
+    ao = _semi_major_axis(model, RACE_OUTER, qo, out[1])
+    ai = _semi_major_axis(model, RACE_INNER, qi, res[ci][1])
+    c = control_race(int(model.flags[M.F_ATTITUDE]), qo, ao, out[3], out[4], qi, ai, res[ci][3], res[ci][4])
+    if c == RACE_OUTER:
+        return CONTACT_OUTER
+    return ci if c == RACE_INNER else CONTROL_NONE
 
 
 class _Races(NamedTuple):
@@ -157,19 +170,20 @@ def _ball_forces(g: _Races, psi, xb, rb, ring, omega_orbit, keep: bool = True):
     fr = g.mb * rb * omega_orbit ** 2
     q_sum = 0.0
     res = [] if keep else None
-    for c in range(3):
+    for c in range(len(RACE_CONTACTS)):
         if c > g.n_inner:                 # the removed second half of a one-piece ring
             if keep:
                 res.append((0.0, 1.0, 0.0, 0.0, -1.0, xb, rb))
             continue
-        if c == 0:
-            xc, rc, f, kind = g.xo, g.ro, g.fe, 0
+        if c == CONTACT_OUTER:
+            xc, rc, f = g.xo, g.ro, g.fe
         else:
-            if c == 1:
+            if c == CONTACT_INNER_LEFT:
                 xc, rc = ring_point_in_plane(psi, g.xil, g.ril, *ring)
             else:
                 xc, rc = ring_point_in_plane(psi, g.xir, g.rir, *ring)
-            f, kind = g.fi, 1
+            f = g.fi
+        kind = CONTACT_RACE[c]
         delta, ca, sa = race_contact(xb, rb, xc, rc, f, dw)
         dx, dr = xb - xc, rb - rc
         d = math.hypot(dx, dr)
@@ -233,7 +247,7 @@ def _ring_loads(g: _Races, angles, balls, v, omega_orbit, load, dm):
         x, r, res, conv = _solve_ball(g, psi, ring, omega_orbit, balls[j][0], balls[j][1])
         balls[j] = [x, r]
         ok = ok and conv
-        for c in (1, 2):
+        for c in CONTACT_INNER:
             Q, ca, sa, nx, nr, xp, rp = res[c]
             gx, gy, gz = Q * nx, Q * nr * cs, Q * nr * sn      # reaction on the ring: +Q n
             Fx, Fy, Fz = Fx + gx, Fy + gy, Fz + gz
@@ -324,21 +338,21 @@ def race_control_ball_kinematics(model, qs, j: int, speed_rad_s: float):
     """
     cont = qs["contacts"][j]
     cc = control_contact(model, cont)
-    if cc < 0:
+    if cc == CONTROL_NONE:
         return None
     x, r, psi = qs["ball_x"][j], qs["ball_r"][j], qs["psi"][j]
     ring = qs["ring"]
-    ci = 1 if cont[1][0] >= cont[2][0] else 2
+    ci = _loaded_inner(cont)
     ring_rc = ring[1] * math.cos(psi) + ring[2] * math.sin(psi)
     a, b = [], []
-    for c in (0, ci):
+    for c in (CONTACT_OUTER, ci):
         Q, ca, sa, nx, nr, xp, rp = cont[c]
         rho = math.hypot(xp - x, rp - r)
         a.append([r, rho * nr, -rho * nx])
-        b.append(0.0 if c == 0 else speed_rad_s * (rp - ring_rc))
+        b.append(0.0 if c == CONTACT_OUTER else speed_rad_s * (rp - ring_rc))
     nx, nr = cont[cc][3], cont[cc][4]
     a.append([0.0, nx, nr])
-    b.append((0.0 if cc == 0 else speed_rad_s) * nx)
+    b.append((0.0 if cc == CONTACT_OUTER else speed_rad_s) * nx)
     om, wx, wr = np.linalg.solve(np.array(a), np.array(b))
     return float(om), float(wx), float(wr)
 
@@ -386,22 +400,23 @@ def initial_state(model, speed_rad_s: float, Fa: float, Fr: float, load=None, re
         y[o + SL.BALL_PSI_DOT] = om
         # pure rolling at the outer and the loaded inner contact: rolling-direction slide = 0
         cont = qs["contacts"][j]
-        ci = 1 if cont[1][0] >= cont[2][0] else 2
+        ci = _loaded_inner(cont)
         rows, rhs = [], []
         ring_rc = ring[1] * math.cos(psi) + ring[2] * math.sin(psi)
-        for c in (0, ci):
+        rolling = (CONTACT_OUTER, ci)              # the contacts that roll, one row each
+        for c in rolling:
             Q, ca, sa, nx, nr, xp, rp = cont[c]
             rho = math.hypot(xp - x, rp - r)
             # v_ball,t = r·om + rho(w_x n_r − w_r n_x);  v_race,t = 0 (outer) or omega_i (r_p − rc)
-            vrace = 0.0 if c == 0 else speed_rad_s * (rp - ring_rc)
+            vrace = 0.0 if c == CONTACT_OUTER else speed_rad_s * (rp - ring_rc)
             rows.append([rho * nr, -rho * nx])
             rhs.append(vrace - r * om)
         cc = control_contact(model, cont)
-        if cc >= 0:
+        if cc != CONTROL_NONE:
             # race control: the controlling contact rolls and does not spin (module docstring)
             Q, ca, sa, nx, nr, xp, rp = cont[cc]
-            w_race = 0.0 if cc == 0 else speed_rad_s
-            k = 0 if cc == 0 else 1
+            w_race = 0.0 if cc == CONTACT_OUTER else speed_rad_s
+            k = rolling.index(cc)
             rows = [rows[k], [nx, nr]]
             rhs = [rhs[k], w_race * nx]
         w = np.linalg.solve(np.array(rows), np.array(rhs))

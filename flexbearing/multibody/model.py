@@ -100,7 +100,7 @@ from flexbearing.mesh.cage_geometry import GUIDANCES, POCKET_SHAPES
 from flexbearing.multibody.bearing import Bearing, Oil
 from flexbearing.multibody.floating_frame import CageArrays, new_workspace, rigid_body
 from flexbearing.multibody.hertz import effective_modulus, ellipticity, hertz_stiffness, race_curvature_radii
-from flexbearing.multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table
+from flexbearing.multibody.traction import TRACTION_FIT_4106, TRACTION_LAWS, ehl_traction_table, fill_ehl_parameters
 from flexbearing.multibody.geometry import inner_groove_centres, outer_groove_centre
 from flexbearing.multibody.guide_land import fill_guide_land_parameters
 from flexbearing.multibody.pocket import fill_pocket_parameters
@@ -111,10 +111,12 @@ from flexbearing.multibody.model_layout import (  # noqa: F401  (the layout's na
     P_ICP, P_ICD, P_EBR, P_CP, P_KC, P_KN, P_RPOCKET, P_RCAGE_POCKET, P_R1, P_CG, P_L3, P_KRIM, P_MURIM, P_ETA0,
     P_T0K, P_K0, P_RHO_OIL, P_OILFRAC, P_ALPHA_P, P_SLIN, P_UMIN, P_ZETA, P_MUPOCKET, P_GRAV, P_EPSMAX,
     P_ALPHA0, P_LAND_L, P_ETA_TRACTION, P_ATT_RATE, P_UREG, P_OIL_WREF, P_SPIN_SCALE_INNER, P_POCKET_CONE,
-    P_POCKET_B, N_PARAMS, F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_ROLLRES,
+    P_POCKET_B, P_EHL_TAU0, P_EHL_GAMMA_L, P_EHL_SHEAR_MODULUS, P_EHL_K_SOLID, P_EHL_KAPPA_SOLID, P_EHL_BETA_T,
+    P_EHL_ETA_INLET, N_PARAMS, F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES, F_HERTZ_FIXED, F_ROLLRES,
     F_LAND, F_ATTITUDE, F_ATT_RING, F_TRACTION_LAW, F_INNER_HALVES, F_GUIDANCE, F_POCKET_SHAPE,
     F_BALL_DRAG_MOMENT, N_FLAGS, BALL_ATTITUDES, ATTITUDE_FREE, ATTITUDE_OUTER, ATTITUDE_INNER, ATTITUDE_JONES,
-    ATTITUDE_NO_PIVOT, RACE_CONTACTS, CONTACT_OUTER, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT, RACE_OUTER,
+    ATTITUDE_NO_PIVOT, RACE_CONTACTS, CONTACT_OUTER, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT, CONTACT_INNER,
+    CONTACT_RACE, RACE_OUTER,
     RACE_INNER, H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HCOLS, N_HGRID, N_WC, W_C0, W_POCKET_Q, W_POCKET_Z,
     W_POCKET_T, W_DRAG, W_PK_FX, W_PK_FY, W_PK_FZ, W_PK_LY, W_PK_LZ, W_P_POCKET, W_P_CHURNING, N_WORK, WR_FX,
     WR_FY, WR_FZ, WR_LAND_FY, WR_LAND_FZ, WR_LAND_M, WR_RIM_F, WR_RING_TORQUE, WR_EPS, WR_OMEGA_I, WR_STATUS,
@@ -129,7 +131,8 @@ class Model(NamedTuple):
     flags: np.ndarray        # int64 (N_FLAGS,)
     hertz_table: np.ndarray  # float64 (2, N_HGRID, N_HCOLS)
     traction_table: np.ndarray  # float64: the table of the law flags[F_TRACTION_LAW] names (flexbearing.multibody.traction:
-                                # fit (4, 4) or its bounded forms (6, 4), EHL (8, 4))
+                                # fit (4, 4) or its bounded forms (6, 4), EHL (8, 4): the record of
+                                # its inputs, the loop reads its parameters from p[P_EHL_*])
     scale: np.ndarray        # float64 (n_state,): absolute error scale of each state component
     relmask: np.ndarray      # float64 (n_state,): 1 where the relative tolerance applies
     n_balls: int
@@ -389,6 +392,8 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
                 raise InputError(f"model.{key} = {options[key]!r} applies to traction_law = 'ehl' only "
                                  f"(this model has {law!r})")
         ttab = np.array(TRACTION_FIT_4106, dtype=np.float64)
+    # the EHL law's parameters and inlet viscosity, once per model (zero under the fit)
+    fill_ehl_parameters(p, ttab if law == "ehl" else None)
     flags[F_TRACTION_LAW] = TRACTION_LAWS.index(law)
     flags[F_GUIDANCE] = GUIDANCES.index(cage.guidance)
     flags[F_POCKET_SHAPE] = POCKET_SHAPES.index(cage.pocket_shape)
@@ -402,13 +407,17 @@ def build_model(bearing: Bearing, oil: Oil, options: dict | None = None, cage_bo
 
 def with_traction_table(model: Model, table: np.ndarray, law: str = "fit") -> Model:
     """`model` with another traction table of the named law (flexbearing.multibody.traction: "fit" for the
-    4106 fit and its bounded and origin forms, "ehl" for `ehl_traction_table`): the table and the
-    flag F_TRACTION_LAW that tells the right-hand side how to read it change together."""
+    4106 fit and its bounded and origin forms, "ehl" for `ehl_traction_table`): the table, the
+    flag F_TRACTION_LAW that tells the right-hand side how to read it and the EHL law's slots
+    P_EHL_* (flexbearing.multibody.traction.fill_ehl_parameters) change together."""
     if law not in TRACTION_LAWS:
         raise InputError(f"traction law = {law!r} is not known; allowed: {list(TRACTION_LAWS)}")
+    table = np.ascontiguousarray(table, dtype=np.float64)
     flags = model.flags.copy()
     flags[F_TRACTION_LAW] = TRACTION_LAWS.index(law)
-    return model._replace(traction_table=np.ascontiguousarray(table, dtype=np.float64), flags=flags)
+    p = model.p.copy()
+    fill_ehl_parameters(p, table if law == "ehl" else None)
+    return model._replace(traction_table=table, flags=flags, p=p)
 
 
 def _error_scales(z: int, n_modes: int, dw: float) -> tuple[np.ndarray, np.ndarray]:

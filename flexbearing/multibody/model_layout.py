@@ -32,7 +32,15 @@ P_OIL_WREF = 47                        # reference speed of the cavity oil fract
 P_SPIN_SCALE_INNER = 48                # diagnostic factor on the inner contacts' spin moment (1 = the law)
 P_POCKET_CONE = 49                     # conical pocket's half-angle, rad (> 0 opens outwards; flexbearing.multibody.pocket)
 P_POCKET_B = 50                        # elliptical pocket's circumferential semi-axis, m (flexbearing.multibody.pocket)
-N_PARAMS = 51
+# the EHL film-shear law (model option traction_law = "ehl"; flexbearing.multibody.traction), taken
+# once from its table by `traction.fill_ehl_parameters` (zero under the fit law)
+P_EHL_TAU0 = 51                        # Eyring stress tau0 times the film-strength scale, Pa
+P_EHL_GAMMA_L = 52                     # limiting-shear coefficient gamma_L = tau_L/p times the same scale
+P_EHL_SHEAR_MODULUS = 53               # shear modulus G of the film (Maxwell element), Pa
+P_EHL_K_SOLID, P_EHL_KAPPA_SOLID = 54, 55  # the solids' conductivity W/(m·K) and diffusivity m²/s (flash term)
+P_EHL_BETA_T = 56                      # the oil's viscosity–temperature coefficient beta_T, 1/K
+P_EHL_ETA_INLET = 57                   # inlet viscosity eta(T_oil)·exp(−beta_T·ΔT_contact), Pa·s
+N_PARAMS = 58
 
 # ---------------------------------------------------------------- switch indices
 F_TRACTION, F_DRAG, F_DAMPING, F_TRANSVERSE, F_NSLICES = 0, 1, 2, 3, 4
@@ -54,6 +62,8 @@ ATTITUDE_FREE, ATTITUDE_OUTER, ATTITUDE_INNER, ATTITUDE_JONES, ATTITUDE_NO_PIVOT
 RACE_CONTACTS = ("outer", "inner_left", "inner_right")
 CONTACT_OUTER, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT = (RACE_CONTACTS.index(c) for c in RACE_CONTACTS)
 RACE_OUTER, RACE_INNER = 0, 1
+CONTACT_RACE = (RACE_OUTER, RACE_INNER, RACE_INNER)   # the race of each contact, by its index
+CONTACT_INNER = (CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT)   # the inner race's contacts
 
 # ---------------------------------------------------------------- Hertz table columns
 # table[kind, i, col] at cos(alpha) = i/(n-1); kind 0 outer, 1 inner.

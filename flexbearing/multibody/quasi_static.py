@@ -69,6 +69,9 @@ from flexbearing.common.convergence import SolverNotConverged
 from flexbearing.common.validation import InputError, require_range, require_positive, require_finite
 from flexbearing.multibody import geometry as geo
 from flexbearing.multibody.hertz import race_curvature_radii, hertz_point_contact, effective_modulus
+from flexbearing.multibody.model_layout import (
+    ATTITUDE_JONES, CONTACT_INNER_LEFT, CONTACT_INNER_RIGHT, CONTACT_OUTER, RACE_INNER, RACE_OUTER,
+)
 from flexbearing.multibody import quasi_static_ball as qb
 from flexbearing.multibody.quasi_static_ball import solve_all_balls
 
@@ -259,25 +262,25 @@ def _kinematics(g, st, inner_speed, u):
     dw, dm = g.ball_diameter, g.pitch_diameter
     for j in range(len(st.psi)):
         q = st.q[j]
-        ki = 1 if q[1] >= q[2] else 2
-        if q[0] <= 0.0 or q[ki] <= 0.0:
+        ki = CONTACT_INNER_LEFT if q[CONTACT_INNER_LEFT] >= q[CONTACT_INNER_RIGHT] else CONTACT_INNER_RIGHT
+        if q[CONTACT_OUTER] <= 0.0 or q[ki] <= 0.0:
             # not carrying load between the races: take the epicyclic pure-rolling value
             st.wm[j] = geo.pitch_orbit_speed(inner_speed, 0.0, dw, dm, 0.0)
             st.wb[j] = (-(dm / (2 * dw)) * (1 - (dw / dm) ** 2) * inner_speed + st.wm[j], 0.0, 0.0)
             continue
         A = np.zeros((3, 3))
         rhs = np.zeros(3)
-        for row, (k, wr) in enumerate(((0, 0.0), (ki, inner_speed))):
+        for row, (k, wr) in enumerate(((CONTACT_OUTER, 0.0), (ki, inner_speed))):
             nx, nr, delta = st.nrm[j, k, 0], st.nrm[j, k, 1], st.nrm[j, k, 4]
             xp, rp, rho = geo.contact_point(st.xb[j], st.rb[j], nx, nr, delta, dw)
             c, s = math.cos(st.psi[j]), math.sin(st.psi[j])
             # race speed at the contact: omega·(r_p − ring-centre offset) (geometry.ring_surface_velocity)
-            r_rel = rp - (u[1] * c + u[2] * s) if k > 0 else rp
+            r_rel = rp - (u[1] * c + u[2] * s) if k != CONTACT_OUTER else rp
             # v_ball,t = r_b·omega_m + rho·(omega_x·n_r − omega_r·n_x) ; v_race,t = w_ring·r_rel
             A[row] = (st.rb[j], rho * nr, -rho * nx)
             rhs[row] = wr * r_rel
-        kc = 0 if st.ctrl[j] == 0 else ki
-        wr = 0.0 if st.ctrl[j] == 0 else inner_speed
+        kc = CONTACT_OUTER if st.ctrl[j] == RACE_OUTER else ki
+        wr = 0.0 if st.ctrl[j] == RACE_OUTER else inner_speed
         nx, nr = st.nrm[j, kc, 0], st.nrm[j, kc, 1]
         A[2] = (0.0, nx, nr)                 # (omega_b − omega_race e_x)·n = 0
         rhs[2] = wr * nx
@@ -558,7 +561,7 @@ def _set_friction_shares(lam, ctrl, friction_share):
     if friction_share is not None:
         lam[0, :], lam[1, :] = friction_share
     else:
-        lam[0, :] = np.where(ctrl == 0, 2.0, 0.0)
+        lam[0, :] = np.where(ctrl == RACE_OUTER, 2.0, 0.0)
         lam[1, :] = 2.0 - lam[0, :]
 
 
@@ -570,16 +573,17 @@ def _jones_controlling_race(g, st) -> np.ndarray:
     loads (flexbearing.multibody.hertz.hertz_point_contact). Returns 0 (outer) / 1 (inner) per ball."""
     from flexbearing.multibody.dynamics import control_race
     out = st.ctrl.copy()
+    o = CONTACT_OUTER
     for j in range(len(st.psi)):
-        ki = 1 if st.q[j, 1] >= st.q[j, 2] else 2
+        ki = CONTACT_INNER_LEFT if st.q[j, CONTACT_INNER_LEFT] >= st.q[j, CONTACT_INNER_RIGHT] else CONTACT_INNER_RIGHT
         a = [0.0, 0.0]
-        for n, k in enumerate((0, ki)):
+        for n, k in enumerate((o, ki)):
             q = st.q[j, k]
             if q > 0.0:
                 a[n] = _hertz_ellipse(g, k, st.nrm[j, k, 2], q)[0]
-        c = control_race(3, st.q[j, 0], a[0], st.nrm[j, 0, 0], st.nrm[j, 0, 1],
+        c = control_race(ATTITUDE_JONES, st.q[j, o], a[0], st.nrm[j, o, 0], st.nrm[j, o, 1],
                          st.q[j, ki], a[1], st.nrm[j, ki, 0], st.nrm[j, ki, 1])
-        if c >= 0:
+        if c in (RACE_OUTER, RACE_INNER):
             out[j] = c
     return out
 
@@ -592,13 +596,13 @@ def _failure_diagnostic(g, st, inner_speed, control, lam) -> str:
     (coefficient above 1; EHL traction stays below about 0.1) cannot exist: the race cannot control
     the ball there, and Jones's criterion (flexbearing.multibody.dynamics.control_race) would pick the other race.
     Otherwise the ring equilibrium itself is reported as not found."""
-    q_race = np.where(st.ctrl == 0, st.q[:, 0], st.q[:, 1] + st.q[:, 2])
-    f_race = np.abs(np.where(st.ctrl == 0, lam[0], lam[1]) * st.mg) / g.ball_diameter
+    q_race = np.where(st.ctrl == RACE_OUTER, st.q[:, CONTACT_OUTER], st.q[:, CONTACT_INNER_LEFT] + st.q[:, CONTACT_INNER_RIGHT])
+    f_race = np.abs(np.where(st.ctrl == RACE_OUTER, lam[0], lam[1]) * st.mg) / g.ball_diameter
     with np.errstate(divide="ignore", invalid="ignore"):
         mu = np.where(q_race > 0.0, f_race / q_race, np.where(f_race > 0.0, np.inf, 0.0))
     j = int(np.argmax(mu))
     if mu[j] > 1.0:
-        race = "outer" if st.ctrl[j] == 0 else "inner"
+        race = "outer" if st.ctrl[j] == RACE_OUTER else "inner"
         other = "inner" if race == "outer" else "outer"
         hint = "" if control == "jones" else f"; try control='{other}' or 'jones' (Jones's criterion per ball)"
         return (f"{race} {NO_RACE_CONTROL} at inner-ring speed {inner_speed:.6g} rad/s: "
@@ -653,7 +657,7 @@ def _hertz_ellipse(g, k, cos_alpha, q):
     """(a, b, p0, delta) of contact k (0 outer, 1/2 inner) at |cos(contact angle)| cos_alpha and load q
     (flexbearing.multibody.hertz.hertz_point_contact with the groove's curvature radii)."""
     rx, ry = race_curvature_radii(g.ball_diameter, g.pitch_diameter, g.groove_f[k],
-                                  math.acos(min(1.0, abs(cos_alpha))), k > 0)
+                                  math.acos(min(1.0, abs(cos_alpha))), k != CONTACT_OUTER)
     return hertz_point_contact(rx, ry, g.effective_modulus, q)
 
 

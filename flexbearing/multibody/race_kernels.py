@@ -19,14 +19,15 @@ from flexbearing.multibody.model import (
     F_TRACTION_LAW, P_SPIN_SCALE_INNER, ATTITUDE_INNER, ATTITUDE_JONES, ATTITUDE_NO_PIVOT, ATTITUDE_OUTER,
     CONTACT_INNER_LEFT, CONTACT_OUTER, RACE_INNER, RACE_OUTER, H_K, H_ELL, H_EK, H_R, H_RX, H_RY, N_HGRID, N_WC, WC_Q, WC_COS,
     WC_SIN, WC_P0, WC_UR, WC_RX, WC_RY, WC_A, WC_SLIP, WC_DELTA, WC_FT, WC_P_TRACTION, WC_P_ROLLING,
-    WC_P_DAMPING,
+    WC_P_DAMPING, P_EHL_TAU0, P_EHL_GAMMA_L, P_EHL_SHEAR_MODULUS, P_EHL_K_SOLID, P_EHL_KAPPA_SOLID, P_EHL_BETA_T,
+    P_EHL_ETA_INLET,
 )
 from flexbearing.multibody.geometry import (
     cross, race_contact, ring_point_in_plane, ring_velocity_at, ring_velocity_in_plane,
 )
 from flexbearing.multibody.drag import ehl_rolling_resistance, ehl_pressure_rolling_force
 from flexbearing.multibody.traction import (
-    TRACTION_LAWS, ehl_inlet_viscosity, sliced_traction, sliced_traction_ehl, traction_coefficients_table,
+    TRACTION_LAWS, sliced_traction, sliced_traction_ehl, traction_coefficients_table,
 )
 from flexbearing.multibody.film import film_thickness as hamrock_dowson_film
 from flexbearing.multibody.hertz import hertz_load
@@ -120,11 +121,13 @@ def _race_traction(kind, Q, q_el, nx, nr, rho, a_ax, b_ax, p0, ur, du0, vb_x, vb
         urr = p[P_UMIN]
     if flags[F_TRACTION_LAW] == TRACTION_EHL:
         # EHL film-shear law (flexbearing.multibody.traction): the film at the contact's inlet viscosity
-        eta_in = ehl_inlet_viscosity(p[P_ETA0], ttab)
-        h_c = hamrock_dowson_film(rx, ry, p[P_EBR], q_el, urr, eta_in, p[P_ALPHA_P])[1]
+        # and the law's parameters, all taken once per model (slots P_EHL_*, traction.fill_ehl_parameters)
+        h_c = hamrock_dowson_film(rx, ry, p[P_EBR], q_el, urr, p[P_EHL_ETA_INLET], p[P_ALPHA_P])[1]
         Tt, Ttau, Mn = sliced_traction_ehl(Q, a_ax, b_ax, p0, h_c, urr, du0, du1, 0.0, dv,
                                            flags[F_NSLICES], bool(flags[F_TRANSVERSE]), p[P_SLIN],
-                                           p[P_ETA0], p[P_ALPHA_P], p[P_K0], ttab)
+                                           p[P_EHL_ETA_INLET], p[P_ALPHA_P], p[P_K0], p[P_EHL_TAU0],
+                                           p[P_EHL_GAMMA_L], p[P_EHL_SHEAR_MODULUS], p[P_EHL_K_SOLID],
+                                           p[P_EHL_KAPPA_SOLID], p[P_EHL_BETA_T])
     else:
         # the fit at UR_eff = max(|UR|, u_reg): coefficients and slide-to-roll ratio
         # (flexbearing.multibody.traction, "Low rolling speed")

@@ -157,15 +157,36 @@ beta_T, k_oil. The level is checked against the paper's 4106 fit inside its data
 maxima agree within a factor 1.8, tests/test_traction_ehl.py) — the one published traction
 curve of this oil available. Two scalars carry the uncertainty the validation's study samples:
 traction_scale (0.5–2) multiplies tau0 and gamma_L, contact_temperature_rise (0–60 K) lowers the
-inlet viscosity (the contacts run hotter than the supplied oil). Table layout: `ehl_traction_table`.
+inlet viscosity (the contacts run hotter than the supplied oil). Table layout: `ehl_traction_table`;
+the parameters the law runs with, taken once from it: `ehl_parameters` (the model's slots P_EHL_*).
 """
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 from flexbearing.common.validation import require_range
+from flexbearing.multibody.model_layout import (
+    P_ETA0, P_EHL_TAU0, P_EHL_GAMMA_L, P_EHL_SHEAR_MODULUS, P_EHL_K_SOLID, P_EHL_KAPPA_SOLID, P_EHL_BETA_T,
+    P_EHL_ETA_INLET,
+)
+
+# The fit's coefficient table, by name beside the names (`traction_coefficients_table`): rows A, B,
+# C, D of the curve's coefficients, each (factor, exponent of Qb, exponent of Ub, exponent of Tb);
+# the bounded and origin laws (`bounded_traction_table`) add the row of the fit's data range
+# (Qb_min, Qb_max, Ub_min, Ub_max) and the row of the limit (mu_lim, through the origin: 1 or 0).
+FIT_ROWS = ("A", "B", "C", "D", "data_range", "limit")
+FIT_ROW_A, FIT_ROW_B, FIT_ROW_C, FIT_ROW_D, FIT_ROW_RANGE, FIT_ROW_LIMIT = (FIT_ROWS.index(r) for r in FIT_ROWS)
+FIT_COLUMNS = ("factor", "qb_exponent", "ub_exponent", "tb_exponent")        # rows A..D
+FIT_C_FACTOR, FIT_C_QB, FIT_C_UB, FIT_C_TB = (FIT_COLUMNS.index(c) for c in FIT_COLUMNS)
+FIT_RANGE_COLUMNS = ("qb_min", "qb_max", "ub_min", "ub_max")                 # row FIT_ROW_RANGE
+FIT_C_QB_MIN, FIT_C_QB_MAX, FIT_C_UB_MIN, FIT_C_UB_MAX = (FIT_RANGE_COLUMNS.index(c) for c in FIT_RANGE_COLUMNS)
+FIT_LIMIT_COLUMNS = ("mu_limit", "through_origin")                           # row FIT_ROW_LIMIT
+FIT_C_MU_LIMIT, FIT_C_ORIGIN = (FIT_LIMIT_COLUMNS.index(c) for c in FIT_LIMIT_COLUMNS)
+FIT_TABLE_ROWS = FIT_ROW_D + 1              # the fit alone (TRACTION_FIT_4106)
+BOUNDED_TABLE_ROWS = len(FIT_ROWS)          # the bounded and origin laws
 
 # Wang, Yang & Wang (2004) fit for 4106 oil: rows A, B, C, D; columns (factor, exponent of Qb,
 # exponent of Ub, exponent of Tb). Replace this table (same shape) to use another oil.
@@ -179,11 +200,12 @@ TRACTION_FIT_4106 = np.array([
 
 def bounded_traction_table(qb_range, ub_range, mu_limit, fit=TRACTION_FIT_4106) -> np.ndarray:
     """The 6-row table of the bounded law (module docstring "Bounded law"): the fit's rows A..D,
-    row 4 = (Qb_min, Qb_max, Ub_min, Ub_max), row 5 = (mu_lim, 0, 0, 0)."""
-    tab = np.zeros((6, 4))
-    tab[:4] = fit
-    tab[4] = (qb_range[0], qb_range[1], ub_range[0], ub_range[1])
-    tab[5, 0] = mu_limit
+    row FIT_ROW_RANGE = (Qb_min, Qb_max, Ub_min, Ub_max), row FIT_ROW_LIMIT = (mu_lim, 0)."""
+    tab = np.zeros((BOUNDED_TABLE_ROWS, len(FIT_COLUMNS)))
+    tab[:FIT_TABLE_ROWS] = fit
+    tab[FIT_ROW_RANGE, [FIT_C_QB_MIN, FIT_C_QB_MAX, FIT_C_UB_MIN, FIT_C_UB_MAX]] = (qb_range[0], qb_range[1],
+                                                                                  ub_range[0], ub_range[1])
+    tab[FIT_ROW_LIMIT, FIT_C_MU_LIMIT] = mu_limit
     return tab
 
 
@@ -195,7 +217,7 @@ TRACTION_BOUNDED_4106 = bounded_traction_table((QB_MIN_4106, 1.0), (0.0, 1.0), M
 
 # origin law for 4106 oil (module docstring "Origin law"): the fit with A = −D, no clamping, no cap
 TRACTION_ORIGIN_4106 = bounded_traction_table((0.0, math.inf), (0.0, math.inf), 0.0)
-TRACTION_ORIGIN_4106[5, 1] = 1.0
+TRACTION_ORIGIN_4106[FIT_ROW_LIMIT, FIT_C_ORIGIN] = 1.0
 
 
 @njit(cache=True)
@@ -213,42 +235,49 @@ def traction_curve_maximum(A, B, C, D):
     return best
 
 
+@njit(cache=True, inline="always")
+def _fit_power_law(table, row, lq, lu, lt):
+    """Coefficient `row` (FIT_ROW_A..D) of the fit: factor·Qb^a1·Ub^a2·Tb^a3 from ln Qb, ln Ub, ln Tb."""
+    return table[row, FIT_C_FACTOR] * math.exp(table[row, FIT_C_QB] * lq + table[row, FIT_C_UB] * lu
+                                               + table[row, FIT_C_TB] * lt)
+
+
 @njit(cache=True)
 def traction_coefficients_table(Q, u_rolling, Rx, E_eff, eta0, temperature_k, thermal_conductivity, table):
-    """(A, B, C, D) of the traction curve from a coefficient table (rows A..D: factor, Qb, Ub, Tb
-    exponents). Qb = Q/(E'Rx²), Ub = eta0·UR/(E'Rx), Tb = eta0·K0·T0/(E'Rx)² (module docstring).
+    """(A, B, C, D) of the traction curve from a coefficient table (rows FIT_ROW_A..D: factor, Qb,
+    Ub, Tb exponents). Qb = Q/(E'Rx²), Ub = eta0·UR/(E'Rx), Tb = eta0·K0·T0/(E'Rx)² (module docstring).
 
-    A table of 6 rows is the bounded law (`bounded_traction_table`, module docstring "Bounded
-    law"): row 4 = (Qb_min, Qb_max, Ub_min, Ub_max), the fit's data range, into which Qb and Ub are
-    clamped before the power laws are evaluated (no extrapolation); row 5 = (mu_lim, 0, 0, 0), the
-    limiting-shear traction coefficient tau_L/p: if the curve's maximum exceeds mu_lim, A, B, D are
-    scaled by mu_lim/max (the curve keeps its shape, its peak is tau_L/p). A 4-row table is the
-    paper's fit unchanged."""
+    A table of BOUNDED_TABLE_ROWS (6) rows is the bounded law (`bounded_traction_table`, module
+    docstring "Bounded law"): row FIT_ROW_RANGE = (Qb_min, Qb_max, Ub_min, Ub_max), the fit's data
+    range, into which Qb and Ub are clamped before the power laws are evaluated (no extrapolation);
+    row FIT_ROW_LIMIT = (mu_lim, through the origin): mu_lim the limiting-shear traction coefficient
+    tau_L/p: if the curve's maximum exceeds mu_lim, A, B, D are scaled by mu_lim/max (the curve keeps
+    its shape, its peak is tau_L/p). A 4-row table is the paper's fit unchanged."""
     if Q <= 0.0 or u_rolling == 0.0:
         return 0.0, 0.0, 0.0, 0.0
     er = E_eff * Rx
     qb = Q / (er * Rx)
     ub = eta0 * abs(u_rolling) / er
     tb = eta0 * thermal_conductivity * temperature_k / (er * er)
-    bounded = table.shape[0] >= 6
+    bounded = table.shape[0] >= BOUNDED_TABLE_ROWS
     if bounded:
-        qb = min(max(qb, table[4, 0]), table[4, 1])
-        ub = min(max(ub, table[4, 2]), table[4, 3])
+        qb = min(max(qb, table[FIT_ROW_RANGE, FIT_C_QB_MIN]), table[FIT_ROW_RANGE, FIT_C_QB_MAX])
+        ub = min(max(ub, table[FIT_ROW_RANGE, FIT_C_UB_MIN]), table[FIT_ROW_RANGE, FIT_C_UB_MAX])
     lq = math.log(qb)
     lu = math.log(ub)
     lt = math.log(tb)
-    a = table[0, 0] * math.exp(table[0, 1] * lq + table[0, 2] * lu + table[0, 3] * lt)
-    b = table[1, 0] * math.exp(table[1, 1] * lq + table[1, 2] * lu + table[1, 3] * lt)
-    c = table[2, 0] * math.exp(table[2, 1] * lq + table[2, 2] * lu + table[2, 3] * lt)
-    d = table[3, 0] * math.exp(table[3, 1] * lq + table[3, 2] * lu + table[3, 3] * lt)
-    if bounded and table[5, 1] > 0.0:
+    a = _fit_power_law(table, FIT_ROW_A, lq, lu, lt)
+    b = _fit_power_law(table, FIT_ROW_B, lq, lu, lt)
+    c = _fit_power_law(table, FIT_ROW_C, lq, lu, lt)
+    d = _fit_power_law(table, FIT_ROW_D, lq, lu, lt)
+    if bounded and table[FIT_ROW_LIMIT, FIT_C_ORIGIN] > 0.0:
         # "through the origin" option: the regression intercept A + D is replaced by the
         # physical mu(0) = 0 (module docstring, "Origin law")
         a = -d
-    if bounded and table[5, 0] > 0.0:
+    if bounded and table[FIT_ROW_LIMIT, FIT_C_MU_LIMIT] > 0.0:
         mx = traction_curve_maximum(a, b, c, d)
-        if mx > table[5, 0]:
-            f = table[5, 0] / mx
+        if mx > table[FIT_ROW_LIMIT, FIT_C_MU_LIMIT]:
+            f = table[FIT_ROW_LIMIT, FIT_C_MU_LIMIT] / mx
             a *= f
             b *= f
             d *= f
@@ -387,13 +416,18 @@ EHL_RANGES = {
     "contact_temperature_rise": (0.0, 60.0),     # K above the oil temperature
 }
 EHL_TABLE_ROWS = 8
-# The slots of the EHL law's table (`ehl_traction_table`), by name: row EHL_ROW_FILM the film's
-# shear constants, row EHL_ROW_THERMAL the contact temperature's, row EHL_ROW_INLET what the table
-# derives once from them (rows 0–4 unused: the fit's table has other rows, `is_ehl_table`).
-EHL_ROW_INLET, EHL_ROW_FILM, EHL_ROW_THERMAL = 5, 6, 7
-EHL_C_TAU0, EHL_C_GAMMA_L, EHL_C_SHEAR_MODULUS, EHL_C_SCALE = 0, 1, 2, 3              # row EHL_ROW_FILM
-EHL_C_TEMPERATURE_RISE, EHL_C_K_SOLID, EHL_C_KAPPA_SOLID, EHL_C_BETA_T = 0, 1, 2, 3   # row EHL_ROW_THERMAL
-EHL_C_INLET_FACTOR = 0       # row EHL_ROW_INLET: exp(−beta_T·ΔT), the inlet viscosity's share of eta0
+# The EHL law's table (`ehl_traction_table`), by name beside the names: row EHL_ROW_FILM the film's
+# shear constants (EHL_FILM_COLUMNS, the names of EHL_RANGES), row EHL_ROW_THERMAL the contact
+# temperature's (EHL_THERMAL_COLUMNS); rows 0–5 unused (the fit's tables have 4 or 6 rows,
+# `is_ehl_table`). The model reads none of it in its loop: `fill_ehl_parameters` takes the law's
+# parameters once into the model's named slots P_EHL_* (flexbearing.multibody.model_layout).
+EHL_ROW_FILM, EHL_ROW_THERMAL = 6, 7
+EHL_FILM_COLUMNS = ("eyring_stress", "limiting_shear_coeff", "shear_modulus", "traction_scale")
+EHL_C_TAU0, EHL_C_GAMMA_L, EHL_C_SHEAR_MODULUS, EHL_C_SCALE = (EHL_FILM_COLUMNS.index(c) for c in EHL_FILM_COLUMNS)
+EHL_THERMAL_COLUMNS = ("contact_temperature_rise", "solid_conductivity", "solid_diffusivity",
+                       "viscosity_temperature_coeff")
+EHL_C_TEMPERATURE_RISE, EHL_C_K_SOLID, EHL_C_KAPPA_SOLID, EHL_C_BETA_T = (EHL_THERMAL_COLUMNS.index(c)
+                                                                         for c in EHL_THERMAL_COLUMNS)
 TRACTION_LAWS = ("fit", "ehl")      # model option traction_law (flexbearing.multibody.model)
 
 
@@ -421,13 +455,13 @@ def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float
                        limiting_shear_coeff: float = EHL_LIMITING_SHEAR_COEFF,
                        shear_modulus: float = EHL_SHEAR_MODULUS, ball_thermal=None,
                        race_thermal=None) -> np.ndarray:
-    """The (8, 4) coefficient table of the EHL film-shear law (module docstring): rows 0–4 unused,
-    row 5 = (exp(−beta_T·ΔT), 0, 0, 0): the inlet viscosity's factor (`ehl_inlet_viscosity`),
-    row 6 = (tau0 Pa, gamma_L, G Pa, traction_scale), row 7 = (contact temperature rise K, k_steel
-    W/(m·K), kappa_steel m²/s, beta_T 1/K: the oil's viscosity–temperature coefficient). Values
-    outside EHL_RANGES are refused (flexbearing.common.validation.require_range names the field).
-    ball_thermal, race_thermal (flexbearing.common.materials.Thermal, None = bearing steel): the
-    solids of the flash temperature, combined by `flash_constants` (a silicon nitride ball)."""
+    """The (8, 4) coefficient table of the EHL film-shear law (module docstring): rows 0–5 unused,
+    row EHL_ROW_FILM = (tau0 Pa, gamma_L, G Pa, traction_scale), row EHL_ROW_THERMAL = (contact
+    temperature rise K, k_solid W/(m·K), kappa_solid m²/s, beta_T 1/K: the oil's viscosity–temperature
+    coefficient). Values outside EHL_RANGES are refused (flexbearing.common.validation.require_range
+    names the field). ball_thermal, race_thermal (flexbearing.common.materials.Thermal, None =
+    bearing steel): the solids of the flash temperature, combined by `flash_constants` (a silicon
+    nitride ball). What the law computes from it: `ehl_parameters`."""
     for name, value in (("traction_scale", traction_scale), ("contact_temperature_rise", contact_temperature_rise),
                         ("eyring_stress", eyring_stress), ("limiting_shear_coeff", limiting_shear_coeff),
                         ("shear_modulus", shear_modulus)):
@@ -435,18 +469,57 @@ def ehl_traction_table(viscosity_temperature_coeff: float, traction_scale: float
         require_range(f"traction.{name}", value, lo, hi)
     require_range("oil.viscosity_temperature_coeff", viscosity_temperature_coeff, 0.0, 1.0)
     tab = np.zeros((EHL_TABLE_ROWS, 4))
-    tab[EHL_ROW_FILM] = (eyring_stress, limiting_shear_coeff, shear_modulus, traction_scale)
+    tab[EHL_ROW_FILM, [EHL_C_TAU0, EHL_C_GAMMA_L, EHL_C_SHEAR_MODULUS, EHL_C_SCALE]] = (
+        eyring_stress, limiting_shear_coeff, shear_modulus, traction_scale)
     k_solid, kappa_solid = flash_constants(ball_thermal, race_thermal)
-    tab[EHL_ROW_THERMAL] = (contact_temperature_rise, k_solid, kappa_solid, viscosity_temperature_coeff)
-    tab[EHL_ROW_INLET, EHL_C_INLET_FACTOR] = math.exp(-viscosity_temperature_coeff * contact_temperature_rise)
+    tab[EHL_ROW_THERMAL, [EHL_C_TEMPERATURE_RISE, EHL_C_K_SOLID, EHL_C_KAPPA_SOLID, EHL_C_BETA_T]] = (
+        contact_temperature_rise, k_solid, kappa_solid, viscosity_temperature_coeff)
     return tab
 
 
-@njit(cache=True)
-def ehl_inlet_viscosity(eta_oil, table):
+class EhlParameters(NamedTuple):
+    """The EHL film-shear law's parameters as its kernel `sliced_traction_ehl` takes them (SI)."""
+    tau0: float            # Eyring stress times the film-strength scale, Pa
+    gamma_l: float         # limiting-shear coefficient tau_L/p times the same scale
+    shear_modulus: float   # G of the film, Pa
+    k_solid: float         # the solids' conductivity in the flash term, W/(m·K)
+    kappa_solid: float     # and their diffusivity, m²/s
+    beta_t: float          # the oil's viscosity–temperature coefficient, 1/K
+    eta_inlet: float       # the inlet viscosity, Pa·s (`ehl_inlet_viscosity`)
+
+
+def ehl_inlet_viscosity(eta_oil: float, table) -> float:
     """The oil's viscosity at the contact inlet, Pa·s: eta_oil·exp(−beta_T·ΔT) (module docstring,
-    "EHL film-shear law"), the factor taken once by `ehl_traction_table`."""
-    return eta_oil * table[EHL_ROW_INLET, EHL_C_INLET_FACTOR]
+    "EHL film-shear law"), eta_oil at the oil temperature, ΔT the table's contact temperature rise."""
+    return eta_oil * math.exp(-table[EHL_ROW_THERMAL, EHL_C_BETA_T] * table[EHL_ROW_THERMAL, EHL_C_TEMPERATURE_RISE])
+
+
+def ehl_parameters(table, eta_oil: float) -> EhlParameters:
+    """`EhlParameters` of an `ehl_traction_table` for an oil of viscosity eta_oil (Pa·s) at its
+    temperature: the film's stresses scaled by traction_scale, the inlet viscosity once
+    (`ehl_inlet_viscosity`). The model's slots (`fill_ehl_parameters`) and `ehl_traction_curve`
+    both take the law from here."""
+    film, thermal = table[EHL_ROW_FILM], table[EHL_ROW_THERMAL]
+    scale = float(film[EHL_C_SCALE])
+    return EhlParameters(float(film[EHL_C_TAU0] * scale), float(film[EHL_C_GAMMA_L] * scale),
+                         float(film[EHL_C_SHEAR_MODULUS]), float(thermal[EHL_C_K_SOLID]),
+                         float(thermal[EHL_C_KAPPA_SOLID]), float(thermal[EHL_C_BETA_T]),
+                         float(ehl_inlet_viscosity(eta_oil, table)))
+
+
+# the model's slots of `EhlParameters`, field by field (flexbearing.multibody.model_layout)
+EHL_SLOTS = EhlParameters(P_EHL_TAU0, P_EHL_GAMMA_L, P_EHL_SHEAR_MODULUS, P_EHL_K_SOLID, P_EHL_KAPPA_SOLID,
+                          P_EHL_BETA_T, P_EHL_ETA_INLET)
+
+
+def fill_ehl_parameters(p, table=None) -> None:
+    """The EHL law's slots P_EHL_* of the model's parameter vector p (flexbearing.multibody.model_layout;
+    flexbearing.multibody.model.build_model), once per model: `ehl_parameters` of the
+    `ehl_traction_table` at the oil viscosity p[P_ETA0] (constant during a run); None (a fit law)
+    sets them to zero."""
+    values = ehl_parameters(table, p[P_ETA0]) if table is not None else (0.0,) * len(EHL_SLOTS)
+    for slot, value in zip(EHL_SLOTS, values):
+        p[slot] = value
 
 
 def is_ehl_table(table) -> bool:
@@ -511,29 +584,23 @@ def ehl_strip_shear(v, p_c, b_m, h, u_roll, eta_in, alpha_p, k_oil, tau0, gamma_
 
 @njit(cache=True)
 def sliced_traction_ehl(Q, a, b, p0, h, u_rolling, du0, du1, du2, dv, n_slices, transverse, s_lin,
-                        eta_oil, alpha_p, k_oil, table):
+                        eta_in, alpha_p, k_oil, tau0, gamma_l, g_mod, k_solid, kappa_solid, beta_t):
     """`sliced_traction` with the EHL film-shear law: each slice gets mu = (strip-mean shear
     stress)/(strip-mean pressure) of `ehl_strip_shear` at its sliding speed. Q load (N), a, b
     semi-axes across / along the rolling direction (m), p0 Hertz peak pressure (Pa), h central film
-    thickness (m), u_rolling = UR (m/s), du(y) as in `sliced_traction`, eta_oil the oil's viscosity
-    at its temperature (Pa·s), alpha_p, k_oil, table = `ehl_traction_table`. Below the slip s_lin
-    (>= 0) the curve is the straight line through the origin and mu(s_lin), as `sliced_traction`.
-    Returns (T_x, T_y, M_z) on the ball."""
+    thickness (m), u_rolling = UR (m/s), du(y) as in `sliced_traction`, eta_in the inlet viscosity
+    (Pa·s), alpha_p, k_oil, and the law's parameters (`EhlParameters`: tau0 and gamma_l already
+    scaled; the model's slots P_EHL_*). Below the slip s_lin (>= 0) the curve is the straight line
+    through the origin and mu(s_lin), as `sliced_traction`. Returns (T_x, T_y, M_z) on the ball."""
     if Q <= 0.0 or n_slices < 1 or h <= 0.0:
         return 0.0, 0.0, 0.0
     ur = abs(u_rolling)
     if ur < 1e-12:
         ur = 1e-12
-    scale = table[EHL_ROW_FILM, EHL_C_SCALE]
-    tau0 = table[EHL_ROW_FILM, EHL_C_TAU0] * scale
-    gamma_l = table[EHL_ROW_FILM, EHL_C_GAMMA_L] * scale
-    g_mod = table[EHL_ROW_FILM, EHL_C_SHEAR_MODULUS]
-    beta_t = table[EHL_ROW_THERMAL, EHL_C_BETA_T]
-    eta_in = ehl_inlet_viscosity(eta_oil, table)
     u = max(ur, 1e-3)
     # per contact: the film's thermal term and the flash term of the full half-length b
     c_film = h / (12.0 * k_oil)
-    c_flash = 0.532 * math.sqrt(2.0 * table[EHL_ROW_THERMAL, EHL_C_KAPPA_SOLID] * b / u) / table[EHL_ROW_THERMAL, EHL_C_K_SOLID]
+    c_flash = 0.532 * math.sqrt(2.0 * kappa_solid * b / u) / k_solid
     v_lin = s_lin * ur
     tx = 0.0
     ty = 0.0
@@ -569,18 +636,19 @@ def sliced_traction_ehl(Q, a, b, p0, h, u_rolling, du0, du1, du2, dv, n_slices, 
 def ehl_traction_curve(slips, Q, Rx, Ry, E_eff, u_rolling, oil, table, n_slices: int = 8, s_lin: float = 0.0):
     """mu(s) of the EHL film-shear law for a uniform slide/roll ratio s (numpy array) at one
     contact: the Hertz ellipse (flexbearing.multibody.hertz, exact), the Hamrock–Dowson central film with the
-    inlet viscosity at the contact temperature, and `sliced_traction_ehl`; the same evaluation as
-    the dynamics (flexbearing.multibody.dynamics._race). For plots, tests and tables (not compiled)."""
+    inlet viscosity at the contact temperature, and `sliced_traction_ehl` with the law's
+    `ehl_parameters`; the same evaluation as the dynamics (flexbearing.multibody.race_kernels._race_traction).
+    For plots, tests and tables (not compiled)."""
     from flexbearing.multibody.film import film_thickness
     from flexbearing.multibody.hertz import hertz_point_contact
     a, b, p0, _ = hertz_point_contact(Rx, Ry, E_eff, Q)
-    eta = oil.viscosity()
-    eta_in = ehl_inlet_viscosity(eta, table)
-    h = film_thickness(Rx, Ry, E_eff, Q, u_rolling, eta_in, oil.pressure_viscosity_coeff)[1]
+    law = ehl_parameters(table, oil.viscosity())
+    h = film_thickness(Rx, Ry, E_eff, Q, u_rolling, law.eta_inlet, oil.pressure_viscosity_coeff)[1]
     out = np.empty(len(np.atleast_1d(slips)))
     for i, s in enumerate(np.atleast_1d(slips)):
         tx, _, _ = sliced_traction_ehl(Q, a, b, p0, h, u_rolling, s * abs(u_rolling), 0.0, 0.0, 0.0,
-                                       n_slices, False, s_lin, eta, oil.pressure_viscosity_coeff,
-                                       oil.thermal_conductivity, table)
+                                       n_slices, False, s_lin, law.eta_inlet, oil.pressure_viscosity_coeff,
+                                       oil.thermal_conductivity, law.tau0, law.gamma_l, law.shear_modulus,
+                                       law.k_solid, law.kappa_solid, law.beta_t)
         out[i] = tx / Q
     return out

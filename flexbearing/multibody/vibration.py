@@ -48,6 +48,7 @@ import math
 import numpy as np
 
 from flexbearing.multibody.geometry import ring_point_in_plane
+from flexbearing.multibody.model_layout import CONTACT_OUTER, RACE_CONTACTS
 
 RING_DOFS = ("x", "y", "z", "theta_y", "theta_z")
 
@@ -67,14 +68,14 @@ def linear_model(grooves, result, ring_mass: float, ring_diametral_inertia: floa
     for j in range(z):
         psi = r.psi[j]
         M[5 + 2 * j, 5 + 2 * j] = M[6 + 2 * j, 6 + 2 * j] = g.ball_mass
-        for k in range(3):
+        for k in range(len(RACE_CONTACTS)):
             q = r.load[j, k]
             if not g.active[k] or q <= 0.0:
                 continue
             x0, r0 = g.groove_x[k], g.groove_r[k]
             B = np.zeros((2, n))
             B[0, 5 + 2 * j] = B[1, 6 + 2 * j] = 1.0
-            if k == 0:
+            if k == CONTACT_OUTER:
                 gx, gr = x0, r0                          # outer ring fixed
             else:
                 gx, gr = ring_point_in_plane(psi, x0, r0, *u)
