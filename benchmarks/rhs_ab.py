@@ -2,8 +2,10 @@
 on PYTHONPATH at fixed running states, for comparing two checkouts.
 
 1. `states`: the running states — the paper steady rigid scene at t = 0.02 s (integrator tolerance
-   1e-4, as the scene) and the paper unsteady flexible scene (26 modes) at t = 0.02 s (tolerance
-   1e-6) — written to one .npz (make them once, with either checkout, and use them for both).
+   1e-4, as the scene), the paper unsteady flexible scene (26 modes) at t = 0.02 s (tolerance
+   1e-6), and the rigid scene under the EHL film-shear law (`rigid_ehl`: model option traction_law
+   = "ehl", traction_scale 1.2, contact_temperature_rise 15 K) at t = 0.02 s — written to one .npz
+   (make them once, with either checkout, and use them for both).
 2. `measure`: at each state dy/dt and the work array of `flexbearing.multibody.dynamics.rhs`, and the CPU time
    per call of the whole rhs and of its parts (benchmarks.cost_model's compiled loops: contacts
    with and without traction, pockets, guide land, drag, floating frame; minimum of `--repeats`
@@ -35,21 +37,24 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-SCENES = (("rigid", "paper_steady_rigid", 0.02, 1e-4), ("flexible", "paper_unsteady", 0.02, 1e-6))
+EHL = {"model.traction_law": "ehl", "model.traction_scale": 1.2, "model.contact_temperature_rise": 15.0}
+# (label, scene, t, integrator tolerance, scene overrides)
+SCENES = (("rigid", "paper_steady_rigid", 0.02, 1e-4, {}), ("flexible", "paper_unsteady", 0.02, 1e-6, {}),
+          ("rigid_ehl", "paper_steady_rigid", 0.02, 1e-4, EHL))
 PARTS = ("rhs_full_us", "contacts_us", "traction_slices_us", "pockets_us", "land_us", "drag_us",
          "floating_frame_us", "rest_us")
 
 
 def _models():
     from benchmarks import cost_model as CM
-    return {label: CM.scene_model(name) for label, name, _, _ in SCENES}
+    return {label: CM.scene_model(name, overrides) for label, name, _, _, overrides in SCENES}
 
 
 def make_states(path):
     from benchmarks import cost_model as CM
     out = {}
-    for label, name, t1, tol in SCENES:
-        scene, be, model, y0 = CM.scene_model(name)
+    for label, name, t1, tol, overrides in SCENES:
+        scene, be, model, y0 = CM.scene_model(name, overrides)
         y, h, n, cpu = CM.advance_to(scene, be, model, y0, 0.0, t1, tol=tol)
         out[f"{label}_y"] = y
         out[f"{label}_t"] = np.array(t1)
@@ -115,8 +120,9 @@ def measure(states, out, repeats):
     np.savez(out + ".npz", **values)
     with open(out + ".jsonl", "a") as f:
         f.write(json.dumps(row) + "\n")
-    for label in ("rigid", "flexible"):
-        print(label, " ".join(f"{k[:-3]} {row[label][k]:.2f}" for k in PARTS))
+    for label in row:
+        if isinstance(row[label], dict):
+            print(label, " ".join(f"{k[:-3]} {row[label][k]:.2f}" for k in PARTS))
 
 
 def blocks(z, nm):
@@ -142,7 +148,7 @@ def compare(a, b):
     A = np.load(a)
     B = np.load(b)
     worst = 0.0
-    for label in ("rigid", "flexible"):
+    for label in [s[0] for s in SCENES if f"{s[0]}_dydt" in A and f"{s[0]}_dydt" in B]:
         da, db = A[f"{label}_dydt"], B[f"{label}_dydt"]
         z, nm = int(A[f"{label}_nballs"]), int(A[f"{label}_nmodes"])
         print(f"{label} (state size {da.size}):")
@@ -164,15 +170,17 @@ def table(a, b):
     """Minimum over the interleaved runs of each part, old → new."""
     ra = [json.loads(line) for line in Path(a).read_text().splitlines() if line.strip()]
     rb = [json.loads(line) for line in Path(b).read_text().splitlines() if line.strip()]
-    print(f"runs: {len(ra)} old, {len(rb)} new; minimum over runs (µs per call)")
-    print("| part | rigid old | rigid new | flexible old | flexible new |")
-    print("|---|---:|---:|---:|---:|")
+    labels = [s[0] for s in SCENES if all(s[0] in r for r in ra + rb)]
+    print(f"runs: {len(ra)} old, {len(rb)} new; minimum over runs, and (max) (µs per call)")
+    print("| part | " + " | ".join(f"{lb} old | {lb} new" for lb in labels) + " |")
+    print("|---|" + "---:|" * (2 * len(labels)))
     for k in PARTS + ("contacts_no_traction_us",):
         vals = []
-        for label in ("rigid", "flexible"):
+        for label in labels:
             for rows in (ra, rb):
-                vals.append(min(r[label][k] for r in rows))
-        print(f"| {k[:-3]} | " + " | ".join(f"{v:.2f}" for v in vals) + " |")
+                v = [r[label][k] for r in rows]
+                vals.append(f"{min(v):.2f} ({max(v):.2f})")
+        print(f"| {k[:-3]} | " + " | ".join(vals) + " |")
 
 
 def main(argv=None):

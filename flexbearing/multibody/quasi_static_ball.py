@@ -21,6 +21,7 @@ from numba import njit
 
 from flexbearing.multibody import geometry as geo
 from flexbearing.multibody.hertz import hertz_stiffness, race_curvature_radii
+from flexbearing.multibody.model_layout import CONTACT_OUTER
 
 EPS = float(np.finfo(np.float64).eps)
 # a residual that sums n forces of size F carries round-off of about sqrt(n)..n·eps·F; 32·eps of the
@@ -68,14 +69,14 @@ def _ball_residual(xb, rb, cx, cr, cf, active, dw, dm, e_eff, m_w2, mg, lam_o, l
         out_q[k] = 0.0
         if not active[k]:
             continue
-        delta, q, dq, nx, nr, d, ca, sa, kk = _contact(xb, rb, cx[k], cr[k], cf[k], dw, dm, e_eff, k > 0)
+        delta, q, dq, nx, nr, d, ca, sa, kk = _contact(xb, rb, cx[k], cr[k], cf[k], dw, dm, e_eff, k != CONTACT_OUTER)
         out_q[k] = q
         out_n[k, 0] = nx
         out_n[k, 1] = nr
         out_n[k, 2] = ca
         out_n[k, 3] = sa
         out_n[k, 4] = delta
-        if k > 0:
+        if k != CONTACT_OUTER:
             qin += q
         rx -= q * nx
         rr -= q * nr

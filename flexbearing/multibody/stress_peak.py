@@ -57,7 +57,9 @@ from flexbearing.multibody.state_layout import CAGE_PHI, CAGE_TILT_Y, CAGE_TILT_
 
 PEAK_VM_SQ, PEAK_ROW, PEAK_T, PEAK_N = 0, 1, 2, 3
 EMPTY_PEAK = (-1.0, -1.0, np.nan, 0.0)   # no step since the last reset (vm^2 < 0)
-IDX_INTERVAL, IDX_COUNT = 4, 5
+# the monitor's integer slots (`new_monitor`): the cage's and the modes' offsets in the state, the
+# elastic modes and load points of the load space, the evaluation interval, the steps since the last evaluation
+IDX_CAGE, IDX_MODES, IDX_N_MODES, IDX_N_LOAD_POINTS, IDX_INTERVAL, IDX_COUNT = 0, 1, 2, 3, 4, 5
 MAX_INTERVAL = 10_000        # accepted steps (the paper's 0.6 s runs take ~80,000 steps)
 
 
@@ -73,9 +75,9 @@ def stress_peak_step(t, y, cage, mon):
         if idx[IDX_COUNT] < idx[IDX_INTERVAL]:
             return
         idx[IDX_COUNT] = 0
-    c0 = idx[0]
-    m0 = idx[1]
-    n_el = idx[2]
+    c0 = idx[IDX_CAGE]
+    m0 = idx[IDX_MODES]
+    n_el = idx[IDX_N_MODES]
     R = cage.A
     cage_rotation(y[c0 + CAGE_PHI], y[c0 + CAGE_TILT_Y], y[c0 + CAGE_TILT_Z], R)
     cage_body_angular_velocity(R, y, c0, w)
@@ -84,7 +86,7 @@ def stress_peak_step(t, y, cage, mon):
         yv[1 + k] = y[m0 + k]
     node_load = cage.node_load
     o = 1 + n_el
-    for j in range(idx[3]):
+    for j in range(idx[IDX_N_LOAD_POINTS]):
         for i in range(6):
             yv[o + 6 * j + i] = node_load[j, i]
     i = trace_n[0]
@@ -118,8 +120,9 @@ def new_monitor(search_arrays: tuple, n_load_points: int, cage_offset: int, mode
     if search_arrays[0].shape[1] != K:
         raise ValueError(f"stress monitor: the search has {search_arrays[0].shape[1]} load-space "
                          f"coordinates, the state gives {K}")
-    idx = np.array([cage_offset, modes_offset, n_integrated, n_load_points, int(interval), 0],
-                   dtype=np.int64)
+    idx = np.zeros(IDX_COUNT + 1, dtype=np.int64)
+    idx[[IDX_CAGE, IDX_MODES, IDX_N_MODES, IDX_N_LOAD_POINTS, IDX_INTERVAL]] = (cage_offset, modes_offset, n_integrated,
+                                                                         n_load_points, int(interval))
     return (np.ones(1, dtype=np.int64), search_arrays, idx, np.zeros(K),
             np.array(EMPTY_PEAK), np.zeros(K), np.zeros(3),
             -np.ones(1, dtype=np.int64), np.zeros((int(trace), K + 1)), np.zeros(1, dtype=np.int64))
@@ -128,7 +131,7 @@ def new_monitor(search_arrays: tuple, n_load_points: int, cage_offset: int, mode
 def disabled_monitor() -> tuple:
     """A monitor with the same numba types that does nothing (rigid cage, no stress recorded)."""
     f1 = np.zeros(1)
-    return (np.zeros(1, dtype=np.int64), empty_tracking_arrays(), np.zeros(6, dtype=np.int64), f1,
+    return (np.zeros(1, dtype=np.int64), empty_tracking_arrays(), np.zeros(IDX_COUNT + 1, dtype=np.int64), f1,
             np.array(EMPTY_PEAK), f1, np.zeros(3), -np.ones(1, dtype=np.int64),
             np.zeros((0, 2)), np.zeros(1, dtype=np.int64))
 
