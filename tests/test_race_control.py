@@ -114,6 +114,26 @@ def test_closed_form_matches_the_vector_contact_conditions(control):
         assert k.ball_spin_ratio == pytest.approx(math.hypot(wx, wz) / n, rel=1e-10)
 
 
+def test_the_two_forms_of_the_rolling_conditions_agree():
+    """cage_speed_ratio (gamma form) and pure_rolling_cage_speed_ratio (contact radii form) are the
+    same relation, n_c/n_i = q/(1 + q), q = (1 − g cos a_i) cos(a_o − b)/((1 + g cos a_o) cos(a_i − b)),
+    rearranged: they agree to rounding (a few ulp of a ratio near 0.5: 1e-14) for any pitch angle;
+    the radian race-control form is the degree one (1e-12: degrees <-> radians round trip)."""
+    rng = np.random.default_rng(45)
+    for _ in range(200):
+        dm = rng.uniform(0.03, 0.3)
+        D = rng.uniform(0.05, 0.25) * dm
+        ai, ao = np.radians(rng.uniform(5.0, 45.0, size=2))
+        beta = math.radians(rng.uniform(-10.0, 50.0))
+        assert rc.cage_speed_ratio(D / dm, ai, ao, beta)[0] == pytest.approx(
+            rc.pure_rolling_cage_speed_ratio(ao, ai, beta, D, dm), rel=1e-14)
+        for control in rc.CONTROLS:
+            ratio, b = rc.race_control_cage_speed_ratio(ao, ai, control, D, dm)
+            k = rc.race_control_kinematics(1.0, D, dm, math.degrees(ai), math.degrees(ao), control)
+            assert ratio == pytest.approx(k.cage_speed_rpm, rel=1e-12)
+            assert math.degrees(b) == pytest.approx(k.pitch_angle_deg, abs=1e-10)
+
+
 def test_no_spin_at_the_controlling_contact():
     n, D, dm, ai, ao = 10000.0, 0.022, 0.167, 33.0, 21.0
     for control in rc.CONTROLS:
