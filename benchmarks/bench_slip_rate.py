@@ -1,4 +1,4 @@
-"""Force and torque budgets of the steady slip-rate cases (paper Table 5; flexbearing.studies.validate).
+"""Force and torque budgets of the steady slip-rate cases (paper Table 5; flexbearing.studies.validation.slip_rate).
 
 For one case: run the dynamic model (rigid cage) for `--t-run` s from the quasi-static start, then
 average the recorded quantities over `--window` s (1 ms samples) and print what drives and what
@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import kinematics as K, slip_rate as V
 from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import outputs as O
 from flexbearing.multibody import integrator as I
@@ -89,7 +89,7 @@ def static_tables(oil_temperature_c: float = 120.0) -> str:
     angle, p0 and entrainment speed, the 4106 fit's plateau D and curve maximum at those contacts
     (the paper's fit, eta0 at 20 °C, T0 = oil temperature), and the slip of the pure-rolling cage
     speed for the same angles with a free ball (beta = 0), beta = alpha_o and beta = alpha_i
-    (flexbearing.studies.validate.pure_rolling_cage_speed_ratio), against nm at the mean angle."""
+    (flexbearing.studies.validation.kinematics.pure_rolling_cage_speed_ratio), against nm at the mean angle."""
     oil = V.validation_oil(oil_temperature_c, 0.003)
     model = V.build_validation_model(V.VALIDATION_BEARING, oil, traction_law="fit")
     p = model.p
@@ -117,7 +117,7 @@ def static_tables(oil_temperature_c: float = 120.0) -> str:
             vals.append((qm, am, float(np.mean(p0)), Dd, traction_curve_maximum(A, B, C, Dd)))
         ao, ai = vals[0][1], vals[1][1]
         nm = 0.5 * (1.0 - dw * math.cos(0.5 * (ao + ai)) / dm)
-        s = [100.0 * (nm - V.pure_rolling_cage_speed_ratio(ao, ai, b, dw, dm)) / nm for b in (0.0, ao, ai)]
+        s = [100.0 * (nm - K.pure_rolling_cage_speed_ratio(ao, ai, b, dw, dm)) / nm for b in (0.0, ao, ai)]
         lines.append(f"| {c['case']} | {c['speed_rpm']} | {c['test_slip_pct']:.2f} | {vals[0][0]:.0f} | {vals[1][0]:.0f} | "
                      f"{math.degrees(ao):.1f} | {math.degrees(ai):.1f} | {vals[0][2] / 1e9:.2f} | {vals[1][2] / 1e9:.2f} | "
                      f"{vals[0][3]:.4f} | {vals[0][4]:.4f} | {vals[1][3]:.4f} | {vals[1][4]:.4f} | "

@@ -20,7 +20,7 @@ import argparse
 import math
 import time
 
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import slip_rate as V
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody.model import build_model
 from flexbearing.multibody.steady import steady_thrust_state

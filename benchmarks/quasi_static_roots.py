@@ -17,7 +17,7 @@ import flexbearing  # noqa: F401  (one BLAS thread)
 from flexbearing.common.blas import blas_info
 from flexbearing.multibody import quasi_static as qs
 from flexbearing.multibody.bearing import PAPER_BEARING
-from flexbearing.studies.validate import design_clearance
+from flexbearing.studies.validation.slip_rate import design_clearance
 
 DW, DM, Z, F, A0 = 22.23e-3, 125.3e-3, 16, 0.5232, math.radians(40.0)
 

@@ -19,7 +19,7 @@ with weight and the radial load, the validation's EHL-law model and cavity oil) 
 
 Per case: slip (the validation's definition), pitch beta of the ball's spin axis (cage frame),
 Jones's ratio Q_i·a_i/(Q_o·a_o·cos(alpha_o − alpha_i)), the mean loaded contact angles, and the
-inner/outer race-control brackets at those angles (flexbearing.studies.race_control.brackets).
+inner/outer race-control brackets at those angles (flexbearing.studies.validation.kinematics.brackets).
 """
 from __future__ import annotations
 
@@ -35,8 +35,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import race_control_screening as S  # noqa: E402  (pitch_angles, semi_major_axes: the screening's own readers)
 
-from flexbearing.studies import validate as V  # noqa: E402
-from flexbearing.studies import race_control as RC  # noqa: E402
+from flexbearing.studies.validation import slip_rate as V  # noqa: E402
+from flexbearing.studies.validation import kinematics as RC  # noqa: E402
 from flexbearing.multibody.steady import steady_held_cage_state  # noqa: E402
 
 # name -> (traction law, traction scale, oil temperature °C or None for the validation's 150 °C)

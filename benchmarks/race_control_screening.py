@@ -3,7 +3,7 @@
 For each candidate mechanism a physically bounded setting (docs/race_control.md gives the source
 of every bound) is run through the steady solver (flexbearing.multibody.steady) on the 15 cases of
 the seed paper's Table 5, and each case's slip is put beside the two race-control brackets at the
-model's own contact angles (flexbearing.studies.race_control.brackets) and the measured slip.
+model's own contact angles (flexbearing.studies.validation.kinematics.brackets) and the measured slip.
 
     python benchmarks/race_control_screening.py [--state held|thrust] [--variants a,b] [--cases 1,6]
         [--out benchmarks/results/race_control_screening.json]
@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from flexbearing.studies import validate as V
-from flexbearing.studies import race_control as RC
+from flexbearing.studies.validation import slip_rate as V
+from flexbearing.studies.validation import kinematics as RC
 from flexbearing.multibody import model as M
 from flexbearing.multibody.steady import steady_held_cage_state, steady_thrust_state
 
@@ -333,7 +333,7 @@ def tnd7870_demand() -> list[tuple]:
     over the corners of the declared geometry unknowns (scenes/validation/nasa_tnd7870.toml: pitch
     diameter 140–170 mm, ball 15–27 mm, free angle 16–24°, 15–30 balls; corners whose balls do not
     fit, Z·Dw > 0.9·pi·dm, left out), the symmetric split that inner control needs for 6 %
-    (race_control.split_for_slip), the pitch, the gyroscopic couple and the friction needed with
+    (kinematics.split_for_slip), the pitch, the gyroscopic couple and the friction needed with
     steel balls at the series' largest thrust, 22,240 N: Q_i = F_a/(Z·sin a_i) and Q_o = Q_i plus the
     ball's centrifugal force at the epicyclic cage speed (a lower bound of the loads' sum, hence of
     the friction needed at that thrust: more at lighter thrust). Rows (dm, Dw, a0 deg, Z, split deg,
@@ -361,7 +361,7 @@ if __name__ == "__main__" and "--tnd7870" in sys.argv:
 
 
 def dynamics(variant: str, cases: list[int], out: str | None) -> list[dict]:
-    """The dynamic slip-rate validation (flexbearing.studies.validate.run_slip_rate_validation, as
+    """The dynamic slip-rate validation (flexbearing.studies.validation.slip_rate.run_slip_rate_validation, as
     `flexbearing validate slip-rate --cases ...`) with a screening variant's model options."""
     options, x_ref, _ = VARIANTS[variant]
     if x_ref is not None or variant in CLEARANCE_CHANGE:

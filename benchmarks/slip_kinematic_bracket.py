@@ -1,14 +1,14 @@
 """Skid-free cage slip of the race-control idealisations against the shim angle (paper Table 5 cases).
 
-For each shim angle alphaD (with its design clearance, flexbearing.studies.validate.design_clearance) and each
+For each shim angle alphaD (with its design clearance, flexbearing.studies.validation.slip_rate.design_clearance) and each
 of the 15 steady test cases, the quasi-static solver (flexbearing.multibody.quasi_static, outer-race control,
 friction_share (1, 1), centrifugal and gyroscopic terms) gives the running contact angles alpha_o,
 alpha_i (means over the balls loaded at both races). At those angles the cage speed of a ball that
 rolls without slip on both races is, for three attitudes of its spin axis:
 
 * outer control: the quasi-static solution itself (no spin on the outer race, Jones 1960);
-* inner control: flexbearing.studies.validate.race_control_kinematics(..., "inner") (no spin on the inner race);
-* beta = alpha_i: flexbearing.studies.validate.pure_rolling_cage_speed_ratio (spin axis normal to the inner
+* inner control: flexbearing.studies.validation.kinematics.race_control_cage_speed_ratio(..., "inner") (no spin on the inner race);
+* beta = alpha_i: flexbearing.studies.validation.kinematics.pure_rolling_cage_speed_ratio (spin axis normal to the inner
   contact line in the cage frame).
 
 Slip S = (nm − nc)/nm with the paper's nm = ½·ni·(1 − Dw·cos alpha/dm), alpha = (alpha_o + alpha_i)/2,
@@ -25,7 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import kinematics as K, slip_rate as V
 from flexbearing.multibody.geometry import nominal_cage_speed
 from flexbearing.multibody import quasi_static as QS
 from flexbearing.multibody.bearing import PAPER_BEARING
@@ -52,8 +52,8 @@ def bracket(shim_angle_deg: float) -> dict:
         ao = float(np.mean(np.abs(r.contact_angle[both, 0])))
         ai = float(np.mean(np.abs(r.contact_angle[np.arange(len(q)), ki][both])))
         nm = nominal_cage_speed(w, b.ball_diameter, b.pitch_diameter, 0.5 * (ao + ai))
-        ratio_inner, _ = V.race_control_kinematics(ao, ai, "inner", b.ball_diameter, b.pitch_diameter)
-        ratio_beta = V.pure_rolling_cage_speed_ratio(ao, ai, ai, b.ball_diameter, b.pitch_diameter)
+        ratio_inner, _ = K.race_control_cage_speed_ratio(ao, ai, "inner", b.ball_diameter, b.pitch_diameter)
+        ratio_beta = K.pure_rolling_cage_speed_ratio(ao, ai, ai, b.ball_diameter, b.pitch_diameter)
         for k, nc in zip(ATTITUDES, (r.cage_speed, ratio_inner * w, ratio_beta * w)):
             slips[k].append(100.0 * (nm - nc) / nm)
         angles.append((math.degrees(ao), math.degrees(ai)))

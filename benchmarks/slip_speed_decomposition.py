@@ -13,7 +13,7 @@ and k follow by linear least squares over the group's speeds. A skid that grows 
 the model's (p >= 2) leaves S0 of about 4–5 % in every group. That share cannot come from drag. In
 the model, only an attitude near inner-race control gives it
 (benchmarks/slip_kinematic_bracket.py), and that needs transverse traction of about 0.1–0.2
-(flexbearing.studies.validate docstring). Even a linear skid (p = 1) leaves 1.4–2.6 %. The exponent is not
+(flexbearing.studies.validation.slip_rate docstring). Even a linear skid (p = 1) leaves 1.4–2.6 %. The exponent is not
 fitted freely: over 4–6 speeds per group, S0 and p trade off against each other.
 
     .venv/bin/python -m benchmarks.slip_speed_decomposition
@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from flexbearing.studies.validate import slip_rate_cases
+from flexbearing.studies.validation.slip_rate import slip_rate_cases
 
 EXPONENTS = (1.0, 2.0, 2.2, 2.6)
 

@@ -26,7 +26,7 @@ from numba import njit
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
-from flexbearing.studies import validate as V  # noqa: E402
+from flexbearing.studies.validation import slip_rate as V  # noqa: E402
 from flexbearing.multibody import dynamics as D  # noqa: E402
 from flexbearing.multibody import outputs as O  # noqa: E402
 from flexbearing.multibody import traction as T  # noqa: E402

@@ -15,7 +15,7 @@ import numpy as np
 
 import flexbearing  # noqa: F401
 from flexbearing.studies.uncertainty import load_unknowns, sample_points, steady_case_slip
-from flexbearing.studies.validate import slip_rate_cases
+from flexbearing.studies.validation.slip_rate import slip_rate_cases
 
 
 def main(n=64, seed=42, out=None):

@@ -2,7 +2,7 @@
 
 flexbearing.studies.uncertainty predicts each (point, case) by the steady fixed point with weight
 (flexbearing.multibody.steady.steady_held_cage_state). Independent check: the dynamic validation run
-(flexbearing.studies.validate.run_slip_case: integrate until the cage speed settles) on
+(flexbearing.studies.validation.slip_rate.run_slip_case: integrate until the cage speed settles) on
 - the nominal point, all 15 cases: the session-14 Table 5 rows (benchmarks/results/
   slip_rate_session14_ehl.json, same inputs: 30°, design clearance, 150 °C, EHL ×1, X_ref 0.2 %, steel);
 - a few (case, point) pairs of the sample far from it, run here (minutes each).
@@ -25,9 +25,9 @@ CHECK_FILE = RESULTS / "slip_rate_uncertainty_check.json"
 
 
 def dynamic_slip(point: dict, case: dict, t_max: float) -> dict:
-    """The dynamic validation run of `case` at `point` (flexbearing.studies.validate.run_slip_case, steady start)."""
+    """The dynamic validation run of `case` at `point` (flexbearing.studies.validation.slip_rate.run_slip_case, steady start)."""
     from flexbearing.studies import uncertainty as U
-    from flexbearing.studies import validate as V
+    from flexbearing.studies.validation import slip_rate as V
     bearing, oil, scale = U.point_bearing_oil(point, case["speed_rpm"])
     t0 = time.process_time()
     row = V.run_slip_case(case, bearing, oil, V.validation_model_options(), t_max=t_max, traction_law="ehl",
@@ -38,7 +38,7 @@ def dynamic_slip(point: dict, case: dict, t_max: float) -> dict:
 
 def main(argv=None) -> None:
     from flexbearing.studies import uncertainty as U
-    from flexbearing.studies.validate import slip_rate_cases
+    from flexbearing.studies.validation.slip_rate import slip_rate_cases
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--unknowns", default="scenes/slip_rate_unknowns.toml")
     ap.add_argument("--rows", default="out/uncertainty/slip_rate_unknowns/rows.jsonl")

@@ -18,7 +18,7 @@ import that reaches up a layer is caught as well as a top-level one. Two rules:
    package is a module pair that should be one module, or a seam in the wrong place).
 
 Two more keep the command line apart from the libraries: argparse is imported only by the command
-modules `flexbearing/cli/` (and the two developer entry points named below), so no library grows a
+modules `flexbearing/cli/` (and the developer entry point named below), so no library grows a
 command line, and no library imports a command module (the work a command does is a library
 function the command calls, never the other way round).
 """
@@ -31,16 +31,19 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS = ("common", "mesh", "fem_cage", "multibody", "coupling",
           "simulation", "analysis", "studies", "cli", "verification")
 TOP = "flexbearing"
-# `python -m` entry points of two library modules (developer tools documented in their results
-# files, not `flexbearing` commands): their main() only parses and prints
-ARGPARSE_ALLOWED = {"flexbearing.fem_cage.calibrate", "flexbearing.studies.validate"}
+# the `python -m` entry point of a library module (a developer tool documented in its results
+# files, not a `flexbearing` command): its main() only parses and prints
+ARGPARSE_ALLOWED = {"flexbearing.fem_cage.calibrate"}
 
 
 def modules() -> dict[str, Path]:
     out = {TOP: ROOT / TOP / "__init__.py", f"{TOP}.__main__": ROOT / TOP / "__main__.py"}
     for pkg in LAYERS:
-        for f in sorted((ROOT / TOP / pkg).glob("*.py")):
-            out[f"{TOP}.{pkg}" if f.stem == "__init__" else f"{TOP}.{pkg}.{f.stem}"] = f
+        for f in sorted((ROOT / TOP / pkg).rglob("*.py")):      # sub-packages too (studies.validation)
+            parts = f.relative_to(ROOT / TOP).with_suffix("").parts
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            out[".".join((TOP, *parts))] = f
     return out
 
 

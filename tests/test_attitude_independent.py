@@ -35,7 +35,7 @@ import numpy as np
 import pytest
 from scipy.optimize import root
 
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import slip_rate as V
 from flexbearing.multibody import traction as TR
 from flexbearing.multibody.geometry import inner_groove_centres, outer_groove_centre
 from flexbearing.multibody.hertz import effective_modulus, hertz_point_contact, hertz_stiffness, race_curvature_radii

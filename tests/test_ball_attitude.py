@@ -11,12 +11,12 @@ radial load, 4000 rpm: outer angle ~21°, inner ~36°, so the two contact normal
 * motion level (T_RUN = 0.2 s, drag off, started on the race-control kinematics by
   flexbearing.multibody.initial): the spin axis of every ball sits at Jones's race-control pitch of the race
   that controls, in Harris & Kotzalas's closed form tan beta = sin a/(cos a ± D/dm) (+ outer,
-  − inner; `flexbearing.studies.validate.race_control_kinematics`), within TOL_BETA_DEG = 0.02°; the closed
+  − inner; `flexbearing.studies.validation.kinematics.race_control_pitch`), within TOL_BETA_DEG = 0.02°; the closed
   form assumes pure rolling on the controlling race, and the run's balls skid by a few 1e-4
   (below), which leaves the axis +0.0043° (inner) and −0.0001° (outer) off it at 0.2 s, the same
   to three digits on every instruction set tried (host AVX-512, AVX2+FMA `NUMBA_CPU_NAME=znver2`
   with numpy's AVX-512 kernels off, generic x86-64); and the cage turns at the
-  race-control pure-rolling speed of the run's mean contact angles (`race_control_kinematics`, an
+  race-control pure-rolling speed of the run's mean contact angles (`race_control_cage_speed_ratio`, an
   independent 3×3 linear solve) within TOL_CAGE_SPEED = 0.05 % (measured relative difference,
   inner control: −0.073 % at 0.1 s, −0.037 % at 0.2 s, −0.030 % at 0.3 s; outer control:
   −0.075 %, −0.030 %, −0.015 %: a steady skid of a few 1e-4 from the spin moment of the
@@ -39,7 +39,7 @@ import math
 import numpy as np
 import pytest
 
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import kinematics as K, slip_rate as V
 from flexbearing.common.validation import InputError
 from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import outputs as O
@@ -153,8 +153,8 @@ def test_spin_axis_settles_on_the_controlling_race(attitude):
     Q, ang = out["contact_load"], out["contact_angle"]
     zi = np.arange(model.n_balls)
     a_i = np.abs(ang[zi, np.where(Q[:, 1] >= Q[:, 2], 1, 2)]).mean()
-    ratio, _ = V.race_control_kinematics(float(np.abs(ang[:, 0]).mean()), float(a_i), attitude,
-                                         model.p[M.P_DW], model.p[M.P_DM])
+    ratio, _ = K.race_control_cage_speed_ratio(float(np.abs(ang[:, 0]).mean()), float(a_i), attitude,
+                                               model.p[M.P_DW], model.p[M.P_DM])
     assert out["cage_speed"] / omega == pytest.approx(ratio, rel=TOL_CAGE_SPEED)
 
 
@@ -236,7 +236,7 @@ def test_no_pivot_ball_rolls_at_its_own_pitch():
     start): the yaw stays at zero, the spin axis keeps a pitch beta ≈ 29° that the gyroscopic
     couple (I_b·psi'·w_r ≈ 0.3 N·m) would turn to 0 on a free ball without transverse traction, and
     the cage turns at the pure-rolling speed of that pitch and the run's mean contact angles
-    (`flexbearing.studies.validate.pure_rolling_cage_speed_ratio`, Harris & Kotzalas's rolling conditions at
+    (`flexbearing.studies.validation.kinematics.pure_rolling_cage_speed_ratio`, Harris & Kotzalas's rolling conditions at
     both contacts) within TOL_NO_PIVOT_CAGE = 0.1 % (measured −4.0e-4 at 0.3 and 0.5 s: the skid the
     spin moments leave, as for race control above). Pitch measured 29.51° at the start, 29.10° at
     0.3 s, 28.80° at 0.5 s: with no drag nothing holds it, it drifts slowly."""
@@ -257,6 +257,6 @@ def test_no_pivot_ball_rolls_at_its_own_pitch():
     Q, ang = out["contact_load"], out["contact_angle"]
     zi = np.arange(z)
     a_i = float(np.abs(ang[zi, np.where(Q[:, 1] >= Q[:, 2], 1, 2)]).mean())
-    ratio = V.pure_rolling_cage_speed_ratio(float(np.abs(ang[:, 0]).mean()), a_i, float(beta.mean()),
+    ratio = K.pure_rolling_cage_speed_ratio(float(np.abs(ang[:, 0]).mean()), a_i, float(beta.mean()),
                                             model.p[M.P_DW], model.p[M.P_DM])
     assert out["cage_speed"] / omega == pytest.approx(ratio, rel=TOL_NO_PIVOT_CAGE)

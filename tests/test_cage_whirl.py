@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from flexbearing.analysis import cage_motion as CM
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import slip_rate as V
 from flexbearing.multibody import outputs as O
 from flexbearing.multibody import integrator as I
 

@@ -16,7 +16,7 @@ B = FE + FI - 1.0
 
 
 def test_paper_design_clearance_is_the_hand_value():
-    # 2·(fe − 0.5)·Dw·(1 − cos 30°) = 2·0.015·0.022·0.1339746 = 88.4232 um (flexbearing.studies.validate's value)
+    # 2·(fe − 0.5)·Dw·(1 − cos 30°) = 2·0.015·0.022·0.1339746 = 88.4232 um (flexbearing.studies.validation.slip_rate's value)
     assert CL.design_clearance(FE, DW, math.radians(30.0)) == pytest.approx(88.4232e-6, rel=1e-5)
     assert PAPER_BEARING.radial_clearance == pytest.approx(88.4232e-6, rel=1e-5)
     assert math.degrees(PAPER_BEARING.free_contact_angle) == pytest.approx(30.0, abs=1e-9)
@@ -235,7 +235,7 @@ def test_flash_constants_of_a_hybrid_contact():
 def test_oil_supply_sets_the_cavity_fraction_law():
     from flexbearing.multibody.bearing import PAPER_OIL
     from flexbearing.multibody.oil_supply import cavity_oil_fraction
-    from flexbearing.studies.validate import case_oil_air_fraction
+    from flexbearing.studies.validation.slip_rate import case_oil_air_fraction
     fixed = PAPER_OIL
     assert fixed.cavity_oil_fraction(4000.0) == fixed.cavity_oil_fraction(12000.0) == fixed.oil_air_fraction
     jet = PAPER_OIL.__class__(supply="jet", oil_air_fraction=0.002, oil_air_reference_rpm=4000.0).validate()

@@ -289,7 +289,7 @@ def test_inner_race_control_that_needs_impossible_friction_is_reported():
     # force unloads the inner contacts, so inner-race control would need the inner friction to carry the
     # gyroscopic moment, f = lambda_i·M_g/Dw (module docstring), with almost no normal load there. Such a state
     # does not exist; the solver must say so (in the engineer's terms) instead of iterating on.
-    from flexbearing.studies.validate import design_clearance
+    from flexbearing.studies.validation.slip_rate import design_clearance
     bear = PAPER_BEARING.with_(radial_clearance=design_clearance(PAPER_BEARING))
     g = qs.grooves_from_bearing(bear)
     wi = 8000 * math.pi / 30
@@ -438,7 +438,7 @@ def test_stiffness_is_the_tangent_of_the_solver_at_speed(b218):
 
 
 def _warm_cold_grid():
-    from flexbearing.studies.validate import design_clearance
+    from flexbearing.studies.validation.slip_rate import design_clearance
     design = PRESET.with_(radial_clearance=design_clearance(PRESET))
     b218 = qs.angular_contact_grooves(DM, DW, Z, F, F, A0)
     return [("b218", b218, 4450.0, 2000.0, True),

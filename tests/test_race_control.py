@@ -1,6 +1,7 @@
-"""Race-control brackets of the cage speed and the published validation series (issue 35).
+"""Race-control brackets of the cage speed and the published validation series (issue 35;
+flexbearing.studies.validation: kinematics, series_file, brackets).
 
-Plain numpy; the only project import is the module under test."""
+Plain numpy; the only project imports are the modules under test."""
 import math
 import tomllib
 from pathlib import Path
@@ -8,7 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from flexbearing.studies import race_control as rc
+from flexbearing.common.validation import InputError
+from flexbearing.studies.validation import brackets as bk, kinematics as rc, series_file as sf
 
 ROOT = Path(__file__).resolve().parents[1]
 SERIES_DIR = ROOT / "scenes" / "validation"
@@ -51,7 +53,7 @@ def test_equal_angles_reduce_to_epicyclic_for_any_pitch_angle(alpha, beta_deg):
     a = math.radians(alpha)
     try:
         ratio, _ = rc.cage_speed_ratio(gamma, a, a, math.radians(beta_deg))
-    except ValueError:  # beta leaves no rolling at a contact (|alpha - beta| >= 90 deg)
+    except InputError:  # beta leaves no rolling at a contact (|alpha - beta| >= 90 deg)
         assert abs(alpha - beta_deg) >= 90.0
         return
     assert ratio == pytest.approx(0.5 * (1 - gamma * math.cos(a)), rel=1e-14)
@@ -112,6 +114,26 @@ def test_closed_form_matches_the_vector_contact_conditions(control):
         assert k.ball_spin_ratio == pytest.approx(math.hypot(wx, wz) / n, rel=1e-10)
 
 
+def test_the_two_forms_of_the_rolling_conditions_agree():
+    """cage_speed_ratio (gamma form) and pure_rolling_cage_speed_ratio (contact radii form) are the
+    same relation, n_c/n_i = q/(1 + q), q = (1 − g cos a_i) cos(a_o − b)/((1 + g cos a_o) cos(a_i − b)),
+    rearranged: they agree to rounding (a few ulp of a ratio near 0.5: 1e-14) for any pitch angle;
+    the radian race-control form is the degree one (1e-12: degrees <-> radians round trip)."""
+    rng = np.random.default_rng(45)
+    for _ in range(200):
+        dm = rng.uniform(0.03, 0.3)
+        D = rng.uniform(0.05, 0.25) * dm
+        ai, ao = np.radians(rng.uniform(5.0, 45.0, size=2))
+        beta = math.radians(rng.uniform(-10.0, 50.0))
+        assert rc.cage_speed_ratio(D / dm, ai, ao, beta)[0] == pytest.approx(
+            rc.pure_rolling_cage_speed_ratio(ao, ai, beta, D, dm), rel=1e-14)
+        for control in rc.CONTROLS:
+            ratio, b = rc.race_control_cage_speed_ratio(ao, ai, control, D, dm)
+            k = rc.race_control_kinematics(1.0, D, dm, math.degrees(ai), math.degrees(ao), control)
+            assert ratio == pytest.approx(k.cage_speed_rpm, rel=1e-12)
+            assert math.degrees(b) == pytest.approx(k.pitch_angle_deg, abs=1e-10)
+
+
 def test_no_spin_at_the_controlling_contact():
     n, D, dm, ai, ao = 10000.0, 0.022, 0.167, 33.0, 21.0
     for control in rc.CONTROLS:
@@ -153,7 +175,7 @@ def test_kinematics_rejects_bad_input(kwargs, fragment):
     args = dict(speed_rpm=1000.0, ball_diameter=0.02, pitch_diameter=0.15, inner_contact_angle_deg=20.0,
                 outer_contact_angle_deg=20.0, control="inner")
     args.update(kwargs)
-    with pytest.raises(ValueError, match=None) as exc:
+    with pytest.raises(InputError, match=None) as exc:
         rc.race_control_kinematics(**args)
     assert fragment in str(exc.value) and "\n" not in str(exc.value)
 
@@ -167,13 +189,13 @@ def test_there_are_series_files():
 
 @pytest.mark.parametrize("path", SERIES_FILES, ids=lambda p: p.stem)
 def test_every_series_loads_and_every_number_has_a_source(path):
-    vs = rc.load_series(path)
+    vs = sf.load_series(path)
     assert vs.series.id == path.stem
     assert vs.points
     n = 0
     for where, key, q in vs.all_quantities():
         n += 1
-        assert isinstance(q, rc.Quantity)
+        assert isinstance(q, sf.Quantity)
         assert len(q.source.strip()) >= 8, (where, key)
         if q.digitised:
             assert q.uncertainty is not None, (where, key)
@@ -193,9 +215,9 @@ def test_every_series_loads_and_every_number_has_a_source(path):
 
 @pytest.mark.parametrize("path", SERIES_FILES, ids=lambda p: p.stem)
 def test_every_point_with_a_fixed_speed_gets_both_brackets(path):
-    vs = rc.load_series(path)
+    vs = sf.load_series(path)
     for p in vs.points:
-        br = rc.point_brackets(vs, p)
+        br = bk.point_brackets(vs, p)
         lo, hi = p.conditions["speed_rpm"].span()
         if lo != hi:
             assert br is None
@@ -203,7 +225,7 @@ def test_every_point_with_a_fixed_speed_gets_both_brackets(path):
         # at the free contact angle both brackets are the epicyclic speed
         assert br.inner_rpm == pytest.approx(br.epicyclic_rpm, rel=1e-12)
         assert br.outer_rpm == pytest.approx(br.epicyclic_rpm, rel=1e-12)
-    assert "| point |" in rc.bracket_table(vs)
+    assert "| point |" in bk.bracket_table(vs)
 
 
 def test_yang_table5_matches_the_existing_case_file():
@@ -212,7 +234,7 @@ def test_yang_table5_matches_the_existing_case_file():
     if not case_file.exists():
         pytest.skip("case file moved")
     cases = {str(c["id"]): c for c in tomllib.loads(case_file.read_text())["cases"]}
-    vs = rc.load_series(SERIES_DIR / "yang2025_table5.toml")
+    vs = sf.load_series(SERIES_DIR / "yang2025_table5.toml")
     assert len(vs.points) == 15 == len(cases)
     for p in vs.points:
         c = cases[p.id]
@@ -254,25 +276,25 @@ def _write(tmp_path, text, stem="s"):
 
 
 def test_minimal_file_loads(tmp_path):
-    vs = rc.load_series(_write(tmp_path, GOOD.format(stem="s")))
-    br = rc.point_brackets(vs, vs.points[0])
+    vs = sf.load_series(_write(tmp_path, GOOD.format(stem="s")))
+    br = bk.point_brackets(vs, vs.points[0])
     assert br.geometry_known
     assert vs.points[0].measured["measured_cage_slip_percent"].digitised
 
 
 @pytest.mark.parametrize("old, new, fragments", [
     ('ball_diameter = { value = 0.008', 'ball_diameter = { value = 5.0',
-     ["bearing.ball_diameter.value = 5.0", "allowed range [0.0001, 0.2]"]),
+     ["bearing.ball_diameter.value = 5 is outside the allowed range [0.0001, 0.2]"]),
     ('bore = { value = 0.03, source = "A source, Table 1" }', 'bore = { value = 0.03 }',
      ["bearing.bore.source = None", "required"]),
     ('digitised = true, uncertainty = 0.2', 'digitised = true',
      ["measured_cage_slip_percent.uncertainty = None", "required when digitised"]),
     ('speed_rpm = { value = 10000', 'speed_rpm = { value = -5',
-     ["points[1].speed_rpm.value = -5", "allowed range [0, 300000]"]),
+     ["points[1].speed_rpm.value = -5 is outside the allowed range [0, 300000]"]),
     ('free_contact_angle_deg = { value = 15.0, source = "A source, Table 1" }', '',
      ["bearing.free_contact_angle_deg = None", "[[unknowns]]"]),
     ('measured_cage_slip_percent', 'measured_cage_slipp',
-     ["points[1].measured_cage_slipp", "unknown key"]),
+     ["points[1]: unknown key 'measured_cage_slipp' (allowed: id, status, note, speed_rpm"]),
     ('slip_definition = "S = (n_m - n_c)/n_m with n_m at the free angle"', '',
      ["series.slip_definition", "required when a point gives measured_cage_slip_percent"]),
 ])
@@ -280,8 +302,8 @@ def test_bad_input_gives_one_clear_line(tmp_path, old, new, fragments):
     text = GOOD.format(stem="s")
     assert old in text
     path = _write(tmp_path, text.replace(old, new))
-    with pytest.raises(ValueError) as exc:
-        rc.load_series(path)
+    with pytest.raises(InputError) as exc:
+        sf.load_series(path)
     msg = str(exc.value)
     assert "\n" not in msg and msg.startswith("s.toml: ")
     for f in fragments:
@@ -292,7 +314,78 @@ def test_unknown_range_and_id_checks(tmp_path):
     text = GOOD.format(stem="s").replace(
         'free_contact_angle_deg = { value = 15.0, source = "A source, Table 1" }', "")
     text += '\n[[unknowns]]\nname = "free_contact_angle_deg"\nlow = 30.0\nhigh = 20.0\nreason = "not given by the source, typical range"\n'
-    with pytest.raises(ValueError, match=r"unknowns\[0\]\.low = 30\.0: must be below high = 20\.0"):
-        rc.load_series(_write(tmp_path, text))
-    with pytest.raises(ValueError, match=r"series\.id = 's': must equal the file name stem 'other'"):
-        rc.load_series(_write(tmp_path, GOOD.format(stem="s"), stem="other"))
+    with pytest.raises(InputError, match=r"unknowns\[0\]\.low = 30\.0: must be below high = 20\.0"):
+        sf.load_series(_write(tmp_path, text))
+    with pytest.raises(InputError, match=r"series\.id = 's': must equal the file name stem 'other'"):
+        sf.load_series(_write(tmp_path, GOOD.format(stem="s"), stem="other"))
+
+
+# hostile files (issue 45): a missing field, a wrong type, a value out of range, an unknown key;
+# each refused in one InputError line that names the file and the field (and the value and the
+# allowed range or values where there is one)
+@pytest.mark.parametrize("old, new, fragments", [
+    # missing fields
+    ('title = "t"\n', '', ["s.toml: series.title = None: required"]),
+    ('[series]\n', '[seriesx]\n', ["s.toml: top level: unknown key 'seriesx' (allowed: series, bearing"]),
+    ('source = "A source, Table 1"\nfull', 'full', ["s.toml: series.source = None: required"]),
+    ('speed_rpm = { value = 10000, source = "A source, Table 2" }\n', '',
+     ["s.toml: points[1].speed_rpm = None: required"]),
+    # wrong types
+    ('full_text_read = true', 'full_text_read = "yes"', ["s.toml: series.full_text_read = 'yes': required: true or false"]),
+    ('ball_diameter = { value = 0.008', 'ball_diameter = { value = "0.008"',
+     ["s.toml: bearing.ball_diameter.value = '0.008': must be a number in [0.0001, 0.2]"]),
+    ('ball_diameter = { value = 0.008', 'ball_diameter = { value = true',
+     ["s.toml: bearing.ball_diameter.value = True: must be a number"]),
+    ('bore = { value = 0.03, source = "A source, Table 1" }', 'bore = 0.03',
+     ["s.toml: bearing.bore = 0.03: must be an inline table { value = ..."]),
+    ('title = "t"', 'title = "t"\nnotes = 5', ["s.toml: series.notes = 5: must be a string"]),
+    ('id = 1\n', 'id = 1.5\n', ["s.toml: points[0].id = 1.5: required: a string or an integer"]),
+    ('digitised = true, uncertainty = 0.2', 'digitised = "yes", uncertainty = 0.2',
+     ["measured_cage_slip_percent.digitised = 'yes': must be true or false"]),
+    # out of range, not a finite number
+    ('free_contact_angle_deg = { value = 15.0', 'free_contact_angle_deg = { value = 75.0',
+     ["s.toml: bearing.free_contact_angle_deg.value = 75 is outside the allowed range [0, 60]"]),
+    ('free_contact_angle_deg = { value = 15.0', 'free_contact_angle_deg = { value = nan',
+     ["s.toml: bearing.free_contact_angle_deg.value = nan must be finite"]),
+    ('speed_rpm = { value = 10000', 'speed_rpm = { value = inf', ["s.toml: points[1].speed_rpm.value = inf must be finite"]),
+    ('ball_diameter = { value = 0.008', 'ball_diameter = { value = 0.06',
+     ["s.toml: bearing.ball_diameter.value = 0.06: must be below pitch_diameter = 0.05"]),
+    # unknown keys and values
+    ('title = "t"', 'title = "t"\ntitel = "t"', ["s.toml: series: unknown key 'titel' (allowed: id, title"]),
+    ('bore = { value = 0.03, source', 'bore = { value = 0.03, sourse = "x", source',
+     ["s.toml: bearing.bore: unknown key 'sourse' (allowed: value, low, high, source"]),
+    ('[bearing]\n', '[bearing]\ninner_ring = "three_piece"\ninner_ring_source = "A source, p. 2"\n',
+     ["s.toml: bearing.inner_ring = 'three_piece': allowed values ('split', 'one_piece')"]),
+])
+def test_hostile_series_files_are_refused_naming_the_field(tmp_path, old, new, fragments):
+    text = GOOD.format(stem="s")
+    assert old in text, old
+    path = _write(tmp_path, text.replace(old, new, 1))
+    with pytest.raises(InputError) as exc:
+        sf.load_series(path)
+    msg = str(exc.value)
+    assert "\n" not in msg and msg.startswith("s.toml: "), msg
+    for f in fragments:
+        assert f in msg, msg
+
+
+def test_hostile_arrays_and_unreadable_files(tmp_path):
+    """[[points]] / [[unknowns]] / [[checks]] that are not arrays of tables, a file that is not TOML,
+    a folder that does not exist: one line each."""
+    text = GOOD.format(stem="s")
+    bad = 'points = 5\n' + text.split("[[points]]")[0]
+    with pytest.raises(InputError, match=r"^s\.toml: points = 5: must be an array of tables \[\[points\]\]$"):
+        sf.load_series(_write(tmp_path, bad))
+    bad = text + '\n[[checks]]\nkind = "vibes"\nstatement = "x"\nsource = "A source, p. 3"\n'
+    with pytest.raises(InputError, match=r"^s\.toml: checks\[0\]\.kind = 'vibes': allowed values \('sign'"):
+        sf.load_series(_write(tmp_path, bad))
+    bad = text + '\n[[unknowns]]\nname = "width"\nhigh = 0.02\nreason = "not given by the source, typical range"\n'
+    with pytest.raises(InputError, match=r"^s\.toml: unknowns\[0\]\.low = None: must be a number in \[0\.001, 0\.5\]$"):
+        sf.load_series(_write(tmp_path, bad))
+    bad = 'bearing = 5\n' + text.split("[bearing]")[0] + "[[points]]" + text.split("[[points]]")[1]
+    with pytest.raises(InputError, match=r"^s\.toml: bearing = 5 must be a table with keys bore, "):
+        sf.load_series(_write(tmp_path, bad))
+    with pytest.raises(InputError, match=r"^s\.toml: not valid TOML"):
+        sf.load_series(_write(tmp_path, text + "\n[series\n"))
+    with pytest.raises(InputError, match="series directory = .*: not a folder"):
+        sf.load_all(tmp_path / "nowhere")

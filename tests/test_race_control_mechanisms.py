@@ -10,8 +10,8 @@ from flexbearing.common.validation import InputError
 from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import model as M
 from flexbearing.multibody.drag import ball_drag_moment_coefficient, oil_air_mixture
-from flexbearing.studies import race_control as RC
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import kinematics as RC
+from flexbearing.studies.validation import slip_rate as V
 from flexbearing.studies.gyroscopic_demand import gyroscopic_demand, pitch_for_slip
 
 

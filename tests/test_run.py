@@ -381,7 +381,7 @@ def test_case_set_on_two_workers_equals_serial_and_resume_reads_back(tmp_path):
 def test_a_failed_case_does_not_stop_the_others(tmp_path):
     """Case 2 (5,000 rpm) fails in its physics; case 1 (4,000 rpm) still runs, and CasesIncomplete
     carries its row and names case 2."""
-    from flexbearing.simulation.stopped import CasesIncomplete
+    from flexbearing.studies.case_sets import CasesIncomplete
     from flexbearing.studies.case_sets import run_case_set_slip_rate
     cs = _short_case_set(tmp_path)
 
@@ -440,14 +440,21 @@ if __name__ == "__main__":      # used by tests/test_resume.py to run a fake sce
 
 def test_the_job_loops_stop_with_one_exception_family():
     """A run, a case set, a study and the validation end early with members of one family
-    (flexbearing.simulation.stopped), so a caller catches WorkStopped once; Interrupted carries
-    whether resuming helps, Incomplete the failed jobs beside the finished rows."""
+    (flexbearing.simulation.stopped; each member is defined beside the loop that raises it), so a
+    caller catches WorkStopped once; Interrupted carries whether resuming helps, Incomplete the
+    failed jobs beside the finished rows."""
     from flexbearing.simulation import stopped as S
     from flexbearing.simulation.jobs import JobFailure
-    run = S.RunInterrupted("run interrupted", 0.01, "r.h5", KeyboardInterrupt(), resumable=False)
+    from flexbearing.simulation.run import RunInterrupted
+    from flexbearing.studies.case_sets import CasesIncomplete
+    from flexbearing.studies.study import StudyIncomplete
+    from flexbearing.studies.uncertainty import UncertaintyInterrupted
+    from flexbearing.studies.validation.slip_rate import ValidationInterrupted
+    run = RunInterrupted("run interrupted", 0.01, "r.h5", KeyboardInterrupt(), resumable=False)
     assert isinstance(run, S.Interrupted) and isinstance(run, S.WorkStopped)
     assert (run.t, run.path, run.resumable, run.rows) == (0.01, "r.h5", False, [])
-    cases = S.CasesIncomplete("1 of 2 cases failed", [{"case": 1}], [JobFailure(1, "case 2", "boom")])
+    cases = CasesIncomplete("1 of 2 cases failed", [{"case": 1}], [JobFailure(1, "case 2", "boom")])
     assert isinstance(cases, S.Incomplete) and isinstance(cases, S.WorkStopped)
     assert cases.rows == [{"case": 1}] and [f.name for f in cases.failures] == ["case 2"]
-    assert issubclass(S.StudyIncomplete, S.Incomplete) and issubclass(S.ValidationInterrupted, S.Interrupted)
+    assert issubclass(StudyIncomplete, S.Incomplete) and issubclass(ValidationInterrupted, S.Interrupted)
+    assert issubclass(UncertaintyInterrupted, S.Interrupted)

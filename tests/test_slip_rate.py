@@ -1,14 +1,14 @@
 """Slip-rate validation data and definitions (paper §3.2, Tables 4/5) and, marked slow, the runs.
 
 The fast tests check the transcription of Table 5 against the paper's own error column and the
-slip definition; the slow ones run the dynamic model on the cases (flexbearing.studies.validate).
+slip definition; the slow ones run the dynamic model on the cases (flexbearing.studies.validation.slip_rate).
 """
 import math
 
 import numpy as np
 import pytest
 
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import slip_rate as V
 from flexbearing.multibody.geometry import nominal_cage_speed
 
 # Table 5, last column: the paper's "slip rate error" (%) = |sim − test|/test
@@ -63,7 +63,7 @@ def test_validation_bearing_runs_in_two_point_contact_at_the_shim_angle():
 @pytest.mark.slow
 def test_slip_rate_case_1_runs_and_settles():
     """Case 1 (4000 rpm, 1100/200 N) at the validation oil state settles within 2.5 s of
-    simulated time (Aitken criterion of flexbearing.studies.validate; measured 1.65 s since the pressure
+    simulated time (Aitken criterion of flexbearing.studies.validation.slip_rate; measured 1.65 s since the pressure
     rolling force's sign was corrected in session 8, 1.0 s before) and the cage runs below the
     inner-ring speed's epicyclic bound (0 < nc < ni/2)."""
     rows = V.run_slip_rate_validation(cases=[1], quiet=True, t_max=2.5)
@@ -75,7 +75,7 @@ def test_slip_rate_case_1_runs_and_settles():
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, reason="issue 4 goal not met: benchmarks/results/slip_rate.md (mean error 135.9 % settled, session 10; "
-                   "free-ball kinematics and the 4106 fit's light-load traction, diagnosis in flexbearing.studies.validate)")
+                   "free-ball kinematics and the 4106 fit's light-load traction, diagnosis in flexbearing.studies.validation.slip_rate)")
 def test_slip_rate_case_1_within_goal():
     """Goal (c): no case above 12 % relative error to the test. Case 1 as the representative."""
     r = V.run_slip_rate_validation(cases=[1], quiet=True, t_max=1.5)[0]
@@ -176,8 +176,8 @@ def test_an_interrupted_validation_keeps_the_finished_cases(tmp_path, monkeypatc
 
 def test_validate_cli_passes_the_ball_model_options(monkeypatch):
     """`flexbearing validate slip-rate --ball-attitude no_pivot --transverse-traction off` runs the
-    cases with those model options, the gyroscopic pair's ring reaction off, as `python -m
-    flexbearing.studies.validate` does with the same flags (one function builds both)."""
+    cases with those model options, the gyroscopic pair's ring reaction off (one function,
+    slip_rate.validation_model_options, builds them from the flags)."""
     from flexbearing.cli.main import main
     seen = {}
 
@@ -220,9 +220,42 @@ def test_the_test_bearings_unknowns_can_be_set(monkeypatch, capsys):
 
 def test_procedure_flags_are_refused_with_a_case_set(capsys):
     """--case-set runs scenes, which carry their own bearing, model and durations: the flags of
-    flexbearing.studies.validate's procedure would be ignored, so they are refused, naming them."""
+    flexbearing.studies.validation.slip_rate's procedure would be ignored, so they are refused, naming them."""
     from flexbearing.cli.main import main
     assert main(["validate", "slip-rate", "--case-set", "scenes/slip_rate_table4.toml", "--cases", "1",
                  "--shim-angle", "15", "--ball-attitude", "no_pivot"]) != 0
     err = capsys.readouterr().err
     assert "--ball-attitude, --shim-angle cannot be used with --case-set" in err
+
+
+def test_the_procedure_settings_reach_the_validation(monkeypatch, tmp_path):
+    """The settings the validation module's own command line had (issue 45: it has none now) are
+    flags of `flexbearing validate slip-rate`: each reaches run_slip_rate_validation under its
+    keyword, gravity and the ring reaction as model options; --out-dir writes the report; with
+    --case-set they are refused like the other procedure flags."""
+    from flexbearing.cli.main import main
+    seen = {}
+    monkeypatch.setattr(V, "run_slip_rate_validation", lambda **kw: seen.update(kw) or [])
+    written = {}
+    monkeypatch.setattr(V, "write_report", lambda rows, d: written.update(rows=rows, d=d))
+    assert main(["validate", "slip-rate", "--cases", "1", "--quiet", "--t-min", "0.3", "--oil-temperature", "120",
+                 "--oil-air-fraction", "0.005", "--oil-air-scaling", "constant", "--traction-law", "fit",
+                 "--traction-scale", "2", "--gravity", "0", "--attitude-ring-reaction", "on",
+                 "--out-dir", str(tmp_path / "r")]) == 0
+    assert {k: seen[k] for k in ("t_min", "oil_temperature_c", "oil_air_fraction", "oil_air_scaling",
+                                 "traction_law", "traction_scale")} == dict(
+        t_min=0.3, oil_temperature_c=120.0, oil_air_fraction=0.005, oil_air_scaling="constant",
+        traction_law="fit", traction_scale=2.0)
+    assert seen["options"] == V.validation_model_options(None, "on", 0.0, "on")
+    assert written == dict(rows=[], d=str(tmp_path / "r"))
+    # without them the procedure's own defaults apply (the keywords are not passed at all)
+    seen.clear()
+    main(["validate", "slip-rate", "--cases", "1", "--quiet"])
+    assert not {"t_min", "oil_temperature_c", "traction_law", "traction_scale"} & set(seen)
+
+
+def test_procedure_settings_are_refused_with_a_case_set(capsys):
+    from flexbearing.cli.main import main
+    assert main(["validate", "slip-rate", "--case-set", "scenes/slip_rate_table4.toml", "--cases", "1",
+                 "--oil-temperature", "120", "--gravity", "0"]) != 0
+    assert "--oil-temperature, --gravity cannot be used with --case-set" in capsys.readouterr().err

@@ -177,7 +177,7 @@ def _sample_case(point_index: int, case_id: int):
     Sobol' sample is seeded, so point k is the same on every machine)."""
     from pathlib import Path
     from flexbearing.studies import uncertainty as U
-    from flexbearing.studies import validate as V
+    from flexbearing.studies.validation import slip_rate as V
     study = U.load_unknowns(Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_unknowns.toml")
     point = U.sample_points(study)[point_index]
     case = {c["case"]: c for c in V.slip_rate_cases()}[case_id]

@@ -173,7 +173,7 @@ def test_quadratic_surrogate_recovers_a_quadratic_exactly():
 
 
 def _synthetic_rows(study, points, slip_of):
-    from flexbearing.studies.validate import slip_rate_cases
+    from flexbearing.studies.validation.slip_rate import slip_rate_cases
     rows = []
     for p in points:
         for c in slip_rate_cases():
@@ -209,7 +209,7 @@ def test_steady_job_against_the_dynamic_validation_case_12():
     validation run of session 14 (slip_rate_session14_ehl.json, same inputs: −7.80 %). Tolerance
     0.5 points: the frozen-azimuth approximation (flexbearing.multibody.steady) differs from the dynamics by
     0.05–0.65 points over the 15 nominal cases (benchmarks/results/slip_rate_uncertainty.md)."""
-    from flexbearing.studies.validate import slip_rate_cases
+    from flexbearing.studies.validation.slip_rate import slip_rate_cases
     study = U.load_unknowns(UNKNOWNS)
     dyn = {r["case"]: r["slip_pct"] for r in json.loads(
         (ROOT / "benchmarks/results/slip_rate_session14_ehl.json").read_text())["rows"]}
@@ -225,7 +225,7 @@ def test_cli_continues_from_finished_rows_and_writes_the_report(tmp_path, capsys
     test − 0.5 .. test + 0.5 points, so the test is inside: 1 of 15), the surrogate's best points are
     run with the model, the report is written."""
     from flexbearing.cli.main import main
-    from flexbearing.studies.validate import slip_rate_cases
+    from flexbearing.studies.validation.slip_rate import slip_rate_cases
     study = U.load_unknowns(UNKNOWNS)
     d = tmp_path / "out" / study.name
     d.mkdir(parents=True)
@@ -268,7 +268,8 @@ def test_a_ctrl_c_of_the_study_is_one_of_the_job_loops_stops(tmp_path, monkeypat
     """A Ctrl-C while the jobs run comes back as UncertaintyInterrupted, of the one family every job
     loop stops with (flexbearing.simulation.stopped), naming the rows file that keeps the finished
     jobs; nothing is lost (the rows are appended as they finish)."""
-    from flexbearing.simulation.stopped import Interrupted, UncertaintyInterrupted, WorkStopped
+    from flexbearing.simulation.stopped import Interrupted, WorkStopped
+    from flexbearing.studies.uncertainty import UncertaintyInterrupted
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt

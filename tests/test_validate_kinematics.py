@@ -1,4 +1,5 @@
-"""flexbearing.studies.validate: the pure-rolling cage speed of the slip diagnosis and the traction-law plumbing.
+"""flexbearing.studies.validation: the pure-rolling cage speed of the slip diagnosis (kinematics), the traction-law
+plumbing and the settling test of the slip-rate validation (slip_rate).
 
 * `pure_rolling_cage_speed_ratio` is checked against an independent vector computation: with the
   returned omega_c, the ball (spin axis at pitch angle beta, spin omega_R from the outer contact) has
@@ -7,13 +8,15 @@
   (paper §3.2) for every beta (algebraic identity, 1e-15).
 * `traction_table_for`: "fit" is the paper's table; a scale k multiplies mu(s) by k exactly (A, B, D
   linear factors; 1e-12); an unknown law is an InputError naming the field.
+* `cage_speed_settled` / `settled_cage_speed`: Aitken's delta-squared extrapolation of window means
+  that approach their limit geometrically, m_k = L + c·q^k, returns L (to rounding: 1e-12 relative).
 """
 import math
 
 import numpy as np
 import pytest
 
-from flexbearing.studies import validate as V
+from flexbearing.studies.validation import kinematics as K, slip_rate as V
 from flexbearing.common.validation import InputError
 from flexbearing.multibody import traction as T
 
@@ -46,7 +49,7 @@ def _rolling_slips(alpha_o, alpha_i, beta, ratio, omega_i=1000.0):
 @pytest.mark.parametrize("ao,ai,beta", [(15.7, 38.0, 0.0), (15.7, 38.0, 38.0), (2.7, 41.5, 10.0), (30.0, 30.0, 5.0)])
 def test_pure_rolling_ratio_has_no_slip_at_either_contact(ao, ai, beta):
     ao, ai, beta = (math.radians(v) for v in (ao, ai, beta))
-    ratio = V.pure_rolling_cage_speed_ratio(ao, ai, beta, DW, DM)
+    ratio = K.pure_rolling_cage_speed_ratio(ao, ai, beta, DW, DM)
     s_o, s_i = _rolling_slips(ao, ai, beta, ratio)
     assert abs(s_o) < 1e-9
     assert abs(s_i) < 1e-12
@@ -56,7 +59,7 @@ def test_pure_rolling_ratio_is_nominal_for_equal_angles():
     for alpha in (0.0, 0.3, 0.7):
         nm = 0.5 * (1.0 - DW * math.cos(alpha) / DM)
         for beta in (0.0, 0.2, alpha):
-            assert V.pure_rolling_cage_speed_ratio(alpha, alpha, beta, DW, DM) == pytest.approx(nm, rel=1e-15)
+            assert K.pure_rolling_cage_speed_ratio(alpha, alpha, beta, DW, DM) == pytest.approx(nm, rel=1e-15)
 
 
 def test_free_ball_with_unequal_angles_runs_above_nominal():
@@ -64,7 +67,7 @@ def test_free_ball_with_unequal_angles_runs_above_nominal():
     cage 11.7 % above nm at the mean angle (benchmarks/results/slip_rate.md, kinematics table)."""
     ao, ai = math.radians(15.7), math.radians(38.0)
     nm = 0.5 * (1.0 - DW * math.cos(0.5 * (ao + ai)) / DM)
-    slip = (nm - V.pure_rolling_cage_speed_ratio(ao, ai, 0.0, DW, DM)) / nm
+    slip = (nm - K.pure_rolling_cage_speed_ratio(ao, ai, 0.0, DW, DM)) / nm
     assert slip == pytest.approx(-0.1167, abs=5e-4)
 
 
@@ -101,19 +104,19 @@ def test_race_control_kinematics_matches_jones_and_harris(race, ao, ai):
     The cage speed is the pure-rolling one at that beta (1e-12), and the vector check of
     `_rolling_slips` finds no rolling slip at either contact (1e-9)."""
     ao, ai = math.radians(ao), math.radians(ai)
-    ratio, beta = V.race_control_kinematics(ao, ai, race, DW, DM)
+    ratio, beta = K.race_control_cage_speed_ratio(ao, ai, race, DW, DM)
     g = DW / DM
     expected = (math.atan(math.sin(ao) / (math.cos(ao) + g)) if race == "outer"
                 else math.atan(math.sin(ai) / (math.cos(ai) - g)))
     assert beta == pytest.approx(expected, abs=1e-12)
-    assert ratio == pytest.approx(V.pure_rolling_cage_speed_ratio(ao, ai, beta, DW, DM), rel=1e-12)
+    assert ratio == pytest.approx(K.pure_rolling_cage_speed_ratio(ao, ai, beta, DW, DM), rel=1e-12)
     s_o, s_i = _rolling_slips(ao, ai, beta, ratio)
     assert abs(s_o) < 1e-9 and abs(s_i) < 1e-9
 
 
 def test_race_control_unknown_race_is_refused():
-    with pytest.raises(InputError, match="race"):
-        V.race_control_kinematics(0.3, 0.5, "cage", DW, DM)
+    with pytest.raises(InputError, match="control = 'cage': allowed values"):
+        K.race_control_cage_speed_ratio(0.3, 0.5, "cage", DW, DM)
 
 
 def test_slip_speed_decomposition_recovers_offset_and_skid():
@@ -128,3 +131,26 @@ def test_slip_speed_decomposition_recovers_offset_and_skid():
         assert abs(s0 - 4.3) < 1e-10 and abs(k - 0.9) < 1e-10 and rms < 1e-10
         s[2] += 0.1
         assert 0.0 < split_offset_and_skid(n, s, p)[2] < 0.1
+
+
+@pytest.mark.parametrize("limit, c, q", [(1000.0, -50.0, 0.5), (420.0, 3.0, 0.8), (-300.0, 10.0, 0.1), (250.0, 4.0, 0.3)])
+def test_settled_cage_speed_is_the_limit_of_geometric_window_means(limit, c, q):
+    """Window means m_k = L + c·q^k (an exponential approach sampled once per window): Aitken's
+    extrapolation m_n + d1·q/(1 − q) is L exactly in exact arithmetic; in floating point the
+    cancellation in d1 = m_n − m_(n−1) costs ~|m|/|d1| ulps, far below 1e-12 relative here."""
+    means = [limit + c * q ** k for k in range(6)]
+    assert V.settled_cage_speed(means) == pytest.approx(limit, rel=1e-12)
+    # the change still to come after the last mean m_5 is L − m_5 = −c·q^5: settled when it is below
+    # settle_rel·|m_5|, not when it is above (for q <= 0.5 the last two differences, c·q^4(1 − q) and
+    # c·q^3(1 − q), exceed it, so the differences test alone cannot decide it)
+    rest = abs(c * q ** 5) / abs(means[-1])
+    assert V.cage_speed_settled(means, 2.0 * rest)
+    if q <= 0.5:
+        assert not V.cage_speed_settled(means, 0.5 * rest)
+
+
+def test_settling_needs_three_windows_and_refuses_oscillation():
+    assert not V.cage_speed_settled([100.0, 100.0], 1e-3)
+    assert V.cage_speed_settled([100.0, 100.0, 100.0], 1e-3)          # flat: both differences zero
+    assert not V.cage_speed_settled([100.0, 101.0, 100.0], 1e-3)      # q = −1: not a geometric approach
+    assert V.settled_cage_speed([100.0, 101.0, 100.0]) == 100.0       # no extrapolation then

@@ -1,4 +1,4 @@
-"""`flexbearing validate series` (flexbearing.studies.validate_series): the series' bearings, one steady
+"""`flexbearing validate series` (flexbearing.studies.validation.series): the series' bearings, one steady
 point against the recorded dynamics, resumable rows, the checks' verdicts and the page."""
 import math
 from dataclasses import replace
@@ -7,15 +7,14 @@ import pytest
 
 from flexbearing.common.validation import InputError
 from flexbearing.multibody.bearing import PAPER_BEARING
-from flexbearing.studies import race_control as RC
-from flexbearing.studies import validate_series as VS
+from flexbearing.studies.validation import kinematics as K, series as VS, series_file as SF
 
-YANG = RC.VALIDATION_DIR / "yang2025_table5.toml"
+YANG = SF.VALIDATION_DIR / "yang2025_table5.toml"
 
 
 def test_the_paper_series_is_the_paper_preset():
     # Table 1 = Table 3: the series file's bearing at its nominal unknowns is the one bearing definition
-    vs = RC.load_series(YANG)
+    vs = SF.load_series(YANG)
     b = VS.series_bearing(vs, VS.nominal_values(vs))
     for name in ("pitch_diameter", "ball_diameter", "n_balls", "fe", "fi", "inner_ring",
                  "bore_diameter", "outside_diameter", "width", "ball_material", "ball_thermal"):
@@ -29,7 +28,7 @@ def test_the_paper_series_is_the_paper_preset():
 
 def test_unknowns_that_no_bearing_has_are_infeasible_with_one_line():
     # a 15° free angle with 200 um clearance needs a shim angle whose cosine exceeds 1 (split ring)
-    vs = RC.load_series(YANG)
+    vs = SF.load_series(YANG)
     v = dict(VS.nominal_values(vs), free_contact_angle_deg=15.0, diametral_clearance=2e-4)
     with pytest.raises(InputError) as e:
         VS.series_bearing(vs, v)
@@ -41,7 +40,7 @@ def test_unknowns_that_no_bearing_has_are_infeasible_with_one_line():
 
 
 def test_unknown_bearings_are_bearings_of_their_class():
-    for vs in RC.load_all():
+    for vs in SF.load_all():
         b = VS.series_bearing(vs, VS.nominal_values(vs))
         assert b.bore_diameter < b.pitch_diameter < b.outside_diameter
         if vs.series.id == "nasa_tp1732":
@@ -53,14 +52,14 @@ def test_steady_point_agrees_with_the_recorded_dynamics():
     # Table 5 case 1 at the preset: the steady fixed point against the dynamics' settled slip as recorded
     # (benchmarks/results/slip_rate_session14_ehl.json, -10.23 %); the uncertainty study measured this fast
     # path against the dynamics at rms 0.41 slip points over 20 pairs: 1 point is 2.5 times that
-    vs = RC.load_series(YANG)
+    vs = SF.load_series(YANG)
     job = VS.point_jobs(vs, 0)[0]
     assert (job.point_id, job.speed_rpm, job.axial_load, job.radial_load) == ("1", 4000.0, 1100.0, 200.0)
     row = VS.solve_point(job)
     assert row["converged"]
     assert row["slip_pct"] == pytest.approx(VS._dynamics_slips()["1"], abs=1.0)
     # the brackets are evaluated at the row's own operating angles, with the split of a running bearing
-    br = RC.brackets(4000.0, 0.022, 0.167, row["inner_contact_angle_deg"], row["outer_contact_angle_deg"])
+    br = K.brackets(4000.0, 0.022, 0.167, row["inner_contact_angle_deg"], row["outer_contact_angle_deg"])
     assert row["inner_control_slip_pct"] == br.inner_slip_percent > 0 > row["outer_control_slip_pct"]
     assert row["inner_contact_angle_deg"] > row["outer_contact_angle_deg"]
 
@@ -89,7 +88,7 @@ def _row(point, slip, fa, speed, purpose="point", **kw):
 
 
 def test_check_verdicts_follow_the_computed_values():
-    vs = RC.load_series(YANG)
+    vs = SF.load_series(YANG)
     # invented slips: positive, growing with speed, falling with load -> both Table 5 checks pass
     good = [_row(p.id, 1.0 + p.conditions["speed_rpm"].value / 1000.0 - p.conditions["axial_load"].value / 1000.0,
                  p.conditions["axial_load"].value, p.conditions["speed_rpm"].value) for p in vs.points]
@@ -101,3 +100,28 @@ def test_check_verdicts_follow_the_computed_values():
     e = a["points"][0]
     m = vs.points[0].measured["measured_cage_slip_percent"].value
     assert e["slip_error_pct"] == pytest.approx(100 * abs(bad[0]["slip_pct"] - m) / m)
+
+
+def test_a_hostile_series_file_stops_the_command_in_one_line(tmp_path, capsys):
+    """`flexbearing validate series --directory D`: a series file with a value out of range, a wrong
+    type or a missing field stops the command before any work, with one line naming the file, the
+    field and the value, and exit code 2 (flexbearing.cli.main's InputError)."""
+    from flexbearing.cli import main as cli
+    good = SF.VALIDATION_DIR / "jlt1979_separator_forces.toml"
+    text = good.read_text()
+    cases = [("full_text_read = ", "full_text_read = 3 #", "series.full_text_read = 3: required: true or false"),
+             ('id = "jlt1979_separator_forces"', 'id = "jlt1979"', "series.id = 'jlt1979': must equal the file name stem"),
+             ("low = ", "low = -1e9 #", "low = -1e+09 is outside the allowed range")]
+    for old, new, fragment in cases:
+        assert old in text, old
+        d = tmp_path / f"series_{len(list(tmp_path.iterdir()))}"
+        d.mkdir()
+        (d / good.name).write_text(text.replace(old, new, 1))
+        code = cli.main(["validate", "series", "--directory", str(d), "--samples", "0", "--workers", "1", "--quiet",
+                         "--out", str(d / "out"), "--page", str(d / "page.md")])
+        err = capsys.readouterr().err
+        lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+        assert code == 2 and len(lines) == 1 and "Traceback" not in err, err
+        assert lines[0].startswith("flexbearing validate: invalid input: jlt1979_separator_forces.toml: ")
+        assert fragment in lines[0], lines[0]
+        assert not (d / "out" / "rows.jsonl").exists() and not (d / "page.md").exists()

@@ -2,15 +2,18 @@
 
     flexbearing run SCENE.toml [-o RUN.h5] [--resume] [--force] [--max-wall-time S] [--quiet]
     flexbearing validate slip-rate [--json FILE] [--cases 1-8] [--workers N] [--scheduler ADDRESS]
-    flexbearing validate series [--samples N] [--series ID]   (flexbearing.cli.validate_series)
                                    [--ball-attitude A]
                                    [--transverse-traction on|off] [--shim-angle DEG]
-                                   [--radial-clearance M] [--quiet]
+                                   [--radial-clearance M] [--t-min S] [--oil-temperature C]
+                                   [--oil-air-fraction X] [--oil-air-scaling S] [--traction-law L]
+                                   [--traction-scale K] [--gravity G] [--attitude-ring-reaction on|off]
+                                   [--out-dir DIR] [--quiet]
+    flexbearing validate series [--samples N] [--series ID]   (flexbearing.cli.validate_series)
 
 `run` validates the scene before anything else, streams the results to RUN.h5 (default
 out/<scene name>.h5) and writes RUN.summary.json beside it. Ctrl-C keeps what was computed and a
 checkpoint; `--resume` continues from it. `validate slip-rate` runs the steady test cases of the
-paper's Tables 4/5 (flexbearing.studies.validate) and prints our slip rate beside the test's and the paper's.
+paper's Tables 4/5 (flexbearing.studies.validation.slip_rate) and prints our slip rate beside the test's and the paper's.
 """
 from __future__ import annotations
 
@@ -24,7 +27,6 @@ from flexbearing.common.validation import InputError
 from flexbearing.common.safe_files import OutputPlan, write_text_atomic
 from flexbearing.cli import validate_series as cli_validate_series
 from flexbearing.simulation.results import summary_path
-from flexbearing.simulation.stopped import CasesIncomplete, RunInterrupted
 
 # printed tables only: SI -> engineer's units (the files stay SI)
 _PRINT_UNITS = {"Pa": (1e-6, "MPa"), "m": (1e6, "um"), "rad/s": (60.0 / (2 * 3.141592653589793), "rpm"),
@@ -94,12 +96,12 @@ def register(subparsers) -> None:
     s.add_argument("--cases", default="1-15", help="case numbers, e.g. 1-8 or 1,4,12 (default 1-15)")
     s.add_argument("--case-set", default=None, metavar="TOML",
                    help="run the cases of this case set as scenes (e.g. scenes/slip_rate_table4.toml), "
-                        "one results file per case in --out; default: flexbearing.studies.validate's procedure "
+                        "one results file per case in --out; default: flexbearing.studies.validation.slip_rate's procedure "
                         "(each case until the cage speed settles)")
     s.add_argument("--out", default="out/validate/slip_rate", help="with --case-set: folder of the per-case results")
     s.add_argument("--resume", action="store_true", help="with --case-set: continue existing per-case results")
     s.add_argument("--t-max", type=float, default=None,
-                   help="longest simulated time per case, s (default: flexbearing.studies.validate's, 15 s: the "
+                   help="longest simulated time per case, s (default: flexbearing.studies.validation.slip_rate's, 15 s: the "
                         "light-load high-speed cases need 4-15 s to settle)")
     s.add_argument("--start", default=None, choices=("quasi_static", "steady"),
                    help="initial state of each case: pure rolling at the quasi-static equilibrium (default) or the "
@@ -114,10 +116,10 @@ def register(subparsers) -> None:
     # flexbearing.multibody.model.BALL_ATTITUDES, written out so that the CLI starts without importing numba
     # (tests/test_slip_rate.py checks that it takes every one of them)
     s.add_argument("--ball-attitude", default=None, choices=("free", "outer", "inner", "jones", "no_pivot"),
-                   help="model option ball_attitude (default: free balls, flexbearing.studies.validate's "
+                   help="model option ball_attitude (default: free balls, flexbearing.studies.validation.slip_rate's "
                         "VALIDATION_BALL_ATTITUDE); no_pivot is the paper's hypothesis, with --transverse-traction "
                         "off as there; constrained attitudes run without the gyroscopic pair's ring reaction, "
-                        "as in flexbearing.studies.validate (it destabilises them at the test's light loads)")
+                        "as in flexbearing.studies.validation.slip_rate (it destabilises them at the test's light loads)")
     s.add_argument("--transverse-traction", default="on", choices=("on", "off"),
                    help="model option transverse_traction (off = the paper's T_eta = 0)")
     s.add_argument("--shim-angle", type=float, default=None, metavar="DEG",
@@ -125,6 +127,26 @@ def register(subparsers) -> None:
                         "with the design clearance of that angle unless --radial-clearance is given")
     s.add_argument("--radial-clearance", type=float, default=None, metavar="M",
                    help="diametral clearance Pd of the test bearing, m (default: the design clearance)")
+    # the procedure's own settings (flexbearing.studies.validation.slip_rate; defaults: its VALIDATION_*)
+    s.add_argument("--t-min", type=float, default=None, metavar="S",
+                   help="no settling test before this time, s (default 1.0: the cage speed can pause on its way)")
+    s.add_argument("--oil-temperature", type=float, default=None, metavar="C",
+                   help="oil temperature, °C (default: the calibrated VALIDATION_OIL_TEMPERATURE_C, 150)")
+    s.add_argument("--oil-air-fraction", type=float, default=None, metavar="X",
+                   help="cavity oil volume fraction at 4000 rpm (default: the calibrated VALIDATION_OIL_AIR_FRACTION, 0.002)")
+    s.add_argument("--oil-air-scaling", default=None, choices=("constant", "inverse_speed"),
+                   help="cavity oil fraction vs speed: constant, or X·4000/n (default inverse_speed)")
+    s.add_argument("--traction-law", default=None, choices=("ehl", "fit", "bounded", "origin"),
+                   help="traction coefficient law (default ehl, the EHL film-shear law)")
+    s.add_argument("--traction-scale", type=float, default=None,
+                   help="ehl: film-strength scale (0.5-2); fit laws: diagnostic multiplier of the curve (default 1)")
+    s.add_argument("--gravity", type=float, default=None, metavar="M_S2",
+                   help="gravity along -z, m/s^2 (default 9.81: the rig's spindle is horizontal; 0 = off)")
+    s.add_argument("--attitude-ring-reaction", default="off", choices=("on", "off"),
+                   help="constrained ball attitudes: the gyroscopic pair's reaction on the inner ring (default off: "
+                        "it destabilises race control at the test's light loads)")
+    s.add_argument("--out-dir", default=None, metavar="DIR",
+                   help="also write DIR/slip_rate.md (table and summary) and DIR/slip_rate.json (every row's numbers)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_validate_slip_rate)
     cli_validate_series.register(vs)
@@ -210,28 +232,33 @@ def parse_cases(text: str, n_max: int = 15) -> list[int]:
 
 
 def cmd_validate_slip_rate(args) -> int:
-    """Default: flexbearing.studies.validate.run_slip_rate_validation (the dynamics' own procedure: each case
+    """Default: flexbearing.studies.validation.slip_rate.run_slip_rate_validation (the dynamics' own procedure: each case
     runs until the cage speed settles, oil temperature VALIDATION_OIL_TEMPERATURE_C). With
     --case-set FILE: every case of FILE is run as a scene through flexbearing.simulation.run (one resumable
     results file per case in --out, fixed duration, slip averaged from average_from)."""
-    from flexbearing.studies.case_sets import run_case_set_slip_rate
+    from flexbearing.simulation.run import RunInterrupted
     from flexbearing.simulation.scene import load_case_set
+    from flexbearing.studies.case_sets import CasesIncomplete, run_case_set_slip_rate
 
     plan = OutputPlan("flexbearing validate slip-rate", inputs=[args.case_set])
     if args.json:
         plan.file(args.json, "--json")
+    if getattr(args, "out_dir", None):
+        plan.folder(args.out_dir, "--out-dir", names=("slip_rate.md", "slip_rate.json"))
     plan.check()                                        # before any case runs
     if args.case_set is None:
         return _validate_procedure(args)
-    # these shape flexbearing.studies.validate's procedure; a case set's scenes carry their own [bearing],
+    # these shape flexbearing.studies.validation.slip_rate's procedure; a case set's scenes carry their own [bearing],
     # [model] and durations, so they would be ignored without a word
     given = [flag for flag, value, default in (
         ("--t-max", args.t_max, None), ("--start", args.start, None),
         ("--ball-attitude", args.ball_attitude, None), ("--transverse-traction", args.transverse_traction, "on"),
-        ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None))
+        ("--shim-angle", args.shim_angle, None), ("--radial-clearance", args.radial_clearance, None),
+        *((flag, getattr(args, name, None), None) for flag, name in _PROCEDURE_SETTINGS),
+        ("--attitude-ring-reaction", getattr(args, "attitude_ring_reaction", "off"), "off"))
         if value != default]
     if given:
-        raise InputError(f"{', '.join(given)} cannot be used with --case-set (they set flexbearing.studies.validate's "
+        raise InputError(f"{', '.join(given)} cannot be used with --case-set (they set flexbearing.studies.validation.slip_rate's "
                          f"procedure; a case set's scenes carry their own bearing, model and durations)")
     case_set = load_case_set(args.case_set)
     cases = parse_cases(args.cases, max(c["id"] for c in case_set.cases))
@@ -252,10 +279,17 @@ def cmd_validate_slip_rate(args) -> int:
     return _write_json(print_slip_rate_table(rows), args.json)
 
 
+# flags of the procedure's own settings and the keyword of run_slip_rate_validation each sets
+_PROCEDURE_SETTINGS = (("--t-min", "t_min"), ("--oil-temperature", "oil_temperature"),
+                       ("--oil-air-fraction", "oil_air_fraction"), ("--oil-air-scaling", "oil_air_scaling"),
+                       ("--traction-law", "traction_law"), ("--traction-scale", "traction_scale"),
+                       ("--gravity", "gravity"), ("--out-dir", "out_dir"))
+
+
 def _validate_procedure(args) -> int:
-    """`validate slip-rate` without --case-set: flexbearing.studies.validate's own procedure (module docstring
+    """`validate slip-rate` without --case-set: flexbearing.studies.validation.slip_rate's own procedure (module docstring
     of cmd_validate_slip_rate)."""
-    import flexbearing.studies.validate as val
+    import flexbearing.studies.validation.slip_rate as val
     cases = parse_cases(args.cases, len(val.slip_rate_cases()))
     kw = {} if getattr(args, "t_max", None) is None else {"t_max": args.t_max}
     if getattr(args, "start", None) is not None:
@@ -266,7 +300,14 @@ def _validate_procedure(args) -> int:
     kw["bearing"] = val.validation_bearing(getattr(args, "shim_angle", None),
                                            getattr(args, "radial_clearance", None))
     kw["options"] = val.validation_model_options(getattr(args, "ball_attitude", None),
-                                                 getattr(args, "transverse_traction", "on"))
+                                                 getattr(args, "transverse_traction", "on"),
+                                                 getattr(args, "gravity", None),
+                                                 getattr(args, "attitude_ring_reaction", "off"))
+    for flag, key in (("t_min", "t_min"), ("oil_temperature", "oil_temperature_c"),
+                      ("oil_air_fraction", "oil_air_fraction"), ("oil_air_scaling", "oil_air_scaling"),
+                      ("traction_law", "traction_law"), ("traction_scale", "traction_scale")):
+        if getattr(args, flag, None) is not None:
+            kw[key] = getattr(args, flag)
 
     def table_of(raw, file):
         rows = [{"case": r["case"], "group": r.get("group"), "axial_load": r["axial_load"],
@@ -290,6 +331,8 @@ def _validate_procedure(args) -> int:
         print(f"flexbearing validate: {exc}" + (f"; the finished cases are in {args.json}" if args.json else ""),
               file=sys.stderr)
         return 130 if isinstance(exc.cause, KeyboardInterrupt) else 1
+    if getattr(args, "out_dir", None):
+        val.write_report(raw, args.out_dir)
     return _write_json({**table_of(raw, sys.stdout), "complete": True}, args.json)
 
 

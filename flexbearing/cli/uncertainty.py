@@ -13,7 +13,6 @@ import sys
 from pathlib import Path
 from flexbearing.common.safe_files import OutputPlan
 from flexbearing.common.validation import InputError
-from flexbearing.simulation.stopped import UncertaintyInterrupted
 
 
 def register(subparsers) -> None:
@@ -76,7 +75,7 @@ def cmd_uncertainty(args) -> int:
     try:
         res = U.run_study(study, out, cases=cases, workers=args.workers, scheduler=args.scheduler,
                           extra_points=[dict(study.nominal(), point="nominal")], progress=not args.quiet)
-    except UncertaintyInterrupted as exc:
+    except U.UncertaintyInterrupted as exc:
         print(f"flexbearing uncertainty: {exc}", file=sys.stderr)
         return 130
     analysis = U.analyse(study, U.read_rows(res["rows_file"]), res["points"])

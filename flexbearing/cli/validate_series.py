@@ -1,5 +1,5 @@
 """`flexbearing validate series`: every published test series of scenes/validation/ against the model,
-and the page docs/validation.md it writes (flexbearing.studies.validate_series).
+and the page docs/validation.md it writes (flexbearing.studies.validation.series).
 
     flexbearing validate series [--samples 16] [--series ID ...] [--out out/validate/series]
                                 [--page docs/validation.md] [--workers N] [--scheduler ADDRESS]
@@ -13,7 +13,7 @@ import os
 import shlex
 import sys
 from flexbearing.common.safe_files import OutputPlan
-from flexbearing.studies import race_control as RC, validate_series as VS
+from flexbearing.studies.validation import series as VS, series_file as SF
 
 
 def register(validate_subparsers) -> None:
@@ -46,7 +46,7 @@ def planned_outputs(args) -> OutputPlan:
 
 def cmd_validate_series(args) -> int:
     planned_outputs(args).check()
-    directory = args.directory or RC.VALIDATION_DIR
+    directory = args.directory or SF.VALIDATION_DIR
     res = VS.run_series(args.out, directory, args.samples, args.series, args.workers or os.cpu_count() or 1,
                         args.scheduler, progress=not args.quiet)
     analysis = VS.analyse(res["series"], res["rows"])

@@ -87,7 +87,7 @@ class Bearing:
     give it; the preset takes the split ring's design clearance 2·(fe − 0.5)·Dw·(1 − cos alphaD) =
     88.4 um, the smallest with which the ball runs in two-point contact under thrust (the free contact
     angle then equals the shim angle, 30°), as a split-ring bearing is designed to run. At Pd = 0 the
-    ball is held by all three races at any load below ~the centrifugal split (flexbearing.studies.validate
+    ball is held by all three races at any load below ~the centrifugal split (flexbearing.studies.validation.slip_rate
     docstring). Declared unknown of the test bearing: Pd in 0–200 um (scenes/validation/yang2025_table5.toml).
     The paper scenes and the slip-rate validation use this one definition (issue 35).
 

@@ -92,7 +92,7 @@ transverse friction forces as race control (and, with attitude_ring_reaction, re
 ring). The couple acts about e_t, where w_t = 0, so it does no work on the ball: the power balance
 of flexbearing.multibody.power_loss closes as for free balls (without the ring reaction). With a free ball the
 gyroscopic couple instead turns the axis until beta = 0 at the test's light loads
-(flexbearing.studies.validate docstring): the two hypotheses bracket what the EHL traction can hold.
+(flexbearing.studies.validation.slip_rate docstring): the two hypotheses bracket what the EHL traction can hold.
 
 Inner ring (mass m_i, diametral/polar inertia I_d, I_p, spin omega_i(t) prescribed):
 

@@ -89,7 +89,7 @@ here). MU_LIMIT_4106 = 0.06 (assumed Lambda) is inactive at the test's condition
 bounded law is the fit exactly; the paper's fit stays the default of the dynamics
 (model.traction_table = TRACTION_FIT_4106).
 
-Origin law (option; TRACTION_ORIGIN_4106, `traction_law = "origin"` in flexbearing.studies.validate). The
+Origin law (option; TRACTION_ORIGIN_4106, `traction_law = "origin"` in flexbearing.studies.validation.slip_rate). The
 fit's intercept mu(0+) = A + D is a regression residual, not physics: a lubricated contact carries
 no traction without sliding, and the EHL traction curve starts linearly from the origin (Johnson &
 Tevaarwerk, Proc. R. Soc. A 356:215, 1977: the linear/viscoelastic region of the traction curve).

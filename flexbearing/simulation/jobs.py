@@ -1,5 +1,5 @@
 """Independent jobs on dask.distributed: the one way the project runs jobs at once (the runs of a
-study, flexbearing.studies.study; the cases of the slip-rate validation, flexbearing.studies.validate; the samples of
+study, flexbearing.studies.study; the cases of the slip-rate validation, flexbearing.studies.validation.slip_rate; the samples of
 the validation under uncertainty).
 
     failures = run_jobs(func, jobs, on_result, workers=None, scheduler=None, names=None,

@@ -37,7 +37,7 @@ from flexbearing.multibody.profiles import load_at, speed_at
 from flexbearing.multibody.run_backend import OutputRequest, RunBackend, rigid_backend
 from flexbearing.simulation.progress import RunProgress
 from flexbearing.simulation.results import FORMAT, DiskFull, OutputTooLarge, ResultsWriter, different_scene, write_summary
-from flexbearing.simulation.stopped import RunInterrupted
+from flexbearing.simulation.stopped import Interrupted
 from flexbearing.simulation.wall_budget import WallBudget
 from flexbearing.common.safe_files import refuse_overwriting_inputs
 from flexbearing.common.validation import require_range
@@ -45,6 +45,17 @@ from flexbearing.common.validation import require_range
 GIL_SWITCH_INTERVAL = 1e-4     # s, during a run's loop (RunLoop._integrate says why)
 SAMPLES_PER_CALL = 25          # samples per compiled call at most (progress and Ctrl-C respond
                                # after each; ~0.05 s of wall time on the paper's scenes)
+
+
+class RunInterrupted(Interrupted):
+    """A run stopped early (Ctrl-C, an error, the wall budget, a full disk); the results file `path`
+    holds a checkpoint at `t` to resume from (the family: flexbearing.simulation.stopped)."""
+
+    def __init__(self, message: str, t: float, path: str, cause: BaseException | None = None,
+                 resumable: bool = True):
+        super().__init__(message, cause=cause, resumable=resumable)
+        self.t = t
+        self.path = path
 
 
 def _next_multiple(k: int, m: int) -> int:

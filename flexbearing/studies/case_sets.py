@@ -20,7 +20,12 @@ import numpy as np
 from flexbearing.common.validation import InputError
 from flexbearing.simulation.jobs import require_scheduler, require_workers, run_jobs, runs_in_this_process
 from flexbearing.simulation.run import finished_run, run_scene
-from flexbearing.simulation.stopped import CasesIncomplete
+from flexbearing.simulation.stopped import Incomplete
+
+
+class CasesIncomplete(Incomplete):
+    """Some cases of a slip-rate case set failed (`run_case_set_slip_rate`); their results files stay,
+    --resume reads the finished ones back (the family: flexbearing.simulation.stopped)."""
 
 
 def slip_rate_from_results(path, average_from: float) -> dict:

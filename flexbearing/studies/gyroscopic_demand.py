@@ -3,7 +3,7 @@
 Issue 35, item 4 (docs/race_control.md). A cage slip that lies between the two race-control
 brackets can be read kinematically: rolling without slip at both contact centres with the ball's
 spin axis pitched by beta from the bearing axis gives the cage speed (Jones 1960; Harris &
-Kotzalas, Rolling Bearing Analysis, 5th ed., Vol. 2; `flexbearing.studies.race_control.cage_speed_ratio`)
+Kotzalas, Rolling Bearing Analysis, 5th ed., Vol. 2; `flexbearing.studies.validation.kinematics.cage_speed_ratio`)
 
     n_c/n_i = 1 / (1 + (1 + gamma·cos a_o)·cos(a_i − beta) / ((1 − gamma·cos a_i)·cos(a_o − beta))),
 
@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from flexbearing.studies.race_control import cage_speed_ratio, epicyclic_cage_speed
+from flexbearing.studies.validation.kinematics import cage_speed_ratio, epicyclic_cage_speed
 
 
 @dataclass(frozen=True)

@@ -81,7 +81,7 @@ from flexbearing.coupling.flexible_cage import (backend as flexible_backend, red
 from flexbearing.simulation.jobs import require_scheduler, require_workers, run_jobs, runs_in_this_process
 from flexbearing.simulation.run import finished_run, run_scene
 from flexbearing.simulation.scene import _number, parse_scene, read_toml
-from flexbearing.simulation.stopped import StudyIncomplete
+from flexbearing.simulation.stopped import Incomplete
 from flexbearing.fem_cage.reduced_cage import find_cached
 from flexbearing.studies.cage_modes import cage_modes, mode_cell
 
@@ -90,6 +90,11 @@ STUDY_KEYS = ("name", "description", "scene", "keys", "values", "label", "unit",
 # keys whose string values name files, relative to the study file
 FILE_KEYS = ("cage.cad",)
 _PATH_PART = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
+
+
+class StudyIncomplete(Incomplete):
+    """Some runs of a study failed (`run_study`, or its reduced cages); the others are finished and on
+    disk, and running the study again reuses them (the family: flexbearing.simulation.stopped)."""
 
 
 @dataclass(frozen=True)

@@ -13,15 +13,15 @@ of n points in the unit cube [0, 1)^d, mapped per unknown (`Unknown.from_unit`):
     log_uniform:  x = lo·(hi/lo)^u
     choice:       x = values[floor(u·m)]   (m values, equally likely)
 The shim angle and the clearance are sampled independently; the diametral clearance of a point is
-Pd = design_clearance(alphaD) + clearance_excess (flexbearing.studies.validate: the smallest that lets the
+Pd = design_clearance(alphaD) + clearance_excess (flexbearing.studies.validation.slip_rate: the smallest that lets the
 split-ring bearing run in two-point contact; the TOML gives the reason).
 
 Model per (point, case): the steady fixed point with weight, flexbearing.multibody.steady.steady_held_cage_state
 (frozen azimuths, cage held in its guide film; 1.7 CPU-s per run on average, measured), on the validation's model
-(flexbearing.studies.validate.build_validation_model: EHL film-shear law at the point's traction scale,
+(flexbearing.studies.validation.slip_rate.build_validation_model: EHL film-shear law at the point's traction scale,
 gravity 9.81 m/s² along −z, free balls), oil at the point's temperature and cavity fraction
 X_ref·4000/n. Slip S = (nm − nc)/nm with nm at the mean loaded contact angle (flexbearing.multibody.outputs,
-the validation's definition). The dynamic validation (flexbearing.studies.validate.run_slip_case, minutes per
+the validation's definition). The dynamic validation (flexbearing.studies.validation.slip_rate.run_slip_case, minutes per
 case) is the independent check of this fast path (`benchmarks/results/slip_rate_uncertainty.md`
 states the agreement: 20 pairs, rms 0.41 points); a (point, case) whose Newton iteration does not
 converge (30 % of the runs, most at high speed and light load) is recorded with converged = False
@@ -69,11 +69,11 @@ from flexbearing.common.validation import InputError, require_range, require_tab
 from flexbearing.multibody.steady import steady_held_cage_state
 from flexbearing.simulation.jobs import run_jobs
 from flexbearing.simulation.scene import read_toml
-from flexbearing.simulation.stopped import UncertaintyInterrupted
-from flexbearing.studies import validate as V
+from flexbearing.simulation.stopped import Interrupted
+from flexbearing.studies.validation import slip_rate as V
 from flexbearing.studies.sensitivity import (SURROGATE_FORMS, QuadraticSurrogate, saltelli_matrices,
                                              sobol_of_columns, unit_sample)
-from flexbearing.studies.validate import slip_rate_cases
+from flexbearing.studies.validation.slip_rate import slip_rate_cases
 
 UNKNOWN_KINDS = ("uniform", "log_uniform", "choice")
 BALL_MATERIALS = tuple(COMMON_BALL_MATERIALS)  # names of the choice "ball_material" (flexbearing.common.materials)
@@ -239,7 +239,7 @@ def _plain(v):
 def point_bearing_oil(point: dict, speed_rpm: float):
     """(bearing, oil, traction_scale) of a sample point for a case at speed_rpm (module docstring):
     shim angle and Pd = design clearance + excess, ball material, oil temperature, cavity oil
-    fraction X_ref·4000/n (flexbearing.studies.validate.case_oil_air_fraction)."""
+    fraction X_ref·4000/n (flexbearing.studies.validation.slip_rate.case_oil_air_fraction)."""
     b = V.validation_bearing(point["shim_angle"])
     b = replace(b, radial_clearance=b.radial_clearance + point["clearance_excess"],
                 ball_material=ball_material_named(point["ball_material"], "unknowns.ball_material").material,
@@ -251,7 +251,7 @@ def point_bearing_oil(point: dict, speed_rpm: float):
 
 def steady_case_slip(point: dict, case: dict) -> dict:
     """One job: the steady fixed point with weight (flexbearing.multibody.steady.steady_held_cage_state) of
-    `case` (flexbearing.studies.validate.slip_rate_cases row) at sample `point`; returns the row (slip in %,
+    `case` (flexbearing.studies.validation.slip_rate.slip_rate_cases row) at sample `point`; returns the row (slip in %,
     convergence, residual, contact angles, cage eccentricity, CPU seconds; fold: the run has no held-cage
     state because its branch ends in a fold, steady._held_cage_continuation; strict=False: a run without a
     root is a row, not the end of the study)."""
@@ -288,6 +288,16 @@ def read_rows(path) -> list[dict]:
 def study_points(study: UnknownsStudy, extra_points: list[dict] | None = None) -> list[dict]:
     """The sample points with their ids ("point": 0..n−1), then the named extra points."""
     return [dict(p, point=k) for k, p in enumerate(sample_points(study))] + [dict(e) for e in extra_points or []]
+
+
+class UncertaintyInterrupted(Interrupted):
+    """The uncertainty study (`run_study`) stopped early; every finished (point, case) is in its rows
+    file (`rows_file`), and running it again runs only the others (the family:
+    flexbearing.simulation.stopped)."""
+
+    def __init__(self, message: str, rows_file: str, cause: BaseException):
+        super().__init__(message, cause=cause)
+        self.rows_file = rows_file
 
 
 def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, workers: int | None = None,
@@ -334,7 +344,7 @@ def run_study(study: UnknownsStudy, out_dir, cases: list[int] | None = None, wor
 
 # ------------------------------------------------------------------------------------ the analysis
 def mean_error_pct(slips: np.ndarray, test: np.ndarray) -> np.ndarray:
-    """Mean relative error (%) of slips (..., 15) against the test's (15,), as flexbearing.studies.validate.summarise."""
+    """Mean relative error (%) of slips (..., 15) against the test's (15,), as flexbearing.studies.validation.slip_rate.summarise."""
     return np.mean(100.0 * np.abs(slips - test) / np.abs(test), axis=-1)
 
 

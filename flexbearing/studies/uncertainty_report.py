@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.studies.uncertainty import candidate_points, mean_error_pct
-from flexbearing.studies.validate import slip_rate_cases
+from flexbearing.studies.validation.slip_rate import slip_rate_cases
 
 
 def _fmt_point(p: dict) -> str:
@@ -285,7 +285,7 @@ def fast_path_table(check: dict) -> str:
     diff = np.array([r["steady_slip_pct"] - r["dynamic_slip_pct"] for r in rows])
     L = ["## The fast path against the dynamic validation (the independent check)", "",
          "Steady fixed point with weight (this study's model) against the dynamic run settled from the "
-         "same inputs (flexbearing.studies.validate.run_slip_case); `benchmarks/uncertainty_fast_path_check.py`, "
+         "same inputs (flexbearing.studies.validation.slip_rate.run_slip_case); `benchmarks/uncertainty_fast_path_check.py`, "
          "rows in slip_rate_uncertainty_check.json.", "",
          "| point | case | dynamic % | settled | steady % | steady − dynamic, points |", "|---|---:|---:|---|---:|---:|"]
     for r in rows:

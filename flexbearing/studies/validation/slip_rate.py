@@ -6,6 +6,12 @@ slip and the paper's simulated slip, in %). `run_slip_rate_validation(...)` runs
 the test's, the paper's and the relative errors, plus a summary (mean/max error of ours and of
 the paper's simulation against the test).
 
+Each case runs in the simulation layer's windowed run loop (flexbearing.simulation.windowed_run:
+sample by sample with the run's integrator, window means of the cage speed and the contact
+angles); this module gives it the settling test (`cage_speed_settled`) and reads the result
+(`settled_cage_speed`). The command line is `flexbearing validate slip-rate` (flexbearing.cli.run),
+which only parses its flags and prints the rows.
+
 Slip rate (paper §3.2): S = (nm − nc)/nm, nm = 0.5·ni·(1 − Dw·cos(alpha)/dm), nc the
 cage speed (mean over the last averaging window). alpha: the mean of the loaded contact angles
 of the outer race and of the more loaded inner half, averaged over the balls and the window
@@ -96,11 +102,8 @@ seconds (cage inertia against a small net torque): values at t_max are not stead
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
-import os
-import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -108,16 +111,18 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.common.validation import InputError, require_range
-from flexbearing.multibody import integrator as I, outputs as O, traction as TR
+from flexbearing.multibody import traction as TR
 from flexbearing.multibody.bearing import PAPER_BEARING, PAPER_OIL
 from flexbearing.multibody import clearance as CL
 from flexbearing.multibody.oil_supply import cavity_oil_fraction
 from flexbearing.multibody.geometry import nominal_cage_speed
 from flexbearing.multibody.initial import initial_state
-from flexbearing.multibody.model import BALL_ATTITUDES, build_model, P_GRAV, with_traction_table
+from flexbearing.multibody.model import build_model, P_GRAV, with_traction_table
 from flexbearing.multibody.steady import steady_thrust_state
 from flexbearing.simulation.jobs import require_workers, run_jobs, runs_in_this_process
-from flexbearing.simulation.stopped import ValidationInterrupted
+from flexbearing.simulation.stopped import Interrupted
+from flexbearing.simulation.windowed_run import run_in_windows
+from flexbearing.studies.validation.kinematics import pure_rolling_cage_speed_ratio, race_control_cage_speed_ratio
 
 # (case, group, Fa N, Fr N, speed rpm, test slip %, paper simulated slip %) — paper Tables 4 and 5
 _TABLE5 = [
@@ -162,64 +167,6 @@ def validation_bearing(shim_angle_deg: float | None = None, radial_clearance: fl
 # The paper preset itself (issue 35: Table 1 = Table 3, one bearing definition; its clearance is the
 # design clearance of the 30° shim, flexbearing.multibody.bearing.Bearing docstring).
 VALIDATION_BEARING = PAPER_BEARING
-
-
-def pure_rolling_cage_speed_ratio(alpha_outer: float, alpha_inner: float, beta: float, ball_diameter: float,
-                                  pitch_diameter: float) -> float:
-    """omega_c/omega_i of a ball rolling without slip (rolling direction) on the fixed outer race and
-    the inner race, its spin axis in the axial plane at the pitch angle beta from the bearing axis
-    (beta > 0 turns the axis towards the normal of the contact line: beta = alpha_o makes it
-    perpendicular to the outer contact normal, beta = alpha_i to the inner one).
-
-    Rolling at the contact of angle alpha (contact point at Dw/2 from the ball centre along the
-    contact normal), in the frame orbiting with the cage (ball spin omega_R about its axis):
-        outer:  omega_c·r_o           = omega_R·(Dw/2)·cos(alpha_o − beta),  r_o = dm/2 + (Dw/2)·cos alpha_o
-        inner:  (omega_i − omega_c)·r_i = omega_R·(Dw/2)·cos(alpha_i − beta),  r_i = dm/2 − (Dw/2)·cos alpha_i
-    hence omega_c/omega_i = q/(1 + q), q = r_i·cos(alpha_o − beta)/(r_o·cos(alpha_i − beta))
-    (Harris & Kotzalas, Rolling Bearing Analysis Vol. 1, ch. "Ball and roller kinematics": the
-    race-control cases are beta from the gyroscopic balance; beta = 0 is the torque-free ball whose
-    angular velocity stays parallel to the bearing axis; beta = alpha_i means no spin at the inner
-    contact). For alpha_o = alpha_i = alpha it is nm/ni = (1 − Dw·cos alpha/dm)/2 for every beta."""
-    r = 0.5 * ball_diameter
-    ri = 0.5 * pitch_diameter - r * math.cos(alpha_inner)
-    ro = 0.5 * pitch_diameter + r * math.cos(alpha_outer)
-    q = ri * math.cos(alpha_outer - beta) / (ro * math.cos(alpha_inner - beta))
-    return q / (1.0 + q)
-
-
-def race_control_kinematics(alpha_outer: float, alpha_inner: float, race: str, ball_diameter: float,
-                            pitch_diameter: float) -> tuple[float, float]:
-    """(omega_c/omega_i, beta) of Jones's race control (J. Basic Eng. 82(2):309, 1960): the ball
-    rolls without slip in the rolling direction on both races and has no spin on the controlling
-    `race` ("outer" or "inner"); beta = pitch of its spin axis from the bearing axis in the cage
-    frame, in the convention of `pure_rolling_cage_speed_ratio`.
-
-    Cage frame (x axial, r radial, t = x × r), ball spin Omega = (W_x, W_r, 0) relative to the cage,
-    contact normals n_o = (sin a_o, cos a_o), n_i = (−sin a_i, −cos a_i), contact radii
-    R_o,i = dm/2 + (Dw/2)·n_r, races turning at −omega_c (outer) and omega_i − omega_c (inner):
-
-        rolling, outer:  (Dw/2)·(W_x·n_or − W_r·n_ox) = −omega_c·R_o
-        rolling, inner:  (Dw/2)·(W_x·n_ir − W_r·n_ix) = (omega_i − omega_c)·R_i
-        no spin, outer:  (Omega + omega_c·e_x)·n_o = 0      or, inner: (Omega − (omega_i − omega_c)·e_x)·n_i = 0
-
-    three linear equations in (W_x, W_r, omega_c). Unlike beta = alpha (spin axis normal to the
-    contact line in the cage frame, `pure_rolling_cage_speed_ratio`), this is zero spin relative to
-    the race itself, which turns at omega_c (outer) or omega_i − omega_c (inner) about e_x."""
-    if race not in ("outer", "inner"):
-        raise InputError(f"race = {race!r} is not known; allowed: 'outer', 'inner'")
-    rho = 0.5 * ball_diameter
-    nox, nor = math.sin(alpha_outer), math.cos(alpha_outer)
-    nix, nir = -math.sin(alpha_inner), -math.cos(alpha_inner)
-    ro = 0.5 * pitch_diameter + rho * nor
-    ri = 0.5 * pitch_diameter + rho * nir
-    a = np.array([[rho * nor, -rho * nox, ro],
-                  [rho * nir, -rho * nix, ri],
-                  [nox, nor, nox] if race == "outer" else [nix, nir, nix]])
-    b = np.array([0.0, ri, 0.0 if race == "outer" else nix])
-    wx, wr, wc = np.linalg.solve(a, b)
-    # spin axis direction (cos beta, −sin beta) up to the sign of the rolling speed
-    beta = math.atan2(-wr * math.copysign(1.0, wx), abs(wx))
-    return float(wc), float(beta)
 
 
 OIL_AIR_REFERENCE_RPM = 4000.0
@@ -300,6 +247,36 @@ def steady_case_start(model, case: dict):
     return (omega, y, np.array([[0.0, omega]]), np.array([[0.0, fa, 0.0, -fr]]), np.zeros((0, 6)))
 
 
+def cage_speed_settled(means: list[float], settle_rel: float) -> bool:
+    """Has the cage speed settled, from its window means (module docstring, "Settling")? Yes when the
+    last two differences of three window means are both below settle_rel of the last mean, or when
+    the means approach their limit geometrically (q = d1/d0 in (0, 0.9), d0, d1 the last two
+    differences) and the change still to come, d1·q/(1 − q) (Aitken's delta-squared process), is
+    below settle_rel of the last mean."""
+    if len(means) < 3:
+        return False
+    d1 = means[-1] - means[-2]
+    d0 = means[-2] - means[-3]
+    if abs(d1) < settle_rel * abs(means[-1]) and abs(d0) < settle_rel * abs(means[-1]):
+        return True
+    if d0 != 0.0:
+        q = d1 / d0
+        return 0.0 < q < 0.9 and abs(d1 * q / (1.0 - q)) < settle_rel * abs(means[-1])
+    return False
+
+
+def settled_cage_speed(means: list[float]) -> float:
+    """The cage speed a settled run reports: the limit of its window means by Aitken's delta-squared
+    extrapolation, m_n + d1·q/(1 − q) (q = d1/d0 of the last three means), where they approach it
+    geometrically (0 < q < 0.9); else the last mean. For means m_k = L + c·q^k the result is L
+    exactly (up to rounding): m_n + c·q^n(q − 1)·q/(1 − q) = L (tests/test_slip_rate.py)."""
+    if len(means) >= 3 and means[-2] != means[-3]:
+        q = (means[-1] - means[-2]) / (means[-2] - means[-3])
+        if 0.0 < q < 0.9:
+            return means[-1] + (means[-1] - means[-2]) * q / (1.0 - q)
+    return means[-1]
+
+
 def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dict | None = None,
                   tol: float = 1e-5, window: float = 0.05, t_min: float = 1.0, t_max: float = 2.0,
                   settle_rel: float = 2e-4, sample_dt: float = 1e-3, progress=None,
@@ -324,47 +301,24 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
             y, started = y_s, "steady"
         else:
             started = "quasi_static (no steady thrust state)"
-    ws = I.Workspace(model)
-    t, h = 0.0, 1e-6
-    n_steps = n_rej = 0
-    wall0 = time.perf_counter()
-    means, alphas, a_out, a_in = [], [], [], []
-    settled = False
-    while t < t_max - 1e-12:
-        speeds, angs, ao_w, ai_w = [], [], [], []
-        t_w_end = t + window
-        while t < t_w_end - 1e-12:
-            y, t, h, a, b = I.advance(model, y, t, min(t + sample_dt, t_w_end), sp, ld, imp, tol, h, ws)
-            n_steps += a
-            n_rej += b
-            out = O.evaluate_outputs(model, t, y, sp, ld, imp)
-            speeds.append(out["cage_speed"])
-            ao_w.append(np.mean(np.abs(out["contact_angle_outer"])))
-            ai_w.append(np.mean(np.abs(out["contact_angle_inner_loaded"])))
-            angs.append(0.5 * (np.mean(out["contact_angle_outer"]) + np.mean(np.abs(out["contact_angle_inner_loaded"]))))
-        means.append(float(np.mean(speeds)))
-        alphas.append(float(np.mean(angs)))
-        a_out.append(float(np.mean(ao_w)))
-        a_in.append(float(np.mean(ai_w)))
+
+    def sample(out):                    # the cage speed and the contact angles of one sample
+        ai = np.mean(np.abs(out["contact_angle_inner_loaded"]))
+        return (out["cage_speed"], 0.5 * (np.mean(out["contact_angle_outer"]) + ai),
+                np.mean(np.abs(out["contact_angle_outer"])), ai)
+
+    def stop(t, window_means):
+        means = [m[0] for m in window_means]
         if progress is not None:
             progress(t, means[-1])
-        if t >= t_min and len(means) >= 3:
-            d1 = means[-1] - means[-2]
-            d0 = means[-2] - means[-3]
-            if abs(d1) < settle_rel * abs(means[-1]) and abs(d0) < settle_rel * abs(means[-1]):
-                settled = True
-                break
-            # exponential approach (Aitken): remaining change d1·q/(1 − q), q = d1/d0
-            if d0 != 0.0:
-                q = d1 / d0
-                if 0.0 < q < 0.9 and abs(d1 * q / (1.0 - q)) < settle_rel * abs(means[-1]):
-                    settled = True
-                    break
-    nc = means[-1]
-    if settled and len(means) >= 3 and means[-2] != means[-3]:
-        q = (means[-1] - means[-2]) / (means[-2] - means[-3])
-        if 0.0 < q < 0.9:
-            nc = means[-1] + (means[-1] - means[-2]) * q / (1.0 - q)
+        return t >= t_min and cage_speed_settled(means, settle_rel)
+
+    wall0 = time.perf_counter()
+    run = run_in_windows(model, y, sp, ld, imp, tol, window, t_max, sample_dt, sample, stop)
+    means, alphas, a_out, a_in = (list(c) for c in zip(*run.window_means))
+    t, settled = run.t, run.stopped
+    n_steps, n_rej = run.n_steps, run.n_rejected
+    nc = settled_cage_speed(means) if settled else means[-1]
     alpha = alphas[-1]
     nm = nominal_cage_speed(omega, bearing.ball_diameter, bearing.pitch_diameter, alpha)
     slip = (nm - nc) / nm
@@ -376,12 +330,13 @@ def run_slip_case(case: dict, bearing=PAPER_BEARING, oil=PAPER_OIL, options: dic
     # the pure-rolling cage speeds of the same contact angles (`pure_rolling_cage_speed_ratio`):
     # free ball (spin axis parallel to the bearing axis, beta = 0) and no spin at the inner contact
     # (the key "inner_control" is beta = alpha_i, the spin axis normal to the inner contact line in
-    # the cage frame), and Jones's race control, no spin relative to the race (`race_control_kinematics`)
+    # the cage frame), and Jones's race control, no spin relative to the race (kinematics.race_control_cage_speed_ratio)
     for name, beta in (("beta0", 0.0), ("inner_control", a_in[-1])):
         ratio = pure_rolling_cage_speed_ratio(a_out[-1], a_in[-1], beta, bearing.ball_diameter, bearing.pitch_diameter)
         alt[f"slip_pct_pure_rolling_{name}"] = 100.0 * (nm - ratio * omega) / nm
     for race in ("outer", "inner"):
-        ratio, _ = race_control_kinematics(a_out[-1], a_in[-1], race, bearing.ball_diameter, bearing.pitch_diameter)
+        ratio, _ = race_control_cage_speed_ratio(a_out[-1], a_in[-1], race, bearing.ball_diameter,
+                                                 bearing.pitch_diameter)
         alt[f"slip_pct_{race}_race_control"] = 100.0 * (nm - ratio * omega) / nm
     row = dict(case)
     row.update(alt)
@@ -409,6 +364,16 @@ def summarise(rows: list[dict]) -> dict:
                 "paper_mean_error_pct": float(np.mean(pe)), "paper_max_error_pct": float(np.max(pe))}
     return {"all": stats(range(1, 16)), "calibration_1_8": stats(CALIBRATION_CASES),
             "check_9_15": stats(CHECK_CASES)}
+
+
+class ValidationInterrupted(Interrupted):
+    """The slip-rate validation (`run_slip_rate_validation`) stopped early: `rows` the finished cases
+    (case order), `missing` the case numbers that did not finish, `cause` the Ctrl-C or the error
+    (the family: flexbearing.simulation.stopped)."""
+
+    def __init__(self, message: str, rows: list, missing: list[int], cause: BaseException):
+        super().__init__(message, rows, cause)
+        self.missing = missing
 
 
 def run_slip_rate_validation(cases: list[int] | None = None, oil_temperature_c: float | None = None,
@@ -526,8 +491,8 @@ def write_report(rows: list[dict], directory, stem: str = "slip_rate", note: str
 
 def validation_model_options(ball_attitude=None, transverse_traction: str = "on", gravity=None,
                              attitude_ring_reaction: str = "off") -> dict:
-    """Model options from the command-line flags of `python -m flexbearing.studies.validate` and `flexbearing
-    validate slip-rate` (build_validation_model adds them to its own). The gyroscopic pair's ring
+    """Model options from the command-line flags of `flexbearing validate slip-rate` (flexbearing.cli.run;
+    build_validation_model adds them to its own). The gyroscopic pair's ring
     reaction is off unless asked for: it destabilises race control at the test's light loads
     (flexbearing.multibody.dynamics docstring)."""
     options = {"attitude_ring_reaction": attitude_ring_reaction == "on"}
@@ -538,77 +503,6 @@ def validation_model_options(ball_attitude=None, transverse_traction: str = "on"
     if ball_attitude is not None:
         options["ball_attitude"] = ball_attitude
     return options
-
-
-def main(argv=None) -> None:
-    """python -m flexbearing.studies.validate [--cases 1,2] [--oil-temperature C] [--oil-air-fraction X]
-    [--shim-angle DEG] [--radial-clearance M] [--t-max S] [--json FILE] [--out-dir DIR] [--quiet]"""
-    ap = argparse.ArgumentParser(description="steady slip-rate validation (paper Table 5)")
-    ap.add_argument("--cases", default=None, help="comma-separated case numbers (default: all 15)")
-    ap.add_argument("--oil-temperature", type=float, default=None, help="°C (default: calibrated)")
-    ap.add_argument("--oil-air-fraction", type=float, default=None, help="- (default: calibrated)")
-    ap.add_argument("--radial-clearance", type=float, default=None,
-                    help="diametral clearance Pd, m (default: design_clearance of the shim angle, 88.4e-6 at 30°)")
-    ap.add_argument("--shim-angle", type=float, default=None,
-                    help="shim angle alphaD of the split inner ring, degrees (default 30, assumed; the most "
-                         "sensitive unknown of the test bearing, benchmarks/results/slip_rate.md)")
-    ap.add_argument("--t-max", type=float, default=15.0,
-                    help="longest simulated time per case, s (light-load cases at 8000-12,000 rpm need 4-15 s)")
-    ap.add_argument("--t-min", type=float, default=1.0,
-                    help="no settling test before this time, s (the cage speed can pause on its way: "
-                         "at t_min 0.3 s case 9 'settled' at 0.30 s while its neighbours drifted for 1–3 s)")
-    ap.add_argument("--traction-law", default=None, choices=["ehl", "fit", "bounded", "origin"],
-                    help="traction coefficient law (default: VALIDATION_TRACTION_LAW)")
-    ap.add_argument("--oil-air-scaling", default=None, choices=["constant", "inverse_speed"],
-                    help="oil fraction vs speed: constant, or X_ref·4000/n (default: VALIDATION_OIL_AIR_SCALING)")
-    ap.add_argument("--transverse-traction", default="on", choices=["on", "off"],
-                    help="model option transverse_traction (off = the paper's T_eta = 0)")
-    ap.add_argument("--gravity", type=float, default=None,
-                    help="m/s^2 along -z (default VALIDATION_GRAVITY = 9.81: the rig's spindle is horizontal; 0 = off)")
-    ap.add_argument("--ball-attitude", default=None, choices=list(BALL_ATTITUDES),
-                    help="model option ball_attitude: free Euler balls, race control, or no_pivot (the paper's hypothesis: "
-                         "gyroscopic pivoting held; use with --transverse-traction off) (default: VALIDATION_BALL_ATTITUDE)")
-    ap.add_argument("--attitude-ring-reaction", default="off", choices=["on", "off"],
-                    help="race control: gyroscopic friction reaction on the inner ring (model option; default off "
-                         "here: it destabilises race control at the test's light loads, flexbearing.multibody.dynamics docstring)")
-    ap.add_argument("--traction-scale", type=float, default=1.0,
-                    help="ehl: film-strength scale (0.5-2); fit laws: diagnostic multiplier of the curve (1 = the law itself)")
-    ap.add_argument("--start", default="quasi_static", choices=["quasi_static", "steady"],
-                    help="initial state: pure rolling at the quasi-static equilibrium, or the steady thrust state "
-                         "(flexbearing.multibody.steady; skips the long settling of the light-load high-speed cases)")
-    ap.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                    help="cases run at once on a local Dask cluster (default: the number of CPUs)")
-    ap.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                    help="run the cases on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:PORT)")
-    ap.add_argument("--json", default=None)
-    ap.add_argument("--out-dir", default=None, help="write slip_rate.md/.json there")
-    ap.add_argument("--quiet", action="store_true")
-    a = ap.parse_args(argv)
-    cases = [int(c) for c in a.cases.split(",")] if a.cases else None
-    bearing = validation_bearing(a.shim_angle, a.radial_clearance)
-    options = validation_model_options(a.ball_attitude, a.transverse_traction, a.gravity, a.attitude_ring_reaction)
-    def write_json(rows, complete):
-        if a.json:
-            tmp = f"{a.json}.part"
-            with open(tmp, "w") as f:
-                json.dump({"rows": rows, "summary": summarise(rows), "complete": complete}, f, indent=2, default=float)
-            os.replace(tmp, a.json)          # a reader never sees half a file
-
-    try:
-        rows = run_slip_rate_validation(cases, a.oil_temperature, a.oil_air_fraction, bearing=bearing, t_max=a.t_max,
-                                        options=options,
-                                        quiet=a.quiet, traction_law=a.traction_law, traction_scale=a.traction_scale,
-                                        t_min=a.t_min, oil_air_scaling=a.oil_air_scaling, start=a.start,
-                                        workers=a.workers, scheduler=a.scheduler,
-                                        on_row=lambda rows: write_json(rows, False))
-    except ValidationInterrupted as exc:
-        print(format_table(exc.rows))
-        print(exc, file=sys.stderr)
-        raise SystemExit(130 if isinstance(exc.cause, KeyboardInterrupt) else 1)
-    print(format_table(rows))
-    write_json(rows, True)
-    if a.out_dir:
-        write_report(rows, a.out_dir)
 
 
 # The oil state of the validation (module docstring): calibrated on cases 1–8 only, with gravity on
@@ -623,6 +517,3 @@ VALIDATION_TRACTION_LAW = "ehl"
 VALIDATION_OIL_AIR_SCALING = "inverse_speed"
 VALIDATION_GRAVITY = 9.81
 VALIDATION_BALL_ATTITUDE = "free"
-
-if __name__ == "__main__":
-    main()

@@ -1,6 +1,6 @@
 """Every published test series of scenes/validation/ against the model (`flexbearing validate series`).
 
-For each series file (flexbearing.studies.race_control.load_series) and each of its points, the model's
+For each series file (flexbearing.studies.validation.series_file.load_series) and each of its points, the model's
 steady state is computed with one parameter set for every series (`MODEL_PARAMETERS`; nothing is tuned
 per case or per series) and set beside what the source measured; the declared unknowns of the series
 give a band; the two race-control brackets are evaluated at the model's own operating contact angles;
@@ -10,7 +10,7 @@ the source's qualitative statements ([[checks]]) are checked where the model can
 Model per point: the steady fixed point with weight, flexbearing.multibody.steady.steady_held_cage_state
 (frozen azimuths, cage held in its guide film; the fast path of the uncertainty study, checked there
 against the dynamics: rms 0.41 slip points over 20 pairs, benchmarks/results/slip_rate_uncertainty.md),
-on the validation's model (flexbearing.studies.validate.build_validation_model: EHL film-shear traction,
+on the validation's model (flexbearing.studies.validation.slip_rate.build_validation_model: EHL film-shear traction,
 gravity 9.81 m/s² along −z, free balls). Slip S = (n_m − n_c)/n_m with n_m at the mean loaded operating
 contact angle (flexbearing.multibody.outputs, the slip-rate validation's definition). The dynamics
 (`flexbearing validate slip-rate`, minutes per case) is the independent check; its recorded Table 5
@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.common.validation import InputError
-from flexbearing.studies import race_control as RC
+from flexbearing.studies.validation import kinematics as K, series_file as SF
 from flexbearing.common.materials import ball_material_named
 from flexbearing.multibody.clearance import resolve_inner_ring
 from flexbearing.simulation.jobs import run_jobs
@@ -54,14 +54,14 @@ from flexbearing.simulation.jobs import run_jobs
 # Where a series publishes a value (oil inlet temperature, supply) that value is used instead.
 MODEL_PARAMETERS = {
     "traction_law": "ehl", "traction_scale": 1.0, "gravity_m_s2": 9.81, "ball_attitude": "free",
-    "oil_temperature_C": 150.0,          # flexbearing.studies.validate.VALIDATION_OIL_TEMPERATURE_C (unpublished)
+    "oil_temperature_C": 150.0,          # slip_rate.VALIDATION_OIL_TEMPERATURE_C (unpublished)
     "cavity_oil_fraction_ref": 0.002,    # at 4000 rpm, falling as 1/n (flexbearing.multibody.oil_supply)
     "cavity_oil_reference_rpm": 4000.0,
 }
 # A thrust-free ball bearing has no defined steady state: a point whose thrust is only bounded below by
 # 0 is sampled from this fraction of its upper bound.
 MIN_THRUST_FRACTION = 0.05
-DYNAMICS_RECORD = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "slip_rate_session14_ehl.json"
+DYNAMICS_RECORD = Path(__file__).resolve().parents[3] / "benchmarks" / "results" / "slip_rate_session14_ehl.json"
 
 
 @dataclass(frozen=True)
@@ -79,18 +79,18 @@ class PointJob:
 
 
 # ------------------------------------------------------------------------------------- the bearing
-def _given(vs: RC.ValidationSeries, key: str):
+def _given(vs: SF.ValidationSeries, key: str):
     q = vs.bearing.get(key)
     return None if q is None or q.value is None else q.value
 
 
-def _is_paper_bearing(vs: RC.ValidationSeries) -> bool:
+def _is_paper_bearing(vs: SF.ValidationSeries) -> bool:
     from flexbearing.multibody.bearing import PAPER_BEARING as P
     return (_given(vs, "pitch_diameter") == P.pitch_diameter and _given(vs, "ball_diameter") == P.ball_diameter
             and _given(vs, "n_balls") == P.n_balls)
 
 
-def nominal_values(vs: RC.ValidationSeries) -> dict:
+def nominal_values(vs: SF.ValidationSeries) -> dict:
     """The unknowns at their nominal values (module docstring): the paper preset's where the series is
     the paper bearing and the preset has the quantity, else the middle of the range."""
     from flexbearing.multibody.bearing import PAPER_BEARING as P
@@ -107,7 +107,7 @@ def nominal_values(vs: RC.ValidationSeries) -> dict:
     return out
 
 
-def sample_values(vs: RC.ValidationSeries, n: int, seed: int = 35) -> list[dict]:
+def sample_values(vs: SF.ValidationSeries, n: int, seed: int = 35) -> list[dict]:
     """n scrambled Sobol' points of the series' unknowns box (uniform in each range)."""
     from flexbearing.studies.sensitivity import unit_sample
     if not vs.unknowns or n < 1:
@@ -116,7 +116,7 @@ def sample_values(vs: RC.ValidationSeries, n: int, seed: int = 35) -> list[dict]
     return [{k.name: k.low + float(row[j]) * (k.high - k.low) for j, k in enumerate(vs.unknowns)} for row in u]
 
 
-def series_bearing(vs: RC.ValidationSeries, values: dict):
+def series_bearing(vs: SF.ValidationSeries, values: dict):
     """The model's Bearing of a series at the unknowns' `values` (module docstring); InputError if the
     combination is not a bearing (e.g. a free contact angle no shim angle gives with that clearance)."""
     from flexbearing.multibody.bearing import PAPER_BEARING as P
@@ -171,7 +171,7 @@ def series_bearing(vs: RC.ValidationSeries, values: dict):
     return b.validate()
 
 
-def series_oil(vs: RC.ValidationSeries, values: dict, point: RC.Point | None = None):
+def series_oil(vs: SF.ValidationSeries, values: dict, point: SF.Point | None = None):
     """The model's Oil of a series: the paper oil's properties where the series does not publish its
     own, the published inlet temperature (point, then oil section), else the unknown's value, else the
     parameter set's; the published supply (jet / under_race) with the parameter set's cavity fraction."""
@@ -202,10 +202,10 @@ def solve_point(job: PointJob) -> dict:
     """One job (top-level for Dask workers): the steady state of the series' bearing at the point's
     conditions; returns the row (slip %, cage and epicyclic speeds, operating contact angles, the two
     brackets at those angles, power loss, pocket and land forces, convergence, CPU seconds)."""
-    from flexbearing.studies import validate as V
+    from flexbearing.studies.validation import slip_rate as V
     from flexbearing.multibody.steady import steady_held_cage_state
     t0 = time.process_time()
-    vs = RC.load_series(job.series_path)
+    vs = SF.load_series(job.series_path)
     point = next((p for p in vs.points if str(p.id) == job.point_id), None)
     row = dict(series=vs.series.id, point=job.point_id, sample=job.sample, purpose=job.purpose,
                speed_rpm=job.speed_rpm, axial_load=job.axial_load, radial_load=job.radial_load,
@@ -237,22 +237,22 @@ def solve_point(job: PointJob) -> dict:
                cage_land_force_N=float(out["cage_land_force_magnitude"]),
                pitch_diameter=bearing.pitch_diameter, ball_diameter=bearing.ball_diameter, n_balls=bearing.n_balls)
     try:
-        br = RC.brackets(job.speed_rpm, bearing.ball_diameter, bearing.pitch_diameter, ai, ao,
+        br = K.brackets(job.speed_rpm, bearing.ball_diameter, bearing.pitch_diameter, ai, ao,
                          reference_angle_deg=0.5 * (ai + ao))
         row.update(inner_control_slip_pct=br.inner_slip_percent, outer_control_slip_pct=br.outer_slip_percent)
-    except ValueError as exc:
+    except InputError as exc:
         row.update(bracket_error=str(exc))
     row["cpu_s"] = time.process_time() - t0
     return row
 
 
 # ------------------------------------------------------------------------------------- the jobs
-def _condition(point: RC.Point, key: str, default: float = 0.0) -> tuple[float, float]:
+def _condition(point: SF.Point, key: str, default: float = 0.0) -> tuple[float, float]:
     q = point.conditions.get(key)
     return (default, default) if q is None else q.span()
 
 
-def point_jobs(vs: RC.ValidationSeries, n_samples: int, seed: int = 35) -> list[PointJob]:
+def point_jobs(vs: SF.ValidationSeries, n_samples: int, seed: int = 35) -> list[PointJob]:
     """The nominal job and the band's jobs of every point of a series. A speed given only as a range
     is taken at its upper end (the source's maxima are over the range); a load given only as a range,
     or declared unknown, is an unknown of the point (nominal: the middle; lower bound at least
@@ -276,7 +276,7 @@ def point_jobs(vs: RC.ValidationSeries, n_samples: int, seed: int = 35) -> list[
     return jobs
 
 
-def check_jobs(vs: RC.ValidationSeries, nominal: dict) -> list[PointJob]:
+def check_jobs(vs: SF.ValidationSeries, nominal: dict) -> list[PointJob]:
     """Extra nominal states some checks need (`CHECKS`): a speed sweep and a load step."""
     jobs = []
     for spec in CHECKS.get(vs.series.id, ()):
@@ -328,7 +328,7 @@ def read_rows(path) -> list[dict]:
     return read(path)
 
 
-def run_series(out_dir, directory=RC.VALIDATION_DIR, n_samples: int = 16, series: list[str] | None = None,
+def run_series(out_dir, directory=SF.VALIDATION_DIR, n_samples: int = 16, series: list[str] | None = None,
                workers: int | None = None, scheduler: str | None = None, seed: int = 35,
                progress: bool = True) -> dict:
     """Every job of every series (or of the named ones) not yet in OUT_DIR/rows.jsonl, on Dask
@@ -336,7 +336,7 @@ def run_series(out_dir, directory=RC.VALIDATION_DIR, n_samples: int = 16, series
     Returns {"rows_file", "rows", "failures", "new_rows", "series"}."""
     if isinstance(n_samples, bool) or not isinstance(n_samples, int) or not 0 <= n_samples <= 4096:
         raise InputError(f"samples = {n_samples!r} is not allowed; allowed: an integer in [0, 4096]")
-    all_series = RC.load_all(directory)
+    all_series = SF.load_all(directory)
     known = [vs.series.id for vs in all_series]
     for name in series or ():
         if name not in known:
@@ -378,7 +378,7 @@ def _dynamics_slips() -> dict:
     return {str(r["case"]): float(r["slip_pct"]) for r in rows}
 
 
-def analyse(chosen: list[RC.ValidationSeries], rows: list[dict]) -> list[dict]:
+def analyse(chosen: list[SF.ValidationSeries], rows: list[dict]) -> list[dict]:
     """Per series: per point the measured values, the nominal row, the band of the samples, the errors;
     the checks evaluated; counts (samples, converged, infeasible)."""
     dyn = _dynamics_slips()
@@ -418,7 +418,7 @@ def _nominal_rows(rows, purpose):
     return [r for r in rows if r["purpose"] == purpose and r["sample"] == -1]
 
 
-def evaluate_checks(vs: RC.ValidationSeries, rows: list[dict], pts: list[dict]) -> list[dict]:
+def evaluate_checks(vs: SF.ValidationSeries, rows: list[dict], pts: list[dict]) -> list[dict]:
     """[{name, kind, statement, verdict: pass/fail/not computed, computed: text}] for the series'
     CHECKS (the other [[checks]] are listed as not computable by this model)."""
     res = []
@@ -510,7 +510,7 @@ def _cond(e, key, fmt="{:.0f}"):
 def page_markdown(analysis: list[dict], command: str, n_samples: int) -> str:
     """docs/validation.md (module docstring)."""
     L = ["# Validation against published tests (generated)", "",
-         f"Generated by `{command}` (flexbearing.studies.validate_series); do not edit by hand. Sources, "
+         f"Generated by `{command}` (flexbearing.studies.validation.series); do not edit by hand. Sources, "
          "transcription and what could be read of each: [validation_sources.md](validation_sources.md).", "",
          "**Model and its one parameter set** (the same for every series and point, nothing tuned per case): "
          "steady fixed point with weight (flexbearing.multibody.steady.steady_held_cage_state), "
@@ -519,7 +519,7 @@ def page_markdown(analysis: list[dict], command: str, n_samples: int) -> str:
          "Slip S = (n_m − n_c)/n_m with n_m at the mean operating contact angle (positive: the cage lags). "
          f"Band: 5–95 % of the converged steady states at {n_samples} Sobol' samples of the series' declared "
          "unknowns (infeasible combinations, e.g. an angle that no shim angle gives with that clearance, are "
-         "left out and counted). Brackets: pure inner- / outer-race control (race_control.brackets) at the model's "
+         "left out and counted). Brackets: pure inner- / outer-race control (kinematics.brackets) at the model's "
          "own operating contact angles of the nominal state, with the same n_m. **Read the band with its last "
          "column**: a measured value 'inside' a band whose upper end is a gross skid (tens of %) is not agreement; "
          "the samples with S > 0 are listed with their range, and their unknowns are in the rows file.", "",
@@ -611,18 +611,18 @@ def _example_block(analysis: list[dict]) -> list[str]:
     if not row or not row.get("converged") or "inner_control_slip_pct" not in row:
         return []
     return ["", "Reading the tables: the brackets of a row follow from its operating angles alone "
-                "(Jones 1960; `race_control.brackets`), and the paper series' bearing is the preset:", "",
+                "(Jones 1960; `kinematics.brackets`), and the paper series' bearing is the preset:", "",
             "```python",
             "from flexbearing.multibody.bearing import PAPER_BEARING",
-            "from flexbearing.studies import race_control as RC, validate_series as VS",
+            "from flexbearing.studies.validation import kinematics as K, series as VS, series_file as SF",
             "",
-            'vs = RC.load_series("scenes/validation/yang2025_table5.toml")',
+            'vs = SF.load_series("scenes/validation/yang2025_table5.toml")',
             "b = VS.series_bearing(vs, VS.nominal_values(vs))",
             "assert (b.pitch_diameter, b.ball_diameter, b.n_balls, b.inner_ring) == (0.167, 0.022, 20, 'split')",
             "assert abs(b.radial_clearance - PAPER_BEARING.radial_clearance) < 1e-12      # 88.4 um",
             f"alpha_i, alpha_o = {row['inner_contact_angle_deg']:.4f}, {row['outer_contact_angle_deg']:.4f}"
             f"   # point {a['points'][0]['point']}, computed (deg)",
-            f"br = RC.brackets({row['speed_rpm']:.0f}, 0.022, 0.167, alpha_i, alpha_o)",
+            f"br = K.brackets({row['speed_rpm']:.0f}, 0.022, 0.167, alpha_i, alpha_o)",
             f"assert abs(br.inner_slip_percent - ({row['inner_control_slip_pct']:+.2f})) < 0.01",
             f"assert abs(br.outer_slip_percent - ({row['outer_control_slip_pct']:+.2f})) < 0.01",
             "```", ""]
