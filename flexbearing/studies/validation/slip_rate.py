@@ -221,7 +221,7 @@ def traction_table_for(law: str | None = None, traction_scale: float = 1.0, oil=
     else:
         raise InputError(f"traction law = {law!r} is not known; allowed: 'ehl', 'fit', 'bounded', 'origin'")
     if traction_scale != 1.0:
-        tab[[0, 1, 3], 0] *= traction_scale
+        tab[[TR.FIT_ROW_A, TR.FIT_ROW_B, TR.FIT_ROW_D], TR.FIT_C_FACTOR] *= traction_scale
     return tab
 
 
