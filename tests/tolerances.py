@@ -140,7 +140,9 @@ def assert_within(error, bound, name: str, effect: float | None = None, power: f
     err = np.asarray(error, dtype=float)
     bnd = np.broadcast_to(np.asarray(bound, dtype=float), err.shape)
     ratio = np.where(bnd > 0, err / np.where(bnd > 0, bnd, 1.0), np.where(err > 0, np.inf, 0.0))
-    i = np.unravel_index(np.argmax(ratio), ratio.shape) if ratio.size else ()
+    # the entry with the largest error/bound ratio (all errors 0: the entry with the largest bound)
+    pick = ratio if ratio.size and np.max(ratio) > 0 else bnd
+    i = np.unravel_index(np.argmax(pick), pick.shape) if ratio.size else ()
     worst_err = float(err[i]) if err.size else 0.0
     worst_bnd = float(bnd[i]) if err.size else 0.0
     _log(name, worst_err, worst_bnd)
