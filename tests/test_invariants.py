@@ -12,6 +12,7 @@ from flexbearing.fem_cage.interface import skew, rigid_field
 from flexbearing.fem_cage.invariants import (mass_moments, ffrf_invariants, rigid_properties, ring_analytic,
                                  scalar_mass_matrix)
 import scipy.sparse as sp
+from tolerances import assert_within, dot_bound, sum_roundoff
 
 
 def test_invariants_match_point_mass_definitions():
@@ -22,23 +23,35 @@ def test_invariants_match_point_mass_definitions():
     Phi = rng.standard_normal((3 * n, m))
     inv = ffrf_invariants(mass_moments(sp.diags(mp), X, Phi))
     ph = Phi.reshape(n, 3, m)               # blocked numbering: dof 3p + c
-    I4 = sum(mp[p] * np.cross(X[p][:, None], ph[p], axis=0) for p in range(n))
-    I5 = np.zeros((3, m, m))
-    I8 = np.zeros((3, 3, m))
-    I9 = np.zeros((3, 3, m, m))
-    for p in range(n):
-        for j in range(m):
-            I8[:, :, j] += mp[p] * skew(X[p]) @ skew(ph[p, :, j])
-            for k in range(m):
-                I5[:, j, k] += mp[p] * np.cross(ph[p, :, j], ph[p, :, k])
-                I9[:, :, j, k] += mp[p] * skew(ph[p, :, j]).T @ skew(ph[p, :, k])
-    I7 = sum(mp[p] * skew(X[p]).T @ skew(X[p]) for p in range(n))
-    assert inv["I1"] == pytest.approx(mp.sum(), rel=1e-14)
-    assert np.allclose(inv["I2"], mp @ X, rtol=1e-13, atol=1e-13)
-    assert np.allclose(inv["I3"], np.einsum("p,pck->ck", mp, ph), atol=1e-12)
-    for name, ref in (("I4", I4), ("I5", I5), ("I7", I7), ("I8", I8), ("I9", I9)):
-        assert np.allclose(inv[name], ref, atol=1e-12), name
-    assert np.allclose(inv["I6"], Phi.T @ (np.repeat(mp, 3)[:, None] * Phi), atol=1e-12)
+
+    def sums(X, ph, sk):
+        """I4, I5, I7, I8, I9 as point sums; with |X|, |ph| and |skew| they are the sums of the
+        absolute terms that bound the round-off (cross(a, b) = skew(a) b)."""
+        I4 = sum(mp[p] * sk(X[p]) @ ph[p] for p in range(n))
+        I5 = np.zeros((3, m, m))
+        I8 = np.zeros((3, 3, m))
+        I9 = np.zeros((3, 3, m, m))
+        for p in range(n):
+            for j in range(m):
+                I8[:, :, j] += mp[p] * sk(X[p]) @ sk(ph[p, :, j])
+                for k in range(m):
+                    I5[:, j, k] += mp[p] * sk(ph[p, :, j]) @ ph[p, :, k]
+                    I9[:, :, j, k] += mp[p] * sk(ph[p, :, j]).T @ sk(ph[p, :, k])
+        I7 = sum(mp[p] * sk(X[p]).T @ sk(X[p]) for p in range(n))
+        return {"I4": I4, "I5": I5, "I7": I7, "I8": I8, "I9": I9}
+    ref, terms = sums(X, ph, skew), sums(np.abs(X), np.abs(ph), lambda v: np.abs(skew(v)))
+    # sums over the n points in another order and blocking (the moments come from sparse products
+    # and einsum): within 2 gamma_(3n) of the absolute terms (tests/tolerances.py)
+    k = 3 * n + 6
+    assert_within(abs(inv["I1"] - mp.sum()), sum_roundoff(mp), "I1", effect=mp.sum())
+    assert_within(np.abs(inv["I2"] - mp @ X), dot_bound(k, mp @ np.abs(X)), "I2", effect=1.0)
+    assert_within(np.abs(inv["I3"] - np.einsum("p,pck->ck", mp, ph)),
+                  dot_bound(k, np.einsum("p,pck->ck", mp, np.abs(ph))), "I3", effect=1.0)
+    for name in ref:
+        assert_within(np.abs(inv[name] - ref[name]), dot_bound(k, terms[name]), name, effect=1.0)
+    aPhi = np.abs(Phi)
+    assert_within(np.abs(inv["I6"] - Phi.T @ (np.repeat(mp, 3)[:, None] * Phi)),
+                  dot_bound(k, aPhi.T @ (np.repeat(mp, 3)[:, None] * aPhi)), "I6", effect=1.0)
 
 
 def test_rigid_properties_steiner():
@@ -49,8 +62,14 @@ def test_rigid_properties_steiner():
     r = rigid_properties(mass_moments(sp.diags(mp), X))
     c = mp @ X / mp.sum()
     Jc = sum(mp[p] * skew(X[p] - c).T @ skew(X[p] - c) for p in range(30))
-    assert np.allclose(r["center_of_mass"], c, rtol=1e-13)
-    assert np.allclose(r["inertia_com"], Jc, rtol=1e-12, atol=1e-14)
+    # the centre: two sums of 30 terms and a division (tests/tolerances.py); the inertia comes
+    # through the origin (Steiner), so its round-off is that of the absolute terms about the
+    # origin, not a fraction of Jc (4: two sums and the shift of the same size)
+    assert_within(np.abs(r["center_of_mass"] - c), dot_bound(2 * 30 + 2, mp @ np.abs(X) / mp.sum()),
+                  "centre of mass", effect=np.abs(c).max())
+    terms = np.array([mp[p] * np.abs(skew(X[p])).T @ np.abs(skew(X[p])) for p in range(30)])
+    assert_within(np.abs(r["inertia_com"] - Jc), 4 * sum_roundoff(terms, axis=0), "inertia at the CoM",
+                  effect=np.abs(Jc).max())
 
 
 @pytest.fixture(scope="module")
@@ -103,4 +122,7 @@ def test_rigid_field_is_rigid():
     R = rigid_field(X)
     tw = np.random.default_rng(3).standard_normal(6)
     u = (R @ tw).reshape(7, 3)
-    assert np.allclose(u, tw[:3] + np.cross(tw[3:], X), atol=1e-14)
+    # R tw (6 terms per row) against t + omega x x: round-off of the absolute terms
+    scale = np.abs(tw[:3]) + np.abs(X) @ np.abs(skew(tw[3:])).T
+    assert_within(np.abs(u - (tw[:3] + np.cross(tw[3:], X))), dot_bound(8, scale), "rigid field",
+                  effect=np.abs(u).max())

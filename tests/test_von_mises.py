@@ -4,6 +4,7 @@ search by `flexbearing reduce --json`; the run's tracking search over a real run
 tests/test_stress_peak.py (slow) and benchmarks/bench_von_mises.py)."""
 import numpy as np
 import pytest
+from tolerances import assert_within, dot_bound
 
 from flexbearing.fem_cage.stress_modes import von_mises
 from flexbearing.fem_cage.von_mises import L_VM
@@ -25,7 +26,12 @@ def test_textbook_states():
     assert von_mises(np.array([5.0, 5.0, 5.0, 0, 0, 0])) == pytest.approx(0.0, abs=1e-14)
     # |L sigma| is the same quadratic form (the evaluator's factorisation)
     s = np.random.default_rng(3).standard_normal((50, 6))
-    assert np.allclose(np.linalg.norm(s @ L_VM.T, axis=1), von_mises(s), rtol=1e-14)
+    # the two forms round differently where sxx ~ syy (cancellation): within 2 gamma_10 of
+    # || |L| |s| || (tests/tolerances.py), not a fraction of vm
+    vm = von_mises(s)
+    assert_within(np.abs(np.linalg.norm(s @ L_VM.T, axis=1) - vm),
+                  dot_bound(10, np.linalg.norm(np.abs(s) @ np.abs(L_VM).T, axis=1)), "two forms",
+                  effect=vm.min())
 
 
 @pytest.mark.parametrize("cls", [MaxVonMises, MaxVonMisesSorted])
