@@ -41,7 +41,10 @@ def test_offset_from_each_guide():
 
 def test_recorded_offset_is_relative_to_the_inner_ring():
     """evaluate_outputs of an inner-guided bearing with the ring and the cage displaced: the
-    recorded offset is cage − ring, and the model's eccentricity ratio is its length over Cg."""
+    recorded offset is cage − ring (the orbit about the ring's centre), and the model's
+    eccentricity ratio is the offset from the land's axis in the cage's plane over Cg: the axis
+    moves with the ring's tilt, by (tilt_z·l, −tilt_y·l) at the lever l = x_cage − x_ring
+    (guide_land.inner_land_offset; ~1e-4 of the offset here)."""
     from flexbearing.multibody.bearing import PAPER_OIL
     from flexbearing.multibody import model as M
     from flexbearing.multibody.model import build_model
@@ -51,7 +54,12 @@ def test_recorded_offset_is_relative_to_the_inner_ring():
     y = _displaced_state(m, dy_cage=(1.2e-4, -0.9e-4), ring_offset=(2e-5, -3e-5))
     out = evaluate_outputs(m, 0.0, y, np.array([[0.0, OMEGA]]), np.array([[0.0, 55e3, 0.0, -4e3]]), np.zeros((0, 6)))
     assert out["cage_guide_offset"] == pytest.approx([1.2e-4, -0.9e-4], abs=1e-18)
-    assert out["cage_eccentricity_ratio"] == pytest.approx(math.hypot(1.2e-4, -0.9e-4) / m.p[M.P_CG], rel=1e-12)
+    from flexbearing.multibody.state_layout import (CAGE_X, RING_TILT_Y, RING_TILT_Z, RING_X, cage_offset,
+                                                    ring_offset)
+    r0, c0 = ring_offset(m.n_balls), cage_offset(m.n_balls)
+    lever = y[c0 + CAGE_X] - y[r0 + RING_X]
+    e_land = (1.2e-4 - y[r0 + RING_TILT_Z] * lever, -0.9e-4 + y[r0 + RING_TILT_Y] * lever)
+    assert out["cage_eccentricity_ratio"] == pytest.approx(math.hypot(*e_land) / m.p[M.P_CG], rel=1e-12)
 
 
 def _inner_guided_outputs(with_offset=True):

@@ -112,7 +112,7 @@ def test_guide_land_short_bearing_forces_match_formulas():
     # two guide lands of width w beside the relief (or one land over the full width)
     n, L = (2, cage.land_width) if cage.relief_depth > 0 else (1, cage.width)
     eps, om = 0.5, 600.0
-    fy, fz, mx, e_out, frim = D._guide_land(eps * cg, 0.0, 0.0, 0.0, om, p, model.flags)
+    fy, fz, mx, e_out, frim, fx = D._guide_land(eps * cg, 0.0, 0.0, 0.0, om, p, model.flags)
     U = r1 * om
     wr = n * eta * U * L ** 3 * eps ** 2 / (cg ** 2 * (1 - eps ** 2) ** 2)
     wt = n * math.pi * eta * U * L ** 3 * eps / (4 * cg ** 2 * (1 - eps ** 2) ** 1.5)
@@ -120,10 +120,10 @@ def test_guide_land_short_bearing_forces_match_formulas():
     assert fz == pytest.approx(wt, rel=1e-12)        # 90° ahead in the sense of rotation
     m_ref = -2 * math.pi * eta * om * r1 ** 3 * n * L / (cg * math.sqrt(1 - eps ** 2))
     assert mx == pytest.approx(m_ref, rel=1e-12)
-    assert e_out == pytest.approx(eps) and frim == 0.0
+    assert e_out == pytest.approx(eps) and frim == 0.0 and fx == 0.0      # the outer land is not tilted
     # a whirl at half the spin speed cancels the wedge effect: w = omega − 2·whirl = 0
     e = eps * cg
-    fy2, fz2, _, _, _ = D._guide_land(e, 0.0, 0.0, e * 0.5 * om, om, p, model.flags)
+    fy2, fz2, _, _, _, _ = D._guide_land(e, 0.0, 0.0, e * 0.5 * om, om, p, model.flags)
     assert abs(fy2) < 1e-9 * wr and abs(fz2) < 1e-9 * wt
 
 

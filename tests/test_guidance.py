@@ -149,18 +149,27 @@ def _displaced_state(model, dy_cage=(1.2e-4, -0.9e-4), ring_offset=(2e-5, -3e-5)
 
 def test_inner_land_in_the_equations_acts_between_cage_and_ring():
     """guidance = inner: the recorded land force is guide_land_force at the cage's offset and
-    velocity relative to the ring with the land turning at omega_i; the ring takes the opposite
-    force (its acceleration differs from the ball-riding model's by −F/m_i, the cage's by +F/m_c),
-    and the opposite torque plus the moment of the pair about the ring's centre."""
+    velocity relative to the land's axis in the cage's plane (the axis moves with the ring's centre
+    and tilt: at the lever l = x_c − x_i it is at (y_i + tilt_z·l, z_i − tilt_y·l)) with the land
+    turning at omega_i; the ring takes the opposite force (its acceleration differs from the
+    ball-riding model's by −F/m_i, the cage's by +F/m_c), the force being normal to the tilted land
+    axis (1, tilt_z, −tilt_y): F_x = tilt_y·F_z − tilt_z·F_y; the ring's tilts take the moments
+    l·F_z and −l·F_y, and about X the opposite torque plus the moment of the pair."""
     inner = build_model(_bearing("inner"), PAPER_OIL)
     balls = build_model(_bearing("balls"), PAPER_OIL)
     y = _displaced_state(inner)
     lay = state_layout(inner)
     r0, c0, z = lay["ring"], lay["cage"], inner.n_balls
+    y[r0 + 3:r0 + 5] += (2e-5, -3e-5)                 # a tilted ring, tilting
+    y[r0 + 8:r0 + 10] += (0.5, 0.2)
+    y[c0] += 1e-4                                     # the cage beside the ring's centre
+    y[c0 + 6] += 0.02
     f_in, w_in = _rhs(inner, y)
     f_b, w_b = _rhs(balls, y)
-    ey, ez = y[c0 + 1] - y[r0 + 1], y[c0 + 2] - y[r0 + 2]
-    vy, vz = y[c0 + 7] - y[r0 + 6], y[c0 + 8] - y[r0 + 7]
+    lever, ty, tz = y[c0] - y[r0], y[r0 + 3], y[r0 + 4]
+    ey, ez = y[c0 + 1] - y[r0 + 1] - tz * lever, y[c0 + 2] - y[r0 + 2] + ty * lever
+    vy = y[c0 + 7] - y[r0 + 6] - y[r0 + 9] * lever - tz * (y[c0 + 6] - y[r0 + 5])
+    vz = y[c0 + 8] - y[r0 + 7] + y[r0 + 8] * lever + ty * (y[c0 + 6] - y[r0 + 5])
     p = inner.p
     fy, fz, mx = guide_land_force(ey, ez, vy, vz, y[c0 + 9], OMEGA, p[M.P_R1], p[M.P_LAND_L], p[M.P_CG],
                                   p[M.P_ETA0], p[M.P_EPSMAX], True, p[M.P_KRIM], p[M.P_MURIM], 1)
@@ -169,10 +178,13 @@ def test_inner_land_in_the_equations_acts_between_cage_and_ring():
     # balls: no land at all
     assert (w_b[z, M.WR_LAND_FY], w_b[z, M.WR_LAND_FZ], w_b[z, M.WR_LAND_M], w_b[z, M.WR_EPS]) == (0, 0, 0, 0)
     mi = p[M.P_MI]
-    d_ring = (f_in[r0 + 6:r0 + 8] - f_b[r0 + 6:r0 + 8]) * mi
-    assert d_ring == pytest.approx([-fy, -fz], rel=1e-9, abs=1e-9 * math.hypot(fy, fz))
+    fx = ty * fz - tz * fy
+    d_ring = (f_in[r0 + 5:r0 + 8] - f_b[r0 + 5:r0 + 8]) * mi
+    assert d_ring == pytest.approx([-fx, -fy, -fz], rel=1e-9, abs=1e-9 * math.hypot(fy, fz))
+    d_tilt = (f_in[r0 + 8:r0 + 10] - f_b[r0 + 8:r0 + 10]) * p[M.P_IID]
+    assert d_tilt == pytest.approx([lever * fz, -lever * fy], rel=1e-9, abs=1e-9 * lever * math.hypot(fy, fz))
     # the drive torque on the ring: minus the land's torque, minus the pair's moment about x
-    m_pair = ey * (-fz) - ez * (-fy)
+    m_pair = (y[c0 + 1] - y[r0 + 1]) * (-fz) - (y[c0 + 2] - y[r0 + 2]) * (-fy)     # −F at the cage centre
     assert w_in[z, M.WR_RING_TORQUE] - w_b[z, M.WR_RING_TORQUE] == pytest.approx(m_pair - mx, rel=1e-9)
     # the same cage under outer-ring guidance sees a different land (its own offset, land at rest)
     outer = build_model(PAPER_BEARING, PAPER_OIL)

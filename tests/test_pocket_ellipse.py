@@ -103,7 +103,7 @@ def test_pocket_force_at_the_circumferential_vertex():
     v = B - RB + pen                                     # the ball's surface pen beyond the wall
     b = np.array([0.0, R_PITCH, 0.0]) + v * E2
     out = D._pocket_interface(b[0], b[1], b[2], 0, 0, 0, 0, 0, 0, 0.0, R_PITCH, 0.0, *AX,
-                              0, 0, 0, 0, 0, 0, 0, 0, 0, m.p, m.flags)
+                              0, 0, 0, 0, 0, 0, *E1, m.p, m.flags)     # the cage's axis: E1
     q = 11.0 + kn * pen ** 1.5
     assert out[10] == pytest.approx(cp + pen, rel=1e-9)
     assert out[9] == pytest.approx(q, rel=1e-8)

@@ -160,16 +160,18 @@ def test_inner_race_reaction_is_newtons_third_law(model):
 
 
 def test_guidance_reaction_on_an_inner_land(model):
-    """flags[F_GUIDANCE] = 1: the ring takes −F at the cage centre and −M_x; an outer land none."""
+    """flags[F_GUIDANCE] = 1: the ring takes −F at the cage centre and −M_x; an outer land none.
+    The axial part −F_x (a tilted land) is left out of the moments (linearised ring kinematics:
+    the moments are the rim potential's tilt gradients l·F_z, −l·F_y, guide_land.inner_land_offset)."""
     flags = model.flags.copy()
-    g = D.GuidanceLoad(120.0, -80.0, -3.0, 0.4, 0.0)
+    g = D.GuidanceLoad(120.0, -80.0, -3.0, 0.4, 0.0, 0.05)
     ring = D.RingState(1e-4, 2e-5, -3e-5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     zero = D.RingLoad(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     flags[M.F_GUIDANCE] = 0
     assert D.guidance_reaction_on_ring(g, 0.02, 1e-4, 5e-5, ring, flags, zero) == zero
     flags[M.F_GUIDANCE] = 1
     rl = D.guidance_reaction_on_ring(g, 0.02, 1e-4, 5e-5, ring, flags, zero)
-    assert (rl.fx, rl.fy, rl.fz) == (0.0, -g.fy, -g.fz)
+    assert (rl.fx, rl.fy, rl.fz) == (-g.fx, -g.fy, -g.fz)
     m = np.cross([0.02 - ring.x, 1e-4 - ring.y, 5e-5 - ring.z], [0.0, -g.fy, -g.fz])
     np.testing.assert_allclose([rl.mx, rl.my, rl.mz], [m[0] - g.mx, m[1], m[2]], rtol=REL)
 

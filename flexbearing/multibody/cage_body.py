@@ -190,6 +190,29 @@ def pocket_pose(j, y, c0, m0, cage, w, pos, vel, axis, wnode):
 
 
 @njit(cache=True)
+def pocket_axial_direction(j, y, m0, A, nmodes):
+    """The cage's axial direction at pocket j's interface node, unit, inertial: (k_x, k_y, k_z).
+
+    The body frame's e_x turned by the node's small elastic rotation rot = Psi_j q as the pocket
+    axis is in `pocket_pose_arrays` (e + rot × e, normalised; e_x + rot × e_x = (1, rot_z, −rot_y)),
+    then by the cage's rotation A: the pocket's own frame, which an elliptical pocket's section
+    axes follow (flexbearing.multibody.pocket.pocket_contact_offset). A rigid cage: A's first column."""
+    n = nmodes.shape[2]
+    r1 = 0.0
+    r2 = 0.0
+    for k in range(n):
+        qk = y[m0 + k]
+        r1 += nmodes[j, 4, k] * qk
+        r2 += nmodes[j, 5, k] * qk
+    bn = math.sqrt(1.0 + r2 * r2 + r1 * r1)
+    b0 = 1.0 / bn
+    b1 = r2 / bn
+    b2 = -r1 / bn
+    return (A[0, 0] * b0 + A[0, 1] * b1 + A[0, 2] * b2, A[1, 0] * b0 + A[1, 1] * b1 + A[1, 2] * b2,
+            A[2, 0] * b0 + A[2, 1] * b1 + A[2, 2] * b2)
+
+
+@njit(cache=True)
 def pocket_pose_arrays(j, y, c0, m0, A, npos, nmodes, w, pos, vel, axis, wnode):
     """`pocket_pose` with the cage's rotation A, node positions and node mode rows passed as
     arrays (flexbearing.multibody.dynamics.rhs takes them out of the cage once per call: reading them from

@@ -144,7 +144,7 @@ from flexbearing.multibody.drag import ball_churning_drag, oil_air_mixture
 from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_equations, cage_rotation
 from flexbearing.multibody.state_layout import (
     BALL_PSI, BALL_PSI_DOT, BALL_R, BALL_R_DOT, BALL_W_R, BALL_W_T, BALL_W_X, BALL_X, BALL_X_DOT,
-    CAGE_OMEGA, CAGE_PHI, CAGE_TILT_Y, CAGE_TILT_Z, CAGE_VY, CAGE_VZ, CAGE_X, CAGE_Y, CAGE_Z, RING_PHI,
+    CAGE_OMEGA, CAGE_PHI, CAGE_TILT_Y, CAGE_TILT_Z, CAGE_VX, CAGE_VY, CAGE_VZ, CAGE_X, CAGE_Y, CAGE_Z, RING_PHI,
     RING_POSITIONS, RING_TILT_Y_DOT, RING_TILT_Z_DOT, RING_VX, RING_VY, RING_VZ, ball_offset, cage_offset,
     modal_offset, ring_offset,
 )
@@ -278,6 +278,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     xc = y[c0 + CAGE_X]
     yc = y[c0 + CAGE_Y]
     zc = y[c0 + CAGE_Z]
+    vxc = y[c0 + CAGE_VX]
     vyc = y[c0 + CAGE_VY]
     vzc = y[c0 + CAGE_VZ]
     wcx = y[c0 + CAGE_OMEGA]
@@ -308,7 +309,7 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
         load = ball_churning_drag(j, b, rho_mix, eta_mix, dw, flags, work, load)
         att = race_control_couple(b, load, contacts.control, omega_i, ring, p, flags, contacts.ring)
         rl = ball_equations(j, b, load, att, p, dydt)
-    g = _cage_guidance(yc, zc, vyc, vzc, wcx, ring.y, ring.z, ring.vy, ring.vz, omega_i, p, flags)
+    g = _cage_guidance(xc, yc, zc, vxc, vyc, vzc, wcx, ring, omega_i, p, flags)
     rl = guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl)
     inner_ring_equations(y, dydt, r0, omega_i, rl, work, zb, p)
     # the cage: guide land + pockets (floating frame; the only place the resultants become accelerations)
@@ -319,8 +320,9 @@ def rhs(t, y, dydt, p, flags, htab, ttab, speed_table, load_table, impacts, work
     work[zb, WR_EPS] = g.eps
     if g.eps > 2.0:
         _flag(work, zb, STATUS_RIM, -1, 4, g.eps)
+    Qext[0] += g.fx              # an inner land tilted with its ring: the force's axial part
     cage_equations(y, dydt, c0, m0, cage, g.fy, g.fz, g.mx, p[P_GRAV])
-    land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, scr[1], cage, flags, work, zb)
+    land_and_structural_power(y, m0, g, xc, yc, zc, vxc, vyc, vzc, ring, omega_i, A, scr[1], cage, flags, work, zb)
 
 
 # ---------------------------------------------------------------- the work array of `rhs`

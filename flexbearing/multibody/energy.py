@@ -12,8 +12,9 @@ import math
 import numpy as np
 from numba import njit
 
-from flexbearing.mesh.cage_geometry import GUIDANCE_BALLS
-from flexbearing.multibody.cage_body import cage_body_angular_velocity, cage_rotation, pocket_pose
+from flexbearing.mesh.cage_geometry import GUIDANCE_BALLS, POCKET_ELLIPTICAL
+from flexbearing.multibody.cage_body import (cage_body_angular_velocity, cage_rotation, pocket_axial_direction,
+                                              pocket_pose)
 from flexbearing.multibody.dynamics import _hertz_lookup
 from flexbearing.multibody.floating_frame import deformed_moments, mass_matrix
 from flexbearing.multibody.geometry import race_contact, ring_point_in_plane
@@ -26,7 +27,7 @@ from flexbearing.multibody.pocket import pocket_contact_offset, pocket_potential
 from flexbearing.multibody.profiles import load_at
 from flexbearing.multibody.state_layout import (
     BALL_PSI, BALL_PSI_DOT, BALL_R, BALL_R_DOT, BALL_W_R, BALL_W_T, BALL_W_X, BALL_X, BALL_X_DOT, CAGE_PHI,
-    CAGE_TILT_Y, CAGE_TILT_Z, CAGE_VX, CAGE_VY, CAGE_VZ, CAGE_Y, CAGE_Z, RING_TILT_Y, RING_TILT_Y_DOT,
+    CAGE_TILT_Y, CAGE_TILT_Z, CAGE_VX, CAGE_VY, CAGE_VZ, CAGE_X, CAGE_Y, CAGE_Z, RING_TILT_Y, RING_TILT_Y_DOT,
     RING_TILT_Z, RING_TILT_Z_DOT, RING_VX, RING_VY, RING_VZ, RING_X, RING_Y, RING_Z, ball_offset, cage_offset,
     modal_offset, ring_offset,
 )
@@ -70,8 +71,10 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
     Each contact's potential is its law's own (the functions whose forces rhs applies):
     Hertz: V = (2/5)·K·delta^2.5 (hertz.hertz_potential). Pocket: V = Kc·Z²/2 (Z <= Cp),
     Kc·Cp²/2 + Kc·Cp·(Z − Cp) + (2/5)·Kn·(Z − Cp)^2.5 beyond (pocket.pocket_potential) of the
-    approach Z of the pocket's shape (pocket.pocket_contact_offset, as rhs). Rim: K_rim·(e − Cg)²/2
-    (guide_land.rim_potential). Load: −F·x_ring. Gravity (along −Z):
+    approach Z of the pocket's shape (pocket.pocket_contact_offset, as rhs; an ellipse's axes turn with
+    the cage). Rim: K_rim·(e − Cg)²/2
+    (guide_land.rim_potential) of the offset from the land's axis (guide_land.rim_offset: an inner
+    land's axis moves with the ring's centre and tilt). Load: −F·x_ring. Gravity (along −Z):
     g·(m_b·Σ z_ball + m_i·z_ring + m_cage·z_cage). Cage: ½·vᵀM(q)v of the floating-frame body,
     v = (R', w_body, q'), plus the modal strain energy ½·Σ omega_k²·q_k².
     """
@@ -130,18 +133,22 @@ def mechanical_energy(t, y, p, flags, htab, load_table, impacts, cage):
         dz = rb * math.sin(psi) - scr[3, 2]
         # the approach the pocket law of rhs acts on (cylinder: from the axis; sphere: from the
         # centre; cone: from the wall's generator; ellipse: from the bore), and its potential
+        kx = ky = kz = 0.0
+        if flags[F_POCKET_SHAPE] == POCKET_ELLIPTICAL:
+            kx, ky, kz = pocket_axial_direction(j, y, m0, A, cage.node_modes)
         zz = pocket_contact_offset(dx, dy, dz, ax, ay, az, flags[F_POCKET_SHAPE], p[P_POCKET_CONE],
-                                   p[P_RPOCKET], p[P_POCKET_B])[6]
+                                   p[P_RPOCKET], p[P_POCKET_B], kx, ky, kz)[6]
         ev += pocket_potential(zz, p[P_CP], p[P_KC], p[P_KN])
     # ring (translation + tilt) and cage
     ek += 0.5 * p[P_MI] * (y[r0 + RING_VX] ** 2 + y[r0 + RING_VY] ** 2 + y[r0 + RING_VZ] ** 2)
     ev += p[P_GRAV] * (p[P_MI] * zi + cage.mass[0] * y[c0 + CAGE_Z])
     ek += 0.5 * p[P_IID] * (y[r0 + RING_TILT_Y_DOT] ** 2 + y[r0 + RING_TILT_Z_DOT] ** 2)
     ek, ev = _add_cage_energy(y, c0, m0, cage, A, scr[1], ek, ev)
-    # the rim's potential: offset from the outer land's centre (the origin) or the inner ring's;
+    # the rim's potential: offset from the outer land's axis (the bearing axis) or the inner ring's
+    # land axis in the cage's plane (it moves with the ring's centre and tilt);
     # a ball-riding cage has no rim (guidance_kernels._cage_guidance)
     if flags[F_GUIDANCE] != GUIDANCE_BALLS:
-        e = rim_offset(flags[F_GUIDANCE], y[c0 + CAGE_Y], y[c0 + CAGE_Z], yi, zi)
+        e = rim_offset(flags[F_GUIDANCE], y[c0 + CAGE_X], y[c0 + CAGE_Y], y[c0 + CAGE_Z], xi, yi, zi, ty, tz)
         ev += rim_potential(e, p[P_CG], p[P_KRIM])
     f3 = np.empty(3)
     load_at(t, load_table, impacts, f3)

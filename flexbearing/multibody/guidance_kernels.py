@@ -16,13 +16,14 @@ from flexbearing.multibody.model import (
 )
 from flexbearing.mesh.cage_geometry import GUIDANCE_BALLS, GUIDANCE_INNER, GUIDANCE_OUTER
 from flexbearing.multibody.geometry import cross
-from flexbearing.multibody.guide_land import guide_land_force, land_count, rim_force
+from flexbearing.multibody.guide_land import guide_land_force, inner_land_offset, land_count, rim_force
 from flexbearing.multibody.kernel_state import RingLoad
 
 
-GuidanceLoad = namedtuple("GuidanceLoad", "fy fz mx eps rim_force")
+GuidanceLoad = namedtuple("GuidanceLoad", "fy fz mx eps rim_force fx")
 GuidanceLoad.__doc__ = ("What guides the cage (`_cage_guidance`): force (y, z) (N) and torque about X (N·m) on the "
-                        "cage, eccentricity ratio e/Cg and the rim's normal force (N).")
+                        "cage, eccentricity ratio e/Cg, the rim's normal force (N) and the axial force on the "
+                        "cage (N; an inner land tilted with its ring: guide_land.inner_land_offset).")
 
 
 @njit(cache=True)
@@ -44,17 +45,21 @@ def _guide_land(yc, zc, vy, vz, omega_c, p, flags):
     fy, fz, mx = guide_land_force(yc, zc, vy, vz, omega_c, 0.0, p[P_R1], p[P_LAND_L] / n_lands, cg,
                                   eta, p[P_EPSMAX], True, p[P_KRIM], mu, n_lands)
     frim = rim_force(e, cg, p[P_KRIM])
-    return GuidanceLoad(fy, fz, mx, e / cg, frim)
+    return GuidanceLoad(fy, fz, mx, e / cg, frim, 0.0)
 
 
 @njit(cache=True)
-def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flags):
+def _cage_guidance(xc, yc, zc, vxc, vyc, vzc, omega_c, ring, omega_i, p, flags):
     """Force (y, z) and torque about X on the cage from what guides it (flags[F_GUIDANCE]), plus
-    eps and the rim force: GuidanceLoad(fy, fz, mx, eps, rim_force).
+    eps, the rim force and the axial force: GuidanceLoad(fy, fz, mx, eps, rim_force, fx). ring: the
+    inner ring's RingState.
 
     "outer" (0): `_guide_land`, the outer ring's land, fixed. "inner" (1): the same short-bearing
     film and rim between the cage bore and the inner ring's land, with the cage offset and
-    velocity taken relative to the ring's centre, e = (yc − yi, zc − zi), and the land turning
+    velocity taken relative to the land's axis in the cage's plane, which moves with the ring's
+    centre and tilt (guide_land.inner_land_offset: e = (yc − yi − tilt_z·l, zc − zi + tilt_y·l),
+    l = xc − xi), the force normal to that tilted axis (axial part fx = −tilt_z·fy + tilt_y·fz,
+    so the rim force is the gradient of its potential), and the land turning
     with the ring, omega_land = omega_i (guide_land_force: U = R1·(omega_c + omega_i) in the
     Couette term, Petroff torque ∝ omega_i − omega_c). The short-bearing gap between a bush of
     centre c and a journal of centre j is h = Cg − (j − c)·n = Cg + e·n, the rotation by pi of the
@@ -68,45 +73,59 @@ def _cage_guidance(yc, zc, vyc, vzc, omega_c, yi, zi, vyi, vzi, omega_i, p, flag
     if g == GUIDANCE_OUTER:
         return _guide_land(yc, zc, vyc, vzc, omega_c, p, flags)
     if g == GUIDANCE_BALLS:
-        return GuidanceLoad(0.0, 0.0, 0.0, 0.0, 0.0)
-    ey = yc - yi
-    ez = zc - zi
+        return GuidanceLoad(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    ey, ez, vey, vez, _ = inner_land_offset(xc, yc, zc, vxc, vyc, vzc, ring.x, ring.y, ring.z, ring.tilt_y,
+                                            ring.tilt_z, ring.vx, ring.vy, ring.vz, ring.tilt_y_dot,
+                                            ring.tilt_z_dot)
     e = math.sqrt(ey * ey + ez * ez)
     cg = p[P_CG]
     eta = p[P_ETA0] if flags[F_LAND] else 0.0
     mu = p[P_MURIM] if flags[F_DRAG] else 0.0
     n_lands = land_count(p[P_LAND_L], p[P_L3])
-    fy, fz, mx = guide_land_force(ey, ez, vyc - vyi, vzc - vzi, omega_c, omega_i, p[P_R1],
+    fy, fz, mx = guide_land_force(ey, ez, vey, vez, omega_c, omega_i, p[P_R1],
                                   p[P_LAND_L] / n_lands, cg, eta, p[P_EPSMAX], True, p[P_KRIM], mu,
                                   n_lands)
     frim = rim_force(e, cg, p[P_KRIM])
-    return GuidanceLoad(fy, fz, mx, e / cg, frim)
+    return GuidanceLoad(fy, fz, mx, e / cg, frim, ring.tilt_y * fz - ring.tilt_z * fy)
 
 
 @njit(cache=True, _nrt=False, inline="always")
 def guidance_reaction_on_ring(g, xc, yc, zc, ring, flags, rl):
-    """An inner-ring land (`_cage_guidance`) puts the opposite of its force and torque on the ring,
-    the force applied at the cage centre (so the pair conserves angular momentum)."""
+    """An inner-ring land (`_cage_guidance`) puts the opposite of its force F = (fx, fy, fz) and
+    torque M_x on the ring.
+
+    With l = xc − x_ring the lever of the land's axis point in the cage's plane
+    (guide_land.inner_land_offset), the moments about Y and Z are the rim potential's generalised
+    forces on the ring's tilts, M_y = −dV/dtilt_y = l·F_z and M_z = −dV/dtilt_z = −l·F_y: the
+    moment about the ring centre of −(0, F_y, F_z) applied on the land's axis in the cage's plane
+    (or at the cage centre, on the same line of action). The axial part −F_x (tilt × F, second
+    order) stays out of these moments, as the linearised ring kinematics require (the Hertz
+    reactions are built the same way: race_kernels.inner_race_reaction). About X (the prescribed
+    spin: the drive torque) the moment of −F at the cage centre and −M_x."""
     if flags[F_GUIDANCE] != GUIDANCE_INNER:
         return rl
     m1, m2, m3 = cross(xc - ring.x, yc - ring.y, zc - ring.z, 0.0, -g.fy, -g.fz)
-    return RingLoad(rl.fx, rl.fy - g.fy, rl.fz - g.fz, rl.mx + (m1 - g.mx), rl.my + m2, rl.mz + m3)
+    return RingLoad(rl.fx - g.fx, rl.fy - g.fy, rl.fz - g.fz, rl.mx + (m1 - g.mx), rl.my + m2, rl.mz + m3)
 
 
 @njit(cache=True, _nrt=False)
-def land_and_structural_power(y, m0, g, yc, zc, vyc, vzc, ring, omega_i, A, w_b, cage, flags, work, zb):
+def land_and_structural_power(y, m0, g, xc, yc, zc, vxc, vyc, vzc, ring, omega_i, A, w_b, cage, flags, work, zb):
     """Dissipated power of the guide land and of the cage's modal damping (flexbearing.multibody.power_loss):
     the land's force, torque and distributed modal loads on the cage, less the rim's normal force,
     which is conservative (potential k_rim·(e − Cg)²/2); an inner land works on the cage's motion
-    relative to the ring. P_structural = sum_k d_k·q_k'²."""
+    relative to the land: the power of F on the cage and of its reaction on the ring (force and tilt
+    moments, `guidance_reaction_on_ring`) is F_y·de_y/dt + F_z·de_z/dt, e the offset from the land's
+    axis in the cage's plane (guide_land.inner_land_offset; the axial part F_x cancels against the
+    tilt terms). P_structural = sum_k d_k·q_k'²."""
     lfy, lfz, lmx, frim = g.fy, g.fz, g.mx, g.rim_force
     wx_inertial = A[0, 0] * w_b[0] + A[0, 1] * w_b[1] + A[0, 2] * w_b[2]
     if flags[F_GUIDANCE] == GUIDANCE_INNER:
-        ey_ = yc - ring.y
-        ez_ = zc - ring.z
-        p_land = lfy * (vyc - ring.vy) + lfz * (vzc - ring.vz) + lmx * (wx_inertial - omega_i)
+        ey_, ez_, vey, vez, _ = inner_land_offset(xc, yc, zc, vxc, vyc, vzc, ring.x, ring.y, ring.z, ring.tilt_y,
+                                                  ring.tilt_z, ring.vx, ring.vy, ring.vz, ring.tilt_y_dot,
+                                                  ring.tilt_z_dot)
+        p_land = lfy * vey + lfz * vez + lmx * (wx_inertial - omega_i)
         if frim > 0.0:
-            p_land += frim * (ey_ * (vyc - ring.vy) + ez_ * (vzc - ring.vz)) / math.sqrt(ey_ * ey_ + ez_ * ez_)
+            p_land += frim * (ey_ * vey + ez_ * vez) / math.sqrt(ey_ * ey_ + ez_ * ez_)
     else:
         p_land = lfy * vyc + lfz * vzc + lmx * wx_inertial
         if frim > 0.0:

@@ -48,9 +48,11 @@ gives the default (pi/4)·E'·L, the order of the Hertz line-contact stiffness o
 cylinders of width L. All forces and the torque act on the cage; the ring gets the opposite.
 
 The same forms hold for a cage guided by the inner ring's land (the cage's bore is then the bush
-around a turning journal): with e the cage centre's offset from the ring's, its velocity relative
-to the ring's and omega_land = omega_i (flexbearing.multibody.dynamics._cage_guidance gives the
-reason; tests/test_guidance.py integrates the bush's short-bearing pressure for it).
+around a turning journal): with e the cage centre's offset from the land's axis in the cage's plane
+(which moves with the ring's centre and tilt: `inner_land_offset`), its rate and omega_land =
+omega_i (flexbearing.multibody.guidance_kernels._cage_guidance gives the reason;
+tests/test_guidance.py integrates the bush's short-bearing pressure for it). The force is normal
+to the land's axis, which tilts with the ring: it has the axial part `inner_land_offset` gives.
 """
 from __future__ import annotations
 
@@ -88,14 +90,48 @@ def rim_potential(e, Cg, k_rim):
     return 0.5 * k_rim * (e - Cg) ** 2 if e > Cg else 0.0
 
 
+@njit(cache=True, inline="always")
+def inner_land_offset(xc, yc, zc, vxc, vyc, vzc, xi, yi, zi, tilt_y, tilt_z, vxi, vyi, vzi, tilt_y_dot, tilt_z_dot):
+    """Offset e = (e_y, e_z) of the cage centre from the inner ring's land axis in the cage's plane
+    x = xc, its rate de/dt, and the axial lever l = xc − xi of that axis point from the ring centre:
+    (e_y, e_z, de_y/dt, de_z/dt, l), m, m/s, m.
+
+    The land turns with the ring. Under the ring's small-angle rigid motion u = t + theta × p,
+    theta = (0, tilt_y, tilt_z) (flexbearing.multibody.geometry.ring_point_in_plane, the kinematics
+    of the ring's Hertz contacts), the land axis point nominally at (l, 0, 0) from the ring centre
+    is at (xi + l, yi + tilt_z·l, zi − tilt_y·l), so in the cage's plane (l = xc − xi)
+
+        e_y = yc − yi − tilt_z·l,   e_z = zc − zi + tilt_y·l.
+
+    The rim potential V(|e|) (`rim_potential`) then depends on the ring's tilt, and its gradient is
+    the force the dynamics apply (flexbearing.multibody.guidance_kernels): on the cage (F_y, F_z) =
+    −dV/de and, the force being normal to the tilted land axis (1, tilt_z, −tilt_y),
+    F_x = −dV/dxc = −tilt_z·F_y + tilt_y·F_z; on the ring the opposite force and the moments
+    M_y = −dV/dtilt_y = l·F_z, M_z = −dV/dtilt_z = −l·F_y (Lagrange's generalised forces of the
+    linearised ring kinematics, as for the Hertz contacts: race_kernels.inner_race_reaction).
+    With the land axis fixed to the ring centre instead (e = (yc − yi, zc − zi)) the reaction's
+    moments l·F did work on the ring's tilt that no potential stored: a conservative run's energy
+    error then did not fall with the integrator's tolerance (tests/test_energy.py)."""
+    lever = xc - xi
+    ey = yc - yi - tilt_z * lever
+    ez = zc - zi + tilt_y * lever
+    vx_rel = vxc - vxi
+    vey = vyc - vyi - tilt_z_dot * lever - tilt_z * vx_rel
+    vez = vzc - vzi + tilt_y_dot * lever + tilt_y * vx_rel
+    return ey, ez, vey, vez, lever
+
+
 @njit(cache=True)
-def rim_offset(guidance, yc, zc, yi, zi):
-    """|e| of the cage centre (yc, zc) from the centre of the land that guides it, m: the outer
-    ring's (the origin) or, for guidance code GUIDANCE_INNER, the inner ring's (yi, zi)
+def rim_offset(guidance, xc, yc, zc, xi, yi, zi, tilt_y, tilt_z):
+    """|e| of the cage centre (xc, yc, zc) from the axis of the land that guides it, m: the outer
+    ring's (the bearing axis) or, for guidance code GUIDANCE_INNER, the inner ring's land axis in
+    the cage's plane, which moves with the ring's centre (xi, yi, zi) and tilt (`inner_land_offset`)
     (flexbearing.mesh.cage_geometry.GUIDANCES; a ball-riding cage's offset from the origin only scales
     its recorded eccentricity)."""
     if guidance == GUIDANCE_INNER:
-        return math.sqrt((yc - yi) ** 2 + (zc - zi) ** 2)
+        ey, ez, _, _, _ = inner_land_offset(xc, yc, zc, 0.0, 0.0, 0.0, xi, yi, zi, tilt_y, tilt_z,
+                                            0.0, 0.0, 0.0, 0.0, 0.0)
+        return math.sqrt(ey * ey + ez * ez)
     return math.sqrt(yc * yc + zc * zc)
 
 

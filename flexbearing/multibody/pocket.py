@@ -35,8 +35,9 @@ cylinder's: the cone and the tangent sphere share the contact circle's normal cu
 `conical_pocket_curvature_radii` gives R_c at any offset, to bound what that constant leaves out.
 
 An elliptical-bore pocket is a radial cylinder of elliptical section: semi-axis A = Dp/2 along
-the bearing axis (e1: x less its part along the pocket axis) and B = Dp_t/2 >= A across it in the
-direction of rotation (e2 = a × e1; cage.pocket_circumferential_diameter). The ball centre's
+the cage's axis (e1: the cage's axial direction k at the pocket less its part along the pocket
+axis a) and B = Dp_t/2 >= A across it in the direction of rotation (e2 = a × e1;
+cage.pocket_circumferential_diameter). The ball centre's
 offset across the axis, (u, v) on (e1, e2), has its nearest wall point X on the ellipse, found by
 Eberly's robust method (D. Eberly, "Distance from a point to an ellipse, an ellipsoid, or a
 hyperellipsoid", Geometric Tools, 2011: in the first quadrant, with e0 >= e1 the semi-axes and
@@ -50,9 +51,15 @@ contact is a point contact: straight along the pocket axis (R_eta = Rb), across 
 concave radius of curvature at X, rho = (A²·sin²t + B²·cos²t)^1.5/(A·B) for X = (A cos t, B sin t)
 (B²/A and A²/B at the vertices), 1/R_xi = 1/Rb − 1/rho. The model's Hertz constant is the nominal
 one at the circumferential vertex (rho = A²/B, where the ball's lead or lag presses it);
-`elliptical_pocket_curvature_radii` gives it at any X. The section's axes follow the bearing axis
-x (e1 = x less its part along a), not the cage's own axis: they differ by the cage's tilt
-(~1e-4 rad), which the elliptical pocket's potential therefore ignores.
+`elliptical_pocket_curvature_radii` gives it at any X. The section's axes are machined in the cage
+and turn with it: the frame (e1, e2, a) is the pocket's body frame (k and a both turned by the
+cage's rotation and the interface node's elastic rotation: cage_body.pocket_axial_direction,
+cage_body.pocket_pose), so the potential V(Z) depends on the ball only through its offset in that
+frame, and the moment −(b − p) × F the dynamics put on the cage's node (pocket_kernels.ball_pocket)
+is the potential's gradient for the cage's rotation. (With the axes taken from the bearing axis x
+instead, a tilted cage's rotation about the pocket axis left Z unchanged while the node still
+took that moment: the force was not the gradient of the potential, and a conservative run's
+energy error did not fall with the integrator's tolerance; tests/test_energy.py.)
 
 Normal force (seed paper §2.3.1 eq. for Q_cj, its ref. 26): with Z the ball–pocket approach
 (signed: Z > 0 the pocket pushes the ball, Z < 0 the ball pushes the cage) and Cp = (Dp − Dw)/2,
@@ -194,12 +201,14 @@ def elliptical_pocket_curvature_radii(ball_radius, semi_axial, semi_circumferent
 
 
 @njit(cache=True)
-def _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential):
-    """`pocket_contact_offset` of the elliptical pocket (module docstring)."""
-    # e1: the bearing axis x less its part along a; e2 = a × e1
-    e1x = 1.0 - ax * ax
-    e1y = -ax * ay
-    e1z = -ax * az
+def _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential, kx, ky, kz):
+    """`pocket_contact_offset` of the elliptical pocket (module docstring); k the cage's axial
+    direction at the pocket (unit)."""
+    # e1: the cage's axis k less its part along a; e2 = a × e1
+    ka = kx * ax + ky * ay + kz * az
+    e1x = kx - ka * ax
+    e1y = ky - ka * ay
+    e1z = kz - ka * az
     n1 = math.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
     e1x /= n1
     e1y /= n1
@@ -226,11 +235,13 @@ def _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential)
 
 
 @njit(cache=True)
-def pocket_contact_offset(dx, dy, dz, ax, ay, az, shape, cone_angle, semi_axial=0.0, semi_circumferential=0.0):
+def pocket_contact_offset(dx, dy, dz, ax, ay, az, shape, cone_angle, semi_axial=0.0, semi_circumferential=0.0,
+                          kx=1.0, ky=0.0, kz=0.0):
     """Where the ball presses on the pocket wall: (e (3), u (3), Z) for the ball centre's offset
     d = b − p from the pocket centre, a the pocket axis (unit), shape the index in
     flexbearing.mesh.cage_geometry.POCKET_SHAPES (0 cylindrical, 1 spherical, 2 conical,
-    3 elliptical: semi-axes along the bearing axis and across it, `_elliptical_offset`).
+    3 elliptical: semi-axes along the cage's axis k (unit; flexbearing.multibody.cage_body.
+    pocket_axial_direction, the bearing axis by default) and across it, `_elliptical_offset`).
     Z the approach (the gap is Cp − Z), u = Z·n with n the wall's normal through the ball centre,
     e = d − u the part of the offset the wall's nearest point p + e + Rp·n follows:
     cylinder e = (d·a)·a, Z = |d − e|; sphere e = 0, Z = |d|; cone Z = rho·cos(beta) −
@@ -238,7 +249,7 @@ def pocket_contact_offset(dx, dy, dz, ax, ay, az, shape, cone_angle, semi_axial=
     if shape == POCKET_SPHERICAL:
         return 0.0, 0.0, 0.0, dx, dy, dz, math.sqrt(dx * dx + dy * dy + dz * dz)
     if shape == POCKET_ELLIPTICAL:
-        return _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential)
+        return _elliptical_offset(dx, dy, dz, ax, ay, az, semi_axial, semi_circumferential, kx, ky, kz)
     s = dx * ax + dy * ay + dz * az
     ex = s * ax
     ey = s * ay

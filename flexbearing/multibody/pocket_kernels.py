@@ -21,7 +21,8 @@ from flexbearing.multibody.pocket import (
     pocket_film_radii, pocket_resistance_coefficients, pocket_contact_offset, pocket_axis_point,
     pocket_elastic_force, pocket_rolling_force, pocket_sliding_force,
 )
-from flexbearing.multibody.cage_body import pocket_pose_arrays
+from flexbearing.mesh.cage_geometry import POCKET_ELLIPTICAL
+from flexbearing.multibody.cage_body import pocket_axial_direction, pocket_pose_arrays
 from flexbearing.multibody.floating_frame import add_node_load
 from flexbearing.multibody.contact_status import STATUS_DEEP_POCKET, DELTA_MAX_FRAC, _flag
 from flexbearing.multibody.kernel_state import BallLoad
@@ -46,12 +47,12 @@ def pocket_film_coefficients(p, flags):
 
 @njit(cache=True)
 def _pocket_interface(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
-                      px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags):
+                      px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, kx, ky, kz, p, flags):
     """`_pocket_force` with the film coefficients of `pocket_film_coefficients` (one pocket on its
     own, as the tests and benchmarks call it)."""
     c_roll, c_slide, c_root = pocket_film_coefficients(p, flags)
     return _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz, px, py, pz, ax, ay, az, vpx, vpy, vpz,
-                         wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide, c_root)
+                         wcx, wcy, wcz, kx, ky, kz, p, flags, c_roll, c_slide, c_root)
 
 
 @njit(cache=True, inline="always")
@@ -110,12 +111,14 @@ def _pocket_film_forces(fx, fy, fz, Q, zz, ux, uy, uz, ex, ey, ez, px, py, pz, v
 
 @njit(cache=True)
 def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
-                  px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, cx, cy, cz, p, flags, c_roll, c_slide,
+                  px, py, pz, ax, ay, az, vpx, vpy, vpz, wcx, wcy, wcz, kx, ky, kz, p, flags, c_roll, c_slide,
                   c_root):
     """Ball–pocket force of one pocket (paper §2.3.1), inertial components.
 
     b ball centre, (px, py, pz) pocket centre, a pocket axis (radial, unit), v_p the velocity of
-    the pocket centre, w_c the cage angular velocity, c the cage centre. Offset of the ball from
+    the pocket centre, w_c the cage angular velocity, k the cage's axial direction at the pocket
+    (unit, cage_body.pocket_axial_direction; used by the elliptical pocket only, whose section
+    axes turn with the cage). Offset of the ball from
     the pocket axis Z = |d − (d·a)a|, d = b − p; normal force on the ball −Q(Z)·u, u the unit
     offset, Q = Kc·Z (Z <= Cp), Kc·Cp + Kn·(Z − Cp)^1.5 (+ damping) beyond; with the drag switch
     the hydrodynamic pocket resistances (comment below) and optional Coulomb friction mu_p·Q.
@@ -134,7 +137,7 @@ def _pocket_force(bx, by, bz, vbx, vby, vbz, wbx, wby, wbz,
     # the approach zz along u: from the cylinder's axis, the sphere's centre, the cone's wall (e: the
     # offset's part the wall's nearest point follows; pocket.pocket_contact_offset)
     ex, ey, ez, ux, uy, uz, zz = pocket_contact_offset(dx, dy, dz, ax, ay, az, flags[F_POCKET_SHAPE],
-                                                       p[P_POCKET_CONE], p[P_RPOCKET], p[P_POCKET_B])
+                                                       p[P_POCKET_CONE], p[P_RPOCKET], p[P_POCKET_B], kx, ky, kz)
     if zz < 1e-15:
         return PocketContact(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, px, py, pz, 0.0, zz, 0.0)
     ux /= zz
@@ -198,6 +201,10 @@ def ball_pocket(j, b, y, c0, m0, A, w_body, pos, vel, axv, wn, Fc, Tn, q_modes, 
     ax = axv[0]
     ay = axv[1]
     az = axv[2]
+    # the cage's axial direction at the pocket: an elliptical section's axes turn with the cage
+    kx = ky = kz = 0.0
+    if flags[F_POCKET_SHAPE] == POCKET_ELLIPTICAL:
+        kx, ky, kz = pocket_axial_direction(j, y, m0, A, node_modes)
     # ball in inertial components
     bx = b.x
     byy = b.r * cs
@@ -205,7 +212,7 @@ def ball_pocket(j, b, y, c0, m0, A, w_body, pos, vel, axv, wn, Fc, Tn, q_modes, 
     pk = _pocket_force(bx, byy, bzz, b.x_dot, b.r_dot * cs - b.v_t * sn, b.r_dot * sn + b.v_t * cs, b.w_x,
                        b.w_r * cs - b.w_t * sn, b.w_r * sn + b.w_t * cs,
                        ppx, ppy, ppz, ax, ay, az, vel[0], vel[1], vel[2], wn[0], wn[1], wn[2],
-                       xc, yc, zc, p, flags, c_roll, c_slide, c_root)
+                       kx, ky, kz, p, flags, c_roll, c_slide, c_root)
     pfx, pfy, pfz = pk.fx, pk.fy, pk.fz
     work[j, W_POCKET_Q] = pk.q
     work[j, W_POCKET_Z] = pk.offset
