@@ -241,6 +241,7 @@ class _State:
         self.wm = np.zeros(z)
         self.wb = np.zeros((z, 3))
         self.ctrl = np.zeros(z, dtype=np.int64)     # controlling race per ball: 0 outer, 1 inner
+        self.work = np.zeros(200)                   # scratch of quasi_static_ball.ring_jacobian
 
 
 def _ring_residual(u, g, st, arr, lam, fext, ball_tol):
@@ -251,6 +252,16 @@ def _ring_residual(u, g, st, arr, lam, fext, ball_tol):
                      g.effective_modulus, st.m_w2, st.mg, lam[0], lam[1], ball_tol,
                      st.xb, st.rb, st.q, st.nrm, rf, st.ball_res)
     return fext + rf
+
+
+def _ring_force_jacobian(u, g, st, arr, lam):
+    """dF/du (5×5) of the balls' force on the ring at the balls' current seats, kinematics held:
+    the implicit-function-theorem Jacobian of quasi_static_ball.ring_jacobian (exact, no re-solve)."""
+    jac = np.empty((5, 5))
+    qb.ring_jacobian(u, st.psi, arr[0], arr[1], arr[2], arr[3], g.ball_diameter, g.pitch_diameter,
+                     g.effective_modulus, st.m_w2, st.mg, lam[0], lam[1], st.xb, st.rb, jac,
+                     st.work)
+    return jac
 
 
 def _kinematics(g, st, inner_speed, u):
@@ -363,21 +374,13 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         floor = (qb.ROUNDOFF_FACTOR * qb.EPS * float(np.sum(st.q[:, 1:])) + z * ball_tol) / fscale
         return max(tol, floor)
 
-    hs = np.where(free < 3, 1e-9, 1e-8)       # forward-difference steps, m and rad
     lim = np.where(free < 3, 20e-6, 1e-3)     # largest Newton step, m and rad
 
-    def jacobian(uf, u_full, r):
-        """Forward-difference Jacobian of the scaled ring residual (kinematics held), the balls
-        restarted from the same seats at every column."""
-        J = np.empty((len(free), len(free)))
-        xb0, rb0 = st.xb.copy(), st.rb.copy()
-        for i in range(len(free)):
-            up = uf.copy()
-            up[i] += hs[i]
-            J[:, i] = (resid(up, u_full) - r) / hs[i]
-            st.xb[:], st.rb[:] = xb0, rb0
-        resid(uf, u_full)
-        return J
+    def jacobian(u_full):
+        """Jacobian of the scaled ring residual in the free directions (kinematics held), exact by the
+        implicit-function theorem at the balls' current seats (`_ring_force_jacobian`)."""
+        jf = _ring_force_jacobian(u_full, g, st, arr, lam)
+        return (rscale[:, None] * jf)[np.ix_(free, free)]
 
     def newton(u_full, maxit):
         """Newton's method on the ring residual with the kinematics held, globalised by Armijo
@@ -389,7 +392,7 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         for it in range(maxit):
             if np.max(np.abs(r)) <= tol_now():
                 return uf, r, True, it
-            J = jacobian(uf, u_full, r)
+            J = jacobian(u_full)
             try:
                 step = -np.linalg.solve(J, r)
             except np.linalg.LinAlgError:
@@ -534,7 +537,7 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         # the conditioning of the ring equilibrium (kinematics held; tilts as the displacement
         # they cause at the pitch radius): near a fold (a limit point of the load–displacement
         # curve) the Jacobian is singular and a second equilibrium lies close
-        J = jacobian(u[free], u, rfin)
+        J = jacobian(u)
         d = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)
         sv = np.linalg.svd(J / d[None, :], compute_uv=False)
         cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
