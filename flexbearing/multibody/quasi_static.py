@@ -687,6 +687,41 @@ def _result(g, st, u, fext, inner_speed, control, rres, ok, iters, diagnostic=""
 
 
 # ---------------------------------------------------------------- stiffness
+def ring_jacobian(grooves: Grooves, result: QuasiStaticResult) -> np.ndarray:
+    """The ring Jacobian dF/du (5×5, SI) of the balls' force on the inner ring at a quasi-static
+    state, each ball in its own equilibrium and the kinematics held (orbit speeds, gyroscopic
+    moments, controlling races and friction shares of `result`): exact, by the implicit-function
+    theorem over the balls (flexbearing.multibody.quasi_static_ball.ring_jacobian states the
+    equation). It is what the solver's Newton iteration uses and what its fold flag's condition
+    number is taken of; −dF/du is the stiffness with the kinematics held, what
+    `bearing_stiffness(kinematics="frozen")` computes by central differences."""
+    g = grooves
+    st, lam, arr = _state_of(g, result)
+    fscale = max(abs(result.applied_load[0]), math.hypot(result.applied_load[1], result.applied_load[2]), 1.0)
+    u0 = np.array(result.ring_displacement, float)
+    _ring_residual(u0, g, st, arr, lam, np.zeros(5), 1e-14 * fscale)
+    return _ring_force_jacobian(u0, g, st, arr, lam)
+
+
+def _state_of(g, result):
+    """Solver state (balls seated as in `result`, its kinematics, races and friction shares)."""
+    z = g.n_balls
+    st = _State(g, np.array(result.psi, float))
+    st.xb[:], st.rb[:] = result.ball_x, result.ball_r
+    if result.controlling_race is not None:
+        st.ctrl[:] = result.controlling_race
+    else:
+        st.ctrl[:] = 1 if result.control == "inner" else 0
+    lam = np.zeros((2, z))
+    _set_friction_shares(lam, st.ctrl, result.friction_share)
+    arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
+           np.array(g.active, np.bool_))
+    st.wm[:], st.wb[:] = result.orbit_speed, result.ball_omega
+    st.mg[:] = result.gyroscopic_moment
+    st.m_w2[:] = g.ball_mass * st.wm ** 2 if np.any(result.centrifugal_force != 0.0) else 0.0
+    return st, lam, arr
+
+
 def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: str = "updated",
                       step: tuple[float, float] = (1e-8, 1e-7)) -> np.ndarray:
     """Stiffness matrix of the bearing at a quasi-static equilibrium, 5×5, SI (N/m, N/rad, N·m/m,
