@@ -19,6 +19,7 @@ fi = fo = 0.5232, alpha0 = 40°, steel (E = 207 GPa, nu = 0.3). These are the di
 quoted for Harris's 218 example, but no copy of that example was retrieved here: the expected
 values below come from the independent equations listed above, not from the book's results.
 """
+import dataclasses
 import math
 
 import numpy as np
@@ -550,3 +551,29 @@ def test_ring_jacobian_is_the_derivative_of_the_ring_force(name, grooves, rpm, l
     sv = np.linalg.svd(scaled(-k2), compute_uv=False)
     e = np.sqrt(np.sum(bound ** 2) * 5)
     assert abs(r.jacobian_condition / (sv[0] / sv[-1]) - 1) <= 2 * e / sv[-1] / (1 - e / sv[-1]), name
+
+
+def test_fold_flag_where_a_single_ball_carries_a_radial_load_through_the_clearance():
+    # The paper bearing at its design clearance (88.4 um), at rest, pure radial load along -Z, tilts held;
+    # ball 15 (psi = 270 deg) lies on the load line. The clearance sets the load zone: at 4000 N five balls
+    # carry the load, at 100 N three (balls 14-16), and below about 60 N the neighbours leave the load zone and
+    # ball 15 alone carries it. A single in-plane ball has no stiffness across its plane, so the ring is then
+    # free along Y within the neighbours' gaps: a continuum of equilibria, the ring Jacobian singular (its
+    # condition number is round-off over round-off), and the solver must say so (notes, condition above
+    # FOLD_CONDITION = 1/sqrt(eps)). The non-uniqueness is physical, not numerical: a start displaced by 0.5 um
+    # along Y (the neighbours' gaps are 0.77 um, and they close by only cos(18 deg)·0.5 um) is itself an
+    # equilibrium to the solver's tolerance.
+    from flexbearing.studies.validate import design_clearance
+    g = qs.grooves_from_bearing(PRESET.with_(radial_clearance=design_clearance(PRESET)))
+    tol = 1e-9
+    for fr, carrying in ((4000.0, 5), (100.0, 3)):
+        r = qs.solve_quasi_static(g, 0.0, fz=-fr, fix_tilt=True, tol=tol)
+        assert np.count_nonzero(r.load[:, 1:].sum(axis=1)) == carrying
+        assert r.notes == "" and r.jacobian_condition < qs.FOLD_CONDITION, (fr, r.jacobian_condition)
+    r = qs.solve_quasi_static(g, 0.0, fz=-30.0, fix_tilt=True, tol=tol)
+    assert np.flatnonzero(r.load[:, 1:].sum(axis=1)).tolist() == [15]
+    assert r.jacobian_condition > qs.FOLD_CONDITION and "fold" in r.notes and "not unique" in r.notes
+    shifted = dataclasses.replace(r, ring_displacement=r.ring_displacement + np.array([0.0, 0.5e-6, 0.0, 0.0, 0.0]))
+    other = qs.solve_quasi_static(g, 0.0, fz=-30.0, fix_tilt=True, tol=tol, initial=shifted)
+    assert other.residual_ring <= tol and "fold" in other.notes
+    assert other.ring_displacement[1] - r.ring_displacement[1] == pytest.approx(0.5e-6, rel=1e-6)

@@ -375,6 +375,7 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         return max(tol, floor)
 
     lim = np.where(free < 3, 20e-6, 1e-3)     # largest Newton step, m and rad
+    dpitch = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)   # tilts as displacements at the pitch radius
 
     def jacobian(u_full):
         """Jacobian of the scaled ring residual in the free directions (kinematics held), exact by the
@@ -393,10 +394,15 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
             if np.max(np.abs(r)) <= tol_now():
                 return uf, r, True, it
             J = jacobian(u_full)
-            try:
+            jd = J / dpitch[None, :]
+            sv = np.linalg.svd(jd, compute_uv=False)
+            if not sv[-1] * FOLD_CONDITION > sv[0]:
+                # at a fold or a neutral direction (e.g. one ball carrying the load, the ring free across
+                # it): the Newton step along the null directions is round-off; take the minimum-norm
+                # least-squares step with those singular values dropped (Dennis & Schnabel §6.5)
+                step = -np.linalg.lstsq(jd, r, rcond=1.0 / FOLD_CONDITION)[0] / dpitch
+            else:
                 step = -np.linalg.solve(J, r)
-            except np.linalg.LinAlgError:
-                step = -np.linalg.lstsq(J, r, rcond=None)[0]
             s = np.max(np.abs(step) / lim)
             if s > 1:
                 step /= s
@@ -538,8 +544,7 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         # they cause at the pitch radius): near a fold (a limit point of the load–displacement
         # curve) the Jacobian is singular and a second equilibrium lies close
         J = jacobian(u)
-        d = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)
-        sv = np.linalg.svd(J / d[None, :], compute_uv=False)
+        sv = np.linalg.svd(J / dpitch[None, :], compute_uv=False)
         cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
         if cond > FOLD_CONDITION:
             notes = (f"the ring Jacobian's condition number is {cond:.3g} (> {FOLD_CONDITION:.0e}): the state is "
