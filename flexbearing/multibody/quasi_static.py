@@ -468,6 +468,11 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                 why = _failure_diagnostic(g, st, w, control, lam)
                 return False, its, why
         if not kin_ok:
+            why = _failure_diagnostic(g, st, w, control, lam)
+            if NO_RACE_CONTROL in why:
+                # the kinematics cycle because the controlling race would need a friction coefficient
+                # above 1 at the state they reached: the physical reason, not a numerical one
+                return False, its, why
             return False, its, (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
                                 f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
                                 f"needed {kin_tol:.3g})")
