@@ -44,8 +44,11 @@ and moments about Y and Z (moments of the contact-point forces about the ring ce
 
 Solution: for given u each ball is solved by a damped 2×2 Newton iteration (compiled:
 flexbearing.multibody.quasi_static_ball) to 1e-3 of the ring tolerance (never below its round-off
-floor); u by Newton's method with a forward-difference Jacobian (5 unknowns, or 3 with the tilts
-held at zero) globalised by Armijo backtracking on the 2-norm of the residual scaled by the load
+floor); u by Newton's method with the exact ring Jacobian (5 unknowns, or 3 with the tilts held at
+zero; the implicit-function theorem over the balls, quasi_static_ball.ring_jacobian, with the kinematics
+held; at a singular one the minimum-norm least-squares step, Dennis & Schnabel, Numerical Methods for
+Unconstrained Optimization and Nonlinear Equations, SIAM 1996, §6.5) globalised by Armijo
+backtracking on the 2-norm of the residual scaled by the load
 (forces by the load scale, moments by it times dm/2); the kinematics (omega_m, omega_b, hence F_c
 and M_g) by fixed-point iteration around that. Every convergence test is relative to the load and
 never below the residual's round-off floor, so the iteration stops at the same place on every
