@@ -44,8 +44,11 @@ and moments about Y and Z (moments of the contact-point forces about the ring ce
 
 Solution: for given u each ball is solved by a damped 2×2 Newton iteration (compiled:
 flexbearing.multibody.quasi_static_ball) to 1e-3 of the ring tolerance (never below its round-off
-floor); u by Newton's method with a forward-difference Jacobian (5 unknowns, or 3 with the tilts
-held at zero) globalised by Armijo backtracking on the 2-norm of the residual scaled by the load
+floor); u by Newton's method with the exact ring Jacobian (5 unknowns, or 3 with the tilts held at
+zero; the implicit-function theorem over the balls, quasi_static_ball.ring_jacobian, with the kinematics
+held; at a singular one the minimum-norm least-squares step, Dennis & Schnabel, Numerical Methods for
+Unconstrained Optimization and Nonlinear Equations, SIAM 1996, §6.5) globalised by Armijo
+backtracking on the 2-norm of the residual scaled by the load
 (forces by the load scale, moments by it times dm/2); the kinematics (omega_m, omega_b, hence F_c
 and M_g) by fixed-point iteration around that. Every convergence test is relative to the load and
 never below the residual's round-off floor, so the iteration stops at the same place on every
@@ -244,6 +247,7 @@ class _State:
         self.wm = np.zeros(z)
         self.wb = np.zeros((z, 3))
         self.ctrl = np.zeros(z, dtype=np.int64)     # controlling race per ball: 0 outer, 1 inner
+        self.work = np.zeros(200)                   # scratch of quasi_static_ball.ring_jacobian
 
 
 def _ring_residual(u, g, st, arr, lam, fext, ball_tol):
@@ -254,6 +258,16 @@ def _ring_residual(u, g, st, arr, lam, fext, ball_tol):
                      g.effective_modulus, st.m_w2, st.mg, lam[0], lam[1], ball_tol,
                      st.xb, st.rb, st.q, st.nrm, rf, st.ball_res)
     return fext + rf
+
+
+def _ring_force_jacobian(u, g, st, arr, lam):
+    """dF/du (5×5) of the balls' force on the ring at the balls' current seats, kinematics held:
+    the implicit-function-theorem Jacobian of quasi_static_ball.ring_jacobian (exact, no re-solve)."""
+    jac = np.empty((5, 5))
+    qb.ring_jacobian(u, st.psi, arr[0], arr[1], arr[2], arr[3], g.ball_diameter, g.pitch_diameter,
+                     g.effective_modulus, st.m_w2, st.mg, lam[0], lam[1], st.xb, st.rb, jac,
+                     st.work)
+    return jac
 
 
 def _kinematics(g, st, inner_speed, u):
@@ -366,21 +380,14 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         floor = (qb.ROUNDOFF_FACTOR * qb.EPS * float(np.sum(st.q[:, 1:])) + z * ball_tol) / fscale
         return max(tol, floor)
 
-    hs = np.where(free < 3, 1e-9, 1e-8)       # forward-difference steps, m and rad
     lim = np.where(free < 3, 20e-6, 1e-3)     # largest Newton step, m and rad
+    dpitch = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)   # tilts as displacements at the pitch radius
 
-    def jacobian(uf, u_full, r):
-        """Forward-difference Jacobian of the scaled ring residual (kinematics held), the balls
-        restarted from the same seats at every column."""
-        J = np.empty((len(free), len(free)))
-        xb0, rb0 = st.xb.copy(), st.rb.copy()
-        for i in range(len(free)):
-            up = uf.copy()
-            up[i] += hs[i]
-            J[:, i] = (resid(up, u_full) - r) / hs[i]
-            st.xb[:], st.rb[:] = xb0, rb0
-        resid(uf, u_full)
-        return J
+    def jacobian(u_full):
+        """Jacobian of the scaled ring residual in the free directions (kinematics held), exact by the
+        implicit-function theorem at the balls' current seats (`_ring_force_jacobian`)."""
+        jf = _ring_force_jacobian(u_full, g, st, arr, lam)
+        return (rscale[:, None] * jf)[np.ix_(free, free)]
 
     def newton(u_full, maxit):
         """Newton's method on the ring residual with the kinematics held, globalised by Armijo
@@ -392,11 +399,16 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         for it in range(maxit):
             if np.max(np.abs(r)) <= tol_now():
                 return uf, r, True, it
-            J = jacobian(uf, u_full, r)
-            try:
+            J = jacobian(u_full)
+            jd = J / dpitch[None, :]
+            sv = np.linalg.svd(jd, compute_uv=False)
+            if not sv[-1] * FOLD_CONDITION > sv[0]:
+                # at a fold or a neutral direction (e.g. one ball carrying the load, the ring free across
+                # it): the Newton step along the null directions is round-off; take the minimum-norm
+                # least-squares step with those singular values dropped (Dennis & Schnabel §6.5)
+                step = -np.linalg.lstsq(jd, r, rcond=1.0 / FOLD_CONDITION)[0] / dpitch
+            else:
                 step = -np.linalg.solve(J, r)
-            except np.linalg.LinAlgError:
-                step = -np.linalg.lstsq(J, r, rcond=None)[0]
             s = np.max(np.abs(step) / lim)
             if s > 1:
                 step /= s
@@ -462,6 +474,11 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
                 why = _failure_diagnostic(g, st, w, control, lam)
                 return False, its, why
         if not kin_ok:
+            why = _failure_diagnostic(g, st, w, control, lam)
+            if NO_RACE_CONTROL in why:
+                # the kinematics cycle because the controlling race would need a friction coefficient
+                # above 1 at the state they reached: the physical reason, not a numerical one
+                return False, its, why
             return False, its, (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
                                 f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
                                 f"needed {kin_tol:.3g})")
@@ -537,9 +554,8 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         # the conditioning of the ring equilibrium (kinematics held; tilts as the displacement
         # they cause at the pitch radius): near a fold (a limit point of the load–displacement
         # curve) the Jacobian is singular and a second equilibrium lies close
-        J = jacobian(u[free], u, rfin)
-        d = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)
-        sv = np.linalg.svd(J / d[None, :], compute_uv=False)
+        J = jacobian(u)
+        sv = np.linalg.svd(J / dpitch[None, :], compute_uv=False)
         cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
         if cond > FOLD_CONDITION:
             notes = (f"the ring Jacobian's condition number is {cond:.3g} (> {FOLD_CONDITION:.0e}): the state is "
@@ -688,6 +704,41 @@ def _result(g, st, u, fext, inner_speed, control, rres, ok, iters, diagnostic=""
 
 
 # ---------------------------------------------------------------- stiffness
+def ring_jacobian(grooves: Grooves, result: QuasiStaticResult) -> np.ndarray:
+    """The ring Jacobian dF/du (5×5, SI) of the balls' force on the inner ring at a quasi-static
+    state, each ball in its own equilibrium and the kinematics held (orbit speeds, gyroscopic
+    moments, controlling races and friction shares of `result`): exact, by the implicit-function
+    theorem over the balls (flexbearing.multibody.quasi_static_ball.ring_jacobian states the
+    equation). It is what the solver's Newton iteration uses and what its fold flag's condition
+    number is taken of; −dF/du is the stiffness with the kinematics held, what
+    `bearing_stiffness(kinematics="frozen")` computes by central differences."""
+    g = grooves
+    st, lam, arr = _state_of(g, result)
+    fscale = max(abs(result.applied_load[0]), math.hypot(result.applied_load[1], result.applied_load[2]), 1.0)
+    u0 = np.array(result.ring_displacement, float)
+    _ring_residual(u0, g, st, arr, lam, np.zeros(5), 1e-14 * fscale)
+    return _ring_force_jacobian(u0, g, st, arr, lam)
+
+
+def _state_of(g, result):
+    """Solver state (balls seated as in `result`, its kinematics, races and friction shares)."""
+    z = g.n_balls
+    st = _State(g, np.array(result.psi, float))
+    st.xb[:], st.rb[:] = result.ball_x, result.ball_r
+    if result.controlling_race is not None:
+        st.ctrl[:] = result.controlling_race
+    else:
+        st.ctrl[:] = 1 if result.control == "inner" else 0
+    lam = np.zeros((2, z))
+    _set_friction_shares(lam, st.ctrl, result.friction_share)
+    arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
+           np.array(g.active, np.bool_))
+    st.wm[:], st.wb[:] = result.orbit_speed, result.ball_omega
+    st.mg[:] = result.gyroscopic_moment
+    st.m_w2[:] = g.ball_mass * st.wm ** 2 if np.any(result.centrifugal_force != 0.0) else 0.0
+    return st, lam, arr
+
+
 def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: str = "updated",
                       step: tuple[float, float] = (1e-8, 1e-7)) -> np.ndarray:
     """Stiffness matrix of the bearing at a quasi-static equilibrium, 5×5, SI (N/m, N/rad, N·m/m,
