@@ -118,3 +118,27 @@ def test_certificate_is_sound_on_a_branch_that_reaches_the_full_load(paper_branc
         tp = _branch_turning_point(model, w, load, 0.0, lam, info["unknowns"])
         assert not tp.certified, tp.describe()
         assert not (tp.is_maximum and tp.lam_star < 1.0)
+
+
+@pytest.mark.slow
+def test_uncertainty_run_whose_branch_folds_gets_a_certified_turning_point():
+    """Point 23 of the uncertainty study, slip-rate case 6 (Fa 1100 N, Fr 200 N, 12,000 rpm, Si3N4 balls,
+    oil at 75 °C): the held-cage continuation stops at lambda = 0.0507 (no root at 0.0519) with the
+    Jacobian's condition rising as 1/sqrt(lambda* − lambda). The verdict must be a certified fold:
+    lambda has a maximum between the last root and the first lambda that failed, and the failure
+    reason must say what that does not exclude. 60–110 CPU-s: slow."""
+    from flexbearing.multibody.steady import steady_held_cage_state
+    from flexbearing.studies.uncertainty import load_unknowns, point_bearing_oil, sample_points
+    from flexbearing.studies import validate as V
+    point = sample_points(load_unknowns("scenes/slip_rate_unknowns.toml"))[23]
+    case = V.slip_rate_cases()[5]
+    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
+    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
+    _, info = steady_held_cage_state(model, case["speed_rpm"] * math.pi / 30.0,
+                                     (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
+    assert not info["converged"] and info["verdict"] == "fold" and info["reason"].startswith("fold: ")
+    tp = info["turning_point"]
+    lam_last, lam_fail = info["continuation"][-1], float(info["reason"].split("residual ")[1].split(" at ")[1][:6])
+    assert tp.certified and tp.is_maximum and tp.lam == lam_last
+    assert lam_last < tp.lam_star <= lam_fail
+    assert "not excluded" in info["reason"]

@@ -42,6 +42,7 @@ paper bearing); its docstring says what the frozen azimuths leave out.
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -382,11 +383,13 @@ def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last
     lam, y, info = last
     lam_fail, res_trial = failed
     fold, what = _fold_or_kink(at, lam, info, previous, lam_fail)
+    t0 = time.process_time()
     tp = _branch_turning_point(model, speed_rad_s, load, phase, lam, info["unknowns"])
+    cpu = time.process_time() - t0
     y, info = _failed(*direct, y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
                                         f"of the radial load and weight (residual {res_trial:.2e} at {lam_fail:.4f}): {what}")
     verdict = VERDICT_FOLD if tp.certified else VERDICT_NOT_CONVERGED
-    info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict,
+    info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict, verdict_cpu_s=cpu,
                 reason=f"{verdict}: {tp.describe()}; {info['reason']}")
     return y, info
 
@@ -395,6 +398,7 @@ def _with_bound_verdict(model, y, info: dict):
     """(y, info) of a run with no root at all, its verdict from the traction–drag bound
     (steady_existence, item 2) at the end state: "no steady state" where the bound proves it, else
     "not converged"; info["traction_drag_bound"] the bound."""
+    t0 = time.process_time()
     out = info["outputs"]
     p = model.p
     r_out = 0.5 * (p[M.P_DM] + p[M.P_DW])           # the outer race's contact radius bounds every lever
@@ -407,7 +411,8 @@ def _with_bound_verdict(model, y, info: dict):
         float(np.sum(np.abs(out["churning_drag"]))) * 0.5 * p[M.P_DM]
     bound = traction_drag_bound(mu_max, q[:, 1:], q[:, 0], r_out, drag)
     verdict = VERDICT_NO_STEADY_STATE if bound.proves_no_steady_state else VERDICT_NOT_CONVERGED
-    info.update(traction_drag_bound=bound, verdict=verdict, reason=f"{verdict}: {bound.describe()}; {info['reason']}")
+    info.update(traction_drag_bound=bound, verdict=verdict, verdict_cpu_s=time.process_time() - t0,
+                reason=f"{verdict}: {bound.describe()}; {info['reason']}")
     return y, info
 
 

@@ -271,6 +271,7 @@ def steady_case_slip(point: dict, case: dict) -> dict:
                 # converged / no steady state (proved) / fold (a certified turning point) / not converged:
                 # flexbearing.multibody.steady_existence; the reason starts with it
                 verdict=info.get("verdict", "converged" if info["converged"] else "not converged"),
+                verdict_cpu_s=float(info.get("verdict_cpu_s", 0.0)),
                 continuation_steps=len(info.get("continuation", [])), cpu_s=time.process_time() - t0)
 
 
