@@ -506,7 +506,7 @@ def test_warm_and_cold_starts_land_on_the_same_root(name, grooves, fa, fr, fix_t
 
 
 def _jacobian_cases():
-    from flexbearing.studies.validate import design_clearance
+    from flexbearing.studies.validation.slip_rate import design_clearance
     design = PRESET.with_(radial_clearance=design_clearance(PRESET))
     b218 = qs.angular_contact_grooves(DM, DW, Z, F, F, A0)
     paper = qs.grooves_from_bearing(PAPER_BEARING)
@@ -563,7 +563,7 @@ def test_fold_flag_where_a_single_ball_carries_a_radial_load_through_the_clearan
     # FOLD_CONDITION = 1/sqrt(eps)). The non-uniqueness is physical, not numerical: a start displaced by 0.5 um
     # along Y (the neighbours' gaps are 0.77 um, and they close by only cos(18 deg)·0.5 um) is itself an
     # equilibrium to the solver's tolerance.
-    from flexbearing.studies.validate import design_clearance
+    from flexbearing.studies.validation.slip_rate import design_clearance
     g = qs.grooves_from_bearing(PRESET.with_(radial_clearance=design_clearance(PRESET)))
     tol = 1e-9
     for fr, carrying in ((4000.0, 5), (100.0, 3)):

@@ -42,6 +42,7 @@ paper bearing); its docstring says what the frozen azimuths leave out.
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -51,7 +52,10 @@ from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import outputs as O
 from flexbearing.multibody import model as M
 from flexbearing.multibody import state_layout as SL
+from flexbearing.multibody import traction as TR
 from flexbearing.multibody.initial import initial_state
+from flexbearing.multibody.race_kernels import TRACTION_EHL
+from flexbearing.multibody.steady_existence import traction_drag_bound, turning_point
 
 class SteadyNotConverged(SolverNotConverged):
     """A steady solve found no fixed point (raised unless strict=False): .result is the (y, info) it
@@ -259,6 +263,12 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
                     "held-cage state")
 
 
+# what a run that failed is (info["verdict"], the reason's first words; steady_existence): converged; no
+# steady state (the traction–drag bound proves none exists); fold (a certified turning point: no
+# held-cage state on the branch followed, another branch not excluded); not converged (nothing proved)
+VERDICT_CONVERGED, VERDICT_NO_STEADY_STATE, VERDICT_FOLD, VERDICT_NOT_CONVERGED = (
+    "converged", "no steady state", "fold", "not converged")
+
 # the continuation in the load that breaks the balls' symmetry: first step, smallest step
 CONTINUATION_FIRST_STEP = 0.25
 CONTINUATION_MIN_STEP = 1.0 / 1024.0
@@ -307,10 +317,10 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
     if not info["converged"]:
         y, info = at(0.0, None)
     if not info["converged"]:
-        return _failed(y_direct, direct, y, info, f"no root from the quasi-static start ({direct['reason']}) nor of the symmetric thrust "
-                               f"state without weight (residual {info['residual']:.2e}): no fixed point in reach at "
-                               "this speed and thrust (steady_thrust_state's docstring: where the traction cannot "
-                               "balance the drag the dynamics do not settle)")
+        y, info = _failed(y_direct, direct, y, info, f"no root from the quasi-static start ({direct['reason']}) nor of the "
+                                  f"symmetric thrust state without weight (residual {info['residual']:.2e}): no fixed "
+                                  "point in reach at this speed and thrust")
+        return _with_bound_verdict(model, y, info)
     lam, step, path = 0.0, CONTINUATION_FIRST_STEP, [0.0]
     previous = None                       # (lambda, unknowns) of the root before the last one
     roots = [(0.0, info["unknowns"])]     # every root of the path
@@ -358,15 +368,70 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                     path.append(1.0)
                     info_t["continuation"] = path
                     return y_t, info_t
-            fold, what = _fold_or_kink(at, lam, info, previous, lam_fail)
-            y, info = _failed(y_direct, direct, y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
-                                      f"of the radial load and weight (residual {res_trial:.2e} at "
-                                      f"{lam_fail:.4f}): {what}")
-            info["fold"] = bool(fold)
-            info["continuation"] = path
-            return y, info
+            return _stopped(model, speed_rad_s, load, phase, at, (lam, y, info), previous, (lam_fail, res_trial), path,
+                            (y_direct, direct))
     info["continuation"] = path
     return y, info
+
+
+def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last: tuple, previous, failed: tuple,
+             path: list, direct: tuple):
+    """(y, info) where the held-cage continuation stopped: at its last root last = (lambda, y, info),
+    the root before it `previous`, the first lambda that failed and its residual `failed`; the
+    reason says fold or kink (_fold_or_kink) and the verdict rests on the second-order turning-point
+    test at the last root (steady_existence, item 1), made only after the continuation has stopped."""
+    lam, y, info = last
+    lam_fail, res_trial = failed
+    fold, what = _fold_or_kink(at, lam, info, previous, lam_fail)
+    t0 = time.process_time()
+    tp = _branch_turning_point(model, speed_rad_s, load, phase, lam, info["unknowns"])
+    cpu = time.process_time() - t0
+    y, info = _failed(*direct, y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
+                                        f"of the radial load and weight (residual {res_trial:.2e} at {lam_fail:.4f}): {what}")
+    verdict = VERDICT_FOLD if tp.certified else VERDICT_NOT_CONVERGED
+    info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict, verdict_cpu_s=cpu,
+                reason=f"{verdict}: {tp.describe()}; {info['reason']}")
+    return y, info
+
+
+def _with_bound_verdict(model, y, info: dict):
+    """(y, info) of a run with no root at all, its verdict from the traction–drag bound
+    (steady_existence, item 2) at the end state: "no steady state" where the bound proves it, else
+    "not converged"; info["traction_drag_bound"] the bound."""
+    t0 = time.process_time()
+    out = info["outputs"]
+    p = model.p
+    r_out = 0.5 * (p[M.P_DM] + p[M.P_DW])           # the outer race's contact radius bounds every lever
+    if model.flags[M.F_TRACTION_LAW] == TRACTION_EHL:
+        mu_max = TR.ehl_traction_coefficient_bound(model.traction_table)
+    else:                                          # no bound of that law's coefficient is derived here
+        mu_max = math.inf
+    q = np.asarray(out["contact_load"])
+    drag = abs(float(np.ravel(out["cage_land_torque"])[0])) + \
+        float(np.sum(np.abs(out["churning_drag"]))) * 0.5 * p[M.P_DM]
+    bound = traction_drag_bound(mu_max, q[:, 1:], q[:, 0], r_out, drag)
+    verdict = VERDICT_NO_STEADY_STATE if bound.proves_no_steady_state else VERDICT_NOT_CONVERGED
+    info.update(traction_drag_bound=bound, verdict=verdict, verdict_cpu_s=time.process_time() - t0,
+                reason=f"{verdict}: {bound.describe()}; {info['reason']}")
+    return y, info
+
+
+def _branch_turning_point(model, speed_rad_s: float, load: np.ndarray, phase: float, lam: float, unknowns):
+    """steady_existence.turning_point of the held-cage branch (lambda scales the radial load and the
+    weight, _held_cage_continuation) at its root `unknowns` at lambda = lam."""
+    g = model.p[M.P_GRAV]
+    axial = np.array([load[0], 0.0, 0.0])
+    radial = np.array([0.0, load[1], load[2]])
+    equations = {}
+
+    def residual(v, lam_v):
+        if lam_v not in equations:
+            p = model.p.copy()
+            p[M.P_GRAV] = lam_v * g
+            equations[lam_v] = _held_cage_equations(model._replace(p=p), speed_rad_s, axial + lam_v * radial, phase,
+                                                    np.asarray(unknowns, dtype=float))[0]
+        return equations[lam_v](v)
+    return turning_point(residual, lam, 6 * model.n_balls + 11)
 
 
 def _failed(y_direct, direct: dict, y, info: dict, reason: str):
@@ -480,7 +545,6 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
     speed_table = np.array([[0.0, speed_rad_s]])
     load_table = np.array([[0.0, load[0], load[1], load[2]]])
     impacts = np.zeros((0, 6))
-    work = D.new_work(model)
     n = 6 * z + 11
     nb = 6 * z
     if start is None:
@@ -498,6 +562,46 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
         u0[nb + 6] = np.mean(y0[SL.BALL_X:r0:SL.BALL_STATE])
     else:
         u0 = np.array(start, dtype=float)
+    residual, state, scale_u = _held_cage_equations(model, speed_rad_s, load, phase, u0)
+    v, f, iterations, nfev = _newton(residual, n, tol)
+    cond = math.nan
+    if conditioning:
+        jac = np.empty((n, n))
+        for k in range(n):
+            e = np.zeros(n)
+            e[k] = 1e-3
+            jac[:, k] = (residual(v + e) - residual(v - e)) / 2e-3
+        sv = np.linalg.svd(jac, compute_uv=False)
+        cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
+    y = state(v)
+    res = float(np.max(np.abs(f)))
+    out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
+    info = dict(converged=bool(res <= tol), residual=res, iterations=int(iterations), nfev=int(nfev),
+                cage_speed=float(y[c0 + SL.CAGE_OMEGA]), cage_centre=y[c0 + SL.CAGE_X:c0 + SL.CAGE_Z + 1].copy(),
+                cage_eccentricity_ratio=float(out["cage_eccentricity_ratio"]),
+                cage_land_force=out["cage_land_force"].copy(),
+                pocket_resultant=out["pocket_force_on_cage"].sum(axis=0),
+                pocket_offset=(u0 + v * scale_u)[2:nb:6].copy(), outputs=out,
+                unknowns=u0 + v * scale_u, continuation=[], reason="", jacobian_condition=cond)
+    if not info["converged"]:
+        info["reason"] = f"damped Newton ended at residual {res:.2e} after {iterations} iterations"
+    return y, info
+
+
+def _held_cage_equations(model, speed_rad_s: float, load: np.ndarray, phase: float, u0: np.ndarray):
+    """(residual, state, scale_u) of the held-cage equations (steady_held_cage_state's docstring) about
+    the unknowns u0: residual(v) the scaled accelerations at u = u0 + v·scale_u, state(v) the state
+    vector there."""
+    p = model.p
+    z = model.n_balls
+    lay = M.state_layout(model)
+    r0, c0 = lay["ring"], lay["cage"]
+    speed_table = np.array([[0.0, speed_rad_s]])
+    load_table = np.array([[0.0, load[0], load[1], load[2]]])
+    impacts = np.zeros((0, 6))
+    work = D.new_work(model)
+    n = 6 * z + 11
+    nb = 6 * z
     dydt = np.zeros(lay["n_state"])
     half_dw, half_dm = 0.5 * p[M.P_DW], 0.5 * p[M.P_DM]
     # the scale of a ball's spin: its w_x and w_r (what y0[6], y0[7] hold in the quasi-static start)
@@ -537,27 +641,4 @@ def _held_cage_solve(model, speed_rad_s: float, load: np.ndarray, phase: float, 
         f[nb + 6:nb + 9] = dydt[c0 + SL.CAGE_VX:c0 + SL.CAGE_VZ + 1]
         f[nb + 9:nb + 11] = dydt[c0 + SL.CAGE_TILT_Y_DOT:c0 + SL.CAGE_TILT_Z_DOT + 1]
         return scale_r * f
-
-    v, f, iterations, nfev = _newton(residual, n, tol)
-    cond = math.nan
-    if conditioning:
-        jac = np.empty((n, n))
-        for k in range(n):
-            e = np.zeros(n)
-            e[k] = 1e-3
-            jac[:, k] = (residual(v + e) - residual(v - e)) / 2e-3
-        sv = np.linalg.svd(jac, compute_uv=False)
-        cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
-    y = state(v)
-    res = float(np.max(np.abs(f)))
-    out = O.evaluate_outputs(model, 0.0, y, speed_table, load_table, impacts)
-    info = dict(converged=bool(res <= tol), residual=res, iterations=int(iterations), nfev=int(nfev),
-                cage_speed=float(y[c0 + SL.CAGE_OMEGA]), cage_centre=y[c0 + SL.CAGE_X:c0 + SL.CAGE_Z + 1].copy(),
-                cage_eccentricity_ratio=float(out["cage_eccentricity_ratio"]),
-                cage_land_force=out["cage_land_force"].copy(),
-                pocket_resultant=out["pocket_force_on_cage"].sum(axis=0),
-                pocket_offset=(u0 + v * scale_u)[2:nb:6].copy(), outputs=out,
-                unknowns=u0 + v * scale_u, continuation=[], reason="", jacobian_condition=cond)
-    if not info["converged"]:
-        info["reason"] = f"damped Newton ended at residual {res:.2e} after {iterations} iterations"
-    return y, info
+    return residual, state, scale_u

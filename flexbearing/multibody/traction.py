@@ -522,6 +522,16 @@ def fill_ehl_parameters(p, table=None) -> None:
         p[slot] = value
 
 
+def ehl_traction_coefficient_bound(table) -> float:
+    """The largest traction coefficient the EHL film-shear law can give: gamma_L·scale (module
+    docstring, "EHL film-shear law"). Each slice's mu_m = tau_mean/((pi/4)·p_c) with tau_mean <=
+    tau_f (the Maxwell factor 1 − (1 − exp(−x))/x lies in [0, 1)) and tau_f = tau_L·(1 −
+    exp(−tau_T/tau_L)) < tau_L = gamma_L·(pi/4)·p_c (Bair & Winer's limiting shear, J. Lubr. Technol.
+    101(3):251, 1979); below s_lin the line through the origin stays below mu(s_lin). So every slice,
+    and the contact's resultant |(T_x, T_y)| <= sum_m mu_m·Q_m, stays below gamma_L·scale·Q."""
+    return float(table[EHL_ROW_FILM, EHL_C_GAMMA_L] * table[EHL_ROW_FILM, EHL_C_SCALE])
+
+
 def is_ehl_table(table) -> bool:
     """True for a table of the EHL film-shear law (`ehl_traction_table`)."""
     return table.shape[0] == EHL_TABLE_ROWS

@@ -268,6 +268,10 @@ def steady_case_slip(point: dict, case: dict) -> dict:
                 contact_angle_inner_deg=math.degrees(float(np.mean(np.abs(out["contact_angle_inner_loaded"])))),
                 cage_eccentricity_ratio=info["cage_eccentricity_ratio"], reason=info.get("reason", ""),
                 fold=bool(info.get("fold", False)),   # no held-cage state: the branch ends in a fold (steady.py)
+                # converged / no steady state (proved) / fold (a certified turning point) / not converged:
+                # flexbearing.multibody.steady_existence; the reason starts with it
+                verdict=info.get("verdict", "converged" if info["converged"] else "not converged"),
+                verdict_cpu_s=float(info.get("verdict_cpu_s", 0.0)),
                 continuation_steps=len(info.get("continuation", [])), cpu_s=time.process_time() - t0)
 
 
