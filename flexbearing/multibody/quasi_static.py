@@ -365,7 +365,7 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     ball_tol = 1e-3 * tol * fscale / z
     st = _State(g, psi)
     # Jones's choice starts every ball on the outer race and is revised from the loads (below)
-    st.ctrl[:] = 1 if control == "inner" else 0
+    st.ctrl[:] = RACE_INNER if control == "inner" else RACE_OUTER
     lam = np.zeros((2, z))          # (lambda_o, lambda_i) per ball, updated in place
     _set_friction_shares(lam, st.ctrl, friction_share)
 
@@ -500,7 +500,7 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         st.wm[:] = 0.0
         st.wb[:] = 0.0
         st.mg[:] = 0.0
-        st.ctrl[:] = 1 if control == "inner" else 0
+        st.ctrl[:] = RACE_INNER if control == "inner" else RACE_OUTER
         _set_friction_shares(lam, st.ctrl, friction_share)
         if inner_speed == 0.0:
             return speed_step(u, 0.0, True)
@@ -728,7 +728,7 @@ def _state_of(g, result):
     if result.controlling_race is not None:
         st.ctrl[:] = result.controlling_race
     else:
-        st.ctrl[:] = 1 if result.control == "inner" else 0
+        st.ctrl[:] = RACE_INNER if result.control == "inner" else RACE_OUTER
     lam = np.zeros((2, z))
     _set_friction_shares(lam, st.ctrl, result.friction_share)
     arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
@@ -765,17 +765,8 @@ def bearing_stiffness(grooves: Grooves, result: QuasiStaticResult, kinematics: s
     if kinematics not in ("frozen", "updated"):
         raise InputError(f"kinematics = {kinematics!r} must be 'frozen' or 'updated'")
     g = grooves
-    z = g.n_balls
-    st = _State(g, np.array(result.psi, float))
+    st, lam, arr = _state_of(g, result)
     xb0, rb0 = np.array(result.ball_x, float), np.array(result.ball_r, float)
-    if result.controlling_race is not None:
-        st.ctrl[:] = result.controlling_race
-    else:
-        st.ctrl[:] = 1 if result.control == "inner" else 0
-    lam = np.zeros((2, z))
-    _set_friction_shares(lam, st.ctrl, result.friction_share)
-    arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
-           np.array(g.active, np.bool_))
     fscale = max(abs(result.applied_load[0]), math.hypot(result.applied_load[1], result.applied_load[2]), 1.0)
     # the balls to their round-off floor (quasi_static_ball._solve_ball): the central difference
     # divides their residual by the step
