@@ -79,7 +79,7 @@ EXACT_REASONS = {
     "test_cache_provenance.py": "a cached array read back is the bytes that were written",
     "test_results.py": "a results file read back is the bytes that were written",
     "test_export.py": "an exported array read back is the bytes that were written",
-    "test_field_export.py": "an exported field read back is the bytes that were written",
+    "test_field_export.py": "an exported field read back is the bytes that were written; values copied to a file and read back",
     "test_jobs.py": "the same run on the same input in one process (or a worker of the same build) "
                     "executes the same operations: determinism",
     "test_run.py": "the same run twice, same input, same process: determinism; or values copied, not computed",
@@ -125,7 +125,6 @@ EXACT_REASONS = {
     "test_mesh_quality.py": "points a repair does not touch are left as they were (copied)",
     "test_land_load.py": "rows the land load does not enter: the same operations with and without it",
     "test_quasi_static.py": "booleans (which race controls each ball)",
-    "test_field_export.py": "values copied to a file and read back",
     "test_cage_offset.py": "the outer guide's offset is the cage's own centre (copied)",
 }
 EXACT_DEFAULT = ("values copied or selected, integer-valued floats, or the same function on the same "
