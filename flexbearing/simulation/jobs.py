@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import json
 import logging
 import os
 import shlex
@@ -38,6 +39,7 @@ import subprocess
 import sys
 import tempfile
 import uuid
+from pathlib import Path
 from dataclasses import dataclass
 
 from tqdm import tqdm
@@ -278,3 +280,17 @@ def _run_on_dask(func, jobs, on_result, names, description, progress, n_workers,
                 pass
         stack.close()
     return sorted(failures, key=lambda f: f.index)
+
+
+def read_rows(path) -> list[dict]:
+    """The rows of a JSON-lines results file, as the studies append them one finished job at a time
+    (a torn last line, from a kill mid-write, is skipped; a missing file has no rows)."""
+    path = Path(path)
+    rows = []
+    if path.exists():
+        for line in path.read_text().splitlines():
+            try:
+                rows.append(json.loads(line))
+            except json.JSONDecodeError:
+                continue
+    return rows

@@ -67,7 +67,7 @@ import numpy as np
 from flexbearing.common.materials import BALL_MATERIALS as COMMON_BALL_MATERIALS, ball_material_named
 from flexbearing.common.validation import InputError, require_range, require_table
 from flexbearing.multibody.steady import steady_held_cage_state
-from flexbearing.simulation.jobs import run_jobs
+from flexbearing.simulation.jobs import read_rows, run_jobs
 from flexbearing.simulation.scene import read_toml
 from flexbearing.simulation.stopped import Interrupted
 from flexbearing.studies.validation import slip_rate as V
@@ -276,19 +276,6 @@ def steady_case_slip(point: dict, case: dict) -> dict:
 
 
 # ------------------------------------------------------------------------------------ the study
-def read_rows(path) -> list[dict]:
-    """The rows of a JSON-lines results file (a torn last line, from a kill mid-write, is skipped)."""
-    path = Path(path)
-    rows = []
-    if path.exists():
-        for line in path.read_text().splitlines():
-            try:
-                rows.append(json.loads(line))
-            except json.JSONDecodeError:
-                continue
-    return rows
-
-
 def study_points(study: UnknownsStudy, extra_points: list[dict] | None = None) -> list[dict]:
     """The sample points with their ids ("point": 0..n−1), then the named extra points."""
     return [dict(p, point=k) for k, p in enumerate(sample_points(study))] + [dict(e) for e in extra_points or []]

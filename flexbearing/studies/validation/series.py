@@ -48,7 +48,7 @@ from flexbearing.common.validation import InputError
 from flexbearing.studies.validation import kinematics as K, series_file as SF
 from flexbearing.common.materials import ball_material_named
 from flexbearing.multibody.clearance import resolve_inner_ring
-from flexbearing.simulation.jobs import run_jobs
+from flexbearing.simulation.jobs import read_rows, run_jobs
 
 # One parameter set for every series (module docstring): the slip-rate validation's model and oil state.
 # Where a series publishes a value (oil inlet temperature, supply) that value is used instead.
@@ -320,12 +320,6 @@ def _job_key(j: PointJob) -> str:
 
 def _row_key(r: dict) -> str:
     return job_key(r["series"], r["point"], r["sample"], r["purpose"], r["speed_rpm"], r["axial_load"])
-
-
-def read_rows(path) -> list[dict]:
-    """Rows of a JSON-lines file; a torn last line (a kill mid-write) is skipped."""
-    from flexbearing.studies.uncertainty import read_rows as read
-    return read(path)
 
 
 def run_series(out_dir, directory=SF.VALIDATION_DIR, n_samples: int = 16, series: list[str] | None = None,
