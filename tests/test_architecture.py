@@ -255,7 +255,6 @@ def test_the_traction_tables_are_read_by_name():
 
 # functions allowed over the limit, each with its reason
 LONG_FUNCTIONS_ALLOWED = {
-    "flexbearing.multibody.quasi_static.solve_quasi_static",   # being reworked on its own branch (issue 42)
 }
 
 

@@ -303,6 +303,214 @@ def _kinematics(g, st, inner_speed, u):
         st.wb[j] = (wx, wr_, 0.0)
 
 
+class _RingSolve:
+    """One solve_quasi_static call: its fixed data (grooves, loads, residual scaling, tolerances,
+    options) and the per-ball state (`_State`, friction shares) its iterations update in place. The
+    methods are the solver's steps (solve_quasi_static's docstring and the module docstring)."""
+
+    def __init__(self, g, psi, inner_speed, fext, fscale, control, gyroscopic, centrifugal, fix_tilt, tol,
+                 max_iter, friction_share):
+        z = g.n_balls
+        self.g, self.z, self.inner_speed, self.fext, self.fscale = g, z, inner_speed, fext, fscale
+        self.control, self.gyroscopic, self.centrifugal = control, gyroscopic, centrifugal
+        self.tol, self.max_iter, self.friction_share = tol, max_iter, friction_share
+        self.arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
+                    np.array(g.active, np.bool_))
+        # residual scaling: forces by fscale, moments by fscale·dm/2
+        self.rscale = np.array([1, 1, 1, 2 / g.pitch_diameter, 2 / g.pitch_diameter]) / fscale
+        self.free = free = np.array([0, 1, 2] if fix_tilt else [0, 1, 2, 3, 4])
+        # the balls are solved to 1e-3 of the ring tolerance shared among them (never below their
+        # round-off floor, quasi_static_ball._solve_ball), so the ring residual the Newton iteration sees
+        # is its own and not the balls' stopping noise: with the balls at a fixed 1e-11 of the load, a
+        # ring tolerance of 1e-12 was met or missed depending on the processor's rounding (issue 42)
+        self.ball_tol = 1e-3 * tol * fscale / z
+        self.st = _State(g, psi)
+        # Jones's choice starts every ball on the outer race and is revised from the loads (speed_step)
+        self.st.ctrl[:] = RACE_INNER if control == "inner" else RACE_OUTER
+        self.lam = np.zeros((2, z))          # (lambda_o, lambda_i) per ball, updated in place
+        _set_friction_shares(self.lam, self.st.ctrl, friction_share)
+        self.lim = np.where(free < 3, 20e-6, 1e-3)     # largest Newton step, m and rad
+        # tilts as displacements at the pitch radius
+        self.dpitch = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)
+        # the kinematics are iterated to the precision the ring equilibrium is solved to: with a ring
+        # residual of tol the orbit speeds carry noise of about tol relative, and a tighter test would
+        # chase a 2-cycle at that level (found at light load, 6000 rpm, inner control)
+        self.kin_tol = max(1e-11, 10.0 * tol)
+
+    def resid(self, uf, u_full):
+        g, st, arr, lam, fext, free = self.g, self.st, self.arr, self.lam, self.fext, self.free
+        u_full[free] = uf
+        return (_ring_residual(u_full, g, st, arr, lam, fext, self.ball_tol) * self.rscale)[free]
+
+    def tol_now(self):
+        """The ring tolerance, raised to the residual's round-off floor where tol lies below it: the
+        ring force sums the inner contacts' loads, so it cannot cancel the load to better than a few
+        eps of their sum (plus the balls' own stopping tolerance)."""
+        st, z, ball_tol, fscale, tol = self.st, self.z, self.ball_tol, self.fscale, self.tol
+        floor = (qb.ROUNDOFF_FACTOR * qb.EPS * float(np.sum(st.q[:, 1:])) + z * ball_tol) / fscale
+        return max(tol, floor)
+
+    def jacobian(self, u_full):
+        """Jacobian of the scaled ring residual in the free directions (kinematics held), exact by the
+        implicit-function theorem at the balls' current seats (`_ring_force_jacobian`)."""
+        jf = _ring_force_jacobian(u_full, self.g, self.st, self.arr, self.lam)
+        return (self.rscale[:, None] * jf)[np.ix_(self.free, self.free)]
+
+    def newton(self, u_full, maxit):
+        """Newton's method on the ring residual with the kinematics held, globalised by Armijo
+        backtracking on the scaled residual's 2-norm (Dennis & Schnabel, Numerical Methods for
+        Unconstrained Optimization and Nonlinear Equations, SIAM 1996, §6.3): a step is accepted
+        where |r(u + a·s)| <= (1 − 1e-4·a)·|r(u)|. Returns (u_free, r, converged, iterations)."""
+        st, free, dpitch, lim = self.st, self.free, self.dpitch, self.lim
+        uf = u_full[free].copy()
+        r = self.resid(uf, u_full)
+        for it in range(maxit):
+            if np.max(np.abs(r)) <= self.tol_now():
+                return uf, r, True, it
+            J = self.jacobian(u_full)
+            jd = J / dpitch[None, :]
+            sv = np.linalg.svd(jd, compute_uv=False)
+            if not sv[-1] * FOLD_CONDITION > sv[0]:
+                # at a fold or a neutral direction (e.g. one ball carrying the load, the ring free across
+                # it): the Newton step along the null directions is round-off; take the minimum-norm
+                # least-squares step with those singular values dropped (Dennis & Schnabel §6.5)
+                step = -np.linalg.lstsq(jd, r, rcond=1.0 / FOLD_CONDITION)[0] / dpitch
+            else:
+                step = -np.linalg.solve(J, r)
+            s = np.max(np.abs(step) / lim)
+            if s > 1:
+                step /= s
+            n0 = np.linalg.norm(r)
+            xb0, rb0 = st.xb.copy(), st.rb.copy()
+            a = 1.0
+            reduced = False
+            for _ in range(40):
+                rn = self.resid(uf + a * step, u_full)
+                if np.linalg.norm(rn) <= (1.0 - 1e-4 * a) * n0 or np.max(np.abs(rn)) <= self.tol_now():
+                    reduced = True
+                    break
+                st.xb[:], st.rb[:] = xb0, rb0
+                a *= 0.5
+            if not reduced:
+                # no step along the Newton direction lowers the residual: more iterations would only
+                # repeat this search (stagnation), so report the state as it is
+                r = self.resid(uf, u_full)
+                return uf, r, np.max(np.abs(r)) <= self.tol_now(), it + 1
+            uf = uf + a * step
+            r = rn
+        return uf, r, np.max(np.abs(r)) <= self.tol_now(), maxit
+
+    def speed_step(self, u, w, cold):
+        """Ring equilibrium and race-control kinematics at inner-ring speed w by fixed-point
+        iteration of the kinematics around the ring Newton. Returns (ok, iterations, diagnostic)."""
+        g, st, lam, free, control = self.g, self.st, self.lam, self.free, self.control
+        centrifugal, gyroscopic, kin_tol, max_iter = self.centrifugal, self.gyroscopic, self.kin_tol, self.max_iter
+        friction_share = self.friction_share
+        if cold:
+            st.wm[:] = geo.pitch_orbit_speed(w, 0.0, g.ball_diameter, g.pitch_diameter, 0.0)
+        kin_ok = w == 0.0
+        failed_newtons = 0
+        its = 0
+        ok = False
+        dwm = math.inf
+        for outer_it in range(50):
+            wm_old = st.wm.copy()
+            mg_old = st.mg.copy()
+            st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
+            uf, r, ok, it = self.newton(u, max_iter)
+            its += it
+            u[free] = uf
+            changed = False
+            if control == "jones" and w != 0.0 and outer_it < JONES_REVISIONS:
+                new = _jones_controlling_race(g, st)
+                changed = bool(np.any(new != st.ctrl))
+                st.ctrl[:] = new
+                _set_friction_shares(lam, st.ctrl, friction_share)
+            _kinematics(g, st, w, u)
+            st.mg[:] = g.ball_inertia * st.wm * st.wb[:, 1] if gyroscopic else 0.0
+            if w == 0.0:
+                break
+            dwm = np.max(np.abs(st.wm - wm_old)) / max(abs(w), 1e-30)
+            dmg = np.max(np.abs(st.mg - mg_old)) / max(np.max(np.abs(st.mg)), 1e-30)
+            if ok and not changed and dwm < kin_tol and (dmg < max(1e-9, kin_tol) or not gyroscopic):
+                kin_ok = True
+                break
+            failed_newtons = 0 if ok else failed_newtons + 1
+            if failed_newtons >= 3:
+                why = _failure_diagnostic(g, st, w, control, lam)
+                return False, its, why
+        if not kin_ok:
+            why = _failure_diagnostic(g, st, w, control, lam)
+            if NO_RACE_CONTROL in why:
+                # the kinematics cycle because the controlling race would need a friction coefficient
+                # above 1 at the state they reached: the physical reason, not a numerical one
+                return False, its, why
+            return False, its, (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
+                                f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
+                                f"needed {kin_tol:.3g})")
+        return ok, its, ""
+
+    def snapshot(self, u):
+        return (u.copy(), self.st.xb.copy(), self.st.rb.copy(), self.st.wm.copy(), self.st.wb.copy(), self.st.mg.copy(),
+                self.st.ctrl.copy(), self.lam.copy())
+
+    def restore(self, snap, u):
+        st = self.st
+        u[:], st.xb[:], st.rb[:], st.wm[:], st.wb[:], st.mg[:], st.ctrl[:], self.lam[:] = snap
+
+    def cold_path(self, u):
+        """From rest to inner_speed by natural-parameter continuation in the speed (Allgower & Georg,
+        Introduction to Numerical Continuation Methods, SIAM 2003, ch. 1-2): the zero-speed
+        bracketed start, then steps of a quarter of the speed, each started from the last state; a
+        failed step is halved (down to 1/64 of the speed), a converged one enlarged by 1.5."""
+        g, st, arr, lam, free, control = self.g, self.st, self.arr, self.lam, self.free, self.control
+        inner_speed, friction_share, ball_tol, fext = self.inner_speed, self.friction_share, self.ball_tol, self.fext
+        u[:] = _initial_guess(g, st, arr, lam, fext, ball_tol, free)
+        st.wm[:] = 0.0
+        st.wb[:] = 0.0
+        st.mg[:] = 0.0
+        st.ctrl[:] = RACE_INNER if control == "inner" else RACE_OUTER
+        _set_friction_shares(lam, st.ctrl, friction_share)
+        if inner_speed == 0.0:
+            return self.speed_step(u, 0.0, True)
+        its = 0
+        done, step, first = 0.0, 0.25, True
+        good = self.snapshot(u)
+        while done < 1.0:
+            trial = min(1.0, done + step)
+            ok, it, why = self.speed_step(u, trial * inner_speed, first)
+            its += it
+            if ok:
+                done, first = trial, False
+                good = self.snapshot(u)
+                step *= 1.5
+                continue
+            if NO_RACE_CONTROL in why:
+                # a physical limit, not a numerical one: a smaller speed step reaches the same speed
+                return False, its, why
+            self.restore(good, u)
+            step *= 0.5
+            if step < 1.0 / 64.0:
+                return False, its, why
+        return True, its, ""
+
+    def fold_check(self, u):
+        """(condition, notes) of a converged state: the 2-norm condition number of the ring Jacobian
+        in the free directions, and a note where it is above FOLD_CONDITION."""
+        notes = ""
+        # the conditioning of the ring equilibrium (kinematics held; tilts as the displacement
+        # they cause at the pitch radius): near a fold (a limit point of the load–displacement
+        # curve) the Jacobian is singular and a second equilibrium lies close
+        J = self.jacobian(u)
+        sv = np.linalg.svd(J / self.dpitch[None, :], compute_uv=False)
+        cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
+        if cond > FOLD_CONDITION:
+            notes = (f"the ring Jacobian's condition number is {cond:.3g} (> {FOLD_CONDITION:.0e}): the state is "
+                     "at or near a fold of the load-displacement curve, where the equilibrium is not unique "
+                     "(another one lies close, and a small change of load or speed may jump to it)")
+        return cond, notes
+
+
 def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0.0, fy: float = 0.0,
                        fz: float = 0.0, my: float = 0.0, mz: float = 0.0, control: str = "outer",
                        gyroscopic: bool = True, centrifugal: bool = True, fix_tilt: bool = False,
@@ -342,8 +550,6 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     g = grooves
     z = g.n_balls
     psi = psi0 + 2.0 * math.pi * np.arange(z) / z
-    arr = (np.array(g.groove_x, float), np.array(g.groove_r, float), np.array(g.groove_f, float),
-           np.array(g.active, np.bool_))
     if friction_share is not None:
         lo, li = (float(v) for v in friction_share)
         if not (0.0 <= lo <= 2.0 and 0.0 <= li <= 2.0 and abs(lo + li - 2.0) < 1e-12):
@@ -355,176 +561,9 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
     if abs(fx) + math.hypot(fy, fz) <= 0.0 and inner_speed == 0.0:
         raise InputError("the bearing carries no load: give fx, fy or fz (N) or a speed")
     require_range("tol", tol, 0.0, 1e-3, lo_open=True)
-    # residual scaling: forces by fscale, moments by fscale·dm/2
-    rscale = np.array([1, 1, 1, 2 / g.pitch_diameter, 2 / g.pitch_diameter]) / fscale
-    free = np.array([0, 1, 2] if fix_tilt else [0, 1, 2, 3, 4])
-    # the balls are solved to 1e-3 of the ring tolerance shared among them (never below their
-    # round-off floor, quasi_static_ball._solve_ball), so the ring residual the Newton iteration sees
-    # is its own and not the balls' stopping noise: with the balls at a fixed 1e-11 of the load, a
-    # ring tolerance of 1e-12 was met or missed depending on the processor's rounding (issue 42)
-    ball_tol = 1e-3 * tol * fscale / z
-    st = _State(g, psi)
-    # Jones's choice starts every ball on the outer race and is revised from the loads (below)
-    st.ctrl[:] = RACE_INNER if control == "inner" else RACE_OUTER
-    lam = np.zeros((2, z))          # (lambda_o, lambda_i) per ball, updated in place
-    _set_friction_shares(lam, st.ctrl, friction_share)
-
-    def resid(uf, u_full):
-        u_full[free] = uf
-        return (_ring_residual(u_full, g, st, arr, lam, fext, ball_tol) * rscale)[free]
-
-    def tol_now():
-        """The ring tolerance, raised to the residual's round-off floor where tol lies below it: the
-        ring force sums the inner contacts' loads, so it cannot cancel the load to better than a few
-        eps of their sum (plus the balls' own stopping tolerance)."""
-        floor = (qb.ROUNDOFF_FACTOR * qb.EPS * float(np.sum(st.q[:, 1:])) + z * ball_tol) / fscale
-        return max(tol, floor)
-
-    lim = np.where(free < 3, 20e-6, 1e-3)     # largest Newton step, m and rad
-    dpitch = np.where(free < 3, 1.0, 0.5 * g.pitch_diameter)   # tilts as displacements at the pitch radius
-
-    def jacobian(u_full):
-        """Jacobian of the scaled ring residual in the free directions (kinematics held), exact by the
-        implicit-function theorem at the balls' current seats (`_ring_force_jacobian`)."""
-        jf = _ring_force_jacobian(u_full, g, st, arr, lam)
-        return (rscale[:, None] * jf)[np.ix_(free, free)]
-
-    def newton(u_full, maxit):
-        """Newton's method on the ring residual with the kinematics held, globalised by Armijo
-        backtracking on the scaled residual's 2-norm (Dennis & Schnabel, Numerical Methods for
-        Unconstrained Optimization and Nonlinear Equations, SIAM 1996, §6.3): a step is accepted
-        where |r(u + a·s)| <= (1 − 1e-4·a)·|r(u)|. Returns (u_free, r, converged, iterations)."""
-        uf = u_full[free].copy()
-        r = resid(uf, u_full)
-        for it in range(maxit):
-            if np.max(np.abs(r)) <= tol_now():
-                return uf, r, True, it
-            J = jacobian(u_full)
-            jd = J / dpitch[None, :]
-            sv = np.linalg.svd(jd, compute_uv=False)
-            if not sv[-1] * FOLD_CONDITION > sv[0]:
-                # at a fold or a neutral direction (e.g. one ball carrying the load, the ring free across
-                # it): the Newton step along the null directions is round-off; take the minimum-norm
-                # least-squares step with those singular values dropped (Dennis & Schnabel §6.5)
-                step = -np.linalg.lstsq(jd, r, rcond=1.0 / FOLD_CONDITION)[0] / dpitch
-            else:
-                step = -np.linalg.solve(J, r)
-            s = np.max(np.abs(step) / lim)
-            if s > 1:
-                step /= s
-            n0 = np.linalg.norm(r)
-            xb0, rb0 = st.xb.copy(), st.rb.copy()
-            a = 1.0
-            reduced = False
-            for _ in range(40):
-                rn = resid(uf + a * step, u_full)
-                if np.linalg.norm(rn) <= (1.0 - 1e-4 * a) * n0 or np.max(np.abs(rn)) <= tol_now():
-                    reduced = True
-                    break
-                st.xb[:], st.rb[:] = xb0, rb0
-                a *= 0.5
-            if not reduced:
-                # no step along the Newton direction lowers the residual: more iterations would only
-                # repeat this search (stagnation), so report the state as it is
-                r = resid(uf, u_full)
-                return uf, r, np.max(np.abs(r)) <= tol_now(), it + 1
-            uf = uf + a * step
-            r = rn
-        return uf, r, np.max(np.abs(r)) <= tol_now(), maxit
-
-    # the kinematics are iterated to the precision the ring equilibrium is solved to: with a ring
-    # residual of tol the orbit speeds carry noise of about tol relative, and a tighter test would
-    # chase a 2-cycle at that level (found at light load, 6000 rpm, inner control)
-    kin_tol = max(1e-11, 10.0 * tol)
-
-    def speed_step(u, w, cold):
-        """Ring equilibrium and race-control kinematics at inner-ring speed w by fixed-point
-        iteration of the kinematics around the ring Newton. Returns (ok, iterations, diagnostic)."""
-        if cold:
-            st.wm[:] = geo.pitch_orbit_speed(w, 0.0, g.ball_diameter, g.pitch_diameter, 0.0)
-        kin_ok = w == 0.0
-        failed_newtons = 0
-        its = 0
-        ok = False
-        dwm = math.inf
-        for outer_it in range(50):
-            wm_old = st.wm.copy()
-            mg_old = st.mg.copy()
-            st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
-            uf, r, ok, it = newton(u, max_iter)
-            its += it
-            u[free] = uf
-            changed = False
-            if control == "jones" and w != 0.0 and outer_it < JONES_REVISIONS:
-                new = _jones_controlling_race(g, st)
-                changed = bool(np.any(new != st.ctrl))
-                st.ctrl[:] = new
-                _set_friction_shares(lam, st.ctrl, friction_share)
-            _kinematics(g, st, w, u)
-            st.mg[:] = g.ball_inertia * st.wm * st.wb[:, 1] if gyroscopic else 0.0
-            if w == 0.0:
-                break
-            dwm = np.max(np.abs(st.wm - wm_old)) / max(abs(w), 1e-30)
-            dmg = np.max(np.abs(st.mg - mg_old)) / max(np.max(np.abs(st.mg)), 1e-30)
-            if ok and not changed and dwm < kin_tol and (dmg < max(1e-9, kin_tol) or not gyroscopic):
-                kin_ok = True
-                break
-            failed_newtons = 0 if ok else failed_newtons + 1
-            if failed_newtons >= 3:
-                why = _failure_diagnostic(g, st, w, control, lam)
-                return False, its, why
-        if not kin_ok:
-            why = _failure_diagnostic(g, st, w, control, lam)
-            if NO_RACE_CONTROL in why:
-                # the kinematics cycle because the controlling race would need a friction coefficient
-                # above 1 at the state they reached: the physical reason, not a numerical one
-                return False, its, why
-            return False, its, (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
-                                f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
-                                f"needed {kin_tol:.3g})")
-        return ok, its, ""
-
-    def snapshot(u):
-        return (u.copy(), st.xb.copy(), st.rb.copy(), st.wm.copy(), st.wb.copy(), st.mg.copy(),
-                st.ctrl.copy(), lam.copy())
-
-    def restore(snap, u):
-        u[:], st.xb[:], st.rb[:], st.wm[:], st.wb[:], st.mg[:], st.ctrl[:], lam[:] = snap
-
-    def cold_path(u):
-        """From rest to inner_speed by natural-parameter continuation in the speed (Allgower & Georg,
-        Introduction to Numerical Continuation Methods, SIAM 2003, ch. 1-2): the zero-speed
-        bracketed start, then steps of a quarter of the speed, each started from the last state; a
-        failed step is halved (down to 1/64 of the speed), a converged one enlarged by 1.5."""
-        u[:] = _initial_guess(g, st, arr, lam, fext, ball_tol, free)
-        st.wm[:] = 0.0
-        st.wb[:] = 0.0
-        st.mg[:] = 0.0
-        st.ctrl[:] = RACE_INNER if control == "inner" else RACE_OUTER
-        _set_friction_shares(lam, st.ctrl, friction_share)
-        if inner_speed == 0.0:
-            return speed_step(u, 0.0, True)
-        its = 0
-        done, step, first = 0.0, 0.25, True
-        good = snapshot(u)
-        while done < 1.0:
-            trial = min(1.0, done + step)
-            ok, it, why = speed_step(u, trial * inner_speed, first)
-            its += it
-            if ok:
-                done, first = trial, False
-                good = snapshot(u)
-                step *= 1.5
-                continue
-            if NO_RACE_CONTROL in why:
-                # a physical limit, not a numerical one: a smaller speed step reaches the same speed
-                return False, its, why
-            restore(good, u)
-            step *= 0.5
-            if step < 1.0 / 64.0:
-                return False, its, why
-        return True, its, ""
-
+    rs = _RingSolve(g, psi, inner_speed, fext, fscale, control, gyroscopic, centrifugal, fix_tilt, tol,
+                    max_iter, friction_share)
+    st, free = rs.st, rs.free
     u = np.zeros(5)
     total_it = 0
     if initial is not None:
@@ -533,34 +572,22 @@ def solve_quasi_static(grooves: Grooves, inner_speed: float = 0.0, fx: float = 0
         st.wm[:], st.wb[:] = initial.orbit_speed, initial.ball_omega
         if control == "jones" and initial.controlling_race is not None:
             st.ctrl[:] = initial.controlling_race
-            _set_friction_shares(lam, st.ctrl, friction_share)
-        ok, total_it, diagnostic = speed_step(u, inner_speed, False)
+            _set_friction_shares(rs.lam, st.ctrl, friction_share)
+        ok, total_it, diagnostic = rs.speed_step(u, inner_speed, False)
         if not ok:
             # a warm start too far from this load or speed: the cold path (continuation from rest)
-            ok, it, diagnostic = cold_path(u)
+            ok, it, diagnostic = rs.cold_path(u)
             total_it += it
     else:
-        ok, total_it, diagnostic = cold_path(u)
+        ok, total_it, diagnostic = rs.cold_path(u)
     # final consistent evaluation
     st.m_w2[:] = g.ball_mass * st.wm ** 2 if centrifugal else 0.0
-    rfin = resid(u[free], u)
-    ok = ok and np.max(np.abs(rfin)) <= 10 * tol_now()
+    rfin = rs.resid(u[free], u)
+    ok = ok and np.max(np.abs(rfin)) <= 10 * rs.tol_now()
     if not ok and not diagnostic:
         diagnostic = (f"ring equilibrium not reached: residual {np.max(np.abs(rfin)):.3g} of the load scale "
                       f"(tol {tol:.3g})")
-    notes = ""
-    cond = math.nan
-    if ok:
-        # the conditioning of the ring equilibrium (kinematics held; tilts as the displacement
-        # they cause at the pitch radius): near a fold (a limit point of the load–displacement
-        # curve) the Jacobian is singular and a second equilibrium lies close
-        J = jacobian(u)
-        sv = np.linalg.svd(J / dpitch[None, :], compute_uv=False)
-        cond = float(sv[0] / sv[-1]) if sv[-1] > 0.0 else math.inf
-        if cond > FOLD_CONDITION:
-            notes = (f"the ring Jacobian's condition number is {cond:.3g} (> {FOLD_CONDITION:.0e}): the state is "
-                     "at or near a fold of the load-displacement curve, where the equilibrium is not unique "
-                     "(another one lies close, and a small change of load or speed may jump to it)")
+    cond, notes = rs.fold_check(u) if ok else (math.nan, "")
     res = _result(g, st, u, fext, inner_speed, control, float(np.max(np.abs(rfin))), ok, total_it,
                   diagnostic, friction_share)
     res.jacobian_condition = cond
