@@ -122,9 +122,10 @@ def gmsh_initialize(gmsh) -> None:
     it in initialize() unless interruptible=False, and Python allows signal.signal in the main
     thread only: off the main thread (a Dask worker building a reduced cage) it is left alone. On
     the main thread, finalize() puts Python's handler back (KeyboardInterrupt: a run stops cleanly)
-    on both;
-    gmsh 4.8's finalize() would put back the handler it saw at import (`oldsig`) with
-    signal.signal too: that is dropped."""
+    on both (gmsh 4.8's finalize() puts back the handler it saw when it was imported, `oldsig`:
+    that is replaced by the one in force just before initialize(), so a process that was started
+    with SIGINT ignored, in the background, and has set Python's handler since, keeps it); off the
+    main thread gmsh 4.8's finalize() would call signal.signal too: that is dropped."""
     if threading.current_thread() is threading.main_thread():
         previous = signal.getsignal(signal.SIGINT)
         gmsh.initialize()
@@ -132,6 +133,8 @@ def gmsh_initialize(gmsh) -> None:
             # gmsh >= 4.9 means finalize() to put the handler back, but keeps it in a local
             # variable (no `global`): Ctrl-C would kill the process for good after the first mesh
             gmsh.prev_interrupt_handler = previous
+        if getattr(gmsh, "oldsig", None) is not None:
+            gmsh.oldsig = previous
         return
     if getattr(gmsh, "oldsig", None) is not None:
         gmsh.oldsig = None
