@@ -70,12 +70,12 @@ def test_monitor_equals_brute_force_and_holds_the_peak(setup):
         ref, node, q = _reference(S, omega, phi_b, q_cf, y, cage.node_load, y[9], n_el)
         sp.reset(mon)
         sp.stress_peak_step(t, y, cage, mon)
-        vm, row, t_pk, n_eval, y_pk = sp.peak(mon)
-        assert vm == pytest.approx(ref, rel=1e-12)
-        assert int(ev.node_ids[row]) == node
-        assert t_pk == t and n_eval == 1
+        pk = sp.peak(mon)
+        assert pk.von_mises == pytest.approx(ref, rel=1e-12)
+        assert int(ev.node_ids[pk.row]) == node
+        assert pk.time == t and pk.steps == 1
         # the kept load-space vector: (Omega^2, q_kept, node loads)
-        np.testing.assert_array_equal(y_pk, np.r_[y[9] ** 2, y[12:12 + n_el], cage.node_load.ravel()])
+        np.testing.assert_array_equal(pk.load_space, np.r_[y[9] ** 2, y[12:12 + n_el], cage.node_load.ravel()])
         values.append((ref, t, y.copy(), cage.node_load.copy()))
     # peak-hold over the four states
     sp.reset(mon)
@@ -83,9 +83,9 @@ def test_monitor_equals_brute_force_and_holds_the_peak(setup):
     for ref, t, y, nl in values:
         cage.node_load[:] = nl
         sp.stress_peak_step(t, y, cage, mon)
-    vm, row, t_pk, n_eval, _ = sp.peak(mon)
+    pk = sp.peak(mon)
     best = max(values, key=lambda v: v[0])
-    assert vm == pytest.approx(best[0], rel=1e-12) and t_pk == best[1] and n_eval == 4
+    assert pk.von_mises == pytest.approx(best[0], rel=1e-12) and pk.time == best[1] and pk.steps == 4
     t_tr, y_tr = sp.trace(mon)
     assert len(t_tr) == 8 and t_tr[-1] == values[-1][1]
 
@@ -122,9 +122,9 @@ def test_monitor_interval_evaluates_every_kth_step(setup):
         sp.stress_peak_step(1e-4 * (i + 1), y, cage, mon)
     t_tr, _ = sp.trace(mon)
     np.testing.assert_allclose(t_tr, [3e-4, 6e-4], rtol=0, atol=1e-15)
-    vm, _, t_pk, n_eval, _ = sp.peak(mon)
-    assert n_eval == 1 and t_pk == pytest.approx(6e-4, abs=1e-15)
-    assert vm == pytest.approx(refs[6], rel=1e-12)
+    pk = sp.peak(mon)
+    assert pk.steps == 1 and pk.time == pytest.approx(6e-4, abs=1e-15)
+    assert pk.von_mises == pytest.approx(refs[6], rel=1e-12)
 
 
 @pytest.mark.parametrize("bad", [0, -2, 10_001, 2.5])

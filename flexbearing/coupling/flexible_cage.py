@@ -359,9 +359,9 @@ def _add_stress_outputs(stress, model, t, y, q, c0, snapshot, out) -> None:
         vm, node = stress(qf) if t == 0.0 else stress.at_state(q, model.cage.node_load, spin)
         t_peak, n_eval = t, 1
     else:
-        vm, row, t_peak, n_eval, y_pk = snapshot
-        node = stress.vertex(row)
-        qf = stress.full_coordinates_of(y_pk)
+        vm, t_peak, n_eval = snapshot.von_mises, snapshot.time, snapshot.steps
+        node = stress.vertex(snapshot.row)
+        qf = stress.full_coordinates_of(snapshot.load_space)
     out["von_mises_max"] = float(vm)
     out["von_mises_max_vertex"] = int(node)
     out["von_mises_max_time"] = float(t_peak)

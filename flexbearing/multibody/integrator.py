@@ -59,7 +59,8 @@ from flexbearing.multibody import dynamics as D
 from flexbearing.multibody import outputs as O
 from flexbearing.multibody import model as M
 from flexbearing.multibody import state_layout as SL
-from flexbearing.multibody.stress_peak import disabled_monitor, peak_of, stress_peak_step, take_peak
+from flexbearing.multibody.stress_peak import (MON_PEAK, MON_Y_PEAK, disabled_monitor, peak_of, stress_peak_step,
+                                              take_peak)
 
 DEFAULT_TOL = 1e-6
 H_MIN = 1e-12
@@ -162,8 +163,8 @@ def _rk_loop(y, t, t_end, h, tol, A, B, C, E, order, p, flags, htab, ttab, sp, l
     n_ts = ts.shape[0]
     i_s = 0
     n_out[0] = 0
-    peak = mon[4]
-    y_peak = mon[5]
+    peak = mon[MON_PEAK]
+    y_peak = mon[MON_Y_PEAK]
     if h > h_max:
         h = h_max
     while t < t_end:
@@ -351,7 +352,7 @@ def advance_sampled(model, y, t, t_next, sample_times, speed_table, load_table, 
         raise ValueError(f"sample times must ascend strictly inside ({t!r}, {t_next!r}): "
                          f"{ts[0]!r} ... {ts[-1]!r}")
     mon = _DISABLED if monitor is None else monitor
-    Ys, Pk, Ypk = ws.sample_buffers(ts.size, mon[5].shape[0])
+    Ys, Pk, Ypk = ws.sample_buffers(ts.size, mon[MON_Y_PEAK].shape[0])
     if ws.fsal_t != t or ws.fsal_y is None or not np.array_equal(ws.fsal_y, y):
         ws.work[-1, M.WR_STATUS] = 0.0
         D.rhs(t, y, ws.K[0], model.p, model.flags, model.hertz_table, model.traction_table,

@@ -47,6 +47,8 @@ numpy + numba only; imports no FE package.
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -55,6 +57,9 @@ from flexbearing.fem_cage.von_mises import empty_tracking_arrays, tracking_max_s
 from flexbearing.multibody.dynamics import cage_body_angular_velocity, cage_rotation
 from flexbearing.multibody.state_layout import CAGE_PHI, CAGE_TILT_Y, CAGE_TILT_Z
 
+# the monitor tuple's slots (module docstring; compile-time constants inside the compiled kernels)
+(MON_ON, MON_SEARCH, MON_IDX, MON_Y, MON_PEAK, MON_Y_PEAK, MON_W, MON_SEED, MON_TRACE,
+ MON_TRACE_N) = range(10)
 PEAK_VM_SQ, PEAK_ROW, PEAK_T, PEAK_N = 0, 1, 2, 3
 EMPTY_PEAK = (-1.0, -1.0, np.nan, 0.0)   # no step since the last reset (vm^2 < 0)
 # the monitor's integer slots (`new_monitor`): the cage's and the modes' offsets in the state, the
@@ -138,7 +143,7 @@ def disabled_monitor() -> tuple:
 
 def reset(mon) -> None:
     """Empty the peak (start of a sample interval)."""
-    mon[4][:] = EMPTY_PEAK
+    mon[MON_PEAK][:] = EMPTY_PEAK
 
 
 @njit(cache=True, nogil=True)
@@ -154,21 +159,30 @@ def take_peak(peak, y_peak, peak_out, y_peak_out):
         peak[i] = EMPTY_PEAK[i]
 
 
-def peak(mon):
-    """(max von Mises Pa, search row, time s, steps evaluated, load-space y at the peak) or None if
-    no step was evaluated since the last reset."""
-    return peak_of(mon[4], mon[5])
+class StressPeak(NamedTuple):
+    """The largest von Mises stress over the steps of a sample interval (`peak`)."""
+    von_mises: float            # Pa
+    row: int                    # the search's row (StressRecovery.vertex turns it into the mesh vertex)
+    time: float                 # s, the step where it occurred
+    steps: int                  # accepted steps evaluated in the interval
+    load_space: np.ndarray      # (K,) y of that step (StressRecovery.full_coordinates_of)
 
 
-def peak_of(p, y_peak):
+def peak(mon) -> StressPeak | None:
+    """The StressPeak since the last reset, or None if no step was evaluated since."""
+    return peak_of(mon[MON_PEAK], mon[MON_Y_PEAK])
+
+
+def peak_of(p, y_peak) -> StressPeak | None:
     """`peak` of a peak array (4,) and its y (K,) (the monitor's, or the copies the integrator
     takes at a sample inside a step, flexbearing.multibody.integrator.advance_sampled)."""
     if p[PEAK_VM_SQ] < 0.0:
         return None
-    return float(np.sqrt(p[PEAK_VM_SQ])), int(p[PEAK_ROW]), float(p[PEAK_T]), int(p[PEAK_N]), y_peak.copy()
+    return StressPeak(float(np.sqrt(p[PEAK_VM_SQ])), int(p[PEAK_ROW]), float(p[PEAK_T]), int(p[PEAK_N]),
+                      y_peak.copy())
 
 
 def trace(mon) -> tuple[np.ndarray, np.ndarray]:
     """(t (n,), y (n, K)) of the steps recorded since the monitor was made (new_monitor trace=)."""
-    n = int(mon[9][0])
-    return mon[8][:n, 0].copy(), mon[8][:n, 1:].copy()
+    n = int(mon[MON_TRACE_N][0])
+    return mon[MON_TRACE][:n, 0].copy(), mon[MON_TRACE][:n, 1:].copy()
