@@ -12,7 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from scipy.integrate import quad, solve_ivp
+from scipy.integrate import quad, solve_ivp, trapezoid
 
 from flexbearing.multibody import traction as T
 from flexbearing.multibody.bearing import PAPER_OIL
@@ -87,7 +87,7 @@ def test_maxwell_strip_mean_against_johnson_tevaarwerk_ode():
                 sol = solve_ivp(lambda t, s: [g_mod * (rate - tau0 / eta * math.sinh(min(s[0] / tau0, 700.0)))],
                                 (0.0, t_tr), [0.0], method="LSODA", rtol=1e-9, atol=1.0, dense_output=True)
                 tt = np.linspace(0.0, t_tr, 2001)
-                exact = np.trapz(sol.sol(tt)[0], tt) / t_tr
+                exact = trapezoid(sol.sol(tt)[0], tt) / t_tr
                 law = T.ehl_strip_shear(v, 1e9, b, h, u, eta, 0.0, HUGE, tau0, HUGE, g_mod, HUGE, 1e-5, 0.03)
                 worst = max(worst, abs(law / exact - 1.0))
                 assert law == pytest.approx(exact, rel=0.20)
