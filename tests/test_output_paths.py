@@ -335,3 +335,42 @@ def test_a_flexible_cage_report_with_series_and_fatigue_writes_only_what_it_decl
                        report_outputs(run, out), "report (flexible cage, --series, --fatigue)")
     assert {"rep/von_mises_peak.json", "rep/von_mises.h5", "rep/series.h5", "rep/series_rings.xdmf",
             "rep/fatigue.h5", "rep/fatigue_damage.png"} <= set(names)
+
+
+def test_a_sigkilled_command_s_staging_folder_is_removed_by_the_next_one(tmp_path):
+    """A command killed by SIGKILL inside OutputPlan.writing() leaves its staging folder (nothing
+    runs at SIGKILL); the next command staging in the same folder removes it, because its owner's
+    pid is gone, and commits its own file. A live owner's folder (this process's pid) and another
+    host's are kept: their command may still be writing."""
+    import signal
+    import socket
+    import subprocess
+    import sys
+    out = tmp_path / "out"
+    killed = subprocess.Popen([sys.executable, "-c", f"""
+import os, signal
+from flexbearing.common.safe_files import OutputPlan
+plan = OutputPlan("killed", inputs=[])
+plan.file({str(out / 'a.txt')!r}, "-o")
+plan.check()
+with plan.writing():
+    plan.staged({str(out / 'a.txt')!r}).write_text("half")
+    os.kill(os.getpid(), signal.SIGKILL)
+"""], stderr=subprocess.PIPE, text=True)
+    _, err = killed.communicate()
+    assert killed.returncode == -signal.SIGKILL, err
+    left = [p for p in out.iterdir() if p.name.startswith(".flexbearing-staging-")]
+    assert len(left) == 1 and (left[0] / "a.txt").read_text() == "half"
+    live = out / f".flexbearing-staging-{socket.gethostname()}-{os.getpid()}-live0000"
+    # the dead pid itself, but on another host: that host's process may be alive
+    other_host = out / f".flexbearing-staging-{socket.gethostname()}x-{killed.pid}-other000"
+    live.mkdir()
+    other_host.mkdir()
+    plan = OutputPlan("next", inputs=[])
+    plan.file(out / "a.txt", "-o")
+    plan.check()
+    with plan.writing():
+        plan.staged(out / "a.txt").write_text("whole")
+    assert (out / "a.txt").read_text() == "whole"
+    assert not left[0].exists(), "the dead owner's staging folder was left"
+    assert live.is_dir() and other_host.is_dir(), "a live owner's or another host's staging folder was removed"

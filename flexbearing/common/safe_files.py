@@ -31,6 +31,7 @@ import ctypes
 import errno
 import os
 import shutil
+import socket
 import stat
 import tempfile
 from pathlib import Path
@@ -246,8 +247,53 @@ def check_output_folder(folder, names, inputs, option: str = "-o", patterns=()) 
 # destination (atomic per file; fsynced) after checking that it was declared: a file that was not
 # declared is a program error, raised, and nothing of it lands. On any exception the staging
 # folders are removed and the destinations are untouched.
+#
+# A SIGKILL (or a power loss) skips that removal. So a staging folder's name carries its owner,
+# ".flexbearing-staging-<host>-<pid>-<random>", and the next command that stages beside it removes
+# the folders of owners on this host that are no longer alive (remove_stale_staging). A live
+# owner's folder, another host's (its process table is not ours: a shared file system) and a name
+# of another form are never touched; a reused pid only keeps a dead owner's folder a while longer.
 
 _STAGE_PREFIX = ".flexbearing-staging-"
+
+
+def _stage_owner(name: str) -> tuple[str, int] | None:
+    """(host, pid) of a staging folder's name (the comment above), None for another name."""
+    if not name.startswith(_STAGE_PREFIX):
+        return None
+    parts = name[len(_STAGE_PREFIX):].rsplit("-", 2)       # the random tail of mkdtemp has no "-"
+    if len(parts) != 3 or not parts[1].isdigit():
+        return None
+    return parts[0], int(parts[1])
+
+
+def _alive(pid: int) -> bool:
+    """Whether process pid exists on this host (signal 0 checks without sending anything)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:                 # it exists, owned by another user
+        return True
+    return True
+
+
+def remove_stale_staging(folder) -> list[Path]:
+    """Remove the staging folders in `folder` whose owner (this host, a pid) is no longer alive:
+    what a SIGKILLed command left (the comment above). Returns the folders removed."""
+    host = socket.gethostname()
+    removed = []
+    try:
+        entries = list(Path(folder).iterdir())
+    except OSError:
+        return removed
+    for entry in entries:
+        owner = _stage_owner(entry.name)
+        if owner is None or owner[0] != host or _alive(owner[1]) or entry.is_symlink() or not entry.is_dir():
+            continue
+        shutil.rmtree(entry, ignore_errors=True)
+        removed.append(entry)
+    return removed
 
 # HDF5 files of flexbearing whose kind is recognised by their root attributes: writing another
 # kind of file over one would destroy a run or a cache entry
@@ -407,7 +453,8 @@ class OutputPlan:
         if stage is None:
             if self.comm is None or self.comm.rank == 0:
                 dest.mkdir(parents=True, exist_ok=True)
-                stage = tempfile.mkdtemp(prefix=_STAGE_PREFIX, dir=dest)
+                remove_stale_staging(dest)
+                stage = tempfile.mkdtemp(prefix=f"{_STAGE_PREFIX}{socket.gethostname()}-{os.getpid()}-", dir=dest)
             if self.comm is not None:
                 stage = self.comm.bcast(stage, root=0)
             stage = self._stages[dest] = Path(stage)
