@@ -134,6 +134,18 @@ def norm_bound(k: int, w, value, axis: int = -1):
     return dot_bound(k, np.linalg.norm(w, axis=axis)) + 2.0 * gamma(d + 2) * np.abs(value)
 
 
+def von_mises_bound(S, q, value):
+    """Two evaluations of the von Mises stress of s = S q (S (..., 6, m) Voigt rows per unit q, q
+    (m,)) in any of its closed forms (the textbook differences, ||L s||, 3 sqrt(J2/3) or
+    sqrt(3/2 s:s) of the deviator): each form's <= 9 entries are combinations of the 6
+    components with absolute coefficients summing to <= 2 (4/3 sqrt(3/2) = 1.63 for a deviator
+    entry, sqrt(3) for a shear), each component an m-term sum within gamma_m (|S| |q|); so
+    w <= 2 sum_i (|S| |q|)_i for every entry, k = m + 6 roundings (norm_bound, d = 9)."""
+    a = np.abs(np.asarray(S)) @ np.abs(np.asarray(q))
+    w = np.repeat(2.0 * a.sum(axis=-1, keepdims=True), 9, axis=-1)
+    return norm_bound(np.asarray(S).shape[-1] + 6, w, value)
+
+
 def pencil_orthonormality_bound(n: int, cond_M: float) -> float:
     """||N^T M N - I||_max for the eigenvectors N of a symmetric-definite pencil (K, M) of order n
     solved through a Cholesky factor of M (Golub & Van Loan §8.7.2; flexbearing.fem_cage.
