@@ -246,9 +246,6 @@ REVIEWED_FIXED = {
 # (b)) but whose compared values do not pass through any order-dependent operation: read after each
 # test; (file, test) -> (class, why, with the bound)
 TIGHT_REVIEWED = {
-    ("test_cad_pocket_shapes.py", "test_fit_face_cone_and_ellipse_exact"): ("b",
-        "NOT DERIVED: least-squares fit of 25 exact points; error ~ n eps kappa(design) |A|; 1e-13 m "
-        "= 8.6e-12 relative = 3.9e4 eps, kappa of the fit not computed (left for a follow-up)"),
     ("test_cage_offset.py", "test_offset_from_each_guide"): ("a",
         "14-point Fourier sums (2/z) sum r_k (cos, sin) psi_k: 2 gamma_14 |terms| = 2 gamma_14 2R "
         "= 5e-16 m < 1e-15; c - i is one subtraction in both codes (identical); |p - b| = R by a "
