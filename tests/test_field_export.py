@@ -241,6 +241,16 @@ def test_cage_skin_matches_the_mesh_tags():
     assert np.all(skin["outside"][tag == cage_mesh.TAG_GUIDE]) and np.all(skin["bore"][tag == cage_mesh.TAG_BORE])
 
 
+def _spin_angle_bound(c):
+    """Round-off of cage_spin_angle for balls on their pockets' axes placed at c + P A^T with the
+    test's rotation (scipy: ~30 roundings an entry, against the writer's; <= 20 more for the
+    subtraction, the tilt product and, in a run file, the balls stored as axial/radial/azimuth):
+    the local (y, z) of each ball within 2 gamma_50 (R + |c|), so its atan2 within that over R
+    (+4 u of libm); the mean direction of 20 equal unit vectors within 2 gamma_20 (+4 u)
+    (Higham §3.1)."""
+    return 2 * gamma(50) * (1 + np.linalg.norm(c) / R_POCKET) + 2 * gamma(20) + 10 * U
+
+
 def test_cage_spin_angle_from_the_balls():
     """Balls on their pockets' axes: phi recovered to round-off at any tilt and centre; balls
     moved tangentially in their pockets by up to c: |error| <= c / R (the module's bound)."""
@@ -252,7 +262,8 @@ def test_cage_spin_angle_from_the_balls():
         c = rng.normal(scale=2e-4, size=3)
         A_tilt = rotation(0.0, by, bz)
         got = field_export.cage_spin_angle(c + P @ rotation(phi, by, bz).T, c, A_tilt, az)
-        assert abs(math.remainder(got - phi, 2 * np.pi)) < 1e-12
+        assert_within(abs(math.remainder(got - phi, 2 * np.pi)), _spin_angle_bound(c), "spin angle",
+                      effect=1e-3 / R_POCKET)
         clearance = 2.5e-4
         d = rng.uniform(-clearance, clearance, 20)
         Pd = P + d[:, None] * np.stack([np.zeros(20), -np.sin(az), np.cos(az)], 1)
@@ -320,7 +331,11 @@ def test_series_places_the_cage_and_the_balls_in_the_bearing_frame(tmp_path):
     for (tk, geo, attrs), k in zip(xdmf_grids(res["cage"]), samples):
         phi, (by, bz), c = motion(k * DT)
         A = rotation(phi, by, bz)
-        assert np.abs(geo - (c + X @ A.T)).max() < 1e-12
+        # the writer's rotation (its spin angle from the balls, _spin_angle_bound) against scipy's:
+        # the products X A^T (3 terms, ~30 roundings an entry of A) and the turn by d_phi
+        geo_bound = (dot_bound(3 + 30, np.abs(X) @ np.abs(A).T + np.abs(c))
+                     + np.linalg.norm(X, axis=1)[:, None] * _spin_angle_bound(c))
+        assert_within(np.abs(geo - (c + X @ A.T)), geo_bound, "cage geometry", effect=1e-3)
         u = (Phi @ q[k]) @ A.T
         # A Phi q with the writer's rotation matrix against scipy's (Euler angles -> quaternion ->
         # matrix: up to ~30 roundings per entry of A, and 1-4 ulp sin/cos where numpy uses SIMD):
@@ -336,8 +351,14 @@ def test_series_places_the_cage_and_the_balls_in_the_bearing_frame(tmp_path):
         assert cells[0].type == "vertex" and len(cells[0].data) == Z + 1
         _, pdata, _ = r.read_data(0)
         assert list(pdata["ball"]) == [1, 2, 3, 4, 0]
+    # the balls as the run stores them (axial, radial = hypot, azimuth = unwrapped atan2) and back:
+    # <= 10 roundings on |b|, and the azimuth's own rounding u |az| (unwrapped: it grows) times r
+    azimuth = np.unwrap(np.arctan2(b[:, :, 2], b[:, :, 1]), axis=0)
     for (tk, geo, attrs), k in zip(xdmf_grids(res["points"]), samples):
-        assert np.abs(geo[:Z] - b[k]).max() < 1e-12
+        r = np.hypot(b[k, :, 1], b[k, :, 2])
+        assert_within(np.abs(geo[:Z] - b[k]),
+                      (2 * gamma(10) * np.linalg.norm(b[k], axis=1) + 2 * U * np.abs(azimuth[k]) * r)[:, None],
+                      "ball centres", effect=1e-3)
         assert np.abs(geo[Z] - motion(k * DT)[2]).max() < 1e-15
         assert attrs["diameter"][1] == "m"
     meta = json.loads(res["json"].read_text())
