@@ -3,6 +3,7 @@ import math
 
 import numpy as np
 import pytest
+from tolerances import assert_within, dot_bound, gamma
 
 from flexbearing.mesh.cage_geometry import PAPER_CAGE, NOMINAL_CAGE
 from flexbearing.common.validation import InputError
@@ -136,7 +137,14 @@ def test_section_profile_with_bore_chamfer():
     P = np.array(_profile_points(g))
     area = 0.5 * abs(np.dot(P[:, 0], np.roll(P[:, 1], -1)) - np.dot(P[:, 1], np.roll(P[:, 0], -1)))
     h = g.outer_radius - g.inner_radius
-    assert area == pytest.approx(g.width * h - c ** 2 - cb ** 2 - (g.width - 2 * L) * d, rel=1e-12)
+    terms = np.array([g.width * h, c ** 2, cb ** 2, (g.width - 2 * L) * d])
+    # the two n-term sums of the shoelace (their absolute terms; n + 3 roundings: the corner
+    # coordinates are sums of <= 3 lengths), against the closed form's chain of <= 8 roundings
+    x, y = P[:, 0], P[:, 1]
+    absterms = np.abs(x * np.roll(y, -1)).sum() + np.abs(y * np.roll(x, -1)).sum()
+    assert_within(abs(area - (terms[0] - terms[1:].sum())),
+                  0.5 * dot_bound(len(P) + 3, absterms) + 2 * gamma(8) * np.abs(terms).sum(),
+                  "shoelace area", effect=min(c ** 2, cb ** 2, (g.width - 2 * L) * d))
     # bore corners at x = ±(W/2 - cb), outside corners at x = ±(W/2 - c)
     ri, ro = g.inner_radius, g.outer_radius
     assert sorted(abs(x) for x, r in P if r == ri) == pytest.approx([0.5 * g.width - cb] * 2)

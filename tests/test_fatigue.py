@@ -24,6 +24,7 @@ from collections import defaultdict
 import h5py
 import numpy as np
 import pytest
+from tolerances import assert_within, gamma, norm_bound
 
 from flexbearing.analysis import stress_equivalent as eq
 from flexbearing.analysis.cage_fatigue import (COARSE_PLANES, LOCAL_STEPS, FatigueSettings, cage_fatigue,
@@ -154,7 +155,13 @@ def test_signed_von_mises_closed_form_against_eigenvalues():
     ref = eq.von_mises(s)
     lp = eq.largest_principal(s)
     x = eq.signed_von_mises(s)
-    np.testing.assert_allclose(np.abs(x), ref, rtol=1e-12)
+    # two closed forms of the same norm: the textbook differences (von_mises) against 3 sqrt(J2/3)
+    # from the deviator (q = tr/3 subtracted): each of the 6 entries is a combination of the
+    # components with absolute coefficients summing to <= 2, formed in <= 4 roundings (+2 for the
+    # /6 and 3x of the second form): norm_bound (tests/tolerances.py) with w = 2 sum|s| per entry
+    w = np.repeat(2.0 * np.abs(s).sum(axis=1, keepdims=True), 6, axis=1)
+    assert_within(np.abs(np.abs(x) - ref), norm_bound(6, w, ref), "signed von Mises magnitude",
+                  effect=ref.min())
     w = np.linalg.eigvalsh(np.stack([s[:, [0, 5, 4]], s[:, [5, 1, 3]], s[:, [4, 3, 2]]], axis=1))
     clear = np.abs(w[:, 0] + w[:, 2]) > 1e-9 * np.abs(w).max(axis=1)      # no near-tie of the extremes
     assert np.all(np.sign(x[clear]) == np.sign(lp[clear]))
@@ -219,9 +226,18 @@ def test_damage_field_of_a_proportional_history(tmp_path):
     assert res.block_duration == pytest.approx(block, rel=1e-12)
     c = res.counted
     assert c.sum() >= 1 and c[np.argmax(rate)]
-    np.testing.assert_allclose(res.damage_rate[c], rate[c], rtol=1e-12)
+    # rounding of the rate, relative: the history s_n q_0(t) (one product) and its signed von
+    # Mises (<= 15 roundings), the amplitude (max - min)/2 of 1.5 s_n and 0.5 s_n (condition 2)
+    # and the mean, Goodman (condition g = (S_m/S_u)/(1 - S_m/S_u) on S_m), Basquin (condition
+    # |1/b| = 10.2 on S_ar, the power or exp/log: 34 roundings), the block (an accumulated sum:
+    # gamma_200); twice, for the test's own evaluation (Higham §1.6, §3.1)
+    g = np.maximum(s_n, 0) / SU / (1 - np.maximum(s_n, 0) / SU)
+    rtol = 2 * (abs(1 / B) * ((2 + g) * gamma(15) + gamma(3)) + gamma(34) + gamma(200))
+    assert_within(np.abs(res.damage_rate[c] - rate[c]), rtol[c] * rate[c], "damage rate",
+                  effect=rate[c].min())
     assert np.all(res.damage_rate[~c] >= rate[~c])             # screened out: an upper bound
-    np.testing.assert_allclose(res.life[c], 1 / rate[c], rtol=1e-12)
+    assert_within(np.abs(res.life[c] - 1 / rate[c]), (rtol[c] + 2 * gamma(1)) / rate[c], "life",
+                  effect=(1 / rate[c]).min())
     # safety factor over one hour: Goodman closed form per node (test_safety_factor_closed_forms)
     blocks = 3600.0 / block
     A = SF * (2 * 5 * blocks) ** B

@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 import pytest
+from tolerances import U, assert_within, gamma
 from scipy.optimize import minimize_scalar
 
 from flexbearing.common.validation import InputError
@@ -79,7 +80,10 @@ def test_centred_ball_clearance_and_generator_displacement():
         for t in (-3e-4, 2e-4):
             d = t * (math.cos(BETA) * A + math.sin(BETA) * er) + z0 * (math.cos(BETA) * er - math.sin(BETA) * A)
             z = pocket_contact_offset(*d, *A, CONE, BETA)[6]
-            assert z == pytest.approx(z0, rel=1e-12)
+            # d formed here and Z in the kernel: <= 20 roundings on |d| <= |t| + z0 (Z is
+            # Lipschitz 1 in the ball position)
+            assert_within(abs(z - z0), 2 * gamma(20) * (abs(t) + z0), "approach on the generator",
+                          effect=z0)
             s, rho = d @ A, np.linalg.norm(d - (d @ A) * A)
             rxi, reta = conical_pocket_curvature_radii(RB, RP, BETA, s, rho)
             rc = RP + t * math.tan(BETA)
@@ -118,13 +122,21 @@ def test_pocket_force_along_the_wall_normal():
     n = math.cos(BETA) * er - math.sin(BETA) * A
     for z, rtol in ((0.5 * cp, 1e-12), (cp + 3e-6, 1e-9)):
         out = _pocket(m, z * n)
-        assert out[10] == pytest.approx(z, rel=1e-12)
+        # placed at R_pitch + offset: u R_pitch (Sterbenz-exact difference from the pocket centre
+        # after that) + <= 12 roundings of the cone geometry on Z
+        assert_within(abs(out[10] - z), 2 * U * R_PITCH + 2 * gamma(12) * z, "approach Z", effect=z)
         q = 11.0 / cp * z if z <= cp else 11.0 + m.p[M.P_KN] * (z - cp) ** 1.5
         assert out[9] == pytest.approx(q, rel=rtol)
         assert np.array(out[0:3]) == pytest.approx(-q * n, rel=rtol, abs=rtol * q)
         # contact point on the cone's wall
         w = np.array(out[6:9]) - np.array([0.0, R_PITCH, 0.0])
-        assert np.linalg.norm(w - (w @ A) * A) == pytest.approx(RP / math.cos(BETA) + (w @ A) * math.tan(BETA), rel=1e-12)
+        rho_w = RP / math.cos(BETA) + (w @ A) * math.tan(BETA)
+        # the wall point's coordinates are ~R_pitch: <= 12 roundings there and in the generator's
+        # radius (a norm and a chain of 4, with a libm tangent), and the normal's direction: the
+        # offset's placement error (2 u R_pitch in each of 3 coordinates) over its length z, times Rp
+        assert_within(abs(np.linalg.norm(w - (w @ A) * A) - rho_w),
+                      2 * gamma(12) * (R_PITCH + rho_w) + RP * 2 * math.sqrt(3) * U * R_PITCH / z,
+                      "contact point on the cone", effect=z)
     # a ball moved towards the wide end along the axis is free; towards the narrow end it is held
     assert _pocket(m, 1e-4 * A)[9] == 0.0
     assert _pocket(m, -1e-4 * A + 1e-9 * er)[10] == pytest.approx(1e-4 * math.sin(BETA) + 1e-9 * math.cos(BETA), rel=1e-9)

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+from tolerances import U, assert_within, gamma
 from scipy.integrate import dblquad
 
 from flexbearing.common.validation import InputError
@@ -69,16 +70,25 @@ def test_approach_from_the_centre_or_the_axis(direction):
     # ~1e-12 of Z − Cp = 3 um only after 1.5x amplification: 1e-10 on the Hertz branch
     for s, rtol in ((0.6 * cp, 1e-12), (cp + 3e-6, 1e-10)):
         out = _pocket(sph, s * d)
-        assert out[10] == pytest.approx(s, rel=1e-12)
+        # the ball is placed at R_pitch + offset: its y coordinate rounds by u R_pitch (the
+        # kernel's difference from the pocket centre is then exact, Sterbenz), Z is Lipschitz 1
+        # in the offset, and <= 8 further roundings (a norm): 2 u R_pitch + 2 gamma_8 Z
+        assert_within(abs(out[10] - s), 2 * U * R_PITCH + 2 * gamma(8) * s, "approach Z", effect=s)
         q = 11.0 / cp * s if s <= cp else 11.0 + sph.p[M.P_KN] * (s - cp) ** 1.5
         assert out[9] == pytest.approx(q, rel=rtol)
         assert np.array(out[0:3]) == pytest.approx(-q * d, rel=rtol, abs=rtol * q)
         # the contact point on the spherical wall: centre + Rp along the offset
-        assert np.array(out[6:9]) == pytest.approx(np.array([0.0, R_PITCH, 0.0]) + 0.5 * PAPER_CAGE.pocket_diameter * d,
-                                                  rel=1e-12)
+        rp = 0.5 * PAPER_CAGE.pocket_diameter
+        wall = np.array([0.0, R_PITCH, 0.0]) + rp * d
+        # <= 10 roundings on coordinates ~R_pitch, and the offset's direction: its placement
+        # error (<= 2 u R_pitch in each of 3 coordinates) over its length s, times Rp
+        assert_within(np.abs(np.array(out[6:9]) - wall),
+                      2 * gamma(10) * (R_PITCH + np.abs(wall)) + rp * 2 * math.sqrt(3) * U * R_PITCH / s,
+                      "contact point", effect=s)
         across = s * math.hypot(d[0], d[2])
         out_c = _pocket(cyl, s * d)
-        assert out_c[10] == pytest.approx(across, rel=1e-12, abs=1e-15)
+        assert_within(abs(out_c[10] - across), 2 * U * R_PITCH + 2 * gamma(8) * s, "approach across",
+                      effect=s)
 
 
 def test_radial_offset_loads_only_the_spherical_pocket():

@@ -32,7 +32,16 @@ def _synthetic(m=10, Z=4, nv=30, seed=0):
     return data
 
 
+# (Q) in floating point: T / s rounds (u |T| / s), s I rounds (u |T~|), the test's subtraction and
+# its half step rounds (~2u each): |T~ - T| <= s/2 + 2u |T| + 4u s/2 with |T| <= 32767 s, i.e.
+# half a step times 1 + (2 * 65534 + 4) u = 1 + 1.5e-11 (Higham §2.2: each operation within u)
+# (tests/tolerances.py is imported inside the tests: a subprocess below imports this module as
+# tests.test_reduced_cage, without tests/ on its path)
+QUANTISE_SLACK = (2 * 65534 + 4) * np.finfo(float).eps / 2
+
+
 def test_round_trip_truncate_elastic(tmp_path):
+    from tolerances import assert_within
     data = _synthetic()
     p = rcf.write(tmp_path / "c.h5", data, {"content_hash": "abc", "parameters": {"a": 1}},
                   {"static": {"max_rel_error_full": 1e-9}})
@@ -44,7 +53,7 @@ def test_round_trip_truncate_elastic(tmp_path):
                       ("modes/vertex_displacement", rc.vertex_displacement)):
         assert got.dtype == np.float64
         half_step = np.abs(data[name]).max(axis=0) / (2 * 32767)
-        assert np.all(np.abs(got - data[name]) <= half_step * (1 + 1e-12))
+        assert_within(np.abs(got - data[name]), half_step * (1 + QUANTISE_SLACK), "half a step")
     assert rc.attrs["parameters"] == {"a": 1}
     assert rc.checks["static"]["max_rel_error_full"] == 1e-9
     t = rc.truncate(8)
@@ -183,6 +192,7 @@ def test_quantisation_bound_holds_under_cancellation():
     within the bound, here where 40 modes with large coordinates cancel to a small result (the
     bound scales with sum_k |q_k| max|S_k|, not with the result). The uniaxial one-mode case
     reaches the bound's value exactly: vm = |sigma_xx|, error half a step."""
+    from tolerances import assert_within, gamma
     from flexbearing.fem_cage.stress_modes import von_mises
     rng = np.random.default_rng(3)
     n, m = 500, 40
@@ -192,7 +202,10 @@ def test_quantisation_bound_holds_under_cancellation():
     ints, scale = rcf.quantise(S)
     St = rcf.dequantise(ints, scale)
     e = 0.5 * scale @ np.abs(q)
-    assert np.all(np.abs((St - S) @ q) <= e * (1 + 1e-12))
+    # per entry within half a step (1 + QUANTISE_SLACK); the m-term products with q and e's own
+    # sum add gamma_m each (Higham eq. (3.5))
+    assert_within(np.abs((St - S) @ q), e * (1 + QUANTISE_SLACK + 2 * gamma(m)), "sum of steps",
+                  effect=np.abs(S @ q).max())
     exact, stored = von_mises(S @ q).max(), von_mises(St @ q).max()
     assert abs(stored - exact) <= rcf.quantisation_bound(scale, q)
     # one mode, uniaxial: sigma_xx = 1 + 1/2 step rounds to 1 step, e_xx = step/2, the bound
@@ -202,8 +215,9 @@ def test_quantisation_bound_holds_under_cancellation():
     col[0, 0, 0], col[1, 0, 0] = 32767 * step, 0.5000001 * step
     ints, scale = rcf.quantise(col)
     assert scale[0, 0] == pytest.approx(step, rel=1e-15)
-    assert rcf.quantisation_bound(scale, np.ones(1)) == pytest.approx(0.5 * step, rel=1e-12)
-    assert rcf.dequantise(ints, scale)[1, 0, 0] == pytest.approx(1.0 * step, rel=1e-12)
+    # a chain of <= 8 roundings (scale, e, the squares, sums and root; Higham Lemma 3.1), and one product
+    assert rcf.quantisation_bound(scale, np.ones(1)) == pytest.approx(0.5 * step, rel=2 * gamma(8))
+    assert rcf.dequantise(ints, scale)[1, 0, 0] == pytest.approx(1.0 * step, rel=2 * gamma(1))
 
 
 def test_a_version_5_file_with_float32_tables_still_reads(tmp_path):

@@ -123,6 +123,81 @@ def eigenvalue_bound(A_norm2: float, Binv_norm2: float = 1.0, n: int = 1) -> flo
     return 2.0 * n * EPS * A_norm2 * Binv_norm2
 
 
+def norm_bound(k: int, w, value, axis: int = -1):
+    """Two evaluations of a Euclidean norm ||v|| (a von Mises stress ||L s||, a displacement
+    magnitude) whose d entries are each a k-term sum with absolute terms w (entrywise, |v_r| <=
+    w_r): | ||v1|| - ||v2|| | <= ||v1 - v2|| <= 2 gamma_k ||w||_2 (Higham eq. (3.5) per entry),
+    plus the rounding of the squares, their d-term sum and the square root in each evaluation,
+    2 gamma_(d+2) ||v|| (Higham Lemma 3.1, §3.1). value = ||v|| (either evaluation). Along axis."""
+    w = np.asarray(w, dtype=float)
+    d = w.shape[axis]
+    return dot_bound(k, np.linalg.norm(w, axis=axis)) + 2.0 * gamma(d + 2) * np.abs(value)
+
+
+def von_mises_bound(S, q, value):
+    """Two evaluations of the von Mises stress of s = S q (S (..., 6, m) Voigt rows per unit q, q
+    (m,)) in any of its closed forms (the textbook differences, ||L s||, 3 sqrt(J2/3) or
+    sqrt(3/2 s:s) of the deviator): each form's <= 9 entries are combinations of the 6
+    components with absolute coefficients summing to <= 2 (4/3 sqrt(3/2) = 1.63 for a deviator
+    entry, sqrt(3) for a shear), each component an m-term sum within gamma_m (|S| |q|); so
+    w <= 2 sum_i (|S| |q|)_i for every entry, k = m + 6 roundings (norm_bound, d = 9)."""
+    a = np.abs(np.asarray(S)) @ np.abs(np.asarray(q))
+    w = np.repeat(2.0 * a.sum(axis=-1, keepdims=True), 9, axis=-1)
+    return norm_bound(np.asarray(S).shape[-1] + 6, w, value)
+
+
+def pencil_orthonormality_bound(n: int, cond_M: float) -> float:
+    """||N^T M N - I||_max for the eigenvectors N of a symmetric-definite pencil (K, M) of order n
+    solved through a Cholesky factor of M (Golub & Van Loan §8.7.2; flexbearing.fem_cage.
+    craig_bampton.orthonormalise, M Jacobi-scaled), kappa = kappa_2(M) (reduce_model returns it as
+    orthogonality["mass_condition"]). With X = L^-T Q, X^T M X - I = Q^T L^-1 E L^-T Q + (Q^T Q - I):
+    - the Cholesky backward error |E| <= gamma_(n+1) |L| |L^T| (Higham Thm 10.3) with
+      || |L| |L^T| ||_2 <= n ||M||_2 (|| |B| ||_2 <= sqrt(rank) ||B||_2, Higham Lemma 6.6), so
+      ||L^-1 E L^-T||_2 <= n gamma_(n+1) kappa;
+    - Q^T Q - I of the symmetric eigensolver and the null-space / basis products around it (Z Y,
+      the rigid block): each within n gamma_(n+1) kappa (Higham §19.3, Lemma 19.3);
+    - the check's own product N^T M N: gamma_n |N|^T |M| |N| <= n gamma_n ||M||_2 ||N||_2^2
+      = n gamma_n kappa (||N||_2^2 = ||M^-1||_2 for M-orthonormal N).
+    Four terms: 4 n gamma_(n+1) kappa (the max entry is below the 2-norm)."""
+    return 4.0 * n * gamma(n + 1) * cond_M
+
+
+def pencil_stiffness_bound(n: int, stiffness_condition: float) -> float:
+    """||N^T K N - diag(omega^2)||_max / omega_max^2 for the same pencil solve as
+    pencil_orthonormality_bound: the reduced matrix C = L^-1 K L^-T is formed within
+    n gamma_(n+1) ||K||_2 ||M^-1||_2 (Golub & Van Loan §8.7.2, the Cholesky error as above), the
+    symmetric eigensolver adds n gamma_(n+1) ||C||_2 <= the same, the basis products one more, and
+    the check's N^T K N gamma_n ||K||_2 ||N||_2^2 = n gamma_n ||K||_2 ||M^-1||_2 (Weyl, Golub & Van
+    Loan Thm 8.1.4, for the eigenvalues): 4 n gamma_(n+1) s with s = ||K||_2 ||M^-1||_2 / omega_max^2
+    (reduce_model's orthogonality["stiffness_condition"])."""
+    return 4.0 * n * gamma(n + 1) * stiffness_condition
+
+
+def mean_axis_bound(M, R, Phi, pencil_error: float, n_rigid: int = 6):
+    """Bound on |R^T M Phi_e| (the mean-axis conditions of the elastic modes Phi_e = Phi[:, n_rigid:]:
+    I3 = int rho Phi_e over translations, I4 = int rho x x Phi_e over rotations about the origin),
+    R (n, 6) the exact unit rigid fields, M the (sparse) mass matrix, Phi M-orthonormal with its
+    first n_rigid columns the rigid modes. Writing r_a = t_a - Phi_r c_a (c_a = Phi_r^T M t_a, the
+    part of the exact rigid field the computed rigid modes do not hold):
+
+        t_a^T M phi_k = c_a^T (Phi_r^T M phi_k) + r_a^T M phi_k
+        |.| <= sqrt(n_rigid) ||t_a||_M e + ||r_a||_M (1 + e) + 2 gamma_k (|t_a|^T |M| |phi_k|)
+
+    e = pencil_error (pencil_orthonormality_bound: the off-diagonal of Phi^T M Phi; ||c_a||_2 =
+    ||t_a||_M), Cauchy-Schwarz for the second term, and the rounding of the mesh sums that
+    compute the invariants (product_bound). Returns (bound (6, m - n_rigid), ||t_a||_M (6,)): the
+    latter is the size of the effect (a mode that is not mean-axis has |t^T M phi| ~ ||t||_M)."""
+    MR = M @ R
+    tM = np.sqrt(np.einsum("ij,ij->j", R, MR))
+    P = Phi[:, :n_rigid]
+    c = P.T @ MR
+    r = R - P @ c
+    rM = np.sqrt(np.abs(np.einsum("ij,ij->j", r, M @ r)))
+    rounding = product_bound(np.asarray(R).T, M, Phi[:, n_rigid:])
+    bound = (np.sqrt(n_rigid) * tM * pencil_error + rM * (1.0 + pencil_error))[:, None] + rounding
+    return bound, tM
+
+
 def _log(name, error, bound):
     path = os.environ.get("FLEXBEARING_TOLERANCE_LOG")
     if not path:

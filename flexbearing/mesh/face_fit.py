@@ -94,7 +94,8 @@ def _fit_ellipse(P: np.ndarray, N: np.ndarray, a: np.ndarray, tol: float) -> dic
     one = np.ones_like(x)
     rows = np.vstack([np.column_stack([x * x, x * y, y * y, x, y, one]),
                       np.column_stack([2 * x * nv, y * nv - x * nu, -2 * y * nu, nv, -nu, 0 * one])])
-    Ac, Bc, Cc, Dc, Ec, Fc = np.linalg.svd(rows)[2][-1]
+    _, sv, vt = np.linalg.svd(rows)
+    Ac, Bc, Cc, Dc, Ec, Fc = vt[-1]
     M = np.array([[Ac, 0.5 * Bc], [0.5 * Bc, Cc]])
     g = 0.5 * np.array([Dc, Ec])
     if np.linalg.det(M) <= 0:                           # not an ellipse (hyperbola, parabola)
@@ -119,4 +120,26 @@ def _fit_ellipse(P: np.ndarray, N: np.ndarray, a: np.ndarray, tol: float) -> dic
     k = int(np.argmax(semi))                            # the major axis: the smaller eigenvalue
     major = vec[0, k] * e1 + vec[1, k] * e2
     return {"kind": "elliptic_cylinder", "axis": a, "point": point,
-            "semi_axes": (float(semi[k]), float(semi[1 - k])), "major": major / np.linalg.norm(major)}
+            "semi_axes": (float(semi[k]), float(semi[1 - k])), "major": major / np.linalg.norm(major),
+            "conditioning": _ellipse_conditioning(sv, lam, F0, ctr, M, L)}
+
+
+def _ellipse_conditioning(sv, lam, F0, ctr, M, L) -> dict:
+    """Condition numbers of the elliptic-cylinder fit (`_fit_ellipse`), for round-off bounds:
+
+    - "conic" = sigma_1 / sigma_5 of the (2m x 6) design: the unit null vector v moves by
+      ||dv|| <= ||dA||_2 / (sigma_5 - ||dA||_2) under a perturbation dA of the design (Wedin's
+      sin-theta theorem; Golub & Van Loan, "Matrix Computations", 4th ed. (2013), §8.6.1), i.e.
+      by ~ conic x (relative size of dA);
+    - per unit ||dv|| (first order, ||v|| = 1): M moves by <= ||dv|| (||.||_2 <= ||.||_F), so an
+      eigenvalue by as much (Weyl) and the centre ctr = -M^-1 g by ||M^-1||_2 (1 + |ctr|); F0 =
+      F + g.ctr by sqrt(2) (1 + |ctr|)^2; semi_i = L sqrt(-F0 / lam_i) relatively by
+      (dF0/|F0| + dlam/lam_i)/2, and the major direction turns by 1/|lam_2 - lam_1|
+      (Golub & Van Loan Thm 8.1.12 without its factor 4, which the caller applies). Returned:
+      "semi_axes" (relative), "point" (m: times L), "major" (rad); "scale" L (m)."""
+    c = float(np.linalg.norm(ctr))
+    return {"conic": float(sv[0] / sv[-2]),
+            "semi_axes": float(0.5 * (math.sqrt(2.0) * (1.0 + c) ** 2 / abs(F0) + 1.0 / np.min(np.abs(lam)))),
+            "point": float(L * np.linalg.norm(np.linalg.inv(M), 2) * (1.0 + c)),
+            "major": float(1.0 / abs(lam[1] - lam[0])),
+            "scale": float(L)}
