@@ -604,7 +604,7 @@ def test_load_zone_edge_records_the_balls_that_switch_in_the_last_iterations():
     assert "a jump of 0.12 of the inner-ring speed" in text
 
 
-def test_a_ball_on_the_edge_of_the_load_zone_is_named_where_the_kinematics_cycle():
+def test_a_ball_on_the_edge_of_the_load_zone_is_named_where_the_kinematics_cycle(monkeypatch):
     # Paper bearing with its design clearance, 14,000 rpm, Fa 55 kN, Fz −40 kN, Mz 6000 N·m: the one
     # combined load of a 40-load scan where the kinematics fixed point cycles (load continuation from
     # the axial state fails at the full load the same way). Ball 4's inner contact carries 0–11 N: with
@@ -618,3 +618,27 @@ def test_a_ball_on_the_edge_of_the_load_zone_is_named_where_the_kinematics_cycle
     # 5 loaded, and ball 4's own load below ball 5's)
     q_inner = r.load[:, 1:].max(axis=1)
     assert q_inner[3] == 0.0 and q_inner[5] > 0.0 and q_inner[4] < q_inner[5]
+    # the diagnostic's claim, checked by holding ball 4's orbit-speed law at the full speed: with the
+    # race-controlled law (as if loaded) the equilibrium unloads its inner contact, with the epicyclic
+    # law (as if unloaded) it loads it: neither is consistent, so the model has no state here
+    kinematics = qs._kinematics
+    w = 14000 * math.pi / 30
+
+    def held(law):
+        def kin(g_, st, inner_speed, u):
+            if inner_speed != w:
+                return kinematics(g_, st, inner_speed, u)
+            q4 = st.q[4].copy()
+            if law == "loaded":
+                st.q[4, 1] = max(st.q[4, 1], np.finfo(float).tiny)
+            else:
+                st.q[4, 1:] = 0.0
+            kinematics(g_, st, inner_speed, u)
+            st.q[4] = q4
+        return kin
+
+    for law, inner_loaded in (("loaded", False), ("unloaded", True)):
+        monkeypatch.setattr(qs, "_kinematics", held(law))
+        r_law = qs.solve_quasi_static(g, w, fx=55e3, fz=-40e3, mz=6000.0, strict=False)
+        assert r_law.converged
+        assert (r_law.load[4, 1:].max() > 0.0) == inner_loaded
