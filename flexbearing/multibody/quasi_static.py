@@ -55,7 +55,10 @@ never below the residual's round-off floor, so the iteration stops at the same p
 processor and BLAS. The cold start is a bracketed 1-D solve of the axial (then radial) ring
 displacement at zero speed, followed by continuation in the speed (steps of 1/4, halved on
 failure); a warm start (`initial`) that fails falls back to it. A converged state at or near a
-fold (ring Jacobian condition above 1/sqrt(eps)) says so in `notes`.
+fold (ring Jacobian condition above 1/sqrt(eps)) says so in `notes`. Where the kinematics iteration
+cycles because a ball's inner contact loads and unloads in turn (its orbit speed jumping between the
+race-controlled and the epicyclic value), the diagnostic names the ball "on the edge of the load zone"
+(`_LoadZoneEdge`): the model has no state there.
 
 Geometry input: `grooves_from_bearing` (split inner ring, geometry of flexbearing.multibody.geometry) or `angular_contact_grooves`
 (ordinary angular-contact bearing: one inner groove, used for the textbook comparisons).
