@@ -577,3 +577,68 @@ def test_fold_flag_where_a_single_ball_carries_a_radial_load_through_the_clearan
     other = qs.solve_quasi_static(g, 0.0, fz=-30.0, fix_tilt=True, tol=tol, initial=shifted)
     assert other.residual_ring <= tol and "fold" in other.notes
     assert other.ring_displacement[1] - r.ring_displacement[1] == pytest.approx(0.5e-6, rel=1e-6)
+
+
+class _Balls:
+    """A stand-in for the solver's per-ball state: contact loads q (Z, 3), orbit speeds wm, azimuths psi."""
+
+    def __init__(self, q, wm):
+        self.q, self.wm, self.psi = np.array(q, float), np.array(wm, float), np.zeros(len(q))
+
+
+def test_load_zone_edge_records_the_balls_that_switch_in_the_last_iterations():
+    # three balls; ball 1's inner contact loads and unloads in turn (its orbit speed jumping between the
+    # race-controlled 100 and the pure-rolling 88 rad/s), ball 0 always loaded, ball 2 always unloaded
+    loaded = _Balls([[900, 500, 0], [300, 7, 0], [200, 0, 0]], [100, 100, 90])
+    unloaded = _Balls([[900, 500, 0], [300, 0, 0], [200, 0, 0]], [100, 88, 90])
+    edge = qs._LoadZoneEdge(3)
+    edge.record(loaded, loaded.wm, late=False)
+    edge.record(unloaded, loaded.wm, late=False)       # early iterations: not recorded
+    assert not edge.switched.any()
+    edge.record(loaded, unloaded.wm, late=True)
+    edge.record(unloaded, loaded.wm, late=True)
+    assert edge.switched.tolist() == [False, True, False]
+    assert edge.q_inner[1] == 7.0 and edge.jump[1] == 12.0
+    text = edge.diagnostic(unloaded, 100.0)
+    assert qs.LOAD_ZONE_EDGE in text and "ball 1 (azimuth 0.0°, inner-contact load between 0 and 7 N)" in text
+    assert "a jump of 0.12 of the inner-ring speed" in text
+
+
+def test_a_ball_on_the_edge_of_the_load_zone_is_named_where_the_kinematics_cycle(monkeypatch):
+    # Paper bearing with its design clearance, 14,000 rpm, Fa 55 kN, Fz −40 kN, Mz 6000 N·m: the one
+    # combined load of a 40-load scan where the kinematics fixed point cycles (load continuation from
+    # the axial state fails at the full load the same way). Ball 4's inner contact carries 0–11 N: with
+    # its race-controlled orbit speed the ring equilibrium unloads it, with the epicyclic speed loads it
+    from flexbearing.studies.validation.slip_rate import design_clearance
+    g = qs.grooves_from_bearing(PAPER_BEARING.with_(radial_clearance=design_clearance(PAPER_BEARING)))
+    r = qs.solve_quasi_static(g, 14000 * math.pi / 30, fx=55e3, fz=-40e3, mz=6000.0, strict=False)
+    assert not r.converged
+    assert qs.LOAD_ZONE_EDGE in r.diagnostic and "ball 4 (azimuth 72.0°" in r.diagnostic
+    # from the outputs: ball 4 is where the inner contacts' load zone ends (its neighbour 3 unloaded there,
+    # 5 loaded, and ball 4's own load below ball 5's)
+    q_inner = r.load[:, 1:].max(axis=1)
+    assert q_inner[3] == 0.0 and q_inner[5] > 0.0 and q_inner[4] < q_inner[5]
+    # the diagnostic's claim, checked by holding ball 4's orbit-speed law at the full speed: with the
+    # race-controlled law (as if loaded) the equilibrium unloads its inner contact, with the epicyclic
+    # law (as if unloaded) it loads it: neither is consistent, so the model has no state here
+    kinematics = qs._kinematics
+    w = 14000 * math.pi / 30
+
+    def held(law):
+        def kin(g_, st, inner_speed, u):
+            if inner_speed != w:
+                return kinematics(g_, st, inner_speed, u)
+            q4 = st.q[4].copy()
+            if law == "loaded":
+                st.q[4, 1] = max(st.q[4, 1], np.finfo(float).tiny)
+            else:
+                st.q[4, 1:] = 0.0
+            kinematics(g_, st, inner_speed, u)
+            st.q[4] = q4
+        return kin
+
+    for law, inner_loaded in (("loaded", False), ("unloaded", True)):
+        monkeypatch.setattr(qs, "_kinematics", held(law))
+        r_law = qs.solve_quasi_static(g, w, fx=55e3, fz=-40e3, mz=6000.0, strict=False)
+        assert r_law.converged
+        assert (r_law.load[4, 1:].max() > 0.0) == inner_loaded

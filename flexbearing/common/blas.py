@@ -65,6 +65,42 @@ def blas_info() -> BlasInfo:
     return BlasInfo("unknown", None, None, None)
 
 
+# OpenBLAS's thread-count setter as Debian's library and the PyPI wheels (64-bit integer builds,
+# symbols suffixed "64_"; numpy >= 2's scipy-openblas also prefixed "scipy_") export it
+OPENBLAS_SET_THREADS = ("openblas_set_num_threads", "openblas_set_num_threads64_",
+                        "scipy_openblas_set_num_threads64_")
+
+
+def set_openblas_threads(n: int) -> int | None:
+    """Set the loaded OpenBLAS's thread count to n (its openblas_set_num_threads) and return the
+    count now in force (openblas_get_num_threads), None where numpy runs on no OpenBLAS.
+
+    OpenBLAS reads OPENBLAS_NUM_THREADS once, when it loads (at numpy's first import); this is how a
+    process that imported numpy before flexbearing still gets the program's one thread
+    (flexbearing/__init__.py: a run's rounding must not depend on what its process imported first).
+    """
+    info = blas_info()
+    if info.name != "OpenBLAS":
+        return None
+    try:
+        lib = ctypes.CDLL(info.path)
+    except OSError:
+        return None
+    for symbol in OPENBLAS_SET_THREADS:
+        setter = getattr(lib, symbol, None)
+        if setter is not None:
+            setter(ctypes.c_int(int(n)))
+            break
+    else:
+        return None
+    for symbol in ("openblas_get_num_threads", "openblas_get_num_threads64_",
+                   "scipy_openblas_get_num_threads64_"):
+        getter = getattr(lib, symbol, None)
+        if getter is not None:
+            return int(getter())
+    return None
+
+
 def _openblas_threads_core(path: str):
     """OpenBLAS's own answers (openblas_get_num_threads, openblas_get_corename) from the loaded
     library: dlopen of a loaded library returns the same handle, nothing is loaded twice."""

@@ -55,7 +55,10 @@ never below the residual's round-off floor, so the iteration stops at the same p
 processor and BLAS. The cold start is a bracketed 1-D solve of the axial (then radial) ring
 displacement at zero speed, followed by continuation in the speed (steps of 1/4, halved on
 failure); a warm start (`initial`) that fails falls back to it. A converged state at or near a
-fold (ring Jacobian condition above 1/sqrt(eps)) says so in `notes`.
+fold (ring Jacobian condition above 1/sqrt(eps)) says so in `notes`. Where the kinematics iteration
+cycles because a ball's inner contact loads and unloads in turn (its orbit speed jumping between the
+race-controlled and the epicyclic value), the diagnostic names the ball "on the edge of the load zone"
+(`_LoadZoneEdge`): the model has no state there.
 
 Geometry input: `grooves_from_bearing` (split inner ring, geometry of flexbearing.multibody.geometry) or `angular_contact_grooves`
 (ordinary angular-contact bearing: one inner groove, used for the textbook comparisons).
@@ -413,6 +416,7 @@ class _RingSolve:
         its = 0
         ok = False
         dwm = math.inf
+        edge = _LoadZoneEdge(len(st.psi))
         for outer_it in range(50):
             wm_old = st.wm.copy()
             mg_old = st.mg.copy()
@@ -430,6 +434,7 @@ class _RingSolve:
             st.mg[:] = g.ball_inertia * st.wm * st.wb[:, 1] if gyroscopic else 0.0
             if w == 0.0:
                 break
+            edge.record(st, wm_old, outer_it >= 40)
             dwm = np.max(np.abs(st.wm - wm_old)) / max(abs(w), 1e-30)
             dmg = np.max(np.abs(st.mg - mg_old)) / max(np.max(np.abs(st.mg)), 1e-30)
             if ok and not changed and dwm < kin_tol and (dmg < max(1e-9, kin_tol) or not gyroscopic):
@@ -445,6 +450,8 @@ class _RingSolve:
                 # the kinematics cycle because the controlling race would need a friction coefficient
                 # above 1 at the state they reached: the physical reason, not a numerical one
                 return False, its, why
+            if np.any(edge.switched):
+                return False, its, edge.diagnostic(st, w)
             return False, its, (f"the race-control kinematics did not settle in 50 iterations at inner-ring "
                                 f"speed {w:.6g} rad/s (last orbit-speed change {dwm:.3g} relative, "
                                 f"needed {kin_tol:.3g})")
@@ -629,6 +636,60 @@ def _jones_controlling_race(g, st) -> np.ndarray:
         if c in (RACE_OUTER, RACE_INNER):
             out[j] = c
     return out
+
+
+LOAD_ZONE_EDGE = "on the edge of the load zone"     # how _LoadZoneEdge's verdict reads
+
+
+def _carrying_load(st) -> np.ndarray:
+    """Per ball: True where it carries load between the races (its outer and its more loaded inner
+    contact both loaded), the test by which `_kinematics` gives it race-controlled kinematics rather
+    than the epicyclic pure-rolling ones."""
+    q_inner = np.maximum(st.q[:, CONTACT_INNER_LEFT], st.q[:, CONTACT_INNER_RIGHT])
+    return (st.q[:, CONTACT_OUTER] > 0.0) & (q_inner > 0.0)
+
+
+class _LoadZoneEdge:
+    """The balls whose load-carrying state (`_carrying_load`) switches between the kinematics
+    iterations of one speed step (recorded over its last iterations), with the largest inner-contact
+    load and orbit-speed jump seen there.
+
+    `_kinematics` is discontinuous at a contact's zero load: a ball carrying load between the races
+    orbits at its controlling race's speed, an unloaded one at the epicyclic pure-rolling speed
+    (race control, Jones 1959/1960, and `_kinematics`: module docstring). Where
+    the orbit-speed law a ball's state selects moves its centrifugal force and gyroscopic moment so that
+    the ring equilibrium then selects the other law, the fixed-point iteration cycles and has no fixed
+    point with that ball either loaded or unloaded: the ball is on the edge of the load zone, where the
+    quasi-static model's race control cannot say at which speed it orbits."""
+
+    def __init__(self, z: int):
+        self.carrying = None
+        self.switched = np.zeros(z, dtype=np.bool_)
+        self.q_inner = np.zeros(z)
+        self.jump = np.zeros(z)
+
+    def record(self, st, wm_old, late: bool):
+        now = _carrying_load(st)
+        if late and self.carrying is not None:
+            self.switched |= now != self.carrying
+            q_inner = np.maximum(st.q[:, CONTACT_INNER_LEFT], st.q[:, CONTACT_INNER_RIGHT])
+            self.q_inner = np.maximum(self.q_inner, q_inner)
+            self.jump = np.maximum(self.jump, np.abs(st.wm - wm_old))
+        self.carrying = now
+
+    def diagnostic(self, st, inner_speed) -> str:
+        balls = np.flatnonzero(self.switched)
+        which = ", ".join(f"{j} (azimuth {math.degrees(st.psi[j]) % 360.0:.1f}°, inner-contact load between 0 and "
+                          f"{self.q_inner[j]:.3g} N)" for j in balls)
+        jump = float(np.max(self.jump[balls])) / abs(inner_speed)
+        return (f"the race-control kinematics have no fixed point at inner-ring speed {inner_speed:.6g} rad/s: "
+                f"{'ball' if len(balls) == 1 else 'balls'} {which} {'is' if len(balls) == 1 else 'are'} "
+                f"{LOAD_ZONE_EDGE}, loaded and unloaded in turn: carrying load a ball orbits at its "
+                f"controlling race's speed, unloaded at the epicyclic pure-rolling speed (a jump of "
+                f"{jump:.3g} of the inner-ring speed), and each speed's centrifugal force and gyroscopic moment "
+                "give the ring equilibrium that selects the other, so the iteration cycles; quasi-static race "
+                "control cannot say how fast such a ball orbits (the steady or dynamic solution, whose orbit "
+                "speeds follow from the traction, can)")
 
 
 def _failure_diagnostic(g, st, inner_speed, control, lam) -> str:
