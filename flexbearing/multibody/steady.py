@@ -56,6 +56,7 @@ from flexbearing.multibody import traction as TR
 from flexbearing.multibody.initial import initial_state
 from flexbearing.multibody.race_kernels import TRACTION_EHL
 from flexbearing.multibody.steady_existence import traction_drag_bound, turning_point
+from flexbearing.multibody.steady_settle import settle_then_solve
 
 class SteadyNotConverged(SolverNotConverged):
     """A steady solve found no fixed point (raised unless strict=False): .result is the (y, info) it
@@ -312,13 +313,11 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
         return _held_cage_solve(model._replace(p=p), speed_rad_s, axial + lam * radial, phase, tol, start=start,
                                 conditioning=conditioning)
 
-    start = _symmetric_start(model, speed_rad_s, load[0], phase)
-    y, info = at(0.0, start)
-    if not info["converged"]:
-        y, info = at(0.0, None)
+    y, info = _thrust_root(model, speed_rad_s, load[0], phase, at)
     if not info["converged"]:
         y, info = _failed(y_direct, direct, y, info, f"no root from the quasi-static start ({direct['reason']}) nor of the "
-                                  f"symmetric thrust state without weight (residual {info['residual']:.2e}): no fixed "
+                                  f"symmetric thrust state without weight (residual {info['residual']:.2e}), nor from "
+                                  f"the thrust-only dynamics settled for {SETTLE_CHUNK * SETTLE_CHUNKS:.2f} s: no fixed "
                                   "point in reach at this speed and thrust")
         return _with_bound_verdict(model, y, info)
     lam, step, path = 0.0, CONTINUATION_FIRST_STEP, [0.0]
@@ -484,6 +483,72 @@ def _fold_or_kink(at, lam: float, info: dict, previous, lam_fail: float) -> tupl
     return fold, what
 
 
+def _thrust_root(model, speed_rad_s: float, axial_load: float, phase: float, at) -> tuple[np.ndarray, dict]:
+    """(y, info) of the held-cage state at lambda = 0 (thrust alone, no weight; `at(0.0, start)`
+    solves it, _held_cage_continuation): from the symmetric thrust state (_thrust_state_by_speed),
+    else from the quasi-static balls, else from the symmetric thrust state found after settling the
+    thrust-only dynamics (_thrust_state_from_dynamics); the last tried where none converges."""
+    y, info = at(0.0, _symmetric_start(model, speed_rad_s, axial_load, phase))
+    if not info["converged"]:
+        y, info = at(0.0, None)
+    if info["converged"]:
+        return y, info
+    p = model.p.copy()
+    p[M.P_GRAV] = 0.0
+    s = _thrust_state_from_dynamics(model._replace(p=p), speed_rad_s, axial_load)
+    if s is None:
+        return y, info
+    y_s, info_s = at(0.0, _symmetric_unknowns(model, s))
+    info_s["settled_time"] = s["settled_time"]
+    return (y_s, info_s) if info_s["converged"] else (y, info)
+
+
+# the last fallback for the thrust state (_thrust_state_from_dynamics): the thrust-only dynamics
+# integrated in chunks of SETTLE_CHUNK s of simulated time, the thrust state tried after each, for
+# at most SETTLE_CHUNKS chunks. The ball spin's gyroscopic swing about its axis (period ~13 ms,
+# amplitude falling ~30 % a half period, measured on the cold-oil study run 47/11) has to die to a
+# few per cent before the hybrid method converges: 20-40 ms there; the integration costs ~15 CPU-s
+# per simulated second (dopri5, the dynamics' own step control)
+SETTLE_CHUNK = 0.01
+SETTLE_CHUNKS = 20
+
+
+def _thrust_state_from_dynamics(model, speed_rad_s: float, axial_load: float) -> dict | None:
+    """steady_thrust_state's info (plus settled_time, s) started from the thrust-only dynamics
+    (`model` without weight) integrated from the quasi-static state (flexbearing.multibody.steady_settle:
+    the real flow as pseudo-time, Kelley & Keyes 1998), every chunk's end state symmetrised (each
+    ball's x, r, orbit speed and spin replaced by the mean over the balls, alike under a pure thrust
+    without weight); None where no chunk's start converges or the integration stops."""
+    from flexbearing.multibody.integrator import SimulationUnstable, Workspace, advance
+
+    z = model.n_balls
+    speed_table = np.array([[0.0, speed_rad_s]])
+    load_table = np.array([[0.0, axial_load, 0.0, 0.0]])
+    impacts = np.zeros((0, 6))
+    ws = Workspace(model, "dopri5")
+    h = [1e-6]
+
+    def flow(y, t0, t1):
+        y, _, h[0], _, _ = advance(model, y, t0, t1, speed_table, load_table, impacts, ws=ws, h=h[0])
+        return y
+
+    def solve(y):
+        ys = y.copy()
+        mean = y[:SL.ball_offset(z)].reshape(z, SL.BALL_STATE).mean(axis=0)
+        for k in (SL.BALL_X, SL.BALL_R, SL.BALL_PSI_DOT, SL.BALL_W_X, SL.BALL_W_R, SL.BALL_W_T):
+            ys[k] = mean[k]
+        s = steady_thrust_state(model, speed_rad_s, axial_load, y_start=ys, strict=False)[1]
+        return s if s["converged"] else None
+    try:
+        found = settle_then_solve(flow, solve, initial_state(model, speed_rad_s, axial_load, 0.0), SETTLE_CHUNK,
+                                  SETTLE_CHUNKS)
+    except SimulationUnstable:
+        return None
+    if found.root is None:
+        return None
+    return dict(found.root, settled_time=found.settled_time)
+
+
 def _symmetric_start(model, speed_rad_s: float, axial_load: float, phase: float) -> np.ndarray | None:
     """The unknowns of `_held_cage_solve` from steady_thrust_state's solution without weight (every
     ball alike, the inner ring and the cage displaced axially only), or None where it has none."""
@@ -492,6 +557,11 @@ def _symmetric_start(model, speed_rad_s: float, axial_load: float, phase: float)
     s = _thrust_state_by_speed(model._replace(p=p), speed_rad_s, axial_load)
     if s is None:
         return None
+    return _symmetric_unknowns(model, s)
+
+
+def _symmetric_unknowns(model, s: dict) -> np.ndarray:
+    """The unknowns of `_held_cage_solve` from steady_thrust_state's info s (every ball alike)."""
     z = model.n_balls
     nb = 6 * z
     u = np.zeros(nb + 11)
