@@ -55,6 +55,7 @@ from flexbearing.multibody import state_layout as SL
 from flexbearing.multibody import traction as TR
 from flexbearing.multibody.initial import initial_state
 from flexbearing.multibody.race_kernels import TRACTION_EHL
+from flexbearing.multibody.steady_arclength import pseudo_arclength
 from flexbearing.multibody.steady_existence import traction_drag_bound, turning_point
 
 class SteadyNotConverged(SolverNotConverged):
@@ -368,14 +369,17 @@ def _held_cage_continuation(model, speed_rad_s: float, load: np.ndarray, phase: 
                     path.append(1.0)
                     info_t["continuation"] = path
                     return y_t, info_t
+            y_t, info_t = _arclength_past_stop(model, speed_rad_s, load, phase, tol, at, (lam, info), previous, path)
+            if info_t["converged"]:
+                return y_t, info_t
             return _stopped(model, speed_rad_s, load, phase, at, (lam, y, info), previous, (lam_fail, res_trial), path,
-                            (y_direct, direct))
+                            (y_direct, direct), info_t["arclength"])
     info["continuation"] = path
     return y, info
 
 
 def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last: tuple, previous, failed: tuple,
-             path: list, direct: tuple):
+             path: list, direct: tuple, arclength=None):
     """(y, info) where the held-cage continuation stopped: at its last root last = (lambda, y, info),
     the root before it `previous`, the first lambda that failed and its residual `failed`; the
     reason says fold or kink (_fold_or_kink) and the verdict rests on the second-order turning-point
@@ -388,10 +392,66 @@ def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last
     cpu = time.process_time() - t0
     y, info = _failed(*direct, y, info, f"the continuation from the symmetric thrust state stopped at lambda = {lam:.4f} "
                                         f"of the radial load and weight (residual {res_trial:.2e} at {lam_fail:.4f}): {what}")
-    verdict = VERDICT_FOLD if tp.certified else VERDICT_NOT_CONVERGED
+    # the branch followed by pseudo-arclength round a turning point back below lambda = 0: every root
+    # it passed lies below the full load, so this branch does not reach it (whatever the local test says)
+    returned = arclength is not None and bool(arclength.turning_points) and arclength.lam < 0.0
+    verdict = VERDICT_FOLD if tp.certified or returned else VERDICT_NOT_CONVERGED
+    arc = "" if arclength is None else f"; beyond it, {arclength.describe()}"
+    if returned:
+        arc += (" without reaching the full load: the branch through the symmetric thrust state has no held-cage "
+                "state at lambda = 1 between its two ends at lambda = 0 (a branch not connected to it is not excluded)")
     info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict, verdict_cpu_s=cpu,
-                reason=f"{verdict}: {tp.describe()}; {info['reason']}")
+                arclength=arclength, reason=f"{verdict}: {tp.describe()}; {info['reason']}{arc}")
     return y, info
+
+
+# pseudo-arclength continuation past the natural continuation's stop (steady_arclength): its first
+# step (scaled unknowns and lambda), its smallest step, the most points it takes and its CPU budget
+# (a fold run of the natural continuation costs about 60 CPU-s; a point of the arclength path about 0.06)
+ARCLENGTH_FIRST_STEP = 0.05
+ARCLENGTH_MIN_STEP = 1e-4
+ARCLENGTH_MAX_STEPS = 1000
+ARCLENGTH_CPU_S = 60.0
+
+
+def _arclength_past_stop(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float, at, last: tuple,
+                         previous, path: list):
+    """(y, info) at the full load where the branch, followed around the turning point (or kink) at which
+    the natural continuation stopped by pseudo-arclength continuation in (unknowns, lambda)
+    (steady_arclength; Keller 1977), reaches lambda = 1 and the held-cage solve there converges from
+    the point it found; else (None, {converged: False, arclength: what it found}). last = (lambda,
+    info) of the last root, previous = (lambda, unknowns) of the one before it (the direction of
+    travel) or None (then lambda increasing)."""
+    lam, info = last
+    u_k = np.asarray(info["unknowns"], dtype=float)
+    g = model.p[M.P_GRAV]
+    axial, radial = np.array([load[0], 0.0, 0.0]), np.array([0.0, load[1], load[2]])
+    cache = {}
+
+    def residual(v, lam_v):
+        if lam_v not in cache:
+            if len(cache) > 4:
+                cache.clear()
+            p = model.p.copy()
+            p[M.P_GRAV] = lam_v * g
+            cache[lam_v] = _held_cage_equations(model._replace(p=p), speed_rad_s, axial + lam_v * radial, phase, u_k)
+        return cache[lam_v][0](v)
+    scale_u = _held_cage_equations(model, speed_rad_s, load, phase, u_k)[2]
+    n = u_k.size
+    direction = np.zeros(n + 1)
+    direction[n] = 1.0
+    if previous is not None:
+        direction[:n], direction[n] = (u_k - previous[1]) / scale_u, lam - previous[0]
+    arc = pseudo_arclength(residual, np.zeros(n), lam, direction, ds=ARCLENGTH_FIRST_STEP, ds_min=ARCLENGTH_MIN_STEP,
+                           max_steps=ARCLENGTH_MAX_STEPS, tol=tol, cpu_budget_s=ARCLENGTH_CPU_S)
+    if arc.reached:
+        y, info_t = at(1.0, u_k + arc.v * scale_u)
+        if info_t["converged"]:
+            info_t.update(continuation=path + arc.lam_path[1:], arclength=arc)
+            return y, info_t
+        arc.stop = f"the held-cage solve at lambda = 1 from its point ended at residual {info_t['residual']:.2e}"
+        arc.reached = False
+    return None, dict(converged=False, arclength=arc)
 
 
 def _with_bound_verdict(model, y, info: dict):
