@@ -118,3 +118,40 @@ def test_reduced_slope_is_the_derivative_along_the_slaved_manifold():
     a = rng.normal(size=(3, 3)) + 3.0 * np.eye(3)
     ff = np.delete(np.delete(a, 1, 0), 1, 1)
     assert abs(reduced_slope(a, 1) - np.linalg.det(a) / np.linalg.det(ff)) <= 1e-12 * abs(np.linalg.det(a))
+
+
+def test_whirl_ratio_of_a_held_centre_and_of_a_half_frequency_whirl():
+    # W = [phi(t1) − phi(t0)] / ∫ omega_c dt: a centre orbiting at half the cage speed gives 0.5 exactly
+    # (phi linear in t, omega_c constant: the trapezoidal rule is exact); a centre at rest gives 0
+    from flexbearing.multibody.steady_hold import whirl_ratio
+    t = np.linspace(0.0, 0.03, 151)
+    omega_c = 300.0
+    e = 60e-6
+    circle = np.column_stack([e * np.cos(0.5 * omega_c * t + 0.3), e * np.sin(0.5 * omega_c * t + 0.3)])
+    assert abs(whirl_ratio(t, circle, np.full_like(t, omega_c)) - 0.5) <= 1e-12
+    still = np.tile([40e-6, -20e-6], (t.size, 1))
+    assert whirl_ratio(t, still, np.full_like(t, omega_c)) == 0.0
+    # backward whirl is negative; a cage speed that ramps linearly is integrated exactly
+    ramp = np.linspace(200.0, 400.0, t.size)
+    theta = 200.0 * t + 0.5 * (200.0 / 0.03) * t ** 2
+    back = np.column_stack([e * np.cos(-0.5 * theta), e * np.sin(-0.5 * theta)])
+    assert abs(whirl_ratio(t, back, ramp) + 0.5) <= 1e-12
+
+
+@pytest.mark.slow
+def test_uncertainty_run_with_two_roots_reports_the_held_one():
+    """Point 45, slip-rate case 6: the held-cage equations have two roots at the full load (slip −5.1 %
+    on an earlier path, +52 % on today's), both with residual < 1e-10. From the −5.1 % root the cage
+    whirls at half its speed (whirl ratio 0.52, eccentricity 0.20 -> 0.74 in 30 ms); from the +52 %
+    root it stays held. The solver's root must carry the dynamic check, and be the held one."""
+    from flexbearing.multibody.steady import steady_held_cage_state
+    from flexbearing.studies.uncertainty import load_unknowns, point_bearing_oil, sample_points
+    from flexbearing.studies.validation import slip_rate as V
+    point = sample_points(load_unknowns("scenes/slip_rate_unknowns.toml"))[45]
+    case = V.slip_rate_cases()[5]
+    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
+    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
+    _, info = steady_held_cage_state(model, case["speed_rpm"] * math.pi / 30.0,
+                                     (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
+    assert info["converged"] and info["residual"] <= 1e-9
+    assert info["held"] and info["cage_hold"].held, info["cage_hold"].describe()

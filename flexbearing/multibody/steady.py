@@ -57,6 +57,7 @@ from flexbearing.multibody.initial import initial_state
 from flexbearing.multibody.race_kernels import TRACTION_EHL
 from flexbearing.multibody.steady_arclength import pseudo_arclength
 from flexbearing.multibody.steady_existence import traction_drag_bound, turning_point
+from flexbearing.multibody.steady_hold import cage_hold_check
 
 class SteadyNotConverged(SolverNotConverged):
     """A steady solve found no fixed point (raised unless strict=False): .result is the (y, info) it
@@ -260,8 +261,24 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
         y, info = None, dict(converged=False, residual=math.inf, reason=f"no quasi-static start: {e}")
     if info["converged"] or not continuation:
         return _checked(y, info, strict, "held-cage state")
-    return _checked(*_held_cage_continuation(model, speed_rad_s, load, phase, tol, (y, info)), strict,
-                    "held-cage state")
+    y, info = _held_cage_continuation(model, speed_rad_s, load, phase, tol, (y, info))
+    return _checked(y, _with_hold_check(model, speed_rad_s, load, y, info), strict, "held-cage state")
+
+
+def _with_hold_check(model, speed_rad_s: float, load: np.ndarray, y, info: dict) -> dict:
+    """info with info["cage_hold"] (steady_hold.cage_hold_check: the dynamics from the root, about 1 CPU-s)
+    for a root the continuation found. Why only there: the continuation's root depends on its path (an
+    uncertainty-study run reached slips of −5.1 % and +52 % on two versions of it, both roots; the
+    cage stays held at the second only), the direct solve's does not. A root whose cage does not stay
+    held is still returned (converged), with info["held"] = False and the reason saying so."""
+    if not info["converged"] or y is None:
+        return info
+    check = cage_hold_check(model, speed_rad_s, load, y)
+    info.update(cage_hold=check, held=check.held)
+    if not check.held:
+        info["reason"] = (f"converged to a held-cage root, but {check.describe()}: the equations have this root, "
+                          "the bearing need not run in it (another root may exist)")
+    return info
 
 
 # what a run that failed is (info["verdict"], the reason's first words; steady_existence): converged; no
@@ -397,11 +414,17 @@ def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last
     returned = arclength is not None and bool(arclength.turning_points) and arclength.lam < 0.0
     verdict = VERDICT_FOLD if tp.certified or returned else VERDICT_NOT_CONVERGED
     arc = "" if arclength is None else f"; beyond it, {arclength.describe()}"
+    hold = cage_hold_check(model, speed_rad_s, load, last[1])   # the last root, at the full load
     if returned:
         arc += (" without reaching the full load: the branch through the symmetric thrust state has no held-cage "
                 "state at lambda = 1 between its two ends at lambda = 0 (a branch not connected to it is not excluded)")
+    # the evidence the verdict rests on first: the local test where it certifies, else the branch's return
+    head = tp.describe() if tp.certified or not returned else f"{arc[len('; beyond it, '):]}; {tp.describe()}"
+    arc = arc if tp.certified or not returned else ""
     info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict, verdict_cpu_s=cpu,
-                arclength=arclength, reason=f"{verdict}: {tp.describe()}; {info['reason']}{arc}")
+                arclength=arclength, cage_hold=hold,
+                reason=f"{verdict}: {head}; {info['reason']}{arc}; at the full load from the last root, "
+                       f"{hold.describe()}")
     return y, info
 
 
