@@ -155,3 +155,15 @@ def test_uncertainty_run_with_two_roots_reports_the_held_one():
                                      (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
     assert info["converged"] and info["residual"] <= 1e-9
     assert info["held"] and info["cage_hold"].held, info["cage_hold"].describe()
+
+
+def test_arclength_stops_where_the_branch_closes_on_itself():
+    # the circle u² + (lambda − 0.4)² = 0.09 with no lower bound in reach: round once, two turns
+    # (lambda = 0.7 and 0.1), back at the first point
+    def circle(v, lam):
+        return np.array([v[0] ** 2 + (lam - 0.4) ** 2 - 0.09])
+    res = pseudo_arclength(circle, np.array([-0.3]), 0.4, direction=np.array([1.0, 1.0]), ds=0.02, ds_min=1e-6,
+                           tol=1e-12, h=1e-6, h_lambda=1e-6, lam_min=-1.0)
+    assert res.closed and not res.reached
+    assert abs(res.turning_points[0] - 0.7) < 0.02 and abs(res.turning_points[1] - 0.1) < 0.02
+    assert abs(res.lam - 0.4) < 0.05 and max(res.lam_path) <= 0.7 + 1e-9

@@ -411,13 +411,15 @@ def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last
                                         f"of the radial load and weight (residual {res_trial:.2e} at {lam_fail:.4f}): {what}")
     # the branch followed by pseudo-arclength round a turning point back below lambda = 0: every root
     # it passed lies below the full load, so this branch does not reach it (whatever the local test says)
-    returned = arclength is not None and bool(arclength.turning_points) and arclength.lam < 0.0
+    returned = arclength is not None and bool(arclength.turning_points) and (arclength.lam < 0.0 or arclength.closed)
     verdict = VERDICT_FOLD if tp.certified or returned else VERDICT_NOT_CONVERGED
     arc = "" if arclength is None else f"; beyond it, {arclength.describe()}"
     hold = cage_hold_check(model, speed_rad_s, load, last[1])   # the last root, at the full load
     if returned:
         arc += (" without reaching the full load: the branch through the symmetric thrust state has no held-cage "
-                "state at lambda = 1 between its two ends at lambda = 0 (a branch not connected to it is not excluded)")
+                "state at lambda = 1 between its two ends at lambda = 0 (a branch not connected to it is not excluded)"
+                if not arclength.closed else " without reaching the full load: the branch through the last root is a "
+                "closed curve below lambda = 1 (a branch not connected to it is not excluded)")
     # the evidence the verdict rests on first: the local test where it certifies, else the branch's return
     head = tp.describe() if tp.certified or not returned else f"{arc[len('; beyond it, '):]}; {tp.describe()}"
     arc = arc if tp.certified or not returned else ""

@@ -23,8 +23,9 @@ and enlarged by 1.5 after a corrector that converged in at most 3 iterations.
 Where lambda passes lambda_target between two points, the point at lambda_target is found by
 Newton at fixed lambda from the secant interpolation between them. A turning point is recorded
 where the tangent's lambda component changes sign. The branch is followed until it reaches
-lambda_target, leaves [lambda_min, lambda_target] below, the corrector fails at the smallest step
-(a kink or an end of the branch: a contact law switching), or max_steps are taken.
+lambda_target, leaves [lambda_min, lambda_target] below, comes back within one step of its first
+point after two turning points (a closed curve, an isola: Seydel 2010 §2.10), the corrector fails at
+the smallest step (a kink or an end of the branch: a contact law switching), or max_steps are taken.
 """
 from __future__ import annotations
 
@@ -51,6 +52,7 @@ class ArclengthResult:
     turning_points: list = field(default_factory=list)   # lambdas where d lambda/ds changed sign
     lam_path: list = field(default_factory=list)         # lambda of every accepted point
     stop: str = ""                 # why it stopped where not reached
+    closed: bool = False           # the branch came back to its first point: a closed curve
     nfev: int = 0
     cpu_s: float = 0.0
 
@@ -132,6 +134,7 @@ def pseudo_arclength(residual, v0, lam0: float, direction, lam_target: float = 1
     change (as the Jacobian's difference step h); tol on max |F|."""
     t0 = time.process_time()
     w = np.append(np.asarray(v0, dtype=float), float(lam0))
+    w_start = w.copy()
     count = [0]
     t = _tangent(_jacobian(residual, w, count, h, h_lambda), np.asarray(direction, dtype=float)
                  / np.linalg.norm(direction))
@@ -172,6 +175,12 @@ def pseudo_arclength(residual, v0, lam0: float, direction, lam_target: float = 1
         result.v, result.lam, result.residual = w[:-1].copy(), float(w[-1]), res
         if w[-1] < lam_min:
             result.stop = f"the branch went back below lambda = {lam_min}"
+            break
+        if len(result.turning_points) >= 2 and np.linalg.norm(w - w_start) < ds:
+            # back at the first point after two turns: the branch is a closed curve (an isola), every
+            # point of it between the smallest and the largest lambda passed
+            result.closed = True
+            result.stop = "the branch closed on itself (a closed curve through the first point)"
             break
         if iters <= 3:
             ds = min(ds_max, 1.5 * ds)
