@@ -239,3 +239,16 @@ def test_paper_steady_case_at_the_design_clearance_ends_in_a_fold():
     omega, force = scene_instant(scene, 0.0)
     with pytest.raises(SteadyNotConverged, match="a fold"):
         steady_held_cage_state(build_model(scene.bearing, scene.oil, scene.model_options), omega, force)
+
+
+def test_the_cage_of_the_held_state_stays_held_in_the_dynamics(held):
+    """steady_hold.cage_hold_check from the held-cage state under 4 kN radial load: the centre stays at
+    one azimuth (whirl ratio near 0, not the 0.5 of a floating cage's half-frequency whirl) and off
+    the rim over the 30 ms window."""
+    from flexbearing.multibody.steady_hold import HELD_WHIRL_RATIO, cage_hold_check
+    model, y, info = held
+    check = cage_hold_check(model, W, (FA, 0.0, -4e3), y)
+    assert check.held, check.describe()
+    assert abs(check.whirl_ratio) < HELD_WHIRL_RATIO
+    assert check.eccentricity_max < 1.0
+    assert abs(check.duration - 0.03) < 1e-12

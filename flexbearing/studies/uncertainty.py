@@ -272,6 +272,9 @@ def steady_case_slip(point: dict, case: dict) -> dict:
                 # flexbearing.multibody.steady_existence; the reason starts with it
                 verdict=info.get("verdict", "converged" if info["converged"] else "not converged"),
                 verdict_cpu_s=float(info.get("verdict_cpu_s", 0.0)),
+                # a root of the continuation: does the cage stay held in the dynamics from it (None: not checked,
+                # the direct solve's root; flexbearing.multibody.steady_hold)
+                held=info.get("held"),
                 continuation_steps=len(info.get("continuation", [])), cpu_s=time.process_time() - t0)
 
 
