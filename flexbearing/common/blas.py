@@ -69,6 +69,13 @@ def blas_info() -> BlasInfo:
 # symbols suffixed "64_"; numpy >= 2's scipy-openblas also prefixed "scipy_") export it
 OPENBLAS_SET_THREADS = ("openblas_set_num_threads", "openblas_set_num_threads64_",
                         "scipy_openblas_set_num_threads64_")
+OPENBLAS_GET_THREADS = ("openblas_get_num_threads", "openblas_get_num_threads64_",
+                        "scipy_openblas_get_num_threads64_")
+
+
+def _first_symbol(lib, names):
+    """The first of `names` that the library `lib` exports, or None."""
+    return next((f for f in (getattr(lib, n, None) for n in names) if f is not None), None)
 
 
 def set_openblas_threads(n: int) -> int | None:
@@ -86,19 +93,12 @@ def set_openblas_threads(n: int) -> int | None:
         lib = ctypes.CDLL(info.path)
     except OSError:
         return None
-    for symbol in OPENBLAS_SET_THREADS:
-        setter = getattr(lib, symbol, None)
-        if setter is not None:
-            setter(ctypes.c_int(int(n)))
-            break
-    else:
+    setter = _first_symbol(lib, OPENBLAS_SET_THREADS)
+    if setter is None:
         return None
-    for symbol in ("openblas_get_num_threads", "openblas_get_num_threads64_",
-                   "scipy_openblas_get_num_threads64_"):
-        getter = getattr(lib, symbol, None)
-        if getter is not None:
-            return int(getter())
-    return None
+    setter(ctypes.c_int(int(n)))
+    getter = _first_symbol(lib, OPENBLAS_GET_THREADS)
+    return None if getter is None else int(getter())
 
 
 def _openblas_threads_core(path: str):

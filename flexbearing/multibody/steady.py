@@ -412,19 +412,21 @@ def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last
     # it passed lies below the full load, so this branch does not reach it (whatever the local test says)
     returned = arclength is not None and bool(arclength.turning_points) and (arclength.lam < 0.0 or arclength.closed)
     verdict = VERDICT_FOLD if tp.certified or returned else VERDICT_NOT_CONVERGED
-    arc = "" if arclength is None else f"; beyond it, {arclength.describe()}"
+    beyond = "" if arclength is None else arclength.describe()
     hold = cage_hold_check(model, speed_rad_s, load, last[1])   # the last root, at the full load
     if returned:
-        arc += (" without reaching the full load: the branch through the symmetric thrust state has no held-cage "
-                "state at lambda = 1 between its two ends at lambda = 0 (a branch not connected to it is not excluded)"
-                if not arclength.closed else " without reaching the full load: the branch through the last root is a "
-                "closed curve below lambda = 1 (a branch not connected to it is not excluded)")
+        beyond += (" without reaching the full load: the branch through the symmetric thrust state has no held-cage "
+                   "state at lambda = 1 between its two ends at lambda = 0 (a branch not connected to it is not "
+                   "excluded)" if not arclength.closed else " without reaching the full load: the branch through the "
+                   "last root is a closed curve below lambda = 1 (a branch not connected to it is not excluded)")
     # the evidence the verdict rests on first: the local test where it certifies, else the branch's return
-    head = tp.describe() if tp.certified or not returned else f"{arc[len('; beyond it, '):]}; {tp.describe()}"
-    arc = arc if tp.certified or not returned else ""
+    if tp.certified or not returned:
+        head, tail = tp.describe(), (f"; beyond it, {beyond}" if beyond else "")
+    else:
+        head, tail = f"{beyond}; {tp.describe()}", ""
     info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict, verdict_cpu_s=cpu,
                 arclength=arclength, cage_hold=hold,
-                reason=f"{verdict}: {head}; {info['reason']}{arc}; at the full load from the last root, "
+                reason=f"{verdict}: {head}; {info['reason']}{tail}; at the full load from the last root, "
                        f"{hold.describe()}")
     return y, info
 
@@ -448,18 +450,7 @@ def _arclength_past_stop(model, speed_rad_s: float, load: np.ndarray, phase: flo
     travel) or None (then lambda increasing)."""
     lam, info = last
     u_k = np.asarray(info["unknowns"], dtype=float)
-    g = model.p[M.P_GRAV]
-    axial, radial = np.array([load[0], 0.0, 0.0]), np.array([0.0, load[1], load[2]])
-    cache = {}
-
-    def residual(v, lam_v):
-        if lam_v not in cache:
-            if len(cache) > 4:
-                cache.clear()
-            p = model.p.copy()
-            p[M.P_GRAV] = lam_v * g
-            cache[lam_v] = _held_cage_equations(model._replace(p=p), speed_rad_s, axial + lam_v * radial, phase, u_k)
-        return cache[lam_v][0](v)
+    residual = _branch_residual(model, speed_rad_s, load, phase, u_k)
     scale_u = _held_cage_equations(model, speed_rad_s, load, phase, u_k)[2]
     n = u_k.size
     direction = np.zeros(n + 1)
@@ -503,19 +494,29 @@ def _with_bound_verdict(model, y, info: dict):
 def _branch_turning_point(model, speed_rad_s: float, load: np.ndarray, phase: float, lam: float, unknowns):
     """steady_existence.turning_point of the held-cage branch (lambda scales the radial load and the
     weight, _held_cage_continuation) at its root `unknowns` at lambda = lam."""
+    return turning_point(_branch_residual(model, speed_rad_s, load, phase, unknowns), lam, 6 * model.n_balls + 11)
+
+
+def _branch_residual(model, speed_rad_s: float, load: np.ndarray, phase: float, unknowns):
+    """residual(v, lam): the held-cage equations (_held_cage_equations, about the unknowns `unknowns`,
+    v scaled as there) along the continuation's branch, lambda scaling the radial load and the weight
+    (_held_cage_continuation). The equations of the last few lambdas are kept: building them copies
+    the model, and the turning-point test and the arclength corrector call one lambda many times."""
     g = model.p[M.P_GRAV]
     axial = np.array([load[0], 0.0, 0.0])
     radial = np.array([0.0, load[1], load[2]])
+    u0 = np.asarray(unknowns, dtype=float)
     equations = {}
 
-    def residual(v, lam_v):
-        if lam_v not in equations:
+    def residual(v, lam):
+        if lam not in equations:
+            if len(equations) > 4:
+                equations.clear()
             p = model.p.copy()
-            p[M.P_GRAV] = lam_v * g
-            equations[lam_v] = _held_cage_equations(model._replace(p=p), speed_rad_s, axial + lam_v * radial, phase,
-                                                    np.asarray(unknowns, dtype=float))[0]
-        return equations[lam_v](v)
-    return turning_point(residual, lam, 6 * model.n_balls + 11)
+            p[M.P_GRAV] = lam * g
+            equations[lam] = _held_cage_equations(model._replace(p=p), speed_rad_s, axial + lam * radial, phase, u0)[0]
+        return equations[lam](v)
+    return residual
 
 
 def _failed(y_direct, direct: dict, y, info: dict, reason: str):
@@ -601,9 +602,9 @@ SETTLE_CHUNKS = 20
 def _thrust_state_from_dynamics(model, speed_rad_s: float, axial_load: float) -> dict | None:
     """steady_thrust_state's info (plus settled_time, s) started from the thrust-only dynamics
     (`model` without weight) integrated from the quasi-static state (flexbearing.multibody.steady_settle:
-    the real flow as pseudo-time, Kelley & Keyes 1998), every chunk's end state symmetrised (each
-    ball's x, r, orbit speed and spin replaced by the mean over the balls, alike under a pure thrust
-    without weight); None where no chunk's start converges or the integration stops."""
+    the real flow as pseudo-time, Kelley & Keyes 1998), every chunk's end state symmetrised (ball 0's
+    x, r, orbit speed and spin, which steady_thrust_state reads as every ball's, replaced by the mean
+    over the balls, alike under a pure thrust without weight); None where no chunk's start converges or the integration stops."""
     from flexbearing.multibody.integrator import SimulationUnstable, Workspace, advance
 
     z = model.n_balls
