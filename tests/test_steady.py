@@ -181,9 +181,8 @@ def _sample_case(point_index: int, case_id: int):
     study = U.load_unknowns(Path(__file__).resolve().parents[1] / "scenes" / "slip_rate_unknowns.toml")
     point = U.sample_points(study)[point_index]
     case = {c["case"]: c for c in V.slip_rate_cases()}[case_id]
-    bearing, oil, scale = U.point_bearing_oil(point, case["speed_rpm"])
-    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
-    return model, case["speed_rpm"] * math.pi / 30.0, np.array([case["axial_load"], 0.0, -case["radial_load"]])
+    model, speed, load = U.case_problem(point, case)
+    return model, speed, np.array(load)
 
 
 def test_continuation_finds_the_root_the_direct_solve_finds(paper):

@@ -86,14 +86,10 @@ def test_uncertainty_run_whose_branch_folds_below_the_full_load_is_followed_roun
     pseudo-arclength continuation it turns back at the fold, turns again at a lower fold and then
     passes lambda = 1, where the held-cage solve converges. 60–110 CPU-s: slow."""
     from flexbearing.multibody.steady import steady_held_cage_state
-    from flexbearing.studies.uncertainty import load_unknowns, point_bearing_oil, sample_points
+    from flexbearing.studies.uncertainty import case_problem, load_unknowns, sample_points
     from flexbearing.studies.validation import slip_rate as V
     point = sample_points(load_unknowns("scenes/slip_rate_unknowns.toml"))[35]
-    case = V.slip_rate_cases()[2]
-    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
-    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
-    _, info = steady_held_cage_state(model, case["speed_rpm"] * math.pi / 30.0,
-                                     (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
+    _, info = steady_held_cage_state(*case_problem(point, V.slip_rate_cases()[2]), strict=False)
     assert info["converged"], info["reason"]
     assert info["residual"] <= 1e-9
     arc = info["arclength"]
@@ -146,14 +142,10 @@ def test_uncertainty_run_with_two_roots_reports_the_held_one():
     whirls at half its speed (whirl ratio 0.52, eccentricity 0.20 -> 0.74 in 30 ms); from the +52 %
     root it stays held. The solver's root must carry the dynamic check, and be the held one."""
     from flexbearing.multibody.steady import steady_held_cage_state
-    from flexbearing.studies.uncertainty import load_unknowns, point_bearing_oil, sample_points
+    from flexbearing.studies.uncertainty import case_problem, load_unknowns, sample_points
     from flexbearing.studies.validation import slip_rate as V
     point = sample_points(load_unknowns("scenes/slip_rate_unknowns.toml"))[45]
-    case = V.slip_rate_cases()[5]
-    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
-    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
-    _, info = steady_held_cage_state(model, case["speed_rpm"] * math.pi / 30.0,
-                                     (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
+    _, info = steady_held_cage_state(*case_problem(point, V.slip_rate_cases()[5]), strict=False)
     assert info["converged"] and info["residual"] <= 1e-9
     assert info["held"] and info["cage_hold"].held, info["cage_hold"].describe()
 

@@ -128,14 +128,10 @@ def test_uncertainty_run_whose_branch_folds_gets_a_certified_turning_point():
     lambda has a maximum between the last root and the first lambda that failed, and the failure
     reason must say what that does not exclude. 60–110 CPU-s: slow."""
     from flexbearing.multibody.steady import steady_held_cage_state
-    from flexbearing.studies.uncertainty import load_unknowns, point_bearing_oil, sample_points
+    from flexbearing.studies.uncertainty import case_problem, load_unknowns, sample_points
     from flexbearing.studies.validation import slip_rate as V
     point = sample_points(load_unknowns("scenes/slip_rate_unknowns.toml"))[23]
-    case = V.slip_rate_cases()[5]
-    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
-    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
-    _, info = steady_held_cage_state(model, case["speed_rpm"] * math.pi / 30.0,
-                                     (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
+    _, info = steady_held_cage_state(*case_problem(point, V.slip_rate_cases()[5]), strict=False)
     assert not info["converged"] and info["verdict"] == "fold" and info["reason"].startswith("fold: ")
     tp = info["turning_point"]
     lam_last, lam_fail = info["continuation"][-1], float(info["reason"].split("residual ")[1].split(" at ")[1][:6])

@@ -73,14 +73,11 @@ def test_cold_oil_study_run_without_a_thrust_root_in_reach_converges_from_the_se
     it against its drag: 0 < cage speed < nominal). ~10–15 CPU-s: slow."""
     from flexbearing.multibody import model as M
     from flexbearing.multibody import steady as S
-    from flexbearing.studies.uncertainty import load_unknowns, point_bearing_oil, sample_points
+    from flexbearing.studies.uncertainty import case_problem, load_unknowns, sample_points
     from flexbearing.studies.validation import slip_rate as V
     point = sample_points(load_unknowns("scenes/slip_rate_unknowns.toml"))[5]
-    case = V.slip_rate_cases()[10]
-    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
-    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
-    omega = case["speed_rpm"] * math.pi / 30.0
-    load = np.array([case["axial_load"], 0.0, -case["radial_load"]])
+    model, omega, load = case_problem(point, V.slip_rate_cases()[10])
+    load = np.array(load)
     p = model.p.copy()
     p[M.P_GRAV] = 0.0
     assert S._thrust_state_by_speed(model._replace(p=p), omega, load[0]) is None     # today's path fails

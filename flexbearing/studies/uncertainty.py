@@ -61,6 +61,7 @@ import os
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -249,6 +250,23 @@ def point_bearing_oil(point: dict, speed_rpm: float):
     return b, oil, float(point["traction_scale"])
 
 
+class SteadyCase(NamedTuple):
+    """The steady problem of one (point, case) run: what steady_held_cage_state is given."""
+    model: object             # flexbearing.multibody.model.Model at the point's bearing and oil
+    speed_rad_s: float        # inner-ring speed, rad/s
+    load: tuple               # (Fa, 0, -Fr) on the inner ring, N
+
+
+def case_problem(point: dict, case: dict) -> SteadyCase:
+    """The model, speed and load of `case` (a slip_rate_cases row) at sample `point`: the bearing and oil
+    the point's unknowns give (point_bearing_oil), the validation model with the EHL traction law,
+    the radial load along -Z (the weight's direction, as in the slip-rate tests)."""
+    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
+    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
+    return SteadyCase(model, case["speed_rpm"] * 2.0 * math.pi / 60.0,
+                      (case["axial_load"], 0.0, -case["radial_load"]))
+
+
 def steady_case_slip(point: dict, case: dict) -> dict:
     """One job: the steady fixed point with weight (flexbearing.multibody.steady.steady_held_cage_state) of
     `case` (flexbearing.studies.validation.slip_rate.slip_rate_cases row) at sample `point`; returns the row (slip in %,
@@ -256,10 +274,8 @@ def steady_case_slip(point: dict, case: dict) -> dict:
     state because its branch ends in a fold, steady._held_cage_continuation; strict=False: a run without a
     root is a row, not the end of the study)."""
     t0 = time.process_time()
-    bearing, oil, scale = point_bearing_oil(point, case["speed_rpm"])
-    model = V.build_validation_model(bearing, oil, V.validation_model_options(), "ehl", scale)
-    omega = case["speed_rpm"] * 2.0 * math.pi / 60.0
-    _, info = steady_held_cage_state(model, omega, (case["axial_load"], 0.0, -case["radial_load"]), strict=False)
+    problem = case_problem(point, case)
+    _, info = steady_held_cage_state(*problem, strict=False)
     out = info["outputs"]
     return dict(case=case["case"], slip_pct=100.0 * float(out["slip_rate"]), converged=info["converged"],
                 residual=info["residual"], iterations=info["iterations"],
