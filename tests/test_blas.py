@@ -80,9 +80,10 @@ def test_a_linear_solve_s_bits_do_not_depend_on_what_was_imported_first():
 
 @pytest.mark.slow
 def test_an_uncertainty_row_does_not_depend_on_what_was_imported_first():
-    """The study's point 47 case 11 (a run without a root: its end state shows every rounding) in two
-    fresh processes, one that imported numpy first: the same end state bit for bit (before the fix,
-    on 2 cores: residual 0.019501583945619867 after `import numpy`, 0.01943452654461777 without)."""
+    """The study's point 47 case 11 (cold oil: its path runs the quasi-static start, the thrust state from
+    the settled dynamics and the continuation, a long chain of roundings) in two fresh processes, one
+    that imported numpy first: the same end state bit for bit (before the fix, on 2 cores, when the run
+    still had no root: residual 0.019501583945619867 after `import numpy`, 0.01943452654461777 without)."""
     row = ("from flexbearing.studies.uncertainty import load_unknowns, sample_points, steady_case_slip; "
            "from flexbearing.studies.validation.slip_rate import slip_rate_cases; "
            "points = sample_points(load_unknowns('scenes/slip_rate_unknowns.toml')); "
