@@ -104,6 +104,22 @@ def test_quasi_static_modes(tmp_path, capsys):
     assert "radial load of 4000 N" in captured.err and "Qmax" not in captured.out
 
 
+def test_quasi_static_friction_control_without_a_steady_state_says_why(monkeypatch, capsys):
+    # a solve without a root: exit 1 and the solver's own reason on stderr (here a fold), not a generic guess;
+    # the state printed is a stand-in (one ball), the solve is not what this tests
+    from flexbearing.cli.main import main
+    from flexbearing.simulation import quasi_static_scene as QS
+    reason = "fold: the held-cage branch turns back at lambda* = 0.9754 of the radial load"
+    info = dict(converged=False, residual=1e-4, reason=reason, cage_speed=600.0, slip_rate=0.02,
+                ball_w_x=1.0, ball_w_r=2.0, ball_w_t=3.0)
+    out = dict(contact_load=np.ones((1, 3)), contact_angle=np.full((1, 3), 0.5), contact_stress=np.ones((1, 3)))
+    inputs = dict(state="thrust", load=[55e3, 0.0, 0.0], inner_speed=1466.0)
+    monkeypatch.setattr(QS, "steady_scene", lambda scene, time=0.0: (None, info, out, inputs))
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--control", "friction"]) == 1
+    err = capsys.readouterr().err
+    assert reason in err and "flexbearing run" in err
+
+
 def test_quasi_static_friction_control_is_the_steady_running_state(tmp_path, capsys):
     # --control friction runs flexbearing.multibody.steady on the scene (rigid cage, the scene's oil): the paper's steady scene
     # with its radial load removed gives the state of tests/test_steady.py; with its radial load the frozen-azimuth
@@ -124,9 +140,8 @@ def test_quasi_static_friction_control_is_the_steady_running_state(tmp_path, cap
     assert d["converged"] and d["slip_rate"] == pytest.approx(info["slip_rate"], rel=1e-9, abs=1e-12)
     assert d["inputs"]["state"] == "thrust"
     held = tmp_path / "held.json"
-    # the clearance-free bearing: with the preset's design clearance (issue 35) the held-cage continuation
-    # stops at 71 % of the radial load of this case (steady_held_cage_state's reason: the branch turns or
-    # ends there), an open point of the steady solver reported with issue 35
+    # the clearance-free bearing: with the preset's design clearance the frozen-azimuth branch of this case
+    # folds below the full radial load (tests/test_steady.py, slow) and the run is minutes long
     clear0 = tmp_path / "steady_rigid_pd0.toml"
     clear0.write_text(open("scenes/paper_steady_rigid.toml").read().replace("[bearing]", "[bearing]\nradial_clearance = 0.0", 1))
     assert main(["quasi-static", str(clear0), "--control", "friction", "--balls",

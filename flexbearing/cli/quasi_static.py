@@ -294,7 +294,8 @@ def _cmd_friction(scene, args) -> int:
             per_ball.update(pocket_force=out["pocket_force"], pocket_force_tangential=out["pocket_force_tangential"])
         write_json(args.json, dict(inputs=inputs, units="SI (N, m, rad, rad/s, Pa)", **info, **per_ball, state=y))
     if not info["converged"]:
-        print("flexbearing quasi-static: no steady running state (the traction cannot balance the drag at any "
-              "skid, or is flat there: flexbearing.multibody.steady docstring); run the dynamics instead", file=sys.stderr)
+        # the solver's reason says which failure it is (a fold, no thrust root, a cage that does not stay held)
+        print(f"flexbearing quasi-static: no steady running state: {info.get('reason') or 'the solve did not converge'}; "
+              "run the dynamics instead (`flexbearing run`)", file=sys.stderr)
         return 1
     return 0
