@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from flexbearing.analysis import settling as S
+from flexbearing.common import stationarity as ST
 
 N, DT = 2400, 1e-4                 # samples, s: 0.24 s at the paper scenes' sample interval
 T = np.arange(N) * DT
@@ -36,7 +37,7 @@ def test_stationary_ar1_is_settled_at_the_stated_false_alarm_rate():
     n_runs = 300
     alarms = sum(S.window_settling(T, {"guiding_force": 500.0 + ar1(N, 0.8, 5.0, rng)}, np.ones(N, bool))["settled"]
                  is False for _ in range(n_runs))
-    assert alarms / n_runs <= S.ALPHA + 3.0 * math.sqrt(S.ALPHA * (1 - S.ALPHA) / n_runs)
+    assert alarms / n_runs <= ST.ALPHA + 3.0 * math.sqrt(ST.ALPHA * (1 - ST.ALPHA) / n_runs)
 
 
 def test_exponential_approach_over_the_window_is_not_settled():
@@ -71,10 +72,10 @@ def test_mser5_finds_the_transients_end():
     change by a factor 2 (tau·ln 2) plus one batch; the median of 100 series lies within half of that."""
     rng = np.random.default_rng(11)
     A, sigma, tau = 20.0, 1.0, 0.01
-    expected = tau * math.log(A * math.sqrt(S.MSER_BATCH) / sigma)
-    ends = np.array([S.mser(100.0 + A * np.exp(-T / tau) + rng.normal(0.0, sigma, N)).truncation * DT
+    expected = tau * math.log(A * math.sqrt(ST.MSER_BATCH) / sigma)
+    ends = np.array([ST.mser(100.0 + A * np.exp(-T / tau) + rng.normal(0.0, sigma, N)).truncation * DT
                      for _ in range(100)])
-    tol = tau * math.log(2.0) + S.MSER_BATCH * DT
+    tol = tau * math.log(2.0) + ST.MSER_BATCH * DT
     assert abs(np.median(ends) - expected) <= 0.5 * tol
     assert np.mean(np.abs(ends - expected) <= tol) >= 0.9
 
@@ -89,12 +90,12 @@ def test_step_transient_is_cut_at_the_step():
     cut, alone = [], []
     for _ in range(100):
         x = rng.normal(0.0, 1.0, N)
-        alone.append(S.mser(x[300:]).truncation)
+        alone.append(ST.mser(x[300:]).truncation)
         x[:300] += 50.0
-        cut.append(S.mser(x).truncation)
+        cut.append(ST.mser(x).truncation)
     cut = np.array(cut)
     assert cut.min() >= 300 and np.median(cut) == 300
-    assert np.percentile(cut - 300, 90) <= np.percentile(alone, 90) + S.MSER_BATCH
+    assert np.percentile(cut - 300, 90) <= np.percentile(alone, 90) + ST.MSER_BATCH
 
 
 def test_a_fixed_point_with_rounding_noise_is_settled():
@@ -115,8 +116,8 @@ def test_short_window_is_undecided():
 
 def test_trend_slope_and_error_against_the_least_squares_formula():
     """The slope of batch means of a noiseless line is the line's slope; its error is 0."""
-    tr = S.trend(T, 3.0 + 2.5 * T)
-    assert tr.slope == pytest.approx(2.5, rel=1e-9) and tr.n_batches == S.N_BATCHES
+    tr = ST.trend(T, 3.0 + 2.5 * T)
+    assert tr.slope == pytest.approx(2.5, rel=1e-9) and tr.n_batches == ST.N_BATCHES
     assert tr.standard_error == pytest.approx(0.0, abs=1e-9)
 
 
