@@ -59,6 +59,7 @@ from flexbearing.multibody.steady_arclength import pseudo_arclength
 from flexbearing.multibody.steady_existence import traction_drag_bound, turning_point
 from flexbearing.multibody.steady_settle import settle_then_solve
 from flexbearing.multibody.steady_hold import cage_hold_check
+from flexbearing.multibody.steady_mean import settled_mean
 
 class SteadyNotConverged(SolverNotConverged):
     """A steady solve found no fixed point (raised unless strict=False): .result is the (y, info) it
@@ -263,7 +264,10 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
     if info["converged"] or not continuation:
         return _checked(y, info, strict, "held-cage state")
     y, info = _held_cage_continuation(model, speed_rad_s, load, phase, tol, (y, info))
-    return _checked(y, _with_hold_check(model, speed_rad_s, load, y, info), strict, "held-cage state")
+    info = _with_hold_check(model, speed_rad_s, load, y, info)
+    if not info["converged"]:
+        y, info = _held_cage_settled(model, speed_rad_s, load, info)
+    return _checked(y, info, strict, "held-cage state")
 
 
 def _with_hold_check(model, speed_rad_s: float, load: np.ndarray, y, info: dict) -> dict:
@@ -287,6 +291,45 @@ def _with_hold_check(model, speed_rad_s: float, load: np.ndarray, y, info: dict)
 # held-cage state on the branch followed, another branch not excluded); not converged (nothing proved)
 VERDICT_CONVERGED, VERDICT_NO_STEADY_STATE, VERDICT_FOLD, VERDICT_NOT_CONVERGED = (
     "converged", "no steady state", "fold", "not converged")
+# no held-cage root, but the dynamics settle to a stationary running state: its mean (steady_mean)
+VERDICT_SETTLED_MEAN = "settled mean"
+
+
+def _held_cage_settled(model, speed_rad_s: float, load: np.ndarray, info: dict):
+    """(y, info) where the held-cage equations have no root on the path followed: the settled mean of
+    the dynamics (steady_mean.settled_mean), started from the end of the last root's hold check (the
+    dynamics 30 ms from it at the full load), else from the quasi-static state. Settled: converged,
+    verdict VERDICT_SETTLED_MEAN, info["kind"] = "settled mean", the mean slip and cage speed with
+    their confidence half widths in info["settled_mean"], info["outputs"] a snapshot of the running
+    state (its last sample) with "slip_rate" the mean, residual nan (no root), and the failure's
+    reason kept in info["failed_reason"]. Not settled within steady_mean.MAX_TIME: the failure as it
+    was, its reason extended by what the dynamics did. Runs with a root never come here."""
+    hold = info.get("cage_hold")
+    if hold is not None and hold.end_state is not None and not hold.note:
+        start, where = hold.end_state, "from the end of the last root's hold check"
+    else:
+        try:
+            start = initial_state(model, speed_rad_s, 0.0, 0.0, load=tuple(load))
+        except InputError as e:
+            info["reason"] += f"; no settled mean either: no quasi-static start to integrate from ({e})"
+            return None, info
+        where = "from the quasi-static state"
+    sm = settled_mean(model, speed_rad_s, load, start)
+    info["settled_mean"] = sm
+    if not sm.settled:
+        info["reason"] += f"; the dynamics integrated {where}: {sm.describe()}"
+        return sm.end_state, info
+    sp, ld = np.array([[0.0, speed_rad_s]]), np.array([[0.0, load[0], load[1], load[2]]])
+    out = O.evaluate_outputs(model, 0.0, sm.end_state, sp, ld, np.zeros((0, 6)))
+    out["slip_rate"] = np.float64(sm.slip_rate)
+    c0 = M.state_layout(model)["cage"]
+    info.update(converged=True, kind="settled mean", verdict=VERDICT_SETTLED_MEAN, held=sm.held, residual=math.nan,
+                cage_speed=sm.cage_speed, cage_centre=sm.end_state[c0 + SL.CAGE_X:c0 + SL.CAGE_Z + 1].copy(),
+                cage_eccentricity_ratio=sm.eccentricity_mean, cage_land_force=out["cage_land_force"].copy(),
+                pocket_resultant=out["pocket_force_on_cage"].sum(axis=0), outputs=out, failed_reason=info["reason"],
+                reason=f"{VERDICT_SETTLED_MEAN}: no held-cage root ({info.get('verdict', VERDICT_NOT_CONVERGED)}); "
+                       f"the running state is the dynamics' mean, integrated {where}: {sm.describe()}")
+    return sm.end_state, info
 
 # the continuation in the load that breaks the balls' symmetry: first step, smallest step
 CONTINUATION_FIRST_STEP = 0.25
