@@ -100,7 +100,7 @@ def _rk_fixed(y, h, n_steps, A, C, p, flags, htab, ttab, sp, ld, imp, work, cage
 def fixed_step_flow(f, n_steps: int):
     """flow(y0, T) -> Phi_T(y0) of the autonomous ODE y' = f(y) by N fixed steps of Dormand–Prince's
     5th-order tableau (the arithmetic of `_rk_fixed`, in Python: for small systems and tests)."""
-    A, C = I._DP_A, I._DP_C
+    A = I._DP_A
 
     def flow(y0, T):
         h = T / n_steps
