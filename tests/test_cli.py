@@ -120,6 +120,28 @@ def test_quasi_static_friction_control_without_a_steady_state_says_why(monkeypat
     assert reason in err and "flexbearing run" in err
 
 
+def test_quasi_static_json_writes_a_solver_s_named_results_by_name(monkeypatch, tmp_path):
+    # info holds dataclasses (a hold check) and NamedTuples: the file has their fields by name, and a
+    # field kept out of the repr (the hold check's end state, a whole state vector) stays out
+    import json
+    from flexbearing.cli.main import main
+    from flexbearing.simulation import quasi_static_scene as QS
+    from flexbearing.multibody.steady_hold import CageHoldCheck
+    from flexbearing.studies.uncertainty import SteadyCase
+    hold = CageHoldCheck(0.03, 600.0, 601.0, 0.02, 0.021, 0.3, 0.31, 0.35, 0.01, True, 1.2, "", np.zeros(200))
+    info = dict(converged=True, residual=1e-10, reason="", cage_speed=600.0, slip_rate=0.02, ball_w_x=1.0,
+                ball_w_r=2.0, ball_w_t=3.0, cage_hold=hold, case=SteadyCase("model", 1466.0, (55e3, 0.0, 0.0)))
+    out = dict(contact_load=np.ones((1, 3)), contact_angle=np.full((1, 3), 0.5), contact_stress=np.ones((1, 3)))
+    inputs = dict(state="thrust", load=[55e3, 0.0, 0.0], inner_speed=1466.0)
+    monkeypatch.setattr(QS, "steady_scene", lambda scene, time=0.0: (np.zeros(3), info, out, inputs))
+    path = tmp_path / "s.json"
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--control", "friction", "--json", str(path)]) == 0
+    d = json.loads(path.read_text())
+    assert d["cage_hold"]["whirl_ratio"] == 0.01 and d["cage_hold"]["held"] is True
+    assert "end_state" not in d["cage_hold"]
+    assert d["case"] == {"model": "model", "speed_rad_s": 1466.0, "load": [55e3, 0.0, 0.0]}
+
+
 def test_quasi_static_friction_control_is_the_steady_running_state(tmp_path, capsys):
     # --control friction runs flexbearing.multibody.steady on the scene (rigid cage, the scene's oil): the paper's steady scene
     # with its radial load removed gives the state of tests/test_steady.py; with its radial load the frozen-azimuth

@@ -32,6 +32,7 @@ equilibrium was found, 1 with the solver's diagnostic when not, 2 for invalid in
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import sys
@@ -133,6 +134,12 @@ def ball_lines(result) -> list[str]:
 
 
 def _json_ready(value):
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        # a solver's named result (a hold check, a turning point, a settled mean): its shown fields (a
+        # field kept out of its repr, e.g. a whole state vector, stays out of the file too)
+        return {f.name: _json_ready(getattr(value, f.name)) for f in dataclasses.fields(value) if f.repr}
+    if hasattr(value, "_asdict"):                       # a NamedTuple: by name, not by position
+        return _json_ready(value._asdict())
     if isinstance(value, dict):
         return {k: _json_ready(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -260,8 +267,17 @@ def _cmd_friction(scene, args) -> int:
     print(f"{scene.name} at t = {args.time:g} s: inner ring {inputs['inner_speed'] * 30 / math.pi:.1f} rpm, "
           f"load ({fx:.1f}, {fy:.1f}, {fz:.1f}) N; ball spin from the traction "
           + ("(frozen-azimuth held-cage state, flexbearing.multibody.steady)" if held else "(steady thrust state)"))
-    print(f"cage speed {info['cage_speed'] * 30 / math.pi:.2f} rpm, slip {100 * info['slip_rate']:.3f} %; "
-          f"converged={info['converged']} (residual {info['residual']:.2e})")
+    sm = info.get("settled_mean") if info.get("kind") == "settled mean" else None
+    if sm is not None:
+        # no held-cage root: the running state is the dynamics' settled mean (flexbearing.multibody.steady_mean)
+        print(f"no frozen-azimuth root; the settled mean of the dynamics over {1e3 * (sm.duration - sm.transient_end):.0f} ms: "
+              f"cage speed {sm.cage_speed * 30 / math.pi:.2f} ± {sm.cage_speed_half_width * 30 / math.pi:.2f} rpm, "
+              f"slip {100 * sm.slip_rate:.3f} ± {100 * sm.slip_half_width:.3f} % (95 %), "
+              f"{'cage held' if sm.held else 'cage not held'} (whirl ratio {sm.whirl_ratio:.2f}); the loads below are "
+              "a snapshot of its last sample")
+    else:
+        print(f"cage speed {info['cage_speed'] * 30 / math.pi:.2f} rpm, slip {100 * info['slip_rate']:.3f} %; "
+              f"converged={info['converged']} (residual {info['residual']:.2e})")
     q, ang, p0 = out["contact_load"], out["contact_angle"], out["contact_stress"]
     if held:
         c, land, res = info["cage_centre"], info["cage_land_force"], info["pocket_resultant"]
@@ -271,8 +287,9 @@ def _cmd_friction(scene, args) -> int:
               f"against the pockets' resultant ({res[1]:.1f}, {res[2]:.1f}) N")
         print(f"pocket force {np.min(out['pocket_force']):.1f} to {np.max(out['pocket_force']):.1f} N "
               f"(tangential on the balls {np.min(ft):.1f} to {np.max(ft):.1f} N)")
-        print("frozen azimuths: the dynamics' pocket-force pattern lags this one by about 50 deg "
-              "(flexbearing.multibody.steady.steady_held_cage_state); `flexbearing run` for the cage's motion")
+        if sm is None:
+            print("frozen azimuths: the dynamics' pocket-force pattern lags this one by about 50 deg "
+                  "(flexbearing.multibody.steady.steady_held_cage_state); `flexbearing run` for the cage's motion")
         for k, name in enumerate(("outer", "inner_left", "inner_right")):
             print(f"{name:12s}: Qmax {q[:, k].max():9.1f} N  p0max {p0[:, k].max() / 1e6:7.1f} MPa  alpha "
                   f"{math.degrees(ang[:, k].min()):6.2f} to {math.degrees(ang[:, k].max()):6.2f} deg")
