@@ -425,7 +425,7 @@ def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last
     else:
         head, tail = f"{beyond}; {tp.describe()}", ""
     info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict, verdict_cpu_s=cpu,
-                arclength=arclength, cage_hold=hold,
+                arclength=arclength, cage_hold=hold, branch_last_root=(lam, np.array(last[2]["unknowns"])),
                 reason=f"{verdict}: {head}; {info['reason']}{tail}; at the full load from the last root, "
                        f"{hold.describe()}")
     return y, info
