@@ -28,8 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from flexbearing.multibody.steady import steady_held_cage_state
-from flexbearing.multibody.steady_root_search import (START_FRACTIONS, cage_speed_scan, held_cage_root_search,
-                                                      physical_starts, unknowns_of_state)
+from flexbearing.multibody.steady_root_search import cage_speed_scan, held_cage_root_search
+from flexbearing.multibody.steady_search_starts import START_FRACTIONS, physical_starts, unknowns_of_state
 from flexbearing.studies.uncertainty import load_unknowns, point_bearing_oil, sample_points
 from flexbearing.studies.validation import slip_rate as V
 from flexbearing.studies.validation.slip_rate import slip_rate_cases

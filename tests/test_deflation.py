@@ -44,3 +44,4 @@ def test_deflation_operator_gradient_is_the_derivative():
           for e in np.eye(2)]
     # central differences: error h²/6·|M'''| (M''' < 1e3 here), far below the 1e-6 asked
     assert np.allclose(grad, fd, rtol=0.0, atol=1e-6)
+
