@@ -56,3 +56,16 @@ def test_study_run_25_6_has_a_held_root_at_the_full_load():
     assert len(found.roots) == 1
     root = found.roots[0]
     assert root["converged"] and root["residual"] <= 1e-9 and root["held"]
+
+
+def test_the_bracketed_root_by_illinois_regula_falsi():
+    # a stand-in reduced problem whose torque balance is g(omega) = omega³ − 2: the root 2^(1/3) in [1, 2]
+    from flexbearing.multibody.steady_root_search import _root_in_bracket
+
+    class Cubic:
+        def solve(self, lam, omega, u):
+            return np.array([omega]), omega ** 3 - 2.0
+    w, u, g = _root_in_bracket(Cubic(), 1.0, (1.0, (np.array([1.0]), -1.0)), (2.0, (np.array([2.0]), 6.0)), 1e-12)
+    assert abs(g) <= 1e-12
+    # |w − w*| <= |g| / g'(w*), g'(w*) = 3·2^(2/3) > 4.7, plus the rounding of w³ (a few ulp of 2)
+    assert abs(w - 2.0 ** (1.0 / 3.0)) <= 1e-12 / 4.7 + 8 * np.finfo(float).eps
