@@ -60,6 +60,8 @@ from flexbearing.multibody.steady_existence import traction_drag_bound, turning_
 from flexbearing.multibody.steady_settle import settle_then_solve
 from flexbearing.multibody.steady_hold import cage_hold_check
 from flexbearing.multibody.steady_mean import settled_mean
+from flexbearing.multibody.deflation import deflated_search
+from flexbearing.multibody.steady_search_starts import START_FRACTIONS, physical_starts, unknowns_of_state
 
 class SteadyNotConverged(SolverNotConverged):
     """A steady solve found no fixed point (raised unless strict=False): .result is the (y, info) it
@@ -264,10 +266,72 @@ def steady_held_cage_state(model, speed_rad_s: float, load, phase: float = 0.0, 
     if info["converged"] or not continuation:
         return _checked(y, info, strict, "held-cage state")
     y, info = _held_cage_continuation(model, speed_rad_s, load, phase, tol, (y, info))
+    if not info["converged"]:
+        # no root on the branch followed: other branches (deflated Newton from physical starts)
+        y, info = _deflated_root_search(model, speed_rad_s, load, phase, tol, y, info)
+        if info["converged"]:
+            return _checked(y, info, strict, "held-cage state")
     info = _with_hold_check(model, speed_rad_s, load, y, info)
     if not info["converged"]:
+        # no root found at all: the running state as the dynamics' settled mean
         y, info = _held_cage_settled(model, speed_rad_s, load, info)
     return _checked(y, info, strict, "held-cage state")
+
+
+# the last attempt where the continuation found no held-cage state (_deflated_root_search): at most this
+# many Newton iterations per start and this much CPU in all (measured on the uncertainty study's six
+# failures: 53-55 starts, 44-48 CPU-s)
+ROOT_SEARCH_ITERATIONS = 30
+ROOT_SEARCH_CPU_S = 60.0
+
+
+def _deflated_root_search(model, speed_rad_s: float, load: np.ndarray, phase: float, tol: float, y, info: dict):
+    """(y, info): where the continuation ended without a root (a fold, or no thrust root), deflated Newton
+    (flexbearing.multibody.deflation; Farrell, Birkisson & Funke 2015) on the held-cage equations at the
+    full load from the branch's last root, the direct solve's end, the dynamics 30 ms from the last root
+    and the grid of physical starts (flexbearing.multibody.steady_search_starts: cage speed 0.05-0.8 of
+    the inner ring's, spins by either race's rolling law, pocket offsets on either wall), scaled about the
+    last root (else the direct solve's end). Each root found (cage speed in (0, omega_i]) is solved again
+    from itself and checked in the dynamics (steady_hold); the first whose cage stays held is returned
+    (else the first found), converged, with info["root_search"] (starts, roots, cpu_s) and the hold check.
+    Where none is found the failure is returned with info["root_search"] and its reason extended."""
+    if info.get("unknowns") is None:
+        return y, info
+    t0 = time.process_time()
+    u_ref = np.asarray(info["branch_last_root"][1] if "branch_last_root" in info else info["unknowns"], dtype=float)
+    starts = ([u_ref] if "branch_last_root" in info else []) + [np.asarray(info["unknowns"], dtype=float)]
+    hold = info.get("cage_hold")
+    if hold is not None and hold.end_state is not None:
+        starts.append(unknowns_of_state(model, hold.end_state, phase))
+    starts += physical_starts(model, speed_rad_s, u_ref)
+    residual, _, scale_u = _held_cage_equations(model, speed_rad_s, load, phase, u_ref)
+    nb = 6 * model.n_balls
+    search = deflated_search(residual, [(u - u_ref) / scale_u for u in starts], tol=tol,
+                             max_iter=ROOT_SEARCH_ITERATIONS, cpu_budget_s=ROOT_SEARCH_CPU_S,
+                             accept=lambda v: 0.0 < u_ref[nb] + v[nb] * scale_u[nb] <= speed_rad_s)
+    found = []
+    for v in search.roots:
+        y_r, info_r = _held_cage_solve(model, speed_rad_s, load, phase, tol, start=u_ref + v * scale_u)
+        if info_r["converged"]:
+            check = cage_hold_check(model, speed_rad_s, load, y_r)
+            info_r.update(cage_hold=check, held=check.held)
+            found.append((y_r, info_r))
+    summary = dict(starts=search.starts_tried, roots=[(r[1]["cage_speed"], r[1]["held"]) for r in found],
+                   cpu_s=time.process_time() - t0)
+    what = (f"deflated Newton from {search.starts_tried} starts over omega_c/omega_i {START_FRACTIONS[0]}-"
+            f"{START_FRACTIONS[-1]} (and the branch's and the dynamics' states)")
+    if not found:
+        info.update(root_search=summary, reason=f"{info['reason']}; {what} found no other root "
+                                                f"({summary['cpu_s']:.0f} CPU-s)")
+        return y, info
+    y_r, info_r = next((r for r in found if r[1]["held"]), found[0])
+    info_r.update(root_search=summary, failed_continuation=info["reason"], continuation=info.get("continuation", []),
+                  reason="" if info_r["held"] else
+                  f"converged to a held-cage root, but {info_r['cage_hold'].describe()}: the equations have this "
+                  "root, the bearing need not run in it (another root may exist)")
+    info_r["root_search_found"] = (f"{what} found {len(found)} root(s) at the full load where the continuation "
+                                   f"from the symmetric thrust state found none")
+    return y_r, info_r
 
 
 def _with_hold_check(model, speed_rad_s: float, load: np.ndarray, y, info: dict) -> dict:
@@ -468,7 +532,7 @@ def _stopped(model, speed_rad_s: float, load: np.ndarray, phase: float, at, last
     else:
         head, tail = f"{beyond}; {tp.describe()}", ""
     info.update(fold=bool(fold), continuation=path, turning_point=tp, verdict=verdict, verdict_cpu_s=cpu,
-                arclength=arclength, cage_hold=hold,
+                arclength=arclength, cage_hold=hold, branch_last_root=(lam, np.array(last[2]["unknowns"])),
                 reason=f"{verdict}: {head}; {info['reason']}{tail}; at the full load from the last root, "
                        f"{hold.describe()}")
     return y, info
