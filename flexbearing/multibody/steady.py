@@ -326,6 +326,7 @@ def _deflated_root_search(model, speed_rad_s: float, load: np.ndarray, phase: fl
         return y, info
     y_r, info_r = next((r for r in found if r[1]["held"]), found[0])
     info_r.update(root_search=summary, failed_continuation=info["reason"], continuation=info.get("continuation", []),
+                  failed_verdict=info.get("verdict"), turning_point=info.get("turning_point"),
                   reason="" if info_r["held"] else
                   f"converged to a held-cage root, but {info_r['cage_hold'].describe()}: the equations have this "
                   "root, the bearing need not run in it (another root may exist)")
