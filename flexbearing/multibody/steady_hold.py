@@ -79,28 +79,39 @@ class CageHoldCheck:
                 f"{100 * self.slip_start:.1f} -> {100 * self.slip_end:.1f} %){self.note}")
 
 
+def constant_run(model, speed_rad_s: float, load, y) -> tuple:
+    """(speed_table, load_table, impacts, cage offset in the state, a contiguous copy of y, a dopri5
+    Workspace): what integrating the dynamics at a constant inner-ring speed (rad/s) and load
+    (Fx, Fy, Fz; N) from y needs (flexbearing.multibody.integrator.advance)."""
+    return (np.array([[0.0, float(speed_rad_s)]]), np.array([[0.0, *np.asarray(load, dtype=float)]]),
+            np.zeros((0, 6)), M.state_layout(model)["cage"], np.ascontiguousarray(np.array(y, dtype=float)),
+            I.Workspace(model, "dopri5"))
+
+
+def cage_sample(model, t: float, y, sp, ld, imp, c0: int, centre: list, omega: list, eccentricity: list,
+                slip: list) -> None:
+    """Append the cage's guide offset (m, (y, z)), speed (rad/s), eccentricity ratio and the slip rate
+    at state y and time t (flexbearing.multibody.outputs) to the four lists."""
+    out = O.evaluate_outputs(model, t, y, sp, ld, imp)
+    centre.append(np.asarray(out["cage_guide_offset"], dtype=float).copy())
+    omega.append(float(y[c0 + SL.CAGE_OMEGA]))
+    eccentricity.append(float(out["cage_eccentricity_ratio"]))
+    slip.append(float(out["slip_rate"]))
+
+
 def cage_hold_check(model, speed_rad_s: float, load, y, duration: float = HOLD_CHECK_DURATION,
                     sample: float = HOLD_CHECK_SAMPLE) -> CageHoldCheck:
     """Integrate the dynamics (model with its weight, constant speed and load = (Fx, Fy, Fz) N on the
     inner ring) from the state y for `duration` s and read whether the cage stays held (module
     docstring)."""
     t0 = time.process_time()
-    sp = np.array([[0.0, float(speed_rad_s)]])
-    ld = np.array([[0.0, *np.asarray(load, dtype=float)]])
-    imp = np.zeros((0, 6))
-    c0 = M.state_layout(model)["cage"]
-    y = np.ascontiguousarray(np.array(y, dtype=float))
-    ws = I.Workspace(model, "dopri5")
+    sp, ld, imp, c0, y, ws = constant_run(model, speed_rad_s, load, y)
     ts, centre, omega, eps, slip = [], [], [], [], []
     t, h, note = 0.0, 1e-7, ""
 
     def record():
-        out = O.evaluate_outputs(model, t, y, sp, ld, imp)
         ts.append(t)
-        centre.append(np.asarray(out["cage_guide_offset"], dtype=float).copy())
-        omega.append(float(y[c0 + SL.CAGE_OMEGA]))
-        eps.append(float(out["cage_eccentricity_ratio"]))
-        slip.append(float(out["slip_rate"]))
+        cage_sample(model, t, y, sp, ld, imp, c0, centre, omega, eps, slip)
     record()
     n = int(round(duration / sample))
     for k in range(1, n + 1):

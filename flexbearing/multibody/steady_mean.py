@@ -41,10 +41,7 @@ import numpy as np
 
 from flexbearing.common.stationarity import N_BATCHES, signal_settling
 from flexbearing.multibody import integrator as I
-from flexbearing.multibody import model as M
-from flexbearing.multibody import outputs as O
-from flexbearing.multibody import state_layout as SL
-from flexbearing.multibody.steady_hold import HELD_WHIRL_RATIO, whirl_ratio
+from flexbearing.multibody.steady_hold import HELD_WHIRL_RATIO, cage_sample, constant_run, whirl_ratio
 
 # the chunk integrated between two verdicts, the longest run, the sampling: 0.1 ms resolves the
 # cage's motion up to 5 kHz (the paper case's 410 Hz line, the ball pass at 2.1 kHz aliases without
@@ -106,12 +103,7 @@ def settled_mean(model, speed_rad_s: float, load, y, chunk: float = CHUNK, max_t
     (Fx, Fy, Fz), N, on the inner ring) from the state y until the cage speed and slip have settled
     and the slip's mean is known to ±slip_half_width, or max_time has passed (module docstring)."""
     t0 = time.process_time()
-    sp = np.array([[0.0, float(speed_rad_s)]])
-    ld = np.array([[0.0, *np.asarray(load, dtype=float)]])
-    imp = np.zeros((0, 6))
-    c0 = M.state_layout(model)["cage"]
-    y = np.ascontiguousarray(np.array(y, dtype=float))
-    ws = I.Workspace(model, "dopri5")
+    sp, ld, imp, c0, y, ws = constant_run(model, speed_rad_s, load, y)
     per_chunk = int(round(chunk / sample))
     ts, omega, slip, centre, eps = [], [], [], [], []
     t, h, k, note = 0.0, 1e-7, 0, ""
@@ -125,12 +117,8 @@ def settled_mean(model, speed_rad_s: float, load, y, chunk: float = CHUNK, max_t
             note = f"the integration stopped at {1e3 * t:.1f} ms: {str(e).splitlines()[0]}"
             break
         for ti, yi in zip(times, Ys):
-            out = O.evaluate_outputs(model, ti, yi, sp, ld, imp)
             ts.append(ti)
-            omega.append(float(yi[c0 + SL.CAGE_OMEGA]))
-            slip.append(float(out["slip_rate"]))
-            centre.append(np.asarray(out["cage_guide_offset"], dtype=float).copy())
-            eps.append(float(out["cage_eccentricity_ratio"]))
+            cage_sample(model, ti, yi, sp, ld, imp, c0, centre, omega, eps, slip)
         k += per_chunk
         verdict = _verdict(np.array(ts), np.array(omega), np.array(slip), slip_half_width)
         if verdict[0]:
