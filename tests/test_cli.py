@@ -1,3 +1,4 @@
+import math
 import subprocess
 import sys
 
@@ -176,3 +177,23 @@ def test_quasi_static_friction_control_is_the_steady_running_state(tmp_path, cap
     assert text.count("\n") > 20                     # --balls: one line per ball
 
 
+
+
+def test_quasi_static_prints_a_settled_mean_as_a_mean(monkeypatch, capsys):
+    # no held-cage root: the steady solver's settled mean of the dynamics is printed as a mean with its
+    # 95 % half widths (rpm = rad/s * 30/pi), not as a frozen-azimuth state; the state is a stand-in
+    from flexbearing.cli.main import main
+    from flexbearing.multibody.steady_mean import SettledMean
+    from flexbearing.simulation import quasi_static_scene as QS
+    sm = SettledMean(True, -0.0238, 4e-5, 668.22, 0.025, 0.03, 0.1, 0.001, 0.24, 0.26, True, 4.0, "settled")
+    info = dict(converged=True, residual=float("nan"), reason="settled mean: ...", kind="settled mean",
+                settled_mean=sm, cage_speed=668.22, slip_rate=-0.0238, cage_centre=np.zeros(3),
+                cage_eccentricity_ratio=0.24, cage_land_force=np.ones(2), pocket_resultant=np.ones(3))
+    out = dict(contact_load=np.ones((1, 3)), contact_angle=np.full((1, 3), 0.5), contact_stress=np.ones((1, 3)),
+               pocket_force=np.ones(1), pocket_force_tangential=np.ones(1))
+    inputs = dict(state="held_cage", load=[55e3, 0.0, -4e3], inner_speed=1466.0)
+    monkeypatch.setattr(QS, "steady_scene", lambda scene, time=0.0: (np.zeros(3), info, out, inputs))
+    assert main(["quasi-static", "scenes/paper_steady_rigid.toml", "--control", "friction"]) == 0
+    text = capsys.readouterr().out
+    assert "settled mean" in text and "frozen-azimuth held-cage state" not in text
+    assert "slip -2.380 ± 0.004 %" in text and f"{668.22 * 30 / math.pi:.2f} ± {0.025 * 30 / math.pi:.2f} rpm" in text

@@ -266,7 +266,8 @@ def _cmd_friction(scene, args) -> int:
     fx, fy, fz = inputs["load"]
     print(f"{scene.name} at t = {args.time:g} s: inner ring {inputs['inner_speed'] * 30 / math.pi:.1f} rpm, "
           f"load ({fx:.1f}, {fy:.1f}, {fz:.1f}) N; ball spin from the traction "
-          + ("(frozen-azimuth held-cage state, flexbearing.multibody.steady)" if held else "(steady thrust state)"))
+          + ("(steady thrust state)" if not held else "(the dynamics' settled mean, flexbearing.multibody.steady_mean)"
+             if info.get("kind") == "settled mean" else "(frozen-azimuth held-cage state, flexbearing.multibody.steady)"))
     sm = info.get("settled_mean") if info.get("kind") == "settled mean" else None
     if sm is not None:
         # no held-cage root: the running state is the dynamics' settled mean (flexbearing.multibody.steady_mean)
