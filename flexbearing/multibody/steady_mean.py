@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -121,12 +122,13 @@ def settled_mean(model, speed_rad_s: float, load, y, chunk: float = CHUNK, max_t
             cage_sample(model, ti, yi, sp, ld, imp, c0, centre, omega, eps, slip)
         k += per_chunk
         verdict = _verdict(np.array(ts), np.array(omega), np.array(slip), slip_half_width)
-        if verdict[0]:
+        if verdict.settled:
             break
     if not ts:
         return SettledMean(False, math.nan, math.nan, math.nan, math.nan, 0.0, t, math.nan, math.nan, math.nan,
                            False, time.process_time() - t0, note, y.copy())
-    settled, cut, reason, hw_slip, hw_omega = _verdict(np.array(ts), np.array(omega), np.array(slip), slip_half_width)
+    # the last chunk's verdict holds for every sample taken (a failed chunk adds none)
+    settled, cut, reason, hw_slip, hw_omega = verdict
     if note:
         settled, reason = False, note
     tt, cc, ww = np.array(ts[cut:]), np.array(centre[cut:]), np.array(omega[cut:])
@@ -138,16 +140,25 @@ def settled_mean(model, speed_rad_s: float, load, y, chunk: float = CHUNK, max_t
                        time.process_time() - t0, reason, y.copy())
 
 
-def _verdict(t, omega, slip, slip_half_width: float) -> tuple:
-    """(settled, first sample after the transient, reason, slip half width, cage-speed half width)."""
+class _Verdict(NamedTuple):
+    """The settled test after a chunk (module docstring)."""
+    settled: bool
+    cut: int                       # the first sample after the start-up transient
+    reason: str
+    slip_half_width: float
+    cage_speed_half_width: float
+
+
+def _verdict(t, omega, slip, slip_half_width: float) -> _Verdict:
+    """The verdict on the series so far (module docstring, items 1 and 2)."""
     tests = [signal_settling(name, t, x, n_signals=2) for name, x in (("cage_speed", omega), ("slip_rate", slip))]
     ends = [r["transient_end"] for r in tests if r["transient_end"] is not None]
     cut = int(np.searchsorted(t, max(ends))) if ends else 0
     hw_slip = batch_means_half_width(slip[cut:])
     hw_omega = batch_means_half_width(omega[cut:])
     if not all(r["settled"] for r in tests):
-        return False, cut, "; ".join(r["reason"] for r in tests if not r["settled"]), hw_slip, hw_omega
+        return _Verdict(False, cut, "; ".join(r["reason"] for r in tests if not r["settled"]), hw_slip, hw_omega)
     if not hw_slip <= slip_half_width:
-        return False, cut, (f"settled, but the mean slip is known to ±{100 * hw_slip:.3f} points only "
-                            f"(±{100 * slip_half_width:.3f} asked)"), hw_slip, hw_omega
-    return True, cut, "; ".join(r["reason"] for r in tests), hw_slip, hw_omega
+        return _Verdict(False, cut, (f"settled, but the mean slip is known to ±{100 * hw_slip:.3f} points only "
+                                     f"(±{100 * slip_half_width:.3f} asked)"), hw_slip, hw_omega)
+    return _Verdict(True, cut, "; ".join(r["reason"] for r in tests), hw_slip, hw_omega)
